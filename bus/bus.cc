@@ -1,0 +1,48 @@
+#include "bus/bus.h"
+
+#include <poll.h>
+
+#include <chrono>
+
+#include "bus/url.h"
+
+namespace mtg::bus {
+
+Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
+  check_multicast_route(url_);
+  is_log_ = url_.rfind("file://", 0) == 0;
+  lcm_ = std::make_unique<lcm::LCM>(url_);
+  if (!lcm_->good()) {
+    throw Error("cannot start LCM on " + url_ +
+                " (for udpm: is the multicast route set? `ip route replace 224.0.0.0/4 dev lo`)");
+  }
+}
+
+bool Bus::handle_once(int timeout_ms) {
+  if (is_log_) {
+    // The file provider hands out one event per handle(); it returns non-zero at the end.
+    if (end_of_log_) return false;
+    if (lcm_->handle() != 0) {
+      end_of_log_ = true;
+      return false;
+    }
+    return true;
+  }
+  const int rc = lcm_->handleTimeout(timeout_ms);
+  if (rc < 0) throw Error("LCM handle failed on " + url_);
+  return rc > 0;
+}
+
+bool Bus::handle_until(const std::function<bool()>& done, int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (!done()) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                          deadline - std::chrono::steady_clock::now())
+                          .count();
+    if (left <= 0) break;
+    if (!handle_once(static_cast<int>(std::min<long>(left, 50))) && is_log_ && end_of_log_) break;
+  }
+  return done();
+}
+
+}  // namespace mtg::bus

@@ -1,0 +1,81 @@
+#pragma once
+// Typed publish/subscribe over LCM. One Bus per process thread; callbacks run inside
+// handle_*() on the calling thread, in subscription order (LCM semantics).
+//
+// Backends come from the URL: udpm:// (real processes, one host or several), memq:// (in-process
+// tests), file://<log>?speed=0 (re-driving services from a recording as fast as possible).
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/util/error.h"
+
+namespace mtg::bus {
+
+/// Messages a subscription may queue before LCM drops them silently (its default is 30).
+inline constexpr int kQueueCapacity = 10000;
+
+class Bus {
+ public:
+  /// Connects to `url` (normalised; udpm URLs are refused without a proper multicast route).
+  /// @throws mtg::Error naming the URL and the fix when LCM cannot start.
+  explicit Bus(const std::string& url);
+  Bus(const Bus&) = delete;
+  Bus& operator=(const Bus&) = delete;
+
+  /// @throws mtg::Error if LCM reports a failure (e.g. the message exceeds the UDP limits).
+  template <class Msg>
+  void publish(const std::string& channel, const Msg& msg) {
+    if (lcm_->publish(channel, &msg) != 0) {
+      throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
+    }
+  }
+
+  /// Calls `handler(channel, msg)` for every message on channels matching `channel_regex`.
+  /// Messages that do not decode as Msg are skipped by LCM.
+  template <class Msg>
+  void subscribe(const std::string& channel_regex,
+                 std::function<void(const std::string&, const Msg&)> handler) {
+    auto owned = std::make_unique<Handler<Msg>>(std::move(handler));
+    lcm::Subscription* sub = lcm_->subscribe(channel_regex, &Handler<Msg>::on, owned.get());
+    if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
+    sub->setQueueCapacity(kQueueCapacity);
+    handlers_.push_back(std::move(owned));
+  }
+
+  /// Dispatches queued messages for up to `timeout_ms`; returns true if one was handled.
+  /// For file:// URLs returns false at the end of the log.
+  bool handle_once(int timeout_ms);
+  /// Handles messages until `done()` or `timeout_ms` elapse; returns done().
+  bool handle_until(const std::function<bool()>& done, int timeout_ms);
+
+  int fileno() { return lcm_->getFileno(); }
+  const std::string& url() const { return url_; }
+  /// For file:// URLs: whether the log has been read to its end.
+  bool end_of_log() const { return end_of_log_; }
+
+ private:
+  struct HandlerBase {
+    virtual ~HandlerBase() = default;
+  };
+  template <class Msg>
+  struct Handler : HandlerBase {
+    explicit Handler(std::function<void(const std::string&, const Msg&)> f) : fn(std::move(f)) {}
+    void on(const lcm::ReceiveBuffer*, const std::string& channel, const Msg* msg) {
+      fn(channel, *msg);
+    }
+    std::function<void(const std::string&, const Msg&)> fn;
+  };
+
+  std::string url_;
+  bool is_log_ = false;
+  bool end_of_log_ = false;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::vector<std::unique_ptr<HandlerBase>> handlers_;
+};
+
+}  // namespace mtg::bus

@@ -1,0 +1,44 @@
+#pragma once
+// Building and checking the common header (lcmtypes/header_t.lcm).
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <tuple>
+
+#include "mtg/header_t.hpp"
+
+namespace mtg::bus {
+
+inline constexpr std::int32_t kSchemaVersion = 1;
+
+/// Stamps outgoing headers: seq counts per (episode, attempt) stream, from 0.
+class HeaderStamper {
+ public:
+  HeaderStamper(std::string run_id, std::string sender)
+      : run_id_(std::move(run_id)), sender_(std::move(sender)) {}
+
+  mtg::header_t next(std::int64_t episode_id = -1, std::int32_t attempt = 0);
+  const std::string& sender() const { return sender_; }
+  void set_run_id(std::string run_id) { run_id_ = std::move(run_id); }
+
+ private:
+  std::string run_id_;
+  std::string sender_;
+  std::map<std::pair<std::int64_t, std::int32_t>, std::int64_t> next_seq_;
+};
+
+/// Checks incoming headers per (sender, episode, attempt) stream.
+class SequenceTracker {
+ public:
+  enum class Verdict { kInOrder, kDuplicate, kGap };
+  /// kGap when messages were skipped (the message is still accepted and the stream resyncs);
+  /// kDuplicate for a seq already seen (or older).
+  Verdict observe(const mtg::header_t& header);
+  void forget_episode(std::int64_t episode_id);
+
+ private:
+  std::map<std::tuple<std::string, std::int64_t, std::int32_t>, std::int64_t> last_seq_;
+};
+
+}  // namespace mtg::bus

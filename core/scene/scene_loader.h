@@ -1,0 +1,23 @@
+#pragma once
+// Loading one scene instance of a ReplicaCAD-format dataset into a typed Scene.
+
+#include <string>
+
+#include "core/scene/dataset.h"
+#include "core/scene/mesh.h"
+#include "core/scene/scene.h"
+
+namespace mtg::scene {
+
+struct SceneLoadOptions {
+  bool load_meshes = true;  // false: poses and receptacles only (fast listing)
+};
+
+/// Loads `scene_name` from `dataset`, reading meshes through `cache`.
+/// Missing or broken mesh files, unknown templates and URDFs that do not parse become one
+/// warning each in Scene::warnings (with a fallback or the object skipped), never a crash.
+/// @throws mtg::Error for an unknown scene or a malformed scene/config JSON (file + JSON path).
+Scene load_scene(const Dataset& dataset, const std::string& scene_name, MeshCache& cache,
+                 const SceneLoadOptions& options = {});
+
+}  // namespace mtg::scene

@@ -1,0 +1,54 @@
+#pragma once
+// Reading JSON input with errors that name the file and the JSON path of the bad field,
+// e.g. "configs/objects/x.object_config.json: /user_defined/r/position: expected 3 numbers".
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mtg {
+
+/// Parses a JSON file. @throws mtg::Error naming the file (and line:column on a syntax error).
+nlohmann::json read_json_file(const std::filesystem::path& file);
+
+/// Writes `value` to `file` atomically (temporary file + rename), pretty-printed, sorted keys.
+void write_json_file(const std::filesystem::path& file, const nlohmann::json& value);
+
+/// A JSON value together with where it came from, for error messages.
+class JsonField {
+ public:
+  JsonField(const nlohmann::json& value, std::string file, std::string pointer = "")
+      : value_(&value), file_(std::move(file)), pointer_(std::move(pointer)) {}
+
+  /// The member `key`. @throws mtg::Error if this is not an object or `key` is absent.
+  JsonField at(const std::string& key) const;
+  /// The member `key`, or nullopt if absent. @throws mtg::Error if this is not an object.
+  std::optional<JsonField> find(const std::string& key) const;
+  /// Element `i` of an array.
+  JsonField at(std::size_t i) const;
+
+  bool is_object() const { return value_->is_object(); }
+  std::size_t size() const { return value_->size(); }
+  std::vector<std::string> keys() const;  // object keys in document order is not kept: sorted
+
+  std::string as_string() const;
+  double as_double() const;
+  bool as_bool() const;
+  /// An array of exactly n numbers.
+  std::vector<double> as_doubles(std::size_t n) const;
+
+  const nlohmann::json& raw() const { return *value_; }
+  const std::string& pointer() const { return pointer_; }
+
+  /// "file: /json/pointer: what".
+  [[noreturn]] void fail(const std::string& what) const;
+
+ private:
+  const nlohmann::json* value_;
+  std::string file_;
+  std::string pointer_;
+};
+
+}  // namespace mtg

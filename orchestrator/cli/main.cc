@@ -1,0 +1,60 @@
+// The `mtg` front end: parses the command line and hands each subcommand a plain options struct.
+// Exit codes: 0 success, 1 bad input or failure (one line on stderr), 2 usage error.
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "orchestrator/cli/bench_commands.h"
+#include "orchestrator/cli/scene_commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "debug, info, warn, error or off");
+
+  // mtg scene ...
+  CLI::App* scene = app.add_subcommand("scene", "Inspect scenes of the dataset");
+  scene->require_subcommand(1);
+  mtg::cli::SceneListOptions list_opts;
+  CLI::App* scene_list = scene->add_subcommand("list", "List the scenes found in the dataset");
+  scene_list->add_option("--data", list_opts.data_dir, "dataset root (default: search order)");
+  mtg::cli::SceneInfoOptions info_opts;
+  CLI::App* scene_info = scene->add_subcommand("info", "Load a scene and summarise it");
+  scene_info->add_option("--scene", info_opts.scene, "scene name, e.g. apt_0")->required();
+  scene_info->add_option("--data", info_opts.data_dir, "dataset root (default: search order)");
+  scene_info->add_flag("--json", info_opts.json, "print one JSON object");
+
+  // mtg bench ... (what scripts/bench prints)
+  CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
+  bench->require_subcommand(1);
+  mtg::cli::BenchSceneLoadOptions bench_load;
+  CLI::App* bench_scene_load = bench->add_subcommand("scene-load", "Cold and warm scene loading");
+  bench_scene_load->add_option("--scene", bench_load.scene, "scene name");
+  bench_scene_load->add_option("--data", bench_load.data_dir, "dataset root");
+  bench_scene_load->add_option("--repeat", bench_load.repeat, "warm repetitions");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+
+  try {
+    mtg::log::set_level(mtg::log::parse_level(log_level));
+    if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
+    if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
+    if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);
+  } catch (const mtg::Error& e) {
+    std::cerr << "mtg: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "mtg: unexpected failure: " << e.what() << '\n';
+    return 1;
+  }
+  return 0;
+}

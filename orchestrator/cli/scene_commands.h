@@ -1,0 +1,21 @@
+#pragma once
+// `mtg scene ...`: list the scenes of a dataset and summarise one.
+
+#include <string>
+
+namespace mtg::cli {
+
+struct SceneListOptions {
+  std::string data_dir;  // "" = default search order
+};
+
+struct SceneInfoOptions {
+  std::string scene;
+  std::string data_dir;
+  bool json = false;  // one JSON object on stdout instead of the human summary
+};
+
+int run_scene_list(const SceneListOptions& options);
+int run_scene_info(const SceneInfoOptions& options);
+
+}  // namespace mtg::cli
