@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/util/stopwatch.h"
 
@@ -54,6 +55,35 @@ int run_bench_scene_load(const BenchSceneLoadOptions& options) {
   std::printf("  warm   shared mesh cache (service reload)       %8.1f ms min  %8.1f ms median (%d runs)\n",
               cached.min(), cached.median(), repeat);
   std::printf("  peak RSS                                        %8.1f MiB\n", peak_rss_mib());
+  return 0;
+}
+
+int run_bench_scene_graph(const BenchSceneGraphOptions& options) {
+  const scene::Dataset dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  const int repeat = std::max(1, options.repeat);
+  std::printf("scene-graph (profile %s)       cold = load meshes + build, warm = build from a loaded scene\n",
+              graph_options.profile_name.c_str());
+  for (const std::string& name : options.scenes) {
+    scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+    Stopwatch watch;
+    const scene::Scene loaded = scene::load_scene(dataset, name, cache);
+    const graph::SceneGraph first = graph::build_scene_graph(loaded, graph_options);
+    const double cold_ms = watch.elapsed_ms();
+    Series warm;
+    graph::BuildTimings t;
+    for (int i = 0; i < repeat; ++i) {
+      watch.reset();
+      graph::build_scene_graph(loaded, graph_options, &t);
+      warm.ms.push_back(watch.elapsed_ms());
+    }
+    std::printf("  %-8s cold %7.1f ms   warm %6.1f ms min %6.1f ms median   (%zu platforms, %zu navigable;"
+                " last: surfaces %.0f, settle %.0f, clearance %.0f, overlap %.0f, standing %.0f ms)\n",
+                name.c_str(), cold_ms, warm.min(), warm.median(), first.platforms.size(),
+                first.navigable.size(), t.platforms, t.settle, t.clearance, t.overlap, t.standing);
+  }
+  std::printf("  peak RSS %.1f MiB\n", peak_rss_mib());
   return 0;
 }
 

@@ -2,6 +2,7 @@
 // `mtg bench ...`: the measurements scripts/bench prints (wall-clock, telemetry only).
 
 #include <string>
+#include <vector>
 
 namespace mtg::cli {
 
@@ -11,6 +12,13 @@ struct BenchSceneLoadOptions {
   int repeat = 5;
 };
 
+struct BenchSceneGraphOptions {
+  std::vector<std::string> scenes = {"apt_0", "apt_1", "apt_2"};
+  std::string data_dir;
+  int repeat = 5;
+};
+
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
+int run_bench_scene_graph(const BenchSceneGraphOptions& options);
 
 }  // namespace mtg::cli

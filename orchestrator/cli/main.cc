@@ -29,6 +29,15 @@ int main(int argc, char** argv) {
   scene_info->add_option("--data", info_opts.data_dir, "dataset root (default: search order)");
   scene_info->add_flag("--json", info_opts.json, "print one JSON object");
 
+  mtg::cli::SceneGraphOptions graph_opts;
+  CLI::App* scene_graph = scene->add_subcommand("graph", "Build the scene graph of a scene");
+  scene_graph->add_option("--scene", graph_opts.scene, "scene name, e.g. apt_0")->required();
+  scene_graph->add_option("--data", graph_opts.data_dir, "dataset root (default: search order)");
+  scene_graph->add_option("--out", graph_opts.out, "write graph.json here");
+  scene_graph->add_option("--png", graph_opts.png, "write a top-down map (PNG) here");
+  scene_graph->add_option("--profile", graph_opts.profile,
+                          "scene profile: replica_cad (default), none, or a JSON file");
+
   // mtg bench ... (what scripts/bench prints)
   CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
   bench->require_subcommand(1);
@@ -37,6 +46,12 @@ int main(int argc, char** argv) {
   bench_scene_load->add_option("--scene", bench_load.scene, "scene name");
   bench_scene_load->add_option("--data", bench_load.data_dir, "dataset root");
   bench_scene_load->add_option("--repeat", bench_load.repeat, "warm repetitions");
+
+  mtg::cli::BenchSceneGraphOptions bench_graph;
+  CLI::App* bench_scene_graph = bench->add_subcommand("scene-graph", "Scene-graph build time per apartment");
+  bench_scene_graph->add_option("--scene", bench_graph.scenes, "scene names (repeatable)");
+  bench_scene_graph->add_option("--data", bench_graph.data_dir, "dataset root");
+  bench_scene_graph->add_option("--repeat", bench_graph.repeat, "warm repetitions");
 
   try {
     app.parse(argc, argv);
@@ -48,7 +63,9 @@ int main(int argc, char** argv) {
     mtg::log::set_level(mtg::log::parse_level(log_level));
     if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
+    if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
     if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);
+    if (bench_scene_graph->parsed()) return mtg::cli::run_bench_scene_graph(bench_graph);
   } catch (const mtg::Error& e) {
     std::cerr << "mtg: " << e.what() << '\n';
     return 1;

@@ -15,7 +15,16 @@ struct SceneInfoOptions {
   bool json = false;  // one JSON object on stdout instead of the human summary
 };
 
+struct SceneGraphOptions {
+  std::string scene;
+  std::string data_dir;
+  std::string out;              // graph.json path ("" = do not write)
+  std::string png;              // top-down PNG path ("" = none)
+  std::string profile = "replica_cad";
+};
+
 int run_scene_list(const SceneListOptions& options);
+int run_scene_graph(const SceneGraphOptions& options);
 int run_scene_info(const SceneInfoOptions& options);
 
 }  // namespace mtg::cli

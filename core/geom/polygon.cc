@@ -1,0 +1,349 @@
+#include "core/geom/polygon.h"
+
+#include <clipper.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mtg::geom {
+namespace cl = ClipperLib;
+namespace {
+
+constexpr double kScale = 1e6;  // 1 µm resolution in Clipper's integer space
+
+cl::IntPoint to_int(const Point2& p) {
+  return cl::IntPoint(static_cast<cl::cInt>(std::llround(p.x() * kScale)),
+                      static_cast<cl::cInt>(std::llround(p.y() * kScale)));
+}
+Point2 to_double(const cl::IntPoint& p) {
+  return Point2(static_cast<double>(p.X) / kScale, static_cast<double>(p.Y) / kScale);
+}
+cl::Path to_path(const Ring& ring) {
+  cl::Path path;
+  path.reserve(ring.size());
+  for (const auto& p : ring) path.push_back(to_int(p));
+  return path;
+}
+cl::Paths to_paths(const Region& r) {
+  cl::Paths paths;
+  paths.reserve(r.rings.size());
+  for (const auto& ring : r.rings) paths.push_back(to_path(ring));
+  return paths;
+}
+Region to_region(const cl::Paths& paths) {
+  Region r;
+  for (const auto& path : paths) {
+    if (path.size() < 3) continue;
+    Ring ring;
+    ring.reserve(path.size());
+    for (const auto& p : path) ring.push_back(to_double(p));
+    r.rings.push_back(std::move(ring));
+  }
+  return r;
+}
+// Clipper's result orientation follows the fill rule; we normalise through a union so that
+// outer rings are counter-clockwise and holes clockwise.
+Region execute(cl::ClipType type, const cl::Paths& subject, const cl::Paths& clip) {
+  cl::Clipper c;
+  c.AddPaths(subject, cl::ptSubject, true);
+  if (!clip.empty()) c.AddPaths(clip, cl::ptClip, true);
+  cl::Paths out;
+  c.Execute(type, out, cl::pftNonZero, cl::pftNonZero);
+  return to_region(out);
+}
+
+double cross(const Point2& o, const Point2& a, const Point2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+Point2 closest_on_segment(const Point2& a, const Point2& b, const Point2& p) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 <= 0.0) return a;
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return a + t * ab;
+}
+
+}  // namespace
+
+double signed_area(const Ring& ring) {
+  double a = 0.0;
+  for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+    const Point2& p = ring[i];
+    const Point2& q = ring[(i + 1) % n];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
+double area(const Region& region) {
+  double a = 0.0;
+  for (const auto& ring : region.rings) a += signed_area(ring);
+  return a;
+}
+
+Region rectangle(const Point2& min, const Point2& max) {
+  if (!(max.x() > min.x() && max.y() > min.y())) return {};
+  return Region{{Ring{min, Point2(max.x(), min.y()), max, Point2(min.x(), max.y())}}};
+}
+
+Region from_ring(Ring ring) {
+  if (ring.size() < 3) return {};
+  if (signed_area(ring) < 0.0) std::reverse(ring.begin(), ring.end());
+  return unite_rings({ring});
+}
+
+Region unite_rings(const std::vector<Ring>& rings) {
+  cl::Paths paths;
+  paths.reserve(rings.size());
+  for (const auto& ring : rings) {
+    cl::Path path = to_path(ring);
+    if (!cl::Orientation(path)) cl::ReversePath(path);  // every ring is a filled polygon
+    paths.push_back(std::move(path));
+  }
+  return execute(cl::ctUnion, paths, {});
+}
+
+Region unite(const Region& a, const Region& b) {
+  return execute(cl::ctUnion, to_paths(a), to_paths(b));
+}
+Region intersect(const Region& a, const Region& b) {
+  if (a.empty() || b.empty()) return {};
+  return execute(cl::ctIntersection, to_paths(a), to_paths(b));
+}
+Region subtract(const Region& a, const Region& b) {
+  if (a.empty()) return {};
+  if (b.empty()) return a;
+  return execute(cl::ctDifference, to_paths(a), to_paths(b));
+}
+
+Region offset(const Region& region, double delta) {
+  cl::ClipperOffset co(4.0);
+  co.AddPaths(to_paths(region), cl::jtMiter, cl::etClosedPolygon);
+  cl::Paths out;
+  co.Execute(out, delta * kScale);
+  return execute(cl::ctUnion, out, {});
+}
+
+Region dilate(const Region& a, const Ring& convex_pattern) {
+  if (a.empty() || convex_pattern.empty()) return {};
+  // A ⊕ B = (A + b0) ∪ (∂A ⊕ B) for a connected B: the swept boundary plus one translate.
+  const cl::Path pattern = to_path(convex_pattern);
+  cl::Paths swept;
+  cl::MinkowskiSum(pattern, to_paths(a), swept, true);
+  cl::Paths shifted = to_paths(a);
+  for (auto& path : shifted) {
+    for (auto& p : path) {
+      p.X += pattern[0].X;
+      p.Y += pattern[0].Y;
+    }
+  }
+  // MinkowskiSum unions its swept quads itself: its output is oriented (outer rings
+  // counter-clockwise, holes clockwise), so it goes into the union as it is.
+  cl::Clipper c;
+  c.AddPaths(shifted, cl::ptSubject, true);
+  c.AddPaths(swept, cl::ptClip, true);
+  cl::Paths out;
+  c.Execute(cl::ctUnion, out, cl::pftNonZero, cl::pftNonZero);
+  return to_region(out);
+}
+
+Region erode(const Region& a, const Ring& convex_pattern) {
+  if (a.empty() || convex_pattern.empty()) return {};
+  // p + B ⊆ A  <=>  p ∉ (complement(A) ⊕ (-B)).
+  Eigen::AlignedBox2d box = bounds(a);
+  double reach = 0.0;
+  for (const auto& q : convex_pattern) reach = std::max(reach, q.norm());
+  box.min() -= Eigen::Vector2d::Constant(2.0 * reach + 1.0);
+  box.max() += Eigen::Vector2d::Constant(2.0 * reach + 1.0);
+  const Region outside = subtract(rectangle(box.min(), box.max()), a);
+  Ring mirrored;
+  for (const auto& q : convex_pattern) mirrored.push_back(-q);
+  return subtract(a, dilate(outside, mirrored));
+}
+
+Region clean(const Region& region, double min_area, double tolerance) {
+  cl::Paths paths = to_paths(region);
+  cl::CleanPolygons(paths, tolerance * kScale);
+  Region cleaned = execute(cl::ctUnion, paths, {});
+  Region out;
+  for (const Region& piece : components(cleaned)) {
+    if (area(piece) >= min_area) {
+      out.rings.insert(out.rings.end(), piece.rings.begin(), piece.rings.end());
+    }
+  }
+  return out;
+}
+
+bool contains(const Region& region, const Point2& p) {
+  const cl::IntPoint q = to_int(p);
+  int winding = 0;
+  for (const auto& ring : region.rings) {
+    const cl::Path path = to_path(ring);
+    const int inside = cl::PointInPolygon(q, path);  // 0 outside, 1 inside, -1 on boundary
+    if (inside == -1) return true;
+    if (inside == 1) winding += cl::Orientation(path) ? 1 : -1;
+  }
+  return winding > 0;
+}
+
+std::vector<Region> components(const Region& region) {
+  cl::Clipper c;
+  c.AddPaths(to_paths(region), cl::ptSubject, true);
+  cl::PolyTree tree;
+  c.Execute(cl::ctUnion, tree, cl::pftNonZero, cl::pftNonZero);
+  std::vector<Region> out;
+  // Outer rings are the even-depth nodes; their children are holes, grandchildren new outers.
+  std::vector<const cl::PolyNode*> stack;
+  for (const cl::PolyNode* child : tree.Childs) stack.push_back(child);
+  for (std::size_t i = 0; i < stack.size(); ++i) {
+    const cl::PolyNode* outer = stack[i];
+    cl::Paths piece{outer->Contour};
+    for (const cl::PolyNode* hole : outer->Childs) {
+      piece.push_back(hole->Contour);
+      for (const cl::PolyNode* inner : hole->Childs) stack.push_back(inner);
+    }
+    out.push_back(to_region(piece));
+  }
+  return out;
+}
+
+Point2 closest_point(const Region& region, const Point2& p) {
+  if (contains(region, p)) return p;
+  Point2 best = p;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (const auto& ring : region.rings) {
+    for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+      const Point2 q = closest_on_segment(ring[i], ring[(i + 1) % n], p);
+      const double d = (q - p).squaredNorm();
+      if (d < best_d) {
+        best_d = d;
+        best = q;
+      }
+    }
+  }
+  return best;
+}
+
+Point2 centroid(const Region& region) {
+  double a = 0.0;
+  Point2 c = Point2::Zero();
+  for (const auto& ring : region.rings) {
+    for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+      const Point2& p = ring[i];
+      const Point2& q = ring[(i + 1) % n];
+      const double w = p.x() * q.y() - q.x() * p.y();
+      a += w;
+      c += (p + q) * w;
+    }
+  }
+  if (std::abs(a) < 1e-18) {
+    const auto b = bounds(region);
+    return b.isEmpty() ? Point2::Zero() : Point2(b.center());
+  }
+  return c / (3.0 * a);
+}
+
+Eigen::AlignedBox2d bounds(const Ring& ring) {
+  Eigen::AlignedBox2d b;
+  for (const auto& p : ring) b.extend(p);
+  return b;
+}
+
+Eigen::AlignedBox2d bounds(const Region& region) {
+  Eigen::AlignedBox2d b;
+  for (const auto& ring : region.rings) b.extend(bounds(ring));
+  return b;
+}
+
+Ring convex_hull(std::vector<Point2> pts) {
+  // Andrew's monotone chain: lower then upper chain, counter-clockwise.
+  std::sort(pts.begin(), pts.end(), [](const Point2& a, const Point2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  Ring hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+  // Start from the lowest-then-leftmost point for a canonical ring.
+  const auto start = std::min_element(hull.begin(), hull.end(), [](const Point2& a, const Point2& b) {
+    return a.y() < b.y() || (a.y() == b.y() && a.x() < b.x());
+  });
+  std::rotate(hull.begin(), start, hull.end());
+  return hull;
+}
+
+double wrap_angle(double a) {
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a <= 0.0) a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+OrientedBox min_area_rect(const Ring& hull, double preferred_yaw) {
+  OrientedBox best;
+  if (hull.empty()) return best;
+  if (hull.size() < 3) {
+    const auto b = bounds(hull);
+    best.centre = b.center();
+    best.half = b.sizes() / 2.0;
+    best.yaw = 0.0;
+    return best;
+  }
+  double best_area = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0, n = hull.size(); i < n; ++i) {
+    const Eigen::Vector2d e = hull[(i + 1) % n] - hull[i];
+    if (e.norm() < 1e-12) continue;
+    const double yaw = std::atan2(e.y(), e.x());
+    const Eigen::Rotation2Dd R(-yaw);
+    Eigen::AlignedBox2d b;
+    for (const auto& p : hull) b.extend(R * p);
+    const double a = b.volume();
+    if (a < best_area - 1e-12) {
+      best_area = a;
+      best.yaw = yaw;
+      best.half = b.sizes() / 2.0;
+      best.centre = Eigen::Rotation2Dd(yaw) * b.center();
+    }
+  }
+  // Canonical axis: the quarter turn of the optimal rectangle nearest the preferred yaw.
+  double chosen = best.yaw;
+  double chosen_diff = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d half = best.half;
+  for (int k = 0; k < 4; ++k) {
+    const double candidate = wrap_angle(best.yaw + k * M_PI / 2.0);
+    const double diff = std::abs(wrap_angle(candidate - preferred_yaw));
+    if (diff < chosen_diff - 1e-9 || (std::abs(diff - chosen_diff) <= 1e-9 && candidate < chosen)) {
+      chosen_diff = diff;
+      chosen = candidate;
+      half = (k % 2 == 0) ? best.half : Eigen::Vector2d(best.half.y(), best.half.x());
+    }
+  }
+  best.yaw = chosen;
+  best.half = half;
+  return best;
+}
+
+Ring transform(const Ring& ring, const Eigen::Isometry2d& X) {
+  Ring out;
+  out.reserve(ring.size());
+  for (const auto& p : ring) out.push_back(X * p);
+  return out;
+}
+
+Region transform(const Region& region, const Eigen::Isometry2d& X) {
+  Region out;
+  for (const auto& ring : region.rings) out.rings.push_back(transform(ring, X));
+  return out;
+}
+
+}  // namespace mtg::geom

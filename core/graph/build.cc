@@ -1,0 +1,410 @@
+#include "core/graph/build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numeric>
+
+#include "core/graph/object_geometry.h"
+#include "core/graph/overlap_check.h"
+#include "core/graph/platforms.h"
+#include "core/graph/standing.h"
+#include "core/util/stopwatch.h"
+
+namespace mtg::graph {
+namespace {
+
+// A platform before names and frames exist.
+struct Draft {
+  int owner = -1;
+  Surface surface;
+  std::string source;
+  bool active = true;
+};
+
+std::string fmt_cm(double metres) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.1f cm", metres * 100.0);
+  return buf;
+}
+
+double yaw_of(const Eigen::Isometry3d& X) {
+  const Eigen::Vector3d x = X.linear().col(0);
+  return std::atan2(x.y(), x.x());
+}
+
+// Classification that needs no support search: profile, geometry, floor contact. Objects off
+// the floor stay kUnsupported until the support search places them.
+void classify(const scene::Scene& scene, const std::vector<ObjectGeometry>& geo,
+              const GraphOptions& options, SceneGraph& g) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const scene::ObjectInstance& src = scene.objects[i];
+    GraphObject& o = g.objects[i];
+    o.name = src.name;
+    o.template_name = src.template_name;
+    o.short_name = src.short_name;
+    o.category = src.category;
+    o.instance = static_cast<int>(i);
+    o.X_WO = src.X_WO;
+    o.heading = yaw_of(src.X_WO);
+    o.bottom = geo[i].bottom;
+    o.top = geo[i].top;
+    o.footprint = geo[i].footprint;
+    o.excluded = options.exclude_templates.count(src.template_name) != 0;
+    o.movable = !o.excluded && !src.articulated && src.motion != scene::MotionType::kStatic;
+    o.kind = ObjectKind::kUnsupported;
+    if (!geo[i].has_geometry()) {
+      o.note = "no fixed geometry";
+      g.warnings.push_back("object " + o.name +
+                           " has no geometry outside its doors/drawers; left out of the graph");
+    } else if (geo[i].bottom <= options.contact_tolerance) {
+      if (o.height() < options.floor_covering_height &&
+          std::abs(geom::signed_area(o.footprint)) >= options.floor_covering_min_area) {
+        o.kind = ObjectKind::kFloorCovering;
+      } else if (o.excluded) {
+        o.kind = ObjectKind::kFixed;
+        o.note = "scenery on the floor (excluded by scene profile " + options.profile_name + ")";
+      } else if (o.height() < options.min_furniture_height && src.motion == scene::MotionType::kDynamic &&
+                 !src.articulated) {
+        // Too low to hold anything: a movable thing lying on the floor, which is no platform.
+        o.kind = ObjectKind::kItem;
+        o.note = "lies on the floor (not a platform: no task uses it)";
+      } else {
+        o.kind = ObjectKind::kFurniture;
+      }
+    }
+  }
+}
+
+// The platform an object rests on (the paper's parent rule): the highest surface within
+// [bottom - max_settle_drop, bottom + contact_tolerance] covering more than
+// min_support_overlap of min(footprint, surface). An object lying across several supports at
+// one level (a book across two books) is accepted when they cover that share of its footprint
+// together; its parent is then the one under most of it. Returns the draft index or -1.
+int find_support(int object, const ObjectGeometry& geometry, const std::vector<Draft>& drafts,
+                 const GraphOptions& options) {
+  const geom::Region footprint = geom::from_ring(geometry.footprint);
+  const double foot_area = geom::area(footprint);
+  struct Candidate {
+    int draft;
+    double height, overlap;
+    bool alone;  // satisfies the rule by itself
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t d = 0; d < drafts.size(); ++d) {
+    const Draft& draft = drafts[d];
+    if (draft.owner == object) continue;
+    const double h = draft.surface.height;
+    if (h > geometry.bottom + options.contact_tolerance) continue;
+    if (h < geometry.bottom - options.max_settle_drop) continue;
+    const double overlap = geom::area(geom::intersect(footprint, draft.surface.region));
+    if (overlap <= 1e-6) continue;
+    const bool alone = overlap > options.min_support_overlap * std::min(foot_area, draft.surface.area);
+    candidates.push_back({static_cast<int>(d), h, overlap, alone});
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.height > b.height; });
+  // Highest first: the first support that carries the object alone wins; failing that, supports
+  // within 2 cm of each other that carry it together (the parent is the one under most of it).
+  constexpr double kLevel = 0.02;
+  for (std::size_t top = 0; top < candidates.size(); ++top) {
+    if (candidates[top].alone) return candidates[top].draft;
+    double combined = 0.0;
+    std::size_t best = top;
+    for (std::size_t k = top; k < candidates.size(); ++k) {
+      if (candidates[k].height < candidates[top].height - kLevel) break;
+      combined += candidates[k].overlap;
+      if (candidates[k].overlap > candidates[best].overlap) best = k;
+    }
+    if (combined > options.min_support_overlap * foot_area) return candidates[best].draft;
+  }
+  return -1;
+}
+
+struct OwnSurfaces {
+  std::vector<Surface> up, down;
+};
+
+}  // namespace
+
+SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& options,
+                             BuildTimings* timings) {
+  Stopwatch total, watch;
+  BuildTimings t;
+  SceneGraph g;
+  g.scene = scene.name;
+  const std::size_t n = scene.objects.size();
+  g.objects.resize(n);
+
+  std::vector<ObjectGeometry> geo(n);
+  for (std::size_t i = 0; i < n; ++i) geo[i] = object_geometry(scene.objects[i]);
+  classify(scene, geo, options, g);
+  t.geometry = watch.elapsed_ms();
+
+  // Whatever stands on the floor drops (or rises) to z = 0.
+  for (std::size_t i = 0; i < n; ++i) {
+    GraphObject& o = g.objects[i];
+    if (o.kind == ObjectKind::kUnsupported) continue;
+    const double dz = -geo[i].bottom;
+    translate(geo[i], Eigen::Vector3d(0, 0, dz));
+    o.X_WO.translation().z() += dz;
+    o.settle_dz = dz;
+    o.bottom = geo[i].bottom;
+    o.top = geo[i].top;
+  }
+
+  // Furniture platforms (candidates; declared-receptacle objects keep reserves).
+  watch.reset();
+  std::vector<Draft> drafts;
+  // Furniture platforms are active (declared-receptacle furniture keeps reserves); surfaces of
+  // items and scenery are reserves that only become platforms when something rests on them.
+  auto add_drafts = [&](std::size_t i, bool furniture) {
+    for (auto& c : platform_candidates(scene.objects[i], g.objects[i].X_WO, geo[i], options,
+                                      g.warnings)) {
+      drafts.push_back({static_cast<int>(i), std::move(c.surface),
+                        furniture ? std::move(c.source) : std::string("mesh:supports-item"),
+                        furniture && c.active});
+    }
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (g.objects[i].kind == ObjectKind::kFurniture) add_drafts(i, true);
+    if (g.objects[i].kind == ObjectKind::kFixed) add_drafts(i, false);
+  }
+  t.platforms = watch.elapsed_ms();
+
+  // Settle everything else bottom-up: each object drops onto the highest platform below it
+  // that supports its footprint; once settled, its own surfaces can support what lies above.
+  // What rests on nothing is fixed to the structure (wall-mounted furniture or scenery) unless
+  // it is a movable object: then it is reported.
+  watch.reset();
+  std::vector<int> pending;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (g.objects[i].kind == ObjectKind::kUnsupported && geo[i].has_geometry()) {
+      pending.push_back(static_cast<int>(i));
+    }
+  }
+  std::stable_sort(pending.begin(), pending.end(), [&](int a, int b) {
+    return geo[static_cast<size_t>(a)].bottom < geo[static_cast<size_t>(b)].bottom;
+  });
+  std::vector<int> parent_draft(n, -1);
+  int far_drops = 0;
+  double max_drop = 0.0;
+  for (const int oi : pending) {
+    const auto i = static_cast<std::size_t>(oi);
+    GraphObject& o = g.objects[i];
+    const bool movable = !scene.objects[i].articulated &&
+                         scene.objects[i].motion != scene::MotionType::kStatic;
+    // Fixed objects (STATIC, articulated) do not fall: they attach only within the tolerance.
+    GraphOptions search = options;
+    if (!movable) search.max_settle_drop = options.contact_tolerance;
+    const int d = find_support(oi, geo[i], drafts, search);
+    if (d < 0) {
+      if (movable && !o.excluded) {
+        o.note = "rests on no platform";
+        g.warnings.push_back("object " + o.name + " cannot be placed: no platform within " +
+                             fmt_cm(options.max_settle_drop) + " below it supports it");
+      } else if (o.excluded) {
+        o.kind = ObjectKind::kFixed;
+        o.note = "scenery fixed to the structure (excluded by scene profile " +
+                 options.profile_name + ")";
+        add_drafts(i, false);
+      } else {
+        o.kind = ObjectKind::kFurniture;
+        o.note = "fixed to the structure (wall-mounted)";
+        add_drafts(i, true);
+      }
+      continue;
+    }
+    Draft& support = drafts[static_cast<std::size_t>(d)];
+    support.active = true;
+    o.kind = movable && !o.excluded ? ObjectKind::kItem : ObjectKind::kFixed;
+    if (o.excluded) o.note = "scenery (excluded by scene profile " + options.profile_name + ")";
+    parent_draft[i] = d;
+    const double dz = support.surface.height - geo[i].bottom;
+    translate(geo[i], Eigen::Vector3d(0, 0, dz));
+    o.X_WO.translation().z() += dz;
+    o.settle_dz = dz;
+    o.bottom = geo[i].bottom;
+    o.top = geo[i].top;
+    if (std::abs(dz) > options.contact_tolerance) {
+      ++far_drops;
+      max_drop = std::max(max_drop, std::abs(dz));
+      o.note += std::string(o.note.empty() ? "" : "; ") + "settled " + fmt_cm(dz) +
+                " (beyond the " + fmt_cm(options.contact_tolerance) + " contact tolerance)";
+    }
+    add_drafts(i, false);
+  }
+  if (far_drops > 0) {
+    g.warnings.push_back(std::to_string(far_drops) + " object(s) settled from more than " +
+                         fmt_cm(options.contact_tolerance) + " above their platform (largest " +
+                         fmt_cm(max_drop) + "; see each object's note)");
+  }
+  t.settle = watch.elapsed_ms();
+
+  // Platforms: active drafts, per owner bottom-up.
+  std::vector<int> draft_to_platform(drafts.size(), -1);
+  {
+    std::vector<int> order(drafts.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      const Draft& x = drafts[static_cast<size_t>(a)];
+      const Draft& y = drafts[static_cast<size_t>(b)];
+      if (x.owner != y.owner) return x.owner < y.owner;
+      if (x.surface.height != y.surface.height) return x.surface.height < y.surface.height;
+      return x.surface.area > y.surface.area;
+    });
+    for (const int d : order) {
+      const Draft& draft = drafts[static_cast<size_t>(d)];
+      if (!draft.active) continue;
+      GraphObject& owner = g.objects[static_cast<size_t>(draft.owner)];
+      Platform p;
+      p.owner = draft.owner;
+      p.index = static_cast<int>(owner.platforms.size());
+      p.name = owner.name + "_platform_" + std::to_string(p.index);
+      p.height = draft.surface.height;
+      p.source = draft.source;
+      p.destination = owner.kind == ObjectKind::kFurniture;
+      draft_to_platform[static_cast<size_t>(d)] = static_cast<int>(g.platforms.size());
+      owner.platforms.push_back(static_cast<int>(g.platforms.size()));
+      g.platforms.push_back(std::move(p));
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (parent_draft[i] < 0) continue;
+    const int p = draft_to_platform[static_cast<size_t>(parent_draft[i])];
+    g.objects[i].parent = p;
+    g.platforms[static_cast<size_t>(p)].items.push_back(static_cast<int>(i));
+  }
+
+  // Headings: furniture from its canonical minimum-area rectangle; everything on it inherits.
+  for (std::size_t i = 0; i < n; ++i) {
+    GraphObject& o = g.objects[i];
+    if (o.kind == ObjectKind::kFurniture && o.footprint.size() >= 3) {
+      o.heading = geom::min_area_rect(o.footprint, yaw_of(o.X_WO)).yaw;
+    }
+  }
+  for (const int oi : pending) {  // bottom-up, so parents come first
+    GraphObject& o = g.objects[static_cast<size_t>(oi)];
+    if (o.parent >= 0) {
+      o.heading = g.objects[static_cast<size_t>(g.platforms[static_cast<size_t>(o.parent)].owner)].heading;
+    }
+  }
+
+  // Platform frames and polygons.
+  for (std::size_t d = 0; d < drafts.size(); ++d) {
+    const int pi = draft_to_platform[d];
+    if (pi < 0) continue;
+    Platform& p = g.platforms[static_cast<size_t>(pi)];
+    const double yaw = g.objects[static_cast<size_t>(p.owner)].heading;
+    const geom::Region region_W = geom::clean(drafts[d].surface.region, 1e-4, 1e-3);
+    const Eigen::Rotation2Dd R_HW(-yaw);
+    Eigen::AlignedBox2d box_H;
+    for (const auto& ring : region_W.rings) {
+      for (const auto& q : ring) box_H.extend(R_HW * q);
+    }
+    p.X_WP = Eigen::Translation2d(Eigen::Rotation2Dd(yaw) * box_H.center()) * Eigen::Rotation2Dd(yaw);
+    p.polygon_P = geom::transform(region_W, p.X_WP.inverse());
+    p.box_P = geom::bounds(p.polygon_P);
+  }
+
+  // Clearance and interior layers: surfaces above covering most of the platform.
+  watch.reset();
+  std::map<int, OwnSurfaces> surfaces_of;
+  auto surfaces = [&](int oi) -> const OwnSurfaces& {
+    auto it = surfaces_of.find(oi);
+    if (it == surfaces_of.end()) {
+      SurfaceOptions so;
+      so.max_angle_deg = options.seed_angle_deg;
+      so.min_area = options.min_platform_area;
+      OwnSurfaces s{detect_surfaces(geo[static_cast<size_t>(oi)].soup, true, so),
+                    detect_surfaces(geo[static_cast<size_t>(oi)].soup, false, so)};
+      it = surfaces_of.emplace(oi, std::move(s)).first;
+    }
+    return it->second;
+  };
+  for (Platform& p : g.platforms) {
+    const geom::Region region_W = p.polygon_W();
+    const double area = geom::area(region_W);
+    const Eigen::AlignedBox2d box_W = geom::bounds(region_W);
+    for (std::size_t i = 0; i < n; ++i) {
+      const GraphObject& o = g.objects[i];
+      const bool own = static_cast<int>(i) == p.owner;
+      // Static geometry only: items move, floor coverings lie below everything.
+      if (!own && o.kind != ObjectKind::kFurniture && o.kind != ObjectKind::kFixed) continue;
+      if (!geo[i].has_geometry() || geo[i].top <= p.height + 1e-3) continue;
+      const Eigen::AlignedBox2d ob(Eigen::Vector2d(geo[i].soup.bounds.min().head<2>()),
+                                   Eigen::Vector2d(geo[i].soup.bounds.max().head<2>()));
+      if (!ob.intersects(box_W)) continue;
+      const OwnSurfaces& s = surfaces(static_cast<int>(i));
+      for (const auto* list : {&s.down, &s.up}) {
+        if (!own && list == &s.up) continue;
+        for (const Surface& above : *list) {
+          if (above.height <= p.height + 0.005) continue;
+          if (geom::area(geom::intersect(region_W, above.region)) <= options.ceiling_coverage * area) {
+            continue;
+          }
+          p.clearance = std::min(p.clearance, above.height - p.height);
+          if (own) p.interior = true;
+        }
+      }
+    }
+  }
+  t.clearance = watch.elapsed_ms();
+
+  // Settled items must not interpenetrate (FCL on their meshes).
+  watch.reset();
+  {
+    std::vector<const geom::TriangleSoup*> meshes;
+    for (const auto& gg : geo) meshes.push_back(&gg.soup);
+    std::vector<std::pair<int, int>> candidates;
+    for (const Platform& p : g.platforms) {
+      for (std::size_t a = 0; a < p.items.size(); ++a) {
+        for (std::size_t b = a + 1; b < p.items.size(); ++b) {
+          const auto& fa = g.objects[static_cast<size_t>(p.items[a])].footprint;
+          const auto& fb = g.objects[static_cast<size_t>(p.items[b])].footprint;
+          if (geom::bounds(fa).intersects(geom::bounds(fb))) candidates.emplace_back(p.items[a], p.items[b]);
+        }
+      }
+    }
+    for (const auto& [a, b] : interpenetrating_pairs(meshes, candidates, 0.005)) {
+      g.warnings.push_back("objects " + g.objects[static_cast<size_t>(a)].name + " and " +
+                           g.objects[static_cast<size_t>(b)].name +
+                           " interpenetrate by more than 5 mm in the settled state");
+    }
+  }
+  t.overlap = watch.elapsed_ms();
+
+  // Standing areas, visibility, navigability and the agent's numbering.
+  watch.reset();
+  // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
+  std::vector<const geom::TriangleSoup*> on_floor;
+  for (std::size_t i = 0; i < n; ++i) {
+    const GraphObject& o = g.objects[i];
+    const bool floor = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kFixed;
+    if (floor && o.parent < 0 && o.bottom <= options.contact_tolerance) on_floor.push_back(&geo[i].soup);
+  }
+  const FloorRaster raster(on_floor, options);
+  for (Platform& p : g.platforms) {
+    if (!p.destination) continue;
+    const auto owner = static_cast<size_t>(p.owner);
+    evaluate_sides(p, g.objects[owner].footprint, g.objects[owner].heading, geo[owner].soup, raster,
+                   options);
+    const bool useful = !p.items.empty() || p.clearance > 0.1;
+    p.navigable = p.height <= options.max_platform_height && useful && p.default_side >= 0;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const int pi : g.objects[i].platforms) {
+      Platform& p = g.platforms[static_cast<size_t>(pi)];
+      if (!p.navigable) continue;
+      g.navigable.push_back(pi);
+      p.label = static_cast<int>(g.navigable.size());
+    }
+  }
+  t.standing = watch.elapsed_ms();
+  t.total = total.elapsed_ms();
+  if (timings != nullptr) *timings = t;
+  return g;
+}
+
+}  // namespace mtg::graph

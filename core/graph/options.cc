@@ -1,0 +1,58 @@
+#include "core/graph/options.h"
+
+#include <filesystem>
+
+#include "core/graph/profiles_embedded.h"
+#include "core/util/error.h"
+#include "core/util/json_file.h"
+
+namespace mtg::graph {
+
+nlohmann::json GraphOptions::to_json() const {
+  return {{"seed_angle_deg", seed_angle_deg},
+          {"surface_height_tolerance", surface_height_tolerance},
+          {"min_platform_area", min_platform_area},
+          {"relative_platform_area", relative_platform_area},
+          {"ceiling_coverage", ceiling_coverage},
+          {"max_platform_height", max_platform_height},
+          {"min_platform_width", min_platform_width},
+          {"contact_tolerance", contact_tolerance},
+          {"min_support_overlap", min_support_overlap},
+          {"max_settle_drop", max_settle_drop},
+          {"floor_covering_height", floor_covering_height},
+          {"floor_covering_min_area", floor_covering_min_area},
+          {"min_furniture_height", min_furniture_height},
+          {"min_region_size", min_region_size},
+          {"robot_size", robot_size},
+          {"standing_depth", standing_depth},
+          {"raster_resolution", raster_resolution},
+          {"camera_heights_above", camera_heights_above},
+          {"profile", profile_name},
+          {"exclude_templates", exclude_templates}};
+}
+
+void apply_profile(GraphOptions& options, const std::string& profile) {
+  options.exclude_templates.clear();
+  options.profile_name = profile;
+  if (profile == "none" || profile.empty()) return;
+  nlohmann::json doc;
+  std::string source;
+  if (profile == "replica_cad") {
+    doc = nlohmann::json::parse(kReplicaCadProfileJson);
+    source = "built-in profile replica_cad";
+  } else if (std::filesystem::exists(profile)) {
+    doc = read_json_file(profile);
+    source = profile;
+  } else {
+    throw Error("unknown scene profile '" + profile +
+                "' (use none, replica_cad, or a path to a profile JSON file)");
+  }
+  const JsonField root(doc, source);
+  if (auto list = root.find("exclude_templates")) {
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      options.exclude_templates.insert(list->at(i).as_string());
+    }
+  }
+}
+
+}  // namespace mtg::graph

@@ -1,0 +1,55 @@
+#pragma once
+// Every knob of the scene-graph build, with the paper's constants as defaults
+// (official-impl-spec §11 item 6). A scene profile (profiles/*.json) adds dataset-level choices.
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace mtg::graph {
+
+struct GraphOptions {
+  // Surfaces (upward faces within seed_angle of +z, merged per height).
+  double seed_angle_deg = 20.0;
+  double surface_height_tolerance = 0.01;  // faces within this height form one surface
+  double min_platform_area = 0.0025;       // m²
+  double relative_platform_area = 0.2;     // of the owner's largest upward surface
+  double ceiling_coverage = 0.5;           // surface above covering this share bounds clearance
+  double max_platform_height = 2.0;        // higher surfaces are out of the robot's reach
+  double min_platform_width = 0.05;        // narrower strips (door tops, rims) hold nothing
+
+  // Support tree.
+  double contact_tolerance = 0.05;   // parent rule: surface within ±5 cm of the object's bottom
+  double min_support_overlap = 0.4;  // share of min(footprint, platform) area that must overlap
+  double max_settle_drop = 0.3;      // beyond ±5 cm, drop at most this far (with a warning)
+  double floor_covering_height = 0.03;  // flat, large floor objects (rugs) are part of the floor
+  double floor_covering_min_area = 0.25;  // m²
+  double min_furniture_height = 0.2;    // lower movable floor objects are items on the floor
+
+  // Free space.
+  double min_region_size = 0.03;     // free-space regions narrower than this are not numbered
+
+  // Standing areas and visibility.
+  double robot_size = 0.4;           // square robot footprint, m
+  double standing_depth = 0.5;       // strip depth outside the owner's side, m
+  double raster_resolution = 0.01;   // m per cell
+  // Observer heights above the surface for the visibility rays (visible from any of them).
+  std::vector<double> camera_heights_above = {0.15, 0.35, 0.6};
+
+  // Scene profile: templates dropped before anything else (dataset-level, not per apartment).
+  std::set<std::string> exclude_templates;
+  std::string profile_name = "none";
+
+  /// Canonical JSON of every field (for hashing into task sets and for graph.json).
+  nlohmann::json to_json() const;
+};
+
+/// Loads a profile: "none", a built-in name ("replica_cad"), or a path to a JSON file with
+/// {"exclude_templates": [...]}. @throws mtg::Error naming the profile or file.
+void apply_profile(GraphOptions& options, const std::string& profile);
+
+/// The built-in default profile name.
+inline constexpr const char* kDefaultProfile = "replica_cad";
+
+}  // namespace mtg::graph

@@ -1,0 +1,109 @@
+#pragma once
+// The receptacle-aware scene graph (DESIGN.md §3): furniture on the ground, platforms of the
+// furniture (top surfaces and interior layers), items settled on platforms, standing areas and
+// navigability. Built once per scene by build_scene_graph() and then const; episodes keep their
+// own WorldState (world_state.h).
+//
+// Frames: W world (Z-up); P a platform frame, origin at the centre of the platform's bounding box
+// in its owner's heading, x = heading ("right"), y = heading + 90° ("front"), z = surface height.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/geom/polygon.h"
+
+namespace mtg::graph {
+
+enum class ObjectKind {
+  kFurniture,      // stands on the floor, or is fixed to the structure (wall-mounted cupboard);
+                   // owns the platforms tasks send items to
+  kItem,           // movable (DYNAMIC) and resting on a platform: pickable
+  kFixed,          // scenery: STATIC objects and objects the scene profile excludes. Obstacles
+                   // where they stand, may support items, never picked, never destinations
+  kFloorCovering,  // flat on the floor (rugs, mats): part of the floor
+  kUnsupported,    // a movable object that rests on nothing: reported, not in the tree
+};
+const char* to_string(ObjectKind kind);
+
+/// The four sides of a platform, in the paper's order (rear, left, front, right).
+enum class Side { kRear = 0, kLeft = 1, kFront = 2, kRight = 3 };
+inline constexpr std::array<Side, 4> kSides = {Side::kRear, Side::kLeft, Side::kFront, Side::kRight};
+const char* to_string(Side side);
+
+struct GraphObject {
+  std::string name;
+  std::string template_name;
+  std::string short_name;   // template without the dataset prefix ("name without instance id")
+  std::string category;     // semantic class ("" if none)
+  int instance = -1;        // index into scene::Scene::objects
+  ObjectKind kind = ObjectKind::kUnsupported;
+  std::string note;         // why it is scenery / unsupported, or how it was settled
+  bool excluded = false;    // named by the scene profile (then it is scenery, kFixed)
+  bool movable = false;     // DYNAMIC rigid and kept by the profile: furniture or item, never
+                            // unsupported in a well-formed scene
+  int parent = -1;          // supporting platform; -1: on the floor / fixed to the structure
+  Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();  // settled pose
+  double bottom = 0.0;      // world z of the lowest point (settled)
+  double top = 0.0;         // world z of the highest point (settled)
+  double settle_dz = 0.0;   // vertical move applied by settling
+  geom::Ring footprint;     // convex hull of the xy projection, world frame (settled)
+  double heading = 0.0;     // yaw of its frame's x axis (furniture: canonical min-area rectangle)
+  std::vector<int> platforms;  // platforms it owns, bottom-up
+
+  bool pickable() const { return kind == ObjectKind::kItem; }
+  double height() const { return top - bottom; }
+};
+
+struct SideInfo {
+  geom::Ring strip_W;                       // the strip searched for standing cells (world)
+  double standing_area = 0.0;               // m², floor where the robot can stand on this side
+  geom::Point2 standing_point = geom::Point2::Zero();  // world xy of the chosen robot centre
+  bool visible = false;                     // the surface can be seen from the standing point
+  bool usable() const { return standing_area > 0.0 && visible; }
+};
+
+struct Platform {
+  std::string name;          // "<owner>_platform_<index>"
+  int owner = -1;            // object index
+  int index = 0;             // bottom-up rank within the owner
+  double height = 0.0;       // world z of the supporting surface
+  double clearance = std::numeric_limits<double>::infinity();  // free height above
+  bool interior = false;     // covered by its own owner (shelf, drawer cavity)
+  std::string source;        // "receptacle:<key>", "mesh", or "mesh:supports-item"
+  Eigen::Isometry2d X_WP = Eigen::Isometry2d::Identity();
+  geom::Region polygon_P;    // supporting area in P
+  Eigen::AlignedBox2d box_P; // its bounding box in P (centred at the origin)
+  std::array<SideInfo, 4> sides;
+  bool destination = false;  // owned by furniture: a place tasks may send items to
+  bool navigable = false;    // destination with a usable side
+  int label = 0;             // the agent's number l<label>; 0 when not navigable
+  std::vector<int> items;    // objects resting directly on it (items and fixed), in order
+
+  geom::Region polygon_W() const;
+  double area() const { return geom::area(polygon_P); }
+  /// First usable side in kSides order, or the largest standing area (see standing.h).
+  int default_side = -1;
+};
+
+/// The agent's key for navigable platform number `label`: "l<label>".
+std::string navigation_key(int label);
+
+struct SceneGraph {
+  std::string scene;
+  std::vector<GraphObject> objects;
+  std::vector<Platform> platforms;
+  std::vector<int> navigable;  // platform indices by label: navigable[k-1] has label k
+  std::vector<std::string> warnings;
+
+  int find_object(const std::string& name) const;    // -1 if absent
+  int find_platform(const std::string& name) const;  // -1 if absent
+  /// Pickable objects on a platform in the agent's o-numbering: each direct child followed by
+  /// its own descendants (the paper's order).
+  std::vector<int> pickable_on(int platform) const;
+};
+
+}  // namespace mtg::graph

@@ -1,0 +1,185 @@
+#include "core/graph/standing.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mtg::graph {
+
+FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles,
+                         const GraphOptions& options)
+    : resolution_(options.raster_resolution) {
+  Eigen::AlignedBox2d bounds;
+  for (const auto* soup : obstacles) {
+    if (!soup->bounds.isEmpty()) {
+      bounds.extend(Eigen::Vector2d(soup->bounds.min().head<2>()));
+      bounds.extend(Eigen::Vector2d(soup->bounds.max().head<2>()));
+    }
+  }
+  if (bounds.isEmpty()) bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
+  origin_ = bounds.min() - Eigen::Vector2d(1.0, 1.0);
+  const Eigen::Vector2d size = bounds.sizes() + Eigen::Vector2d(2.0, 2.0);
+  const int cols = static_cast<int>(std::ceil(size.x() / resolution_));
+  const int rows = static_cast<int>(std::ceil(size.y() / resolution_));
+  occupied_ = cv::Mat::zeros(rows, cols, CV_8U);
+  // Fixed-point drawing (shift 4) keeps sub-cell precision of the triangle corners.
+  constexpr int kShift = 4;
+  const double scale = (1 << kShift) / resolution_;
+  for (const auto* soup : obstacles) {
+    for (const auto& t : soup->triangles) {
+      cv::Point pts[3];
+      const Eigen::Vector3d* v[3] = {&t.a, &t.b, &t.c};
+      for (int k = 0; k < 3; ++k) {
+        pts[k] = cv::Point(static_cast<int>(std::lround((v[k]->x() - origin_.x()) * scale)),
+                           static_cast<int>(std::lround((v[k]->y() - origin_.y()) * scale)));
+      }
+      cv::fillConvexPoly(occupied_, pts, 3, cv::Scalar(1), cv::LINE_8, kShift);
+    }
+  }
+  // A centre is valid when the robot square around it is clear: dilate the obstacles by it.
+  const int half = static_cast<int>(std::lround(options.robot_size / 2.0 / resolution_));
+  cv::Mat blocked;
+  cv::dilate(occupied_, blocked,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
+  robot_free_ = 1 - blocked;
+}
+
+cv::Point2i FloorRaster::cell_of(const geom::Point2& p) const {
+  return cv::Point2i(static_cast<int>(std::floor((p.x() - origin_.x()) / resolution_)),
+                     static_cast<int>(std::floor((p.y() - origin_.y()) / resolution_)));
+}
+
+geom::Point2 FloorRaster::cell_centre(int row, int col) const {
+  return origin_ + geom::Point2((col + 0.5) * resolution_, (row + 0.5) * resolution_);
+}
+
+bool FloorRaster::free_at(const geom::Point2& p) const {
+  const cv::Point2i c = cell_of(p);
+  if (c.x < 0 || c.y < 0 || c.x >= robot_free_.cols || c.y >= robot_free_.rows) return true;
+  return robot_free_.at<std::uint8_t>(c.y, c.x) != 0;
+}
+
+namespace {
+
+// A rectangle in a frame at `yaw`: [lo, hi] in that frame's coordinates.
+struct Strip {
+  double yaw;
+  Eigen::Vector2d lo, hi;
+  Eigen::Vector2d ideal;  // preferred standing point, in the frame
+};
+
+Strip side_strip(Side side, const Eigen::AlignedBox2d& owner_H, const Eigen::AlignedBox2d& plat_H,
+                 double yaw, double depth, double robot) {
+  Strip s{yaw, {}, {}, {}};
+  // The robot centre stays at least half a robot away from the owner's face.
+  const double near = robot / 2.0;
+  switch (side) {
+    case Side::kRear:
+      s.lo = {plat_H.min().x(), owner_H.min().y() - depth};
+      s.hi = {plat_H.max().x(), owner_H.min().y()};
+      s.ideal = {plat_H.center().x(), owner_H.min().y() - near};
+      break;
+    case Side::kFront:
+      s.lo = {plat_H.min().x(), owner_H.max().y()};
+      s.hi = {plat_H.max().x(), owner_H.max().y() + depth};
+      s.ideal = {plat_H.center().x(), owner_H.max().y() + near};
+      break;
+    case Side::kLeft:
+      s.lo = {owner_H.min().x() - depth, plat_H.min().y()};
+      s.hi = {owner_H.min().x(), plat_H.max().y()};
+      s.ideal = {owner_H.min().x() - near, plat_H.center().y()};
+      break;
+    case Side::kRight:
+      s.lo = {owner_H.max().x(), plat_H.min().y()};
+      s.hi = {owner_H.max().x() + depth, plat_H.max().y()};
+      s.ideal = {owner_H.max().x() + near, plat_H.center().y()};
+      break;
+  }
+  return s;
+}
+
+bool visible_from(const geom::Point2& stand, const Platform& platform,
+                  const geom::TriangleSoup& occluders, const GraphOptions& options) {
+  const geom::Region poly_W = platform.polygon_W();
+  const geom::Point2 c = geom::centroid(poly_W);
+  const Eigen::Vector2d half = platform.box_P.sizes() / 4.0;
+  const Eigen::Rotation2Dd R(platform.X_WP.rotation());
+  std::vector<geom::Point2> targets = {c};
+  for (const auto& d : {Eigen::Vector2d(half.x(), 0), Eigen::Vector2d(-half.x(), 0),
+                        Eigen::Vector2d(0, half.y()), Eigen::Vector2d(0, -half.y())}) {
+    targets.push_back(geom::closest_point(poly_W, c + R * d));
+  }
+  for (const double above : options.camera_heights_above) {
+    const Eigen::Vector3d eye(stand.x(), stand.y(), platform.height + above);
+    for (const auto& t : targets) {
+      const Eigen::Vector3d target(t.x(), t.y(), platform.height + 0.01);
+      // Blocked when something of the owner lies between the eye and the target.
+      if (geom::ray_hit(occluders, eye, target - eye, 1e-6, 0.98) < 0.0) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, double owner_heading,
+                    const geom::TriangleSoup& owner_soup, const FloorRaster& raster,
+                    const GraphOptions& options) {
+  // Heading frame H: rotation by owner_heading about the world origin.
+  const Eigen::Rotation2Dd R_WH(owner_heading);
+  const Eigen::Rotation2Dd R_HW = R_WH.inverse();
+  Eigen::AlignedBox2d owner_H, plat_H;
+  for (const auto& p : owner_footprint) owner_H.extend(R_HW * p);
+  for (const auto& ring : platform.polygon_W().rings) {
+    for (const auto& p : ring) plat_H.extend(R_HW * p);
+  }
+  const double cell_area = raster.resolution() * raster.resolution();
+  double best_area = -1.0;
+  platform.default_side = -1;
+  for (const Side side : kSides) {
+    const Strip strip =
+        side_strip(side, owner_H, plat_H, owner_heading, options.standing_depth, options.robot_size);
+    SideInfo info;
+    // Scan the raster cells under the strip's world bounding box.
+    Eigen::AlignedBox2d box_W;
+    for (const auto& corner : {strip.lo, Eigen::Vector2d(strip.hi.x(), strip.lo.y()), strip.hi,
+                               Eigen::Vector2d(strip.lo.x(), strip.hi.y())}) {
+      info.strip_W.push_back(R_WH * corner);
+      box_W.extend(info.strip_W.back());
+    }
+    const cv::Point2i c0 = raster.cell_of(box_W.min());
+    const cv::Point2i c1 = raster.cell_of(box_W.max());
+    const geom::Point2 ideal_W = R_WH * strip.ideal;
+    double best_d = std::numeric_limits<double>::infinity();
+    long count = 0;
+    for (int row = std::max(0, c0.y); row <= std::min(raster.robot_free().rows - 1, c1.y); ++row) {
+      const std::uint8_t* free = raster.robot_free().ptr<std::uint8_t>(row);
+      for (int col = std::max(0, c0.x); col <= std::min(raster.robot_free().cols - 1, c1.x); ++col) {
+        if (free[col] == 0) continue;
+        const geom::Point2 p_W = raster.cell_centre(row, col);
+        const Eigen::Vector2d p_H = R_HW * p_W;
+        if (p_H.x() < strip.lo.x() || p_H.x() > strip.hi.x() || p_H.y() < strip.lo.y() ||
+            p_H.y() > strip.hi.y()) {
+          continue;
+        }
+        ++count;
+        const double d = (p_W - ideal_W).squaredNorm();
+        if (d < best_d) {
+          best_d = d;
+          info.standing_point = p_W;
+        }
+      }
+    }
+    info.standing_area = static_cast<double>(count) * cell_area;
+    if (count > 0) info.visible = visible_from(info.standing_point, platform, owner_soup, options);
+    platform.sides[static_cast<std::size_t>(side)] = info;
+    if (info.usable() && info.standing_area > best_area + 1e-9) {
+      best_area = info.standing_area;
+      platform.default_side = static_cast<int>(side);
+    }
+  }
+}
+
+}  // namespace mtg::graph

@@ -1,0 +1,78 @@
+#include "core/geom/polygon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace mtg::geom {
+namespace {
+
+Ring square(double cx, double cy, double half) {
+  return {{cx - half, cy - half}, {cx + half, cy - half}, {cx + half, cy + half}, {cx - half, cy + half}};
+}
+
+TEST(Polygon, AreaUnionIntersectionDifference) {
+  const Region a = rectangle({0, 0}, {2, 1});
+  const Region b = rectangle({1, 0}, {3, 1});
+  EXPECT_NEAR(area(a), 2.0, 1e-9);
+  EXPECT_NEAR(area(unite(a, b)), 3.0, 1e-9);
+  EXPECT_NEAR(area(intersect(a, b)), 1.0, 1e-9);
+  EXPECT_NEAR(area(subtract(a, b)), 1.0, 1e-9);
+  EXPECT_TRUE(intersect(a, rectangle({5, 5}, {6, 6})).empty());
+}
+
+TEST(Polygon, HoleIsSubtractedAndPointsClassified) {
+  const Region ring_shape = subtract(rectangle({0, 0}, {3, 3}), rectangle({1, 1}, {2, 2}));
+  EXPECT_NEAR(area(ring_shape), 8.0, 1e-9);
+  EXPECT_TRUE(contains(ring_shape, {0.5, 0.5}));
+  EXPECT_FALSE(contains(ring_shape, {1.5, 1.5}));
+  EXPECT_EQ(components(ring_shape).size(), 1u);
+  EXPECT_EQ(components(unite(rectangle({0, 0}, {1, 1}), rectangle({2, 0}, {3, 1}))).size(), 2u);
+}
+
+TEST(Polygon, ErodeByASquareShrinksEachSide) {
+  // Positions of a 0.2 m square's centre inside a 1 x 0.6 rectangle: 0.8 x 0.4.
+  const Region e = erode(rectangle({0, 0}, {1, 0.6}), square(0, 0, 0.1));
+  EXPECT_NEAR(area(e), 0.8 * 0.4, 1e-9);
+  const auto b = bounds(e);
+  EXPECT_NEAR(b.min().x(), 0.1, 1e-6);
+  EXPECT_NEAR(b.max().y(), 0.5, 1e-6);
+  // An L-shaped region: a 0.4 square fits only in the wide leg.
+  const Region l = unite(rectangle({0, 0}, {1, 0.5}), rectangle({0, 0}, {0.3, 2}));
+  EXPECT_NEAR(area(erode(l, square(0, 0, 0.2))), 0.6 * 0.1, 1e-9);
+}
+
+TEST(Polygon, DilateConvexAddsThePattern) {
+  const Region d = dilate(rectangle({0, 0}, {1, 1}), square(0, 0, 0.5));
+  EXPECT_NEAR(area(d), 4.0, 1e-9);
+}
+
+TEST(Polygon, ConvexHullIsCounterClockwiseAndCanonical) {
+  const Ring hull = convex_hull({{1, 1}, {0, 0}, {2, 0}, {2, 2}, {0, 2}, {1, 0.5}});
+  ASSERT_EQ(hull.size(), 4u);
+  EXPECT_GT(signed_area(hull), 0.0);
+  EXPECT_EQ(hull.front(), Point2(0, 0));
+}
+
+TEST(Polygon, MinAreaRectPicksTheAxisNearestThePreferredYaw) {
+  // A 2 x 1 rectangle rotated by 30 deg.
+  const Eigen::Rotation2Dd R(M_PI / 6);
+  Ring r;
+  for (const auto& p : square(0, 0, 1)) r.push_back(R * Point2(p.x(), 0.5 * p.y()));
+  const OrientedBox near0 = min_area_rect(convex_hull(r), 0.0);
+  EXPECT_NEAR(near0.yaw, M_PI / 6, 1e-9);
+  EXPECT_NEAR(near0.half.x(), 1.0, 1e-9);
+  EXPECT_NEAR(near0.half.y(), 0.5, 1e-9);
+  const OrientedBox near90 = min_area_rect(convex_hull(r), M_PI / 2);
+  EXPECT_NEAR(near90.yaw, M_PI / 6 + M_PI / 2, 1e-9);
+  EXPECT_NEAR(near90.half.x(), 0.5, 1e-9);  // axes swap with the quarter turn
+}
+
+TEST(Polygon, ClosestPointOfARegion) {
+  const Region r = rectangle({0, 0}, {1, 1});
+  EXPECT_TRUE(closest_point(r, {0.5, 0.5}).isApprox(Point2(0.5, 0.5)));
+  EXPECT_TRUE(closest_point(r, {2.0, 0.5}).isApprox(Point2(1.0, 0.5), 1e-6));
+}
+
+}  // namespace
+}  // namespace mtg::geom
