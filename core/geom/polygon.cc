@@ -126,40 +126,64 @@ Region offset(const Region& region, double delta) {
   return execute(cl::ctUnion, out, {});
 }
 
-Region dilate(const Region& a, const Ring& convex_pattern) {
-  if (a.empty() || convex_pattern.empty()) return {};
-  // A ⊕ B = (A + b0) ∪ (∂A ⊕ B) for a connected B: the swept boundary plus one translate.
-  const cl::Path pattern = to_path(convex_pattern);
-  cl::Paths swept;
-  cl::MinkowskiSum(pattern, to_paths(a), swept, true);
-  cl::Paths shifted = to_paths(a);
-  for (auto& path : shifted) {
-    for (auto& p : path) {
-      p.X += pattern[0].X;
-      p.Y += pattern[0].Y;
+namespace {
+
+// ∂A ⊕ pattern for a convex pattern: the union of the hulls swept by the pattern along each
+// boundary edge (the hull of its two translates). Clipper's own closed-path MinkowskiSum fills
+// the interior for some vertex orders, so the band is built from these convex pieces instead.
+cl::Paths boundary_band(const Region& a, const Ring& convex_pattern) {
+  std::vector<Ring> pieces;
+  for (const auto& ring : a.rings) {
+    for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+      std::vector<Point2> pts;
+      pts.reserve(2 * convex_pattern.size());
+      for (const auto& q : convex_pattern) {
+        pts.push_back(ring[i] + q);
+        pts.push_back(ring[(i + 1) % n] + q);
+      }
+      pieces.push_back(convex_hull(std::move(pts)));
     }
   }
-  // MinkowskiSum unions its swept quads itself: its output is oriented (outer rings
-  // counter-clockwise, holes clockwise), so it goes into the union as it is.
-  cl::Clipper c;
-  c.AddPaths(shifted, cl::ptSubject, true);
-  c.AddPaths(swept, cl::ptClip, true);
-  cl::Paths out;
-  c.Execute(cl::ctUnion, out, cl::pftNonZero, cl::pftNonZero);
-  return to_region(out);
+  cl::Paths paths;
+  for (const auto& piece : pieces) {
+    if (piece.size() >= 3) paths.push_back(to_path(piece));
+  }
+  return paths;
+}
+
+}  // namespace
+
+Region dilate(const Region& a, const Ring& convex_pattern) {
+  if (a.empty() || convex_pattern.empty()) return {};
+  // A ⊕ B = (A + b0) ∪ (∂A ⊕ B) for a connected B: one translate plus the boundary band.
+  cl::Paths shifted = to_paths(a);
+  const cl::IntPoint b0 = to_int(convex_pattern.front());
+  for (auto& path : shifted) {
+    for (auto& p : path) {
+      p.X += b0.X;
+      p.Y += b0.Y;
+    }
+  }
+  return execute(cl::ctUnion, shifted, boundary_band(a, convex_pattern));
 }
 
 Region erode(const Region& a, const Ring& convex_pattern) {
   if (a.empty() || convex_pattern.empty()) return {};
-  // p + B ⊆ A  <=>  p ∉ (complement(A) ⊕ (-B)).
+  Ring mirrored;
+  for (const auto& q : convex_pattern) mirrored.push_back(-q);
+  if (contains(from_ring(convex_pattern), Point2::Zero())) {
+    // For a convex B holding its reference point: p + B ⊆ A  <=>  p ∈ A and p ∉ ∂A ⊕ (-B)
+    // (a path from p into B that leaves A crosses its boundary). The band around the boundary
+    // is one Minkowski sum of the rings, much cheaper than dilating A's complement.
+    return execute(cl::ctDifference, to_paths(a), boundary_band(a, mirrored));
+  }
+  // General case: p + B ⊆ A  <=>  p ∉ (complement(A) ⊕ (-B)).
   Eigen::AlignedBox2d box = bounds(a);
   double reach = 0.0;
   for (const auto& q : convex_pattern) reach = std::max(reach, q.norm());
   box.min() -= Eigen::Vector2d::Constant(2.0 * reach + 1.0);
   box.max() += Eigen::Vector2d::Constant(2.0 * reach + 1.0);
   const Region outside = subtract(rectangle(box.min(), box.max()), a);
-  Ring mirrored;
-  for (const auto& q : convex_pattern) mirrored.push_back(-q);
   return subtract(a, dilate(outside, mirrored));
 }
 

@@ -132,10 +132,25 @@ std::vector<Obstacle> make_obstacles(const Platform& platform, const std::vector
   return out;
 }
 
+namespace {
+
+// A platform that fills its bounding box clips nothing: regions inside the box stay rectangles.
+bool fills_its_box(const Platform& platform) {
+  return geom::area(platform.polygon_P) >= platform.box_P.volume() * (1.0 - 1e-9);
+}
+
+geom::Region clip_to_platform(const Platform& platform, bool rectangular, const Eigen::AlignedBox2d& rect) {
+  const geom::Region r = geom::rectangle(rect.min(), rect.max());
+  return rectangular ? r : geom::intersect(platform.polygon_P, r);
+}
+
+}  // namespace
+
 std::vector<FreeRegion> object_regions(const Platform& platform,
                                        const std::vector<Obstacle>& obstacles, double min_size) {
   std::vector<FreeRegion> out;
   const Eigen::AlignedBox2d limit = platform.box_P;
+  const bool rectangular = fills_its_box(platform);
   static constexpr int kCorner[8][2] = {{0, 0}, {-1, -1}, {0, 0}, {-1, 1},
                                         {0, 0}, {1, 1},   {0, 0}, {1, -1}};
   for (const Obstacle& a : obstacles) {
@@ -147,9 +162,7 @@ std::vector<FreeRegion> object_regions(const Platform& platform,
                               : corner_rect(a.box_P, kCorner[dir][0], kCorner[dir][1], limit,
                                             obstacles, a.object);
       const Eigen::Vector2d size = r.rect_P.sizes();
-      if (size.x() > kEps && size.y() > kEps) {
-        r.region_P = geom::intersect(platform.polygon_P, geom::rectangle(r.rect_P.min(), r.rect_P.max()));
-      }
+      if (size.x() > kEps && size.y() > kEps) r.region_P = clip_to_platform(platform, rectangular, r.rect_P);
       const Eigen::AlignedBox2d clipped = geom::bounds(r.region_P);
       r.numbered = !r.region_P.empty() && clipped.sizes().x() >= min_size &&
                    clipped.sizes().y() >= min_size;
@@ -159,19 +172,24 @@ std::vector<FreeRegion> object_regions(const Platform& platform,
   return out;
 }
 
-std::array<FreeRegion, 9> grid_cells(const Platform& platform) {
+Eigen::AlignedBox2d grid_cell_rect(const Platform& platform, int dir) {
   // (row along y: 0 rear .. 2 front, column along x: 0 left .. 2 right) of each direction.
   static constexpr int kCell[9][2] = {{0, 1}, {0, 0}, {1, 0}, {2, 0}, {2, 1},
                                       {2, 2}, {1, 2}, {0, 2}, {1, 1}};
-  std::array<FreeRegion, 9> out;
-  const Eigen::Vector2d lo = platform.box_P.min();
   const Eigen::Vector2d step = platform.box_P.sizes() / 3.0;
+  const Eigen::Vector2d a =
+      platform.box_P.min() + Eigen::Vector2d(kCell[dir][1] * step.x(), kCell[dir][0] * step.y());
+  return Eigen::AlignedBox2d(a, a + step);
+}
+
+std::array<FreeRegion, 9> grid_cells(const Platform& platform) {
+  std::array<FreeRegion, 9> out;
+  const bool rectangular = fills_its_box(platform);
   for (int dir = 0; dir <= kCentre; ++dir) {
     FreeRegion& r = out[static_cast<std::size_t>(dir)];
     r.dir = dir;
-    const Eigen::Vector2d a = lo + Eigen::Vector2d(kCell[dir][1] * step.x(), kCell[dir][0] * step.y());
-    r.rect_P = Eigen::AlignedBox2d(a, a + step);
-    r.region_P = geom::intersect(platform.polygon_P, geom::rectangle(r.rect_P.min(), r.rect_P.max()));
+    r.rect_P = grid_cell_rect(platform, dir);
+    r.region_P = clip_to_platform(platform, rectangular, r.rect_P);
     r.numbered = !r.region_P.empty();
   }
   return out;

@@ -50,6 +50,9 @@ struct FreeRegion {
 std::vector<FreeRegion> object_regions(const Platform& platform,
                                        const std::vector<Obstacle>& obstacles, double min_size);
 
+/// Rectangle of grid cell `dir` (0..7, kCentre) of the platform's bounding box, in P.
+Eigen::AlignedBox2d grid_cell_rect(const Platform& platform, int dir);
+
 /// The 3x3 grid of the platform's bounding box, indexed by platform-frame direction (0..7) and
 /// kCentre, each clipped to the polygon.
 std::array<FreeRegion, 9> grid_cells(const Platform& platform);

@@ -6,6 +6,8 @@
 
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/job.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::cli {
@@ -84,6 +86,35 @@ int run_bench_scene_graph(const BenchSceneGraphOptions& options) {
                 first.navigable.size(), t.platforms, t.settle, t.clearance, t.overlap, t.standing);
   }
   std::printf("  peak RSS %.1f MiB\n", peak_rss_mib());
+  return 0;
+}
+
+int run_bench_tasks(const BenchTasksOptions& options) {
+  const scene::Dataset dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  std::printf("tasks: Levels 1+2 per apartment (graph built beforehand), then all four levels\n");
+  for (const std::string& name : options.scenes) {
+    scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+    const graph::SceneGraph g = graph::build_scene_graph(scene::load_scene(dataset, name, cache), graph_options);
+    tasks::TaskOptions atomic;
+    atomic.levels = {1, 2};
+    Stopwatch watch;
+    const auto r = tasks::generate_tasks(g, atomic);
+    std::printf("  %-8s L1+L2 %6zu tasks in %6.0f ms\n", name.c_str(), r.set.tasks.size(), watch.elapsed_ms());
+  }
+  tasks::GenerationJob job;
+  job.scenes = options.scenes;
+  job.data_dir = options.data_dir;
+  job.out = options.out;
+  const auto report = tasks::run_generation(job);
+  for (const auto& sc : report.scenes) {
+    std::printf("  %-8s all levels: L1 %ld  L2 %ld  L3 %ld  L4 %ld  (%ld tasks, %.1f s incl. load + graph)\n",
+                sc.scene.c_str(), static_cast<long>(sc.levels[0]), static_cast<long>(sc.levels[1]),
+                static_cast<long>(sc.levels[2]), static_cast<long>(sc.levels[3]), static_cast<long>(sc.total), sc.seconds);
+  }
+  std::printf("  all four levels, %zu apartments: %ld tasks in %.1f s (database written), peak RSS %.0f MiB\n",
+              options.scenes.size(), static_cast<long>(report.total), report.seconds, peak_rss_mib());
   return 0;
 }
 

@@ -10,6 +10,7 @@
 #include "core/util/log.h"
 #include "orchestrator/cli/bench_commands.h"
 #include "orchestrator/cli/scene_commands.h"
+#include "orchestrator/cli/task_commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
@@ -38,6 +39,29 @@ int main(int argc, char** argv) {
   scene_graph->add_option("--profile", graph_opts.profile,
                           "scene profile: replica_cad (default), none, or a JSON file");
 
+  // mtg tasks ... / mtg tasks stats DB
+  mtg::cli::TasksOptions tasks_opts;
+  CLI::App* tasks = app.add_subcommand("tasks", "Generate task sets (Levels 1-4) into SQLite/JSONL");
+  tasks->require_subcommand(0, 1);
+  tasks->add_option("--scene", tasks_opts.scenes, "scene name (repeat for several)");
+  tasks->add_option("--data", tasks_opts.data_dir, "dataset root (default: search order)");
+  tasks->add_option("--out", tasks_opts.out, "task database to write (SQLite)");
+  tasks->add_option("--jsonl", tasks_opts.jsonl, "also export one task per line here");
+  tasks->add_option("--seed", tasks_opts.seed, "seed (default 0)");
+  tasks->add_option("--levels", tasks_opts.levels, "levels to generate, e.g. 1,2,3,4");
+  tasks->add_option("--profile", tasks_opts.profile, "scene profile (replica_cad, none, or a file)");
+  tasks->add_option("--ambiguity", tasks_opts.ambiguity, "Level 2 rule: name (default) or category");
+  tasks->add_option("--l3-count", tasks_opts.level3_count, "Level 3 tasks per scene (default 10000)");
+  tasks->add_option("--l3-chain", tasks_opts.level3_chain, "sub-tasks per Level 3 task (default 2)");
+  tasks->add_option("--l4-max-moves", tasks_opts.level4_max_moves, "objects a Level 4 task may move (default 3)");
+  tasks->add_option("--l4-templates", tasks_opts.level4_templates, "Level 4 template library (builtin or a file)");
+  tasks->add_option("--votes", tasks_opts.votes, "recorded Level 4 feasibility votes (JSONL)");
+  tasks->add_option("--step-limit", tasks_opts.step_limit, "episode step limit (default 15)");
+  mtg::cli::TaskStatsOptions stats_opts;
+  CLI::App* tasks_stats = tasks->add_subcommand("stats", "Counts per level, type and scene of a task database");
+  tasks_stats->add_option("db", stats_opts.db, "task database")->required();
+  tasks_stats->add_flag("--json", stats_opts.json, "print one JSON object");
+
   // mtg bench ... (what scripts/bench prints)
   CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
   bench->require_subcommand(1);
@@ -53,6 +77,12 @@ int main(int argc, char** argv) {
   bench_scene_graph->add_option("--data", bench_graph.data_dir, "dataset root");
   bench_scene_graph->add_option("--repeat", bench_graph.repeat, "warm repetitions");
 
+  mtg::cli::BenchTasksOptions bench_tasks;
+  CLI::App* bench_tasks_cmd = bench->add_subcommand("tasks", "Task generation time per apartment and in all");
+  bench_tasks_cmd->add_option("--scene", bench_tasks.scenes, "scene names (repeatable)");
+  bench_tasks_cmd->add_option("--data", bench_tasks.data_dir, "dataset root");
+  bench_tasks_cmd->add_option("--out", bench_tasks.out, "where the benchmark's task database goes");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -64,7 +94,10 @@ int main(int argc, char** argv) {
     if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
     if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
+    if (tasks_stats->parsed()) return mtg::cli::run_task_stats(stats_opts);
+    if (tasks->parsed()) return mtg::cli::run_tasks(tasks_opts);
     if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);
+    if (bench_tasks_cmd->parsed()) return mtg::cli::run_bench_tasks(bench_tasks);
     if (bench_scene_graph->parsed()) return mtg::cli::run_bench_scene_graph(bench_graph);
   } catch (const mtg::Error& e) {
     std::cerr << "mtg: " << e.what() << '\n';

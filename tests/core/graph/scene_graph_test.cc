@@ -10,6 +10,7 @@
 #include "core/graph/graph_json.h"
 #include "core/scene/scene_loader.h"
 #include "tests/support/fixture_dataset.h"
+#include "tests/support/graph_fixtures.h"
 #include "tests/support/shipped_data.h"
 
 namespace mtg::graph {
@@ -21,17 +22,8 @@ using Box = FixtureDataset::Box;
 
 constexpr double kTol = 1e-6;
 
-// A table 1.0 x 0.6 (world x by y) whose top surface is at 0.74 m, on four legs.
-void add_table(FixtureDataset& fx, const std::string& name, double sx = 1.0, double sy = 0.6) {
-  std::vector<Box> parts = {{{sx, 0.04, sy}, {0, 0.70, 0}}};
-  for (const double x : {-sx / 2 + 0.05, sx / 2 - 0.05}) {
-    for (const double z : {-sy / 2 + 0.05, sy / 2 - 0.05}) parts.push_back({{0.04, 0.70, 0.04}, {x, 0, z}});
-  }
-  fx.add_object_config("toy_" + name, fx.add_boxes_mesh(name, parts));
-}
-
-// Habitat translation of a world point (x, y) at height z: (x, z, -y).
-Eigen::Vector3d hab(double x, double y, double z) { return {x, z, -y}; }
+using testing::add_table;
+using testing::hab;
 
 struct Built {
   scene::Scene scene;

@@ -41,7 +41,9 @@ TEST(ShippedGraph, EveryMovableItemHasExactlyOneParentAndStandsOnIt) {
     const SceneGraph& g = shipped(name).graph;
     int items = 0;
     for (const GraphObject& o : g.objects) {
-      if (o.movable) EXPECT_NE(o.kind, ObjectKind::kUnsupported) << name << " " << o.name << ": " << o.note;
+      if (o.movable) {
+        EXPECT_NE(o.kind, ObjectKind::kUnsupported) << name << " " << o.name << ": " << o.note;
+      }
       if (o.kind != ObjectKind::kItem) continue;
       ++items;
       if (o.parent < 0) {  // lying on the floor

@@ -1,0 +1,90 @@
+#pragma once
+// Goal predicates evaluated on a world state: the geometric success tests of the judge, and the
+// tests task generation uses to decide which goals a placement achieves (so every generated task
+// is, by construction, a goal the judge will accept).
+//
+// Atomic goals (Levels 1-3), with the item standing on `platform`, not held:
+//   surface       anywhere on the platform
+//   surface_part  footprint centre in the named 3x3 cell (named from where the robot stood when
+//                 it placed the item: "front" is the part farthest from it)
+//   around        footprint within around_distance of the anchor's footprint
+//   direction     footprint centre in the anchor's named direction: beyond the anchor's edge and
+//                 within its extent across (sides), or beyond both edges (corners), up to the
+//                 platform's bounds; named from where the robot stood
+//   between       footprint centre in the corridor between the two anchors: between their facing
+//                 edges and within the overlap of their extents across
+// Outcome goals (Level 4) are conjunctions of set predicates (all_on, none_on, near, together).
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+
+namespace mtg::episode {
+
+enum class GoalType { kSurface, kSurfacePart, kAround, kDirection, kBetween };
+const char* to_string(GoalType type);
+/// @throws mtg::Error for an unknown name.
+GoalType goal_type_from_string(const std::string& name);
+
+struct GoalOptions {
+  double around_distance = 0.10;  // m, gap between footprints
+};
+
+struct AtomicGoal {
+  GoalType type = GoalType::kSurface;
+  int item = -1;
+  int source = -1;      // furniture platform the item starts on (intermediate points)
+  int platform = -1;    // destination
+  int anchor = -1;
+  int anchor2 = -1;
+  int direction = -1;   // relative direction (surface_part 0..8, direction 0..7)
+};
+
+bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                    const GoalOptions& options = {});
+
+/// Level 4: a set predicate over objects and platforms.
+struct SetPredicate {
+  enum class Op { kAllOn, kNoneOn, kNear, kTogether };
+  Op op = Op::kAllOn;
+  std::vector<int> objects;
+  std::vector<int> platforms;  // all_on: any of these; none_on: none of these
+};
+const char* to_string(SetPredicate::Op op);
+
+struct OutcomeGoal {
+  std::vector<SetPredicate> all;  // conjunction
+};
+
+bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const SetPredicate& p,
+                         const GoalOptions& options = {});
+bool outcome_satisfied(const graph::SceneGraph& g, const WorldState& s, const OutcomeGoal& goal,
+                       const GoalOptions& options = {});
+
+/// JSON forms (names, not indices), as stored in goal_json. The from_json functions throw
+/// mtg::Error naming the field when a name is unknown to the graph.
+nlohmann::json to_json(const graph::SceneGraph& g, const AtomicGoal& goal);
+AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::json& j);
+nlohmann::json to_json(const graph::SceneGraph& g, const OutcomeGoal& goal);
+OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::json& j);
+
+/// A stored task goal ({"atomic": ...}, {"sequence": [...]}, {"outcome": ...}) resolved against a
+/// graph. @throws mtg::Error naming the field or name that does not resolve.
+struct TaskGoal {
+  std::vector<AtomicGoal> parts;  // atomic: one; sequence: several (all must hold at the end)
+  OutcomeGoal outcome;            // used when `is_outcome`
+  bool is_outcome = false;
+  /// Objects the agent must not pick: the anchors of every part that no part moves.
+  std::vector<int> protected_objects() const;
+};
+TaskGoal task_goal_from_json(const graph::SceneGraph& g, const nlohmann::json& goal);
+/// Success at the end of an episode: nothing held and every part (or the outcome) satisfied.
+bool task_goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const TaskGoal& goal,
+                         const GoalOptions& options = {});
+
+/// Distance between two convex footprints (0 when they touch or overlap).
+double footprint_gap(const geom::Ring& a, const geom::Ring& b);
+
+}  // namespace mtg::episode

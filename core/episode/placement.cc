@@ -1,0 +1,115 @@
+#include "core/episode/placement.h"
+
+#include <algorithm>
+
+namespace mtg::episode {
+namespace {
+
+constexpr double kMargin = 0.001;  // keep a millimetre between placed footprints
+
+// The anchor point of direction `dir` on box `b`: edge midpoints for sides, corners for corners.
+geom::Point2 aim_on_box(const Eigen::AlignedBox2d& b, int dir) {
+  const double cx = b.center().x(), cy = b.center().y();
+  switch (dir) {
+    case 0: return {cx, b.min().y()};
+    case 1: return {b.min().x(), b.min().y()};
+    case 2: return {b.min().x(), cy};
+    case 3: return {b.min().x(), b.max().y()};
+    case 4: return {cx, b.max().y()};
+    case 5: return {b.max().x(), b.max().y()};
+    case 6: return {b.max().x(), cy};
+    default: return {b.max().x(), b.min().y()};
+  }
+}
+
+}  // namespace
+
+std::string display_name(const graph::GraphObject& o) {
+  std::string name = o.short_name.empty() ? o.name : o.short_name;
+  std::replace(name.begin(), name.end(), '_', ' ');
+  return name;
+}
+
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, int platform,
+                                       graph::Side side, double min_region_size) {
+  std::vector<PlaceTarget> out;
+  const graph::Platform& p = g.platforms.at(static_cast<std::size_t>(platform));
+  const std::vector<int>& on = objects_on(s, platform);
+  if (on.empty()) {
+    const auto cells = graph::grid_cells(p);
+    for (int rel = 0; rel <= graph::kCentre; ++rel) {
+      const int dir = graph::platform_direction(rel, side);
+      PlaceTarget t;
+      t.key = std::to_string(rel + 1);
+      t.kind = PlaceTarget::Kind::kGridCell;
+      t.relative_dir = rel;
+      t.platform_dir = dir;
+      t.region_P = cells[static_cast<std::size_t>(dir)].region_P;
+      t.aim_P = cells[static_cast<std::size_t>(dir)].rect_P.center();
+      t.description = std::string("place it in the ") + graph::direction_name(rel) +
+                      " part of the platform (grid cell " + t.key + ")";
+      out.push_back(std::move(t));
+    }
+  } else {
+    const auto obstacles = obstacles_on(g, s, platform);
+    const auto regions = graph::object_regions(p, obstacles, min_region_size);
+    int next = 1;
+    for (std::size_t k = 0; k < obstacles.size(); ++k) {
+      for (int rel = 0; rel < graph::kNumDirections; ++rel) {
+        const int dir = graph::platform_direction(rel, side);
+        const graph::FreeRegion& r = regions[8 * k + static_cast<std::size_t>(dir)];
+        if (!r.numbered) continue;
+        PlaceTarget t;
+        t.key = std::to_string(next++);
+        t.kind = PlaceTarget::Kind::kObjectRegion;
+        t.relative_dir = rel;
+        t.platform_dir = dir;
+        t.anchor = obstacles[k].object;
+        t.region_P = r.region_P;
+        t.aim_P = aim_on_box(obstacles[k].box_P, dir);
+        t.description = std::string("place it in free space ") + t.key + ": " +
+                        graph::direction_name(rel) + " of the " +
+                        display_name(g.objects[static_cast<std::size_t>(t.anchor)]);
+        out.push_back(std::move(t));
+      }
+    }
+  }
+  PlaceTarget any;
+  any.key = kAnywhereKey;
+  any.region_P = p.polygon_P;
+  any.aim_P = geom::centroid(p.polygon_P);
+  any.description = "place it anywhere on the platform where it fits";
+  out.push_back(std::move(any));
+  return out;
+}
+
+geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform) {
+  const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
+  const geom::Point2 c = geom::centroid(geom::Region{{o.footprint}});
+  const Eigen::Rotation2Dd R_PW(platform_frame(g, s, platform).rotation().transpose());
+  geom::Ring out;
+  for (const auto& q : o.footprint) out.push_back(R_PW * (q - c));
+  return out;
+}
+
+geom::Region held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform) {
+  const graph::Platform& p = g.platforms.at(static_cast<std::size_t>(platform));
+  const geom::Region free =
+      graph::feasible_positions(p, obstacles_on(g, s, platform), held_footprint_P(g, s, platform));
+  return free.empty() ? free : geom::offset(free, -kMargin);
+}
+
+std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
+                                              int platform, const PlaceTarget& target,
+                                              const geom::Region& feasible_centres) {
+  const geom::Region candidates = geom::intersect(feasible_centres, target.region_P);
+  if (candidates.empty() || geom::area(candidates) < 1e-10) return std::nullopt;
+  const geom::Point2 centre_P = geom::closest_point(candidates, target.aim_P);
+  const Eigen::Vector2d centre_W = platform_frame(g, s, platform) * centre_P;
+  // Reference point = centre minus the centre's offset from the object's origin.
+  const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
+  const geom::Point2 c = geom::centroid(geom::Region{{o.footprint}});
+  return centre_W - (c - o.position.head<2>());
+}
+
+}  // namespace mtg::episode

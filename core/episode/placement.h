@@ -1,0 +1,60 @@
+#pragma once
+// Where a held object can go on the current platform: the numbered targets the agent chooses
+// from after `startplace`, and the exact position a choice resolves to. One source of truth for
+// the observation text, the renderer's numbers, task generation and the judge.
+//
+// Empty platform: keys 1..9 are the 3x3 cells in the paper's order (1 rear, 2 rear-left, 3 left,
+// 4 front-left, 5 front, 6 front-right, 7 right, 8 rear-right, 9 center), named from where the
+// robot stands. Occupied platform: keys 1..K number the free-space regions of the objects on it
+// (objects in platform order, each object's directions in that same order, relative to the
+// robot), skipping regions smaller than min_region_size. Key 999 means "anywhere it fits".
+//
+// A target resolves to the position nearest its aim point (the cell's centre; the middle of the
+// anchor's edge or its corner, so the object ends up next to the anchor; the platform's centre)
+// where the object's footprint centre lies in the target region, the footprint inside the
+// platform and clear of every other object (1 mm margin).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+#include "core/graph/free_space.h"
+
+namespace mtg::episode {
+
+inline constexpr const char* kAnywhereKey = "999";
+
+struct PlaceTarget {
+  enum class Kind { kGridCell, kObjectRegion, kAnywhere };
+  std::string key;
+  Kind kind = Kind::kAnywhere;
+  int relative_dir = -1;   // as the robot names it (0..7, 8 centre); -1 for anywhere
+  int platform_dir = -1;   // in the platform frame
+  int anchor = -1;         // object of an object region
+  geom::Region region_P;   // where the footprint centre must land (platform frame)
+  geom::Point2 aim_P = geom::Point2::Zero();
+  std::string description; // for the action space
+};
+
+/// Targets offered on `platform` for a robot standing at `side`.
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, int platform,
+                                       graph::Side side, double min_region_size);
+
+/// The held object's footprint relative to its footprint centre, in the platform's axes.
+geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform);
+
+/// Footprint-centre positions (platform frame) where the held object fits on `platform`.
+geom::Region held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform);
+
+/// The world position of the held object's reference point if `target` can take it, using the
+/// precomputed feasible centres (held_feasible_centres); nullopt when the region is too small.
+std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
+                                              int platform, const PlaceTarget& target,
+                                              const geom::Region& feasible_centres);
+
+/// Short display name of an object for the agent: template without instance id, spaced
+/// ("kitchen utensil 09"), so identical objects read the same (the Level 2 ambiguity).
+std::string display_name(const graph::GraphObject& o);
+
+}  // namespace mtg::episode

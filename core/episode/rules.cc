@@ -1,0 +1,187 @@
+#include "core/episode/rules.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace mtg::episode {
+namespace {
+
+bool all_digits(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
+}
+
+const graph::Platform& current(const graph::SceneGraph& g, const WorldState& s) {
+  return g.platforms.at(static_cast<std::size_t>(s.at_platform));
+}
+
+std::string platform_title(const graph::SceneGraph& g, int platform) {
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+  return p.name + " (" + graph::navigation_key(p.label) + ")";
+}
+
+void end(WorldState& s, StepOutcome& out, const char* reason) {
+  s.phase = Phase::kDone;
+  out.done = true;
+  out.end_reason = reason;
+}
+
+}  // namespace
+
+bool is_action_key(std::string_view key) {
+  if (key == "0" || key == "-1" || key == "startplace" || all_digits(key)) return true;
+  return key.size() >= 2 && (key[0] == 'l' || key[0] == 'o') && all_digits(key.substr(1));
+}
+
+int next_usable_side(const graph::Platform& p, int from) {
+  for (int k = 1; k <= 4; ++k) {
+    const int side = (from + k) % 4;
+    if (p.sides[static_cast<std::size_t>(side)].usable()) return side;
+  }
+  return -1;
+}
+
+std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldState& s,
+                                       const RuleOptions& options) {
+  std::vector<ActionOption> out;
+  if (s.phase == Phase::kDone) return out;
+  if (s.phase == Phase::kPlacing) {
+    out.push_back({"0", "call_end: finish the task now"});
+    for (const PlaceTarget& t : place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
+                                              options.min_region_size)) {
+      out.push_back({t.key, t.description});
+    }
+    return out;
+  }
+  if (s.phase == Phase::kAtPlatform) {
+    out.push_back({"-1", "rotate clockwise to the next side of this platform where you fit "
+                         "(you stay if there is none)"});
+  }
+  out.push_back({"0", "call_end: finish the task now"});
+  if (s.phase == Phase::kAtPlatform && s.held < 0) {
+    const auto objects = pickable_on(g, s, s.at_platform);
+    for (std::size_t k = 0; k < objects.size(); ++k) {
+      out.push_back({"o" + std::to_string(k + 1),
+                     "pick up object " + std::to_string(k + 1) + " (" +
+                         display_name(g.objects[static_cast<std::size_t>(objects[k])]) + ")"});
+    }
+  }
+  for (std::size_t k = 0; k < g.navigable.size(); ++k) {
+    out.push_back({graph::navigation_key(static_cast<int>(k) + 1),
+                   "go to platform " + std::to_string(k + 1) + ": " +
+                       g.platforms[static_cast<std::size_t>(g.navigable[k])].name});
+  }
+  if (s.phase == Phase::kAtPlatform && s.held >= 0) {
+    out.push_back({"startplace", "start placing the object in your hand on this platform"});
+  }
+  return out;
+}
+
+StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_view key,
+                         const TaskConstraints& constraints, const RuleOptions& options) {
+  StepOutcome out;
+  if (s.phase == Phase::kDone) {
+    out.hint = "the episode has ended";
+    return out;
+  }
+  ++s.steps;
+  out.valid = is_action_key(key);
+  // While placing, the offered keys are the targets; compute them once for both checks.
+  std::vector<PlaceTarget> targets;
+  if (s.phase == Phase::kPlacing) {
+    targets = place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side), options.min_region_size);
+    out.available = key == "0" || std::any_of(targets.begin(), targets.end(),
+                                              [&](const PlaceTarget& t) { return t.key == key; });
+  } else {
+    const auto offered = action_space(g, s, options);
+    out.available = std::any_of(offered.begin(), offered.end(), [&](const ActionOption& a) { return a.key == key; });
+  }
+  if (!out.valid) {
+    out.hint = "'" + std::string(key.substr(0, 40)) + "' is not an action key; answer with one key of the action space";
+  } else if (!out.available) {
+    out.hint = "action " + std::string(key) + " is not available now; choose one of the offered keys";
+  } else if (key == "0") {
+    out.applied = true;
+    end(s, out, "call_end");
+    return out;
+  } else if (key[0] == 'l' && key.size() > 1) {
+    const int n = std::stoi(std::string(key.substr(1)));
+    s.at_platform = g.navigable[static_cast<std::size_t>(n - 1)];
+    s.side = current(g, s).default_side;
+    s.phase = Phase::kAtPlatform;
+    out.applied = true;
+  } else if (key == "-1") {
+    const int next = next_usable_side(current(g, s), s.side);
+    if (next < 0 || next == s.side) {
+      out.hint = "there is no other side of this platform where you fit; you stay where you are";
+    } else {
+      s.side = next;
+      out.applied = true;
+    }
+  } else if (key[0] == 'o') {
+    const int k = std::stoi(std::string(key.substr(1)));
+    const int object = pickable_on(g, s, s.at_platform).at(static_cast<std::size_t>(k - 1));
+    const auto& forbidden = constraints.protected_objects;
+    if (std::find(forbidden.begin(), forbidden.end(), object) != forbidden.end()) {
+      out.hint = "object " + std::to_string(k) + " is a reference object of the task and must stay where it is";
+    } else {
+      pick(g, s, object);
+      out.picked = object;
+      out.applied = true;
+    }
+  } else if (key == "startplace") {
+    s.phase = Phase::kPlacing;
+    out.applied = true;
+  } else {  // a placement target
+    const auto it = std::find_if(targets.begin(), targets.end(), [&](const PlaceTarget& t) { return t.key == key; });
+    const geom::Region feasible = held_feasible_centres(g, s, s.at_platform);
+    const auto xy = resolve_target(g, s, s.at_platform, *it, feasible);
+    if (!xy) {
+      out.hint = "the object does not fit in " + std::string(key == kAnywhereKey ? "any free space of this platform"
+                                                                                  : "free space " + std::string(key)) +
+                 "; choose another place or another platform";
+    } else {
+      out.placed = s.held;
+      place_held(g, s, s.at_platform, *xy);
+      s.phase = Phase::kAtPlatform;
+      out.applied = true;
+    }
+  }
+  if (s.steps >= options.step_limit) end(s, out, "step_limit");
+  return out;
+}
+
+std::string situation_text(const graph::SceneGraph& g, const WorldState& s) {
+  std::string text;
+  if (s.at_platform < 0) {
+    text = "You are at the start position and have not gone to any platform yet.";
+  } else {
+    text = "You are standing at the " + std::string(graph::to_string(static_cast<graph::Side>(s.side))) +
+           " side of platform " + platform_title(g, s.at_platform) + ".";
+  }
+  if (s.held >= 0) {
+    text += " You hold the " + display_name(g.objects[static_cast<std::size_t>(s.held)]) + ".";
+  } else {
+    text += " Your hand is empty.";
+  }
+  if (s.at_platform >= 0) {
+    const auto objects = pickable_on(g, s, s.at_platform);
+    if (objects.empty()) {
+      text += " There is nothing you can pick up on this platform.";
+    } else {
+      text += " On this platform:";
+      for (std::size_t k = 0; k < objects.size(); ++k) {
+        text += std::string(k ? "," : "") + " object " + std::to_string(k + 1) + " " +
+                display_name(g.objects[static_cast<std::size_t>(objects[k])]);
+      }
+      text += ".";
+    }
+  }
+  if (s.phase == Phase::kPlacing) {
+    text += objects_on(s, s.at_platform).empty()
+                ? " The platform is empty: choose one of its nine parts, named from where you stand."
+                : " Choose a numbered free space next to an object (directions named from where you stand).";
+  }
+  return text;
+}
+
+}  // namespace mtg::episode

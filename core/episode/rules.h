@@ -1,0 +1,65 @@
+#pragma once
+// The paper's action state machine (DESIGN.md §3 "Episode", official-impl-spec §6.1), as free
+// functions of a const scene graph and a mutable world state.
+//
+//   start            0 call_end, l1..lN go to platform N
+//   at a platform    -1 rotate clockwise to the next side the robot can use, 0, l1..lN,
+//                    o1..oM pick object M (hand empty), startplace (holding)
+//   placing          0, 1..K the numbered targets (placement.h), 999 anywhere it fits
+// An invalid or unavailable key consumes the step and returns a hint; so does a target too
+// small for the object (the robot keeps holding it and stays in placing). The episode ends on
+// call_end or when the step limit is used up.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/episode/placement.h"
+#include "core/episode/world_state.h"
+
+namespace mtg::episode {
+
+struct RuleOptions {
+  int step_limit = 15;
+  double min_region_size = 0.03;
+};
+
+struct ActionOption {
+  std::string key;
+  std::string description;
+};
+
+/// What the task forbids: its anchors must stay where they are (the release refuses to pick them).
+struct TaskConstraints {
+  std::vector<int> protected_objects;
+};
+
+struct StepOutcome {
+  bool valid = false;       // the key is in the action vocabulary
+  bool available = false;   // ... and was offered in this state
+  bool applied = false;     // the world changed as asked
+  std::string hint;         // feedback for the next observation ("" if none)
+  int picked = -1;          // object picked by this step
+  int placed = -1;          // object placed by this step
+  bool done = false;        // the episode ended with this step
+  std::string end_reason;   // "call_end" or "step_limit"
+};
+
+/// Keys the agent may answer with now, with descriptions (the observation's action space).
+std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldState& s,
+                                       const RuleOptions& options);
+
+/// Applies one answer. Never throws for bad keys; counts the step.
+StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_view key,
+                         const TaskConstraints& constraints, const RuleOptions& options);
+
+/// Where the robot stands and what it holds and sees, in plain English.
+std::string situation_text(const graph::SceneGraph& g, const WorldState& s);
+
+/// True when `key` belongs to the vocabulary at all (l<N>, o<N>, digits, -1, startplace).
+bool is_action_key(std::string_view key);
+
+/// The next usable side clockwise after `from` (rear, left, front, right), or -1.
+int next_usable_side(const graph::Platform& p, int from);
+
+}  // namespace mtg::episode

@@ -1,0 +1,66 @@
+#pragma once
+// The mutable world of one episode (model/data split: the SceneGraph is the const model).
+// It records where every object stands now, what the robot holds, where it stands and which way
+// it faces. Copying it is cheap (a few hundred objects), which task generation relies on.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/geom/polygon.h"
+#include "core/graph/free_space.h"
+#include "core/graph/scene_graph.h"
+
+namespace mtg::episode {
+
+struct ObjectState {
+  int parent = -1;                  // supporting platform; -1 floor/structure or held
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world translation of the object frame
+  geom::Ring footprint;             // world xy
+  double bottom = 0.0;
+  double top = 0.0;
+  int placed_side = -1;             // side the robot stood at when it last placed this object
+};
+
+/// Phases of the paper's action state machine.
+enum class Phase { kStart, kAtPlatform, kPlacing, kDone };
+
+struct WorldState {
+  std::vector<ObjectState> objects;                // parallel to SceneGraph::objects
+  std::vector<std::vector<int>> children;          // per platform, objects resting on it, in order
+  std::vector<Eigen::Vector3d> platform_offset;    // moved item platforms (zero for furniture)
+  int held = -1;                                   // object in the robot's hand
+  int at_platform = -1;                            // platform the robot stands at
+  int side = -1;                                   // side it stands at (graph::Side as int)
+  Phase phase = Phase::kStart;
+  int steps = 0;                                   // actions taken (valid or not)
+};
+
+/// The scene as the graph found it: nothing held, robot at the start.
+WorldState initial_state(const graph::SceneGraph& g);
+
+/// Pickable objects on `platform` in the agent's o-numbering: each direct child followed by the
+/// objects resting on it (the paper's order); items only (scenery is never picked).
+std::vector<int> pickable_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+
+/// Objects directly on `platform` (items and scenery): the obstacles for placing there.
+const std::vector<int>& objects_on(const WorldState& s, int platform);
+
+/// Obstacles of `platform` in its frame, in the current state.
+std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+
+/// The world frame of a platform now (item platforms move with their owner).
+Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, int platform);
+double platform_height(const graph::SceneGraph& g, const WorldState& s, int platform);
+
+/// Removes `object` from its platform and puts it in the hand; everything resting on it stays
+/// on it (and moves with it).
+void pick(const graph::SceneGraph& g, WorldState& s, int object);
+
+/// Puts the held object on `platform` with its reference point (the object-frame origin) at
+/// `xy` (world), its bottom on the surface; records the side used. Descendants move along.
+void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const Eigen::Vector2d& xy);
+
+/// The platform an object is (transitively) on that is owned by furniture, or -1.
+int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object);
+
+}  // namespace mtg::episode

@@ -1,0 +1,231 @@
+#include "core/tasks/atomic.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "core/episode/placement.h"
+#include "core/graph/free_space.h"
+
+namespace mtg::tasks {
+namespace {
+
+using episode::AtomicGoal;
+using episode::GoalType;
+
+struct AnchorInfo {
+  int object;
+  Eigen::AlignedBox2d box_P;
+  const geom::Ring* footprint;
+};
+
+// Identity of a goal for de-duplication (cheaper than its JSON).
+std::string goal_key(const AtomicGoal& goal) {
+  std::string key;
+  for (const int v : {static_cast<int>(goal.type), goal.item, goal.source, goal.platform, goal.anchor, goal.anchor2,
+                      goal.direction}) {
+    key += std::to_string(v);
+    key += '|';
+  }
+  return key;
+}
+
+std::vector<int> all_on(const graph::SceneGraph& g, const episode::WorldState& s, int platform) {
+  std::vector<int> out;
+  std::vector<int> stack = episode::objects_on(s, platform);
+  while (!stack.empty()) {
+    const int o = stack.back();
+    stack.pop_back();
+    out.push_back(o);
+    for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
+      const auto& on = episode::objects_on(s, p);
+      stack.insert(stack.end(), on.begin(), on.end());
+    }
+  }
+  return out;
+}
+
+// Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
+// with box tests; each is confirmed by the judge's predicate before it becomes a task.
+void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2& c_P,
+                     const geom::Ring& item_W, graph::Side side, const TaskOptions& options,
+                     AtomicGoal base, std::vector<AtomicGoal>& out) {
+  for (std::size_t a = 0; a < anchors.size(); ++a) {
+    const AnchorInfo& A = anchors[a];
+    const Eigen::AlignedBox2d& b = A.box_P;
+    // around: the footprints' gap within the distance (box test first).
+    const Eigen::Vector2d d = (b.min() - c_P).cwiseMax(c_P - b.max()).cwiseMax(0.0);
+    if (d.norm() < options.goals.around_distance + 1.0 &&
+        episode::footprint_gap(item_W, *A.footprint) <= options.goals.around_distance) {
+      AtomicGoal goal = base;
+      goal.type = GoalType::kAround;
+      goal.anchor = A.object;
+      out.push_back(goal);
+    }
+    // direction: which of the eight regions of the anchor holds the centre.
+    const int xs = c_P.x() < b.min().x() ? -1 : (c_P.x() > b.max().x() ? 1 : 0);
+    const int ys = c_P.y() < b.min().y() ? -1 : (c_P.y() > b.max().y() ? 1 : 0);
+    static const std::map<std::pair<int, int>, int> kDir = {{{0, -1}, 0}, {{-1, -1}, 1}, {{-1, 0}, 2},
+                                                            {{-1, 1}, 3},  {{0, 1}, 4},   {{1, 1}, 5},
+                                                            {{1, 0}, 6},   {{1, -1}, 7}};
+    if (const auto it = kDir.find({xs, ys}); it != kDir.end()) {
+      AtomicGoal goal = base;
+      goal.type = GoalType::kDirection;
+      goal.anchor = A.object;
+      goal.direction = graph::relative_direction(it->second, side);
+      out.push_back(goal);
+    }
+    // between: the corridor to every other anchor.
+    for (std::size_t k = a + 1; k < anchors.size(); ++k) {
+      const Eigen::AlignedBox2d& e = anchors[k].box_P;
+      const bool sep_x = std::max(b.min().x(), e.min().x()) > std::min(b.max().x(), e.max().x());
+      const bool sep_y = std::max(b.min().y(), e.min().y()) > std::min(b.max().y(), e.max().y());
+      if (!sep_x && !sep_y) continue;
+      const double x0 = std::min(b.max().x(), e.max().x()), x1 = std::max(b.min().x(), e.min().x());
+      const double y0 = std::min(b.max().y(), e.max().y()), y1 = std::max(b.min().y(), e.min().y());
+      const double ox0 = std::max(b.min().x(), e.min().x()), ox1 = std::min(b.max().x(), e.max().x());
+      const double oy0 = std::max(b.min().y(), e.min().y()), oy1 = std::min(b.max().y(), e.max().y());
+      const bool in_x = sep_x && c_P.x() > x0 && c_P.x() < x1 && c_P.y() > oy0 && c_P.y() < oy1;
+      const bool in_y = sep_y && c_P.y() > y0 && c_P.y() < y1 && c_P.x() > ox0 && c_P.x() < ox1;
+      if (in_x || in_y) {
+        AtomicGoal goal = base;
+        goal.type = GoalType::kBetween;
+        goal.anchor = std::min(A.object, anchors[k].object);
+        goal.anchor2 = std::max(A.object, anchors[k].object);
+        out.push_back(goal);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, int object, int platform,
+               Ambiguity rule, int ignore) {
+  auto key = [&](int o) {
+    const graph::GraphObject& obj = g.objects[static_cast<std::size_t>(o)];
+    return rule == Ambiguity::kCategory && !obj.category.empty() ? obj.category : obj.short_name;
+  };
+  const std::string mine = key(object);
+  int same = 0;
+  for (const int o : all_on(g, s, platform)) same += o != object && o != ignore && key(o) == mine ? 1 : 0;
+  return same > 0;
+}
+
+std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
+                                         const TaskOptions& options, const AtomicFilter& filter) {
+  std::vector<AtomicTask> out;
+  auto wanted = [](const std::vector<int>& list, int v) {
+    return list.empty() || std::find(list.begin(), list.end(), v) != list.end();
+  };
+  // Placement targets of each destination as the initial state offers them; reused for every
+  // item that does not come from that destination (its obstacles are then the same).
+  std::map<int, std::vector<episode::PlaceTarget>> cached_targets;
+  auto targets_for = [&](const episode::WorldState& placing, int pd, graph::Side side, bool item_from_here) {
+    auto build = [&] {
+      std::vector<episode::PlaceTarget> t = episode::place_targets(g, placing, pd, side, options.rules.min_region_size);
+      std::stable_partition(t.begin(), t.end(),
+                            [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
+      return t;
+    };
+    if (item_from_here) return build();
+    auto it = cached_targets.find(pd);
+    if (it == cached_targets.end()) it = cached_targets.emplace(pd, build()).first;
+    return it->second;
+  };
+  for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
+    const int ps = g.navigable[src_label];
+    const std::vector<int> items = episode::pickable_on(g, s, ps);
+    for (std::size_t k = 0; k < items.size(); ++k) {
+      const int item = items[k];
+      if (!wanted(filter.items, item)) continue;
+      episode::WorldState held = s;
+      held.at_platform = ps;
+      held.side = g.platforms[static_cast<std::size_t>(ps)].default_side;
+      held.phase = episode::Phase::kAtPlatform;
+      episode::pick(g, held, item);
+      const double item_height = held.objects[static_cast<std::size_t>(item)].top -
+                                 held.objects[static_cast<std::size_t>(item)].bottom;
+      std::set<std::string> seen;
+      for (std::size_t dst_label = 0; dst_label < g.navigable.size(); ++dst_label) {
+        const int pd = g.navigable[dst_label];
+        if (!wanted(filter.destinations, pd)) continue;
+        const graph::Platform& dest = g.platforms[static_cast<std::size_t>(pd)];
+        if (item_height > dest.clearance) continue;
+        episode::WorldState placing = held;
+        placing.at_platform = pd;
+        placing.side = dest.default_side;
+        placing.phase = episode::Phase::kPlacing;
+        const auto side = static_cast<graph::Side>(dest.default_side);
+        const geom::Region feasible = episode::held_feasible_centres(g, placing, pd);
+        if (feasible.empty()) continue;
+        const bool from_here = episode::objects_on(placing, pd) != episode::objects_on(s, pd);
+        const std::vector<episode::PlaceTarget> targets = targets_for(placing, pd, side, from_here);
+        // Anchors: everything on the destination now, in the frame of the platform.
+        const Eigen::Isometry2d X_PW = episode::platform_frame(g, placing, pd).inverse();
+        std::vector<AnchorInfo> anchors;
+        for (const int o : episode::objects_on(placing, pd)) {
+          const geom::Ring& fp = placing.objects[static_cast<std::size_t>(o)].footprint;
+          anchors.push_back({o, geom::bounds(geom::transform(fp, X_PW)), &fp});
+        }
+        AtomicGoal base;
+        base.item = item;
+        base.source = ps;
+        base.platform = pd;
+        for (const episode::PlaceTarget& t : targets) {
+          const auto xy = episode::resolve_target(g, placing, pd, t, feasible);
+          if (!xy) continue;
+          episode::WorldState placed = placing;
+          episode::place_held(g, placed, pd, *xy);
+          const auto& moved = placed.objects[static_cast<std::size_t>(item)];
+          const geom::Point2 c_P = X_PW * geom::centroid(geom::Region{{moved.footprint}});
+          std::vector<AtomicGoal> goals;
+          if (pd != ps) {
+            AtomicGoal surface = base;
+            goals.push_back(surface);
+          }
+          if (anchors.empty()) {
+            for (int rel = 0; rel <= graph::kCentre; ++rel) {
+              AtomicGoal part = base;
+              part.type = GoalType::kSurfacePart;
+              part.direction = rel;
+              goals.push_back(part);
+            }
+          } else {
+            candidate_goals(anchors, c_P, moved.footprint, side, options, base, goals);
+          }
+          for (const AtomicGoal& goal : goals) {
+            std::string key = goal_key(goal);
+            if (seen.count(key) != 0) continue;
+            if (!episode::goal_satisfied(g, placed, goal, options.goals)) continue;  // the judge decides
+            seen.insert(key);
+            AtomicTask task;
+            task.goal = goal;
+            task.key = std::move(key);
+            task.oracle = {graph::navigation_key(static_cast<int>(src_label) + 1), "o" + std::to_string(k + 1),
+                           graph::navigation_key(static_cast<int>(dst_label) + 1), "startplace", t.key};
+            out.push_back(std::move(task));
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task,
+                 const TaskOptions& options) {
+  episode::RuleOptions rules = options.rules;
+  rules.step_limit = 1 << 20;  // the caller's plan decides the length
+  episode::TaskConstraints constraints;
+  for (const int a : {task.goal.anchor, task.goal.anchor2}) {
+    if (a >= 0) constraints.protected_objects.push_back(a);
+  }
+  for (const std::string& key : task.oracle) {
+    const episode::StepOutcome out = episode::apply_action(g, s, key, constraints, rules);
+    if (!out.applied) return false;
+  }
+  return episode::goal_satisfied(g, s, task.goal, options.goals);
+}
+
+}  // namespace mtg::tasks

@@ -1,0 +1,160 @@
+#include "core/tasks/generator.h"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "core/episode/world_state.h"
+#include "core/tasks/atomic.h"
+#include "core/tasks/outcome.h"
+#include "core/tasks/phrasing.h"
+#include "core/tasks/sequential.h"
+#include "core/util/error.h"
+
+namespace mtg::tasks {
+namespace {
+
+std::string task_id(const std::string& scene, int level, std::size_t index) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "/L%d/%06zu", level, index);
+  return scene + buf;
+}
+
+// Denormalised columns of an atomic goal.
+void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, Task& t) {
+  t.item = g.objects[static_cast<std::size_t>(goal.item)].name;
+  t.source = g.platforms[static_cast<std::size_t>(goal.source)].name;
+  t.destination = g.platforms[static_cast<std::size_t>(goal.platform)].name;
+  for (const int a : {goal.anchor, goal.anchor2}) {
+    if (a >= 0) t.anchors.push_back(g.objects[static_cast<std::size_t>(a)].name);
+  }
+  if (goal.direction >= 0) t.direction = graph::direction_name(goal.direction);
+}
+
+bool is_ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& goal,
+                  Ambiguity rule) {
+  if (ambiguous(g, s, goal.item, goal.source, rule)) return true;
+  for (const int a : {goal.anchor, goal.anchor2}) {
+    if (a >= 0 && ambiguous(g, s, a, goal.platform, rule, goal.item)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::set<int> parse_levels(const std::string& text) {
+  std::set<int> levels;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    if (part == "1" || part == "2" || part == "3" || part == "4") {
+      levels.insert(part[0] - '0');
+    } else {
+      throw Error("unknown level '" + part + "' (levels are 1, 2, 3, 4)");
+    }
+  }
+  if (levels.empty()) throw Error("no level given (use e.g. --levels 1,2,3,4)");
+  return levels;
+}
+
+GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
+                                const std::vector<Vote>& recorded_votes) {
+  for (const int level : options.levels) {
+    if (level < 1 || level > 4) throw Error("unknown level " + std::to_string(level) + " (levels are 1..4)");
+  }
+  if (g.navigable.empty()) {
+    throw Error("scene " + g.scene + " has no navigable platform: no task can be generated");
+  }
+  GenerationResult result;
+  TaskSet& set = result.set;
+  set.scene = g.scene;
+  const episode::WorldState initial = episode::initial_state(g);
+  std::map<int, std::size_t> next_index;
+  auto add = [&](Task t) {
+    t.scene = g.scene;
+    t.id = task_id(g.scene, t.level, next_index[t.level]++);
+    set.tasks.push_back(std::move(t));
+  };
+
+  std::vector<AtomicTask> atomic;
+  const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
+  if (want_atomic) atomic = enumerate_atomic(g, initial, options);
+
+  std::map<std::string, int> by_type;
+  for (const AtomicTask& a : atomic) {
+    const int level = is_ambiguous(g, initial, a.goal, options.ambiguity) ? 2 : 1;
+    if (options.levels.count(level) == 0) continue;
+    Task t;
+    t.level = level;
+    t.type = episode::to_string(a.goal.type);
+    t.text = atomic_text(g, a.goal, options.seed);
+    fill_columns(g, a.goal, t);
+    t.goal = {{"atomic", to_json(g, a.goal)}};
+    t.oracle = a.oracle;
+    t.oracle.push_back("0");
+    t.step_limit = options.rules.step_limit;
+    by_type[t.type] += 1;
+    add(std::move(t));
+  }
+
+  if (options.levels.count(3)) {
+    const auto sequences = generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings);
+    for (const Sequence& seq : sequences) {
+      Task t;
+      t.level = 3;
+      t.type = "sequence";
+      std::vector<std::string> texts;
+      nlohmann::json parts = nlohmann::json::array();
+      for (const AtomicTask& p : seq.parts) {
+        texts.push_back(atomic_text(g, p.goal, options.seed));
+        parts.push_back(to_json(g, p.goal));
+        t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
+      }
+      t.text = sequence_text(texts);
+      fill_columns(g, seq.parts.front().goal, t);
+      t.goal = {{"sequence", parts}};
+      t.oracle.push_back("0");
+      t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+      add(std::move(t));
+    }
+  }
+
+  if (options.levels.count(4)) {
+    const auto templates = load_templates(options.level4_templates);
+    const auto recorded = group_votes(recorded_votes);
+    std::size_t vetoed = 0;
+    for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, set.warnings)) {
+      Task t;
+      t.level = 4;
+      t.type = "outcome:" + o.tmpl->kind;
+      t.template_id = o.tmpl->id;
+      t.text = o.text;
+      t.goal = {{"outcome", to_json(g, o.goal)}};
+      t.oracle = o.oracle;
+      t.oracle.push_back("0");
+      t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+      // The id is only known once added; votes refer to it.
+      const std::string id = task_id(g.scene, 4, next_index[4]);
+      std::vector<Vote> votes = {{id, "rules", kFeasible}};
+      if (const auto it = recorded.find(id); it != recorded.end()) {
+        votes.insert(votes.end(), it->second.begin(), it->second.end());
+      }
+      if (!accepted(votes)) {
+        ++vetoed;
+        ++next_index[4];  // ids stay stable whether or not votes veto earlier tasks
+        continue;
+      }
+      result.votes.insert(result.votes.end(), votes.begin(), votes.end());
+      by_type[t.type] += 1;
+      add(std::move(t));
+    }
+    if (vetoed > 0) set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by recorded votes");
+  }
+
+  nlohmann::json levels = nlohmann::json::object();
+  for (const auto& [level, n] : next_index) levels[std::to_string(level)] = n;
+  set.stats = {{"scene", g.scene}, {"levels", levels}, {"types", by_type}, {"atomic_enumerated", atomic.size()}};
+  return result;
+}
+
+}  // namespace mtg::tasks

@@ -1,0 +1,27 @@
+#pragma once
+// All four levels for one scene graph: the entry point of `mtg tasks` and the task-generator
+// service. Deterministic in (scene, generator version, options incl. seed).
+
+#include <string>
+#include <vector>
+
+#include "core/graph/scene_graph.h"
+#include "core/tasks/feasibility.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+struct GenerationResult {
+  TaskSet set;
+  std::vector<Vote> votes;  // Level 4 votes (rule-based, plus recorded ones given)
+};
+
+/// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template
+/// library that does not load.
+GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
+                                const std::vector<Vote>& recorded_votes = {});
+
+/// "1,2,4" -> {1, 2, 4}. @throws mtg::Error naming an unknown level.
+std::set<int> parse_levels(const std::string& text);
+
+}  // namespace mtg::tasks

@@ -1,0 +1,68 @@
+#include "core/tasks/job.h"
+
+#include "core/graph/build.h"
+#include "core/scene/scene_loader.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "core/util/error.h"
+#include "core/util/stopwatch.h"
+
+namespace mtg::tasks {
+
+GenerationReport run_generation(const GenerationJob& job) {
+  if (job.scenes.empty()) throw Error("no scene given");
+  if (job.out.empty()) throw Error("no output database given");
+  const Stopwatch total;
+  const auto dataset = scene::index_dataset(scene::resolve_data_root(job.data_dir));
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, job.profile);
+  scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+
+  GenerationReport report;
+  std::vector<TaskSet> sets;
+  std::vector<Vote> votes;
+  for (const std::string& name : job.scenes) {
+    const Stopwatch watch;
+    const scene::Scene loaded = scene::load_scene(dataset, name, cache);
+    const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
+    GenerationResult result = generate_tasks(g, job.options, job.votes);
+    SceneReport sr;
+    sr.scene = name;
+    for (const Task& t : result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+    sr.total = static_cast<std::int64_t>(result.set.tasks.size());
+    sr.seconds = watch.elapsed_ms() / 1000.0;
+    for (std::size_t l = 0; l < 4; ++l) report.levels[l] += sr.levels[l];
+    report.total += sr.total;
+    for (const auto& w : result.set.warnings) report.warnings.push_back(name + ": " + w);
+    report.scenes.push_back(sr);
+    votes.insert(votes.end(), result.votes.begin(), result.votes.end());
+    sets.push_back(std::move(result.set));
+  }
+  write_task_db(job.out, sets, votes, job.options);
+  if (!job.jsonl.empty()) write_jsonl(job.jsonl, sets);
+  report.seconds = total.elapsed_ms() / 1000.0;
+  return report;
+}
+
+void apply_overrides(GenerationJob& job, const nlohmann::json& o) {
+  if (o.is_null()) return;
+  if (!o.is_object()) throw Error("generator config: expected a JSON object");
+  for (const auto& [key, value] : o.items()) {
+    try {
+      if (key == "levels") job.options.levels = parse_levels(value.get<std::string>());
+      else if (key == "seed") job.options.seed = value.get<std::uint64_t>();
+      else if (key == "ambiguity") job.options.ambiguity = ambiguity_from_string(value.get<std::string>());
+      else if (key == "l3_count") job.options.level3_count = value.get<int>();
+      else if (key == "l3_chain") job.options.level3_chain = value.get<int>();
+      else if (key == "l4_max_moves") job.options.level4_max_moves = value.get<int>();
+      else if (key == "l4_templates") job.options.level4_templates = value.get<std::string>();
+      else if (key == "step_limit") job.options.rules.step_limit = value.get<int>();
+      else if (key == "profile") job.profile = value.get<std::string>();
+      else throw Error("generator config: unknown key '" + key + "'");
+    } catch (const nlohmann::json::exception&) {
+      throw Error("generator config: bad value for '" + key + "'");
+    }
+  }
+}
+
+}  // namespace mtg::tasks

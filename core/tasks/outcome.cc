@@ -1,0 +1,524 @@
+#include "core/tasks/outcome.h"
+
+#include <algorithm>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "core/episode/placement.h"
+#include "core/episode/rules.h"
+#include "core/tasks/outcome_templates_embedded.h"
+#include "core/tasks/phrasing.h"
+#include "core/util/error.h"
+#include "core/util/hash.h"
+#include "core/util/json_file.h"
+#include "core/util/rng.h"
+
+namespace mtg::tasks {
+namespace {
+
+using episode::SetPredicate;
+using episode::WorldState;
+
+struct KindSpec {
+  std::set<std::string> allowed;
+  std::vector<std::set<std::string>> required;  // each: at least one of these
+};
+
+const std::map<std::string, KindSpec>& kinds() {
+  static const std::map<std::string, KindSpec> k = {
+      {"gather_category", {{"source", "target", "category", "categories", "count"},
+                           {{"source"}, {"target"}, {"category", "categories"}}}},
+      {"consolidate", {{"target", "category", "categories", "count"}, {{"target"}, {"category", "categories"}}}},
+      {"clear_platform", {{"source", "count"}, {{"source"}}}},
+      {"clear_category", {{"source", "category", "categories", "count"}, {{"source"}, {"category", "categories"}}}},
+      {"arrange_on", {{"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}}}},
+      {"together", {{"object", "object2"}, {{"object"}, {"object2"}}}},
+      {"set_up", {{"target", "category", "category2"}, {{"target"}, {"category"}, {"category2"}}}},
+      {"put_away", {{"object", "furniture"}, {{"object"}, {"furniture"}}}},
+      {"sort", {{"source", "target", "target2", "category", "categories", "category2", "categories2"},
+                {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}}}},
+      {"move_layer", {{"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}}}},
+      {"pair", {{"object", "object2"}, {{"object"}, {"object2"}}}},
+  };
+  return k;
+}
+
+std::set<std::string> placeholders_of(const std::string& text) {
+  std::set<std::string> out;
+  for (std::size_t pos = 0; (pos = text.find('{', pos)) != std::string::npos;) {
+    const std::size_t end = text.find('}', pos);
+    if (end == std::string::npos) break;
+    out.insert(text.substr(pos + 1, end - pos - 1));
+    pos = end + 1;
+  }
+  return out;
+}
+
+// What the generator needs about the scene, computed once.
+struct SceneFacts {
+  std::vector<int> navigable;                         // platform indices
+  std::map<int, std::vector<int>> items_on;            // navigable platform -> pickable items
+  std::map<std::string, std::vector<int>> by_category; // category -> pickable items (navigable)
+  std::map<int, std::string> category_of;              // item -> category key
+  std::vector<int> multilayer;                         // furniture with >= 2 navigable platforms
+};
+
+SceneFacts facts(const graph::SceneGraph& g, const WorldState& s) {
+  SceneFacts f;
+  f.navigable = g.navigable;
+  for (const int p : g.navigable) {
+    f.items_on[p] = episode::pickable_on(g, s, p);
+    for (const int o : f.items_on[p]) {
+      const graph::GraphObject& obj = g.objects[static_cast<std::size_t>(o)];
+      const std::string cat = obj.category.empty() ? obj.short_name : obj.category;
+      f.category_of[o] = cat;
+      f.by_category[cat].push_back(o);
+    }
+  }
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    int layers = 0;
+    for (const int p : g.objects[i].platforms) layers += g.platforms[static_cast<std::size_t>(p)].navigable ? 1 : 0;
+    if (layers >= 2) f.multilayer.push_back(static_cast<int>(i));
+  }
+  return f;
+}
+
+// Object-level placeholders are drawn this many times per platform-level binding.
+constexpr std::size_t kSamples = 3;
+
+struct Move {
+  int object = -1;
+  std::vector<int> platforms;  // acceptable destinations, tried in order
+  int next_to = -1;            // place in one of this object's free spaces
+};
+
+// Plays a greedy plan with the episode rules. Returns the keys, or nullopt when a move fails.
+std::optional<std::vector<std::string>> plan_moves(const graph::SceneGraph& g, WorldState s,
+                                                   const std::vector<Move>& moves, const TaskOptions& options) {
+  episode::RuleOptions rules = options.rules;
+  rules.step_limit = 1 << 20;
+  std::vector<std::string> keys;
+  auto play = [&](const std::string& key) {
+    return episode::apply_action(g, s, key, {}, rules).applied ? (keys.push_back(key), true) : false;
+  };
+  for (const Move& m : moves) {
+    const int from = episode::furniture_platform_of(g, s, m.object);
+    if (from < 0 || g.platforms[static_cast<std::size_t>(from)].label == 0) return std::nullopt;
+    const auto items = episode::pickable_on(g, s, from);
+    const auto k = std::find(items.begin(), items.end(), m.object) - items.begin();
+    if (k == static_cast<long>(items.size())) return std::nullopt;
+    if (!play(graph::navigation_key(g.platforms[static_cast<std::size_t>(from)].label)) ||
+        !play("o" + std::to_string(k + 1))) {
+      return std::nullopt;
+    }
+    bool placed = false;
+    for (const int to : m.platforms) {
+      const graph::Platform& dest = g.platforms[static_cast<std::size_t>(to)];
+      if (dest.label == 0) continue;
+      const double h = s.objects[static_cast<std::size_t>(m.object)].top - s.objects[static_cast<std::size_t>(m.object)].bottom;
+      if (h > dest.clearance) continue;
+      WorldState trial = s;
+      const std::size_t mark = keys.size();
+      if (!play(graph::navigation_key(dest.label)) || !play("startplace")) {
+        s = trial;
+        keys.resize(mark);
+        continue;
+      }
+      const auto targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size);
+      const geom::Region feasible = episode::held_feasible_centres(g, s, to);
+      for (const episode::PlaceTarget& t : targets) {
+        const bool wanted = m.next_to >= 0 ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
+        if (!wanted || !episode::resolve_target(g, s, to, t, feasible)) continue;
+        placed = play(t.key);
+        if (placed) break;
+      }
+      if (placed) break;
+      s = trial;
+      keys.resize(mark);
+    }
+    if (!placed) return std::nullopt;
+  }
+  return keys;
+}
+
+std::string category_text(const std::string& c) {
+  std::string out = c;
+  std::replace(out.begin(), out.end(), '_', ' ');
+  return out;
+}
+
+class Instantiator {
+ public:
+  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options)
+      : g_(g), s_(s), options_(options), f_(facts(g, s)) {}
+
+  void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
+    tmpl_ = &t;
+    out_ = &out;
+    const std::string& k = t.kind;
+    if (k == "gather_category") gather_category();
+    else if (k == "consolidate") consolidate();
+    else if (k == "clear_platform") clear_platform();
+    else if (k == "clear_category") clear_category();
+    else if (k == "arrange_on") arrange_on();
+    else if (k == "together") together();
+    else if (k == "set_up") set_up();
+    else if (k == "put_away") put_away();
+    else if (k == "sort") sort();
+    else if (k == "move_layer") move_layer();
+    else if (k == "pair") pair();
+  }
+
+ private:
+  Rng rng_for(const std::string& binding) const {
+    return Rng(derive_seed(options_.seed, fnv1a64("L4/" + tmpl_->id + "/" + binding)));
+  }
+  std::string pname(int p) const { return g_.platforms[static_cast<std::size_t>(p)].name; }
+  std::string oname(int o) const { return episode::display_name(g_.objects[static_cast<std::size_t>(o)]); }
+  int max_moves() const { return options_.level4_max_moves; }
+
+  std::vector<int> of_category_on(const std::string& cat, int platform) const {
+    std::vector<int> out;
+    for (const int o : f_.items_on.at(platform)) {
+      if (f_.category_of.at(o) == cat) out.push_back(o);
+    }
+    return out;
+  }
+  std::vector<std::string> categories_on(int platform) const {
+    std::set<std::string> cats;
+    for (const int o : f_.items_on.at(platform)) cats.insert(f_.category_of.at(o));
+    return {cats.begin(), cats.end()};
+  }
+  // Navigable platforms other than `except`, in a seeded order.
+  std::vector<int> shuffled_targets(Rng& rng, const std::set<int>& except) const {
+    std::vector<int> out;
+    for (const int p : f_.navigable) {
+      if (except.count(p) == 0) out.push_back(p);
+    }
+    rng.shuffle(out);
+    return out;
+  }
+  std::vector<int> items_not_on(const std::set<int>& platforms) const {
+    std::vector<int> out;
+    for (const auto& [p, items] : f_.items_on) {
+      if (platforms.count(p) == 0) out.insert(out.end(), items.begin(), items.end());
+    }
+    return out;
+  }
+
+  // Fills the template, plans, verifies the goal with the judge's predicate, and keeps the task.
+  bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
+            const std::vector<Move>& moves) {
+    const auto plan = plan_moves(g_, s_, moves, options_);
+    if (!plan) return false;
+    WorldState after = s_;
+    episode::RuleOptions rules = options_.rules;
+    rules.step_limit = 1 << 20;
+    for (const auto& key : *plan) episode::apply_action(g_, after, key, {}, rules);
+    if (!episode::outcome_satisfied(g_, after, goal, options_.goals)) return false;
+    if (episode::outcome_satisfied(g_, s_, goal, options_.goals)) return false;  // nothing to do
+    OutcomeTask task;
+    task.tmpl = tmpl_;
+    task.text = tmpl_->text;
+    for (const auto& [key, value] : values) {
+      const std::string ph = "{" + key + "}";
+      for (std::size_t pos = 0; (pos = task.text.find(ph, pos)) != std::string::npos; pos += value.size()) {
+        task.text.replace(pos, ph.size(), value);
+      }
+    }
+    task.goal = std::move(goal);
+    task.oracle = *plan;
+    for (const Move& m : moves) task.moved.push_back(m.object);
+    out_->push_back(std::move(task));
+    return true;
+  }
+
+  // Tries destinations in a seeded order until one gives a feasible plan.
+  template <class Make>
+  void try_targets(Rng& rng, const std::set<int>& except, Make make) {
+    int tried = 0;
+    for (const int t : shuffled_targets(rng, except)) {
+      if (make(t) || ++tried >= 6) return;
+    }
+  }
+
+  static SetPredicate all_on(std::vector<int> objects, std::vector<int> platforms) {
+    return {SetPredicate::Op::kAllOn, std::move(objects), std::move(platforms)};
+  }
+
+  void gather_category() {
+    for (const int src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        try_targets(rng, {src}, [&](int dst) {
+          std::vector<Move> moves;
+          for (const int o : objs) moves.push_back({o, {dst}, -1});
+          return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
+                       {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
+                      {{all_on(objs, {dst})}}, moves);
+        });
+      }
+    }
+  }
+
+  void consolidate() {
+    for (const auto& [cat, objs] : f_.by_category) {
+      if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
+      Rng rng = rng_for(cat);
+      try_targets(rng, {}, [&](int dst) {
+        std::vector<Move> moves;
+        for (const int o : objs) {
+          if (episode::furniture_platform_of(g_, s_, o) != dst) moves.push_back({o, {dst}, -1});
+        }
+        return emit({{"target", pname(dst)}, {"category", category_text(cat)},
+                     {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
+                    {{all_on(objs, {dst})}}, moves);
+      });
+    }
+  }
+
+  void clear_platform() {
+    for (const int src : f_.navigable) {
+      const auto& objs = f_.items_on.at(src);
+      if (objs.empty() || static_cast<int>(objs.size()) > max_moves()) continue;
+      // Objects resting on others leave with them: move only the direct children.
+      std::vector<int> direct;
+      for (const int o : objs) {
+        if (s_.objects[static_cast<std::size_t>(o)].parent == src) direct.push_back(o);
+      }
+      Rng rng = rng_for(pname(src));
+      const auto targets = shuffled_targets(rng, {src});
+      std::vector<Move> moves;
+      for (const int o : direct) moves.push_back({o, targets, -1});
+      emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}},
+           {{{SetPredicate::Op::kNoneOn, objs, {src}}}}, moves);
+    }
+  }
+
+  void clear_category() {
+    for (const int src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        if (objs.size() == f_.items_on.at(src).size() || static_cast<int>(objs.size()) > max_moves()) continue;
+        bool direct = true;
+        for (const int o : objs) direct = direct && s_.objects[static_cast<std::size_t>(o)].parent == src;
+        if (!direct) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const auto targets = shuffled_targets(rng, {src});
+        std::vector<Move> moves;
+        for (const int o : objs) moves.push_back({o, targets, -1});
+        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural(category_text(cat))},
+              {"count", std::to_string(objs.size())}},
+             {{{SetPredicate::Op::kNoneOn, objs, {src}}}}, moves);
+      }
+    }
+  }
+
+  void arrange_on() {
+    for (const int dst : f_.navigable) {
+      auto pool = items_not_on({dst});
+      if (pool.size() < 2) continue;
+      Rng rng = rng_for(pname(dst));
+      rng.shuffle(pool);
+      for (std::size_t k = 0; k + 1 < pool.size() && k < 2 * kSamples; k += 2) {
+        const int a = pool[k], b = pool[k + 1];
+        emit({{"object", oname(a)}, {"object2", oname(b)}, {"target", pname(dst)}},
+             {{all_on({a, b}, {dst})}}, {{a, {dst}, -1}, {b, {dst}, -1}});
+      }
+    }
+  }
+
+  void together() {
+    for (const int src : f_.navigable) {
+      const auto& here = f_.items_on.at(src);
+      auto elsewhere = items_not_on({src});
+      if (here.empty() || elsewhere.empty()) continue;
+      Rng rng = rng_for(pname(src));
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        const int a = here[rng.uniform_index(here.size())];
+        const int b = elsewhere[rng.uniform_index(elsewhere.size())];
+        emit({{"object", oname(a)}, {"object2", oname(b)}},
+             {{{SetPredicate::Op::kTogether, {a, b}, {}}}}, {{b, {src}, -1}});
+      }
+    }
+  }
+
+  void set_up() {
+    for (const int dst : f_.navigable) {
+      Rng rng = rng_for(pname(dst));
+      std::map<std::string, std::vector<int>> cats;
+      for (const int o : items_not_on({dst})) cats[f_.category_of.at(o)].push_back(o);
+      if (cats.size() < 2) continue;
+      std::vector<std::string> names;
+      for (const auto& [c, objs] : cats) names.push_back(c);
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        rng.shuffle(names);
+        const auto& first = cats.at(names[0]);
+        const auto& second = cats.at(names[1]);
+        const int a = first[rng.uniform_index(first.size())];
+        const int b = second[rng.uniform_index(second.size())];
+        emit({{"target", pname(dst)}, {"category", category_text(names[0])}, {"category2", category_text(names[1])}},
+             {{all_on({a, b}, {dst}), {SetPredicate::Op::kNear, {b, a}, {}}}}, {{a, {dst}, -1}, {b, {dst}, a}});
+      }
+    }
+  }
+
+  void put_away() {
+    for (const int f : f_.multilayer) {
+      std::vector<int> inner;
+      for (const int p : g_.objects[static_cast<std::size_t>(f)].platforms) {
+        const graph::Platform& pl = g_.platforms[static_cast<std::size_t>(p)];
+        if (pl.navigable && pl.interior) inner.push_back(p);
+      }
+      if (inner.empty()) continue;
+      std::set<int> own(g_.objects[static_cast<std::size_t>(f)].platforms.begin(),
+                        g_.objects[static_cast<std::size_t>(f)].platforms.end());
+      auto pool = items_not_on(own);
+      if (pool.empty()) continue;
+      Rng rng = rng_for(g_.objects[static_cast<std::size_t>(f)].name);
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        const int a = pool[rng.uniform_index(pool.size())];
+        emit({{"object", oname(a)}, {"furniture", oname(f)}}, {{all_on({a}, inner)}}, {{a, inner, -1}});
+      }
+    }
+  }
+
+  void sort() {
+    for (const int src : f_.navigable) {
+      const auto cats = categories_on(src);
+      for (std::size_t i = 0; i < cats.size(); ++i) {
+        for (std::size_t j = i + 1; j < cats.size(); ++j) {
+          const auto a = of_category_on(cats[i], src), b = of_category_on(cats[j], src);
+          if (static_cast<int>(a.size() + b.size()) > max_moves()) continue;
+          Rng rng = rng_for(pname(src) + "/" + cats[i] + "/" + cats[j]);
+          const auto targets = shuffled_targets(rng, {src});
+          if (targets.size() < 2) continue;
+          const int t1 = targets[0], t2 = targets[1];
+          std::vector<Move> moves;
+          for (const int o : a) moves.push_back({o, {t1}, -1});
+          for (const int o : b) moves.push_back({o, {t2}, -1});
+          emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
+                {"category", category_text(cats[i])}, {"categories", plural(category_text(cats[i]))},
+                {"category2", category_text(cats[j])}, {"categories2", plural(category_text(cats[j]))}},
+               {{all_on(a, {t1}), all_on(b, {t2})}}, moves);
+        }
+      }
+    }
+  }
+
+  void move_layer() {
+    for (const int f : f_.multilayer) {
+      std::vector<int> layers;
+      for (const int p : g_.objects[static_cast<std::size_t>(f)].platforms) {
+        if (g_.platforms[static_cast<std::size_t>(p)].navigable) layers.push_back(p);
+      }
+      for (const int from : layers) {
+        const auto& objs = f_.items_on.at(from);
+        if (objs.empty() || static_cast<int>(objs.size()) > max_moves()) continue;
+        std::vector<int> direct;
+        for (const int o : objs) {
+          if (s_.objects[static_cast<std::size_t>(o)].parent == from) direct.push_back(o);
+        }
+        Rng rng = rng_for(pname(from));
+        std::vector<int> others;
+        for (const int p : layers) {
+          if (p != from) others.push_back(p);
+        }
+        rng.shuffle(others);
+        for (const int to : others) {
+          std::vector<Move> moves;
+          for (const int o : direct) moves.push_back({o, {to}, -1});
+          if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", oname(f)},
+                    {"count", std::to_string(objs.size())}},
+                   {{all_on(objs, {to})}}, moves)) {
+            break;
+          }
+        }
+      }
+    }
+  }
+
+  void pair() {
+    for (const int dst : f_.navigable) {
+      const auto& here = f_.items_on.at(dst);
+      auto elsewhere = items_not_on({dst});
+      if (here.empty() || elsewhere.empty()) continue;
+      Rng rng = rng_for(pname(dst));
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        const int anchor = here[rng.uniform_index(here.size())];
+        const int a = elsewhere[rng.uniform_index(elsewhere.size())];
+        if (s_.objects[static_cast<std::size_t>(anchor)].parent != dst) continue;  // needs its free spaces
+        emit({{"object", oname(a)}, {"object2", oname(anchor)}},
+             {{{SetPredicate::Op::kNear, {a, anchor}, {}}}}, {{a, {dst}, anchor}});
+      }
+    }
+  }
+
+  const graph::SceneGraph& g_;
+  const WorldState& s_;
+  const TaskOptions& options_;
+  SceneFacts f_;
+  const OutcomeTemplate* tmpl_ = nullptr;
+  std::vector<OutcomeTask>* out_ = nullptr;
+};
+
+}  // namespace
+
+std::vector<OutcomeTemplate> load_templates(const std::string& source) {
+  nlohmann::json doc;
+  std::string origin = source;
+  if (source == "builtin") {
+    doc = nlohmann::json::parse(kOutcomeTemplatesJson);
+    origin = "built-in outcome templates";
+  } else {
+    doc = read_json_file(source);
+  }
+  const JsonField root(doc, origin);
+  const JsonField list = root.at("templates");
+  std::vector<OutcomeTemplate> out;
+  std::set<std::string> ids;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const JsonField t = list.at(i);
+    OutcomeTemplate tmpl{t.at("id").as_string(), t.at("family").as_string(), t.at("kind").as_string(),
+                         t.at("text").as_string()};
+    if (!ids.insert(tmpl.id).second) t.at("id").fail("duplicate template id '" + tmpl.id + "'");
+    const auto spec = kinds().find(tmpl.kind);
+    if (spec == kinds().end()) t.at("kind").fail("template " + tmpl.id + ": unknown kind '" + tmpl.kind + "'");
+    const auto used = placeholders_of(tmpl.text);
+    for (const auto& ph : used) {
+      if (spec->second.allowed.count(ph) == 0) {
+        t.at("text").fail("template " + tmpl.id + ": unknown placeholder {" + ph + "} for kind " + tmpl.kind);
+      }
+    }
+    for (const auto& alternatives : spec->second.required) {
+      const bool present = std::any_of(alternatives.begin(), alternatives.end(),
+                                       [&](const std::string& ph) { return used.count(ph) != 0; });
+      if (!present) {
+        t.at("text").fail("template " + tmpl.id + ": missing placeholder {" + *alternatives.begin() + "}");
+      }
+    }
+    out.push_back(std::move(tmpl));
+  }
+  return out;
+}
+
+std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
+                                           const std::vector<OutcomeTemplate>& templates,
+                                           const TaskOptions& options, std::vector<std::string>& warnings) {
+  std::vector<OutcomeTask> all;
+  Instantiator inst(g, initial, options);
+  for (const OutcomeTemplate& t : templates) inst.run(t, all);
+  // One task per goal: the first template that produced it keeps it.
+  std::vector<OutcomeTask> out;
+  std::set<std::string> seen;
+  for (OutcomeTask& t : all) {
+    if (seen.insert(to_json(g, t.goal).dump()).second) out.push_back(std::move(t));
+  }
+  if (out.empty() && !templates.empty()) warnings.push_back("level 4: no template applies to scene " + g.scene);
+  return out;
+}
+
+}  // namespace mtg::tasks

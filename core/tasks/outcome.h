@@ -1,0 +1,55 @@
+#pragma once
+// Level 4, outcome-based tasks: our own template library (templates/outcome_templates.json,
+// compiled in) instantiated against the scene graph. Each template has a kind that fixes what its
+// placeholders bind to and the goal predicate the judge checks:
+//
+//   gather_category  every {category} on {source} ends on {target}       all_on
+//   consolidate      every {category} in the home ends on {target}       all_on
+//   clear_platform   nothing pickable stays on {source}                  none_on
+//   clear_category   no {category} stays on {source}                     none_on
+//   arrange_on       {object} and {object2} end on {target}              all_on
+//   together         {object} and {object2} end on one platform          together
+//   set_up           one {category} and one {category2} side by side on {target}   all_on + near
+//   put_away         {object} ends on an inner layer of {furniture}      all_on
+//   sort             {category} from {source} to {target}, {category2} to {target2}  all_on x2
+//   move_layer       everything on {layer} of {furniture} ends on {layer2}          all_on
+//   pair             {object} ends next to {object2}                     near
+//
+// Every template is instantiated against every platform (or furniture) that meets its kind's
+// requirements; object-level placeholders are drawn with the seed. The default feasibility check
+// is rule-based: a greedy plan (the agent's own keys, played with the episode rules) must reach
+// the goal within the step limit; recorded votes (feasibility.h) can veto tasks afterwards.
+
+#include <string>
+#include <vector>
+
+#include "core/episode/goals.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+struct OutcomeTemplate {
+  std::string id;
+  std::string family;  // arrange, gather, clear, set_up, sort, pair
+  std::string kind;    // one of the kinds above
+  std::string text;
+};
+
+/// Loads "builtin" (the compiled-in library) or a JSON file of the same format.
+/// @throws mtg::Error naming the template and the placeholder for an unknown kind, an unknown
+/// placeholder or a missing required one.
+std::vector<OutcomeTemplate> load_templates(const std::string& source);
+
+struct OutcomeTask {
+  const OutcomeTemplate* tmpl = nullptr;
+  std::string text;
+  episode::OutcomeGoal goal;
+  std::vector<std::string> oracle;  // without call_end
+  std::vector<int> moved;           // objects the plan moves
+};
+
+std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
+                                           const std::vector<OutcomeTemplate>& templates,
+                                           const TaskOptions& options, std::vector<std::string>& warnings);
+
+}  // namespace mtg::tasks

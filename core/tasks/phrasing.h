@@ -1,0 +1,23 @@
+#pragma once
+// Plain-English task texts. Several templates per goal type; which one a task gets is a seeded
+// choice keyed by the task's goal, so it does not depend on generation order.
+
+#include <cstdint>
+#include <string>
+
+#include "core/episode/goals.h"
+
+namespace mtg::tasks {
+
+/// The instruction for an atomic goal. Objects are named without their instance id (that is
+/// what makes a Level 2 task ambiguous); platforms by their full names, as the action space
+/// lists them.
+std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, std::uint64_t seed);
+
+/// "<first>, then <second>" (the paper's THEN connector), for any number of parts.
+std::string sequence_text(const std::vector<std::string>& parts);
+
+/// Naive English plural of a category name ("book" -> "books", "box" -> "boxes").
+std::string plural(const std::string& noun);
+
+}  // namespace mtg::tasks

@@ -1,0 +1,117 @@
+#include "core/tasks/sequential.h"
+
+#include <algorithm>
+#include <set>
+
+#include "core/util/hash.h"
+#include "core/util/rng.h"
+
+namespace mtg::tasks {
+namespace {
+
+constexpr int kAttemptsPerChain = 25;
+
+std::vector<int> anchors_of(const episode::AtomicGoal& goal) {
+  std::vector<int> out;
+  if (goal.anchor >= 0) out.push_back(goal.anchor);
+  if (goal.anchor2 >= 0) out.push_back(goal.anchor2);
+  return out;
+}
+
+// Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
+std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,
+                                 const AtomicTask& task, const TaskOptions& options) {
+  AtomicFilter filter{{task.goal.item}, {task.goal.platform}};
+  for (AtomicTask& t : enumerate_atomic(g, s, options, filter)) {
+    if (t.key == task.key) return std::move(t);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
+                                         const std::vector<AtomicTask>& atomic, int count,
+                                         const TaskOptions& options, std::vector<std::string>& warnings) {
+  std::vector<Sequence> out;
+  if (atomic.empty() || count <= 0) return out;
+  std::set<std::string> seen;
+  const int chain = std::max(2, options.level3_chain);
+  int failures = 0;
+  for (int n = 0; n < count; ++n) {
+    bool made = false;
+    for (int attempt = 0; attempt < kAttemptsPerChain && !made; ++attempt) {
+      Rng rng(derive_seed(options.seed, fnv1a64("L3/" + std::to_string(n) + "/" + std::to_string(attempt))));
+      Sequence seq;
+      episode::WorldState s = initial;
+      std::set<int> moved, changed;  // objects moved, platforms whose contents changed
+      bool ok = true;
+      for (int part = 0; part < chain && ok; ++part) {
+        std::optional<AtomicTask> next;
+        const bool chained = part > 0 && rng.uniform01() >= 0.5;
+        if (chained) {
+          // Something next to (or relative to) an object already moved.
+          const int last_item = seq.parts.back().goal.item;
+          const int platform = seq.parts.back().goal.platform;
+          std::vector<int> items;
+          for (const int p : g.navigable) {
+            for (const int o : episode::pickable_on(g, s, p)) {
+              if (moved.count(o) == 0) items.push_back(o);
+            }
+          }
+          if (!items.empty()) {
+            const int item = items[rng.uniform_index(items.size())];
+            std::vector<AtomicTask> options_here;
+            for (AtomicTask& t : enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}})) {
+              const auto anchors = anchors_of(t.goal);
+              if (std::find(anchors.begin(), anchors.end(), last_item) != anchors.end()) {
+                options_here.push_back(std::move(t));
+              }
+            }
+            if (!options_here.empty()) next = options_here[rng.uniform_index(options_here.size())];
+          }
+        }
+        if (!next) {
+          const AtomicTask& pick = atomic[rng.uniform_index(atomic.size())];
+          if (moved.count(pick.goal.item) != 0) {
+            ok = false;
+            break;
+          }
+          bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
+          for (const int a : anchors_of(pick.goal)) touched = touched || moved.count(a) != 0;
+          next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
+          if (!next) {
+            ok = false;
+            break;
+          }
+        }
+        if (!play_oracle(g, s, *next, options)) {
+          ok = false;
+          break;
+        }
+        moved.insert(next->goal.item);
+        changed.insert(next->goal.source);
+        changed.insert(next->goal.platform);
+        seq.parts.push_back(std::move(*next));
+      }
+      if (!ok) continue;
+      // Every earlier goal must still hold at the end.
+      for (const AtomicTask& p : seq.parts) ok = ok && episode::goal_satisfied(g, s, p.goal, options.goals);
+      if (!ok) continue;
+      std::string key;
+      for (const AtomicTask& p : seq.parts) key += p.key + "|";
+      if (!seen.insert(key).second) continue;
+      out.push_back(std::move(seq));
+      made = true;
+    }
+    if (!made) ++failures;
+  }
+  if (failures > 0) {
+    warnings.push_back("level 3: " + std::to_string(failures) + " of " + std::to_string(count) +
+                       " chains could not be drawn (duplicates or infeasible second steps after " +
+                       std::to_string(kAttemptsPerChain) + " attempts each)");
+  }
+  return out;
+}
+
+}  // namespace mtg::tasks

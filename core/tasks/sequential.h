@@ -1,0 +1,29 @@
+#pragma once
+// Level 3, the paper's progressive version (not the release's random pairing): sample an atomic
+// task, apply its placement to a copy of the world, sample the next task among those feasible in
+// the new state, and join them with "then". A chain is kept only if, after its last step, every
+// earlier goal still holds, so the judge can score all of them at the end.
+//
+// Sampling the next task: with probability 1/2 a uniformly drawn atomic task of the initial state
+// whose item has not moved yet, re-planned only if it touches a platform that changed (the rest
+// stay valid as they are); otherwise a "chained" task that uses an already moved object as its
+// anchor, found by enumerating one random item against the platform that object now stands on.
+// Only the platforms that changed are ever re-evaluated.
+
+#include <vector>
+
+#include "core/tasks/atomic.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+struct Sequence {
+  std::vector<AtomicTask> parts;  // each with its oracle valid in the state the previous left
+};
+
+/// `count` distinct chains of `options.level3_chain` parts, deterministic in options.seed.
+std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
+                                         const std::vector<AtomicTask>& atomic, int count,
+                                         const TaskOptions& options, std::vector<std::string>& warnings);
+
+}  // namespace mtg::tasks

@@ -1,0 +1,200 @@
+#include "core/tasks/task_db.h"
+
+#include <fstream>
+
+#include "core/store/sqlite.h"
+#include "core/util/error.h"
+
+namespace mtg::tasks {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE tasks (
+  id TEXT PRIMARY KEY,
+  scene TEXT NOT NULL,
+  level INTEGER NOT NULL,
+  type TEXT NOT NULL,
+  text TEXT NOT NULL,
+  item TEXT NOT NULL,
+  source TEXT NOT NULL,
+  destination TEXT NOT NULL,
+  anchors TEXT NOT NULL,
+  direction TEXT NOT NULL,
+  goal_json TEXT NOT NULL,
+  subtasks_json TEXT NOT NULL,
+  oracle_json TEXT NOT NULL,
+  step_limit INTEGER NOT NULL,
+  template_id TEXT NOT NULL,
+  generator_version TEXT NOT NULL,
+  config_hash TEXT NOT NULL,
+  seed INTEGER NOT NULL
+);
+CREATE INDEX tasks_by_level ON tasks (scene, level);
+CREATE TABLE votes (
+  task_id TEXT NOT NULL REFERENCES tasks (id),
+  voter TEXT NOT NULL,
+  verdict TEXT NOT NULL,
+  PRIMARY KEY (task_id, voter)
+);
+)sql";
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ",") + s;
+  return out;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (!s.empty() && start <= s.size()) {
+    const std::size_t end = s.find(',', start);
+    out.push_back(s.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+nlohmann::json subtasks_of(const Task& t) {
+  if (t.goal.contains("sequence")) return t.goal["sequence"];
+  if (t.goal.contains("outcome")) return t.goal["outcome"]["all"];
+  return nlohmann::json::array();
+}
+
+}  // namespace
+
+nlohmann::json task_to_json(const Task& t) {
+  return {{"id", t.id},         {"scene", t.scene},       {"level", t.level},
+          {"type", t.type},     {"text", t.text},         {"item", t.item},
+          {"source", t.source}, {"destination", t.destination}, {"anchors", t.anchors},
+          {"direction", t.direction}, {"goal", t.goal},   {"oracle", t.oracle},
+          {"step_limit", t.step_limit}, {"template_id", t.template_id}};
+}
+
+void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
+                   const TaskOptions& options) {
+  const fs::path tmp = file.string() + ".partial";
+  fs::remove(tmp);
+  {
+    store::Database db(tmp, store::Database::Mode::kCreate);
+    db.exec(kSchema);
+    store::Transaction tx(db);
+    store::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?, ?)");
+    std::string scenes;
+    for (const auto& s : sets) scenes += (scenes.empty() ? "" : ",") + s.scene;
+    const nlohmann::json config = options.to_json();
+    for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
+             {"format", "mtg-task-db/1"},
+             {"generator_version", kGeneratorVersion},
+             {"config_json", config.dump()},
+             {"config_hash", options.config_hash()},
+             {"seed", std::to_string(options.seed)},
+             {"scenes", scenes}}) {
+      meta.bind(1, k).bind(2, v).run();
+    }
+    store::Statement insert(db,
+                            "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
+                            "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
+                            "generator_version, config_hash, seed) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    const std::string hash = options.config_hash();
+    for (const TaskSet& set : sets) {
+      for (const Task& t : set.tasks) {
+        insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
+        insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
+        insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
+        insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
+        insert.bind(15, t.template_id).bind(16, std::string(kGeneratorVersion)).bind(17, hash);
+        insert.bind(18, static_cast<std::int64_t>(options.seed));
+        insert.run();
+      }
+    }
+    store::Statement vote(db, "INSERT INTO votes (task_id, voter, verdict) VALUES (?, ?, ?)");
+    for (const Vote& v : votes) vote.bind(1, v.task_id).bind(2, v.voter).bind(3, v.verdict).run();
+    tx.commit();
+  }
+  fs::rename(tmp, file);
+}
+
+void write_jsonl(const fs::path& file, const std::vector<TaskSet>& sets) {
+  const fs::path tmp = file.string() + ".partial";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(file.string() + ": cannot write");
+    for (const TaskSet& set : sets) {
+      for (const Task& t : set.tasks) out << task_to_json(t).dump() << '\n';
+    }
+    if (!out) throw Error(file.string() + ": write failed");
+  }
+  fs::rename(tmp, file);
+}
+
+std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {
+  store::Database db(file, store::Database::Mode::kReadOnly);
+  store::Statement q(db,
+                     "SELECT id, scene, level, type, text, item, source, destination, anchors, direction, "
+                     "goal_json, oracle_json, step_limit, template_id FROM tasks ORDER BY id");
+  std::vector<Task> out;
+  while (q.step()) {
+    Task t;
+    t.level = static_cast<int>(q.column_int(2));
+    if (!levels.empty() && levels.count(t.level) == 0) continue;
+    t.id = q.column_text(0);
+    t.scene = q.column_text(1);
+    t.type = q.column_text(3);
+    t.text = q.column_text(4);
+    t.item = q.column_text(5);
+    t.source = q.column_text(6);
+    t.destination = q.column_text(7);
+    t.anchors = split(q.column_text(8));
+    t.direction = q.column_text(9);
+    try {
+      t.goal = nlohmann::json::parse(q.column_text(10));
+      t.oracle = nlohmann::json::parse(q.column_text(11)).get<std::vector<std::string>>();
+    } catch (const nlohmann::json::exception&) {
+      throw Error(file.string() + ": task " + t.id + ": malformed goal_json or oracle_json");
+    }
+    t.step_limit = static_cast<int>(q.column_int(12));
+    t.template_id = q.column_text(13);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+nlohmann::json task_db_stats(const fs::path& file) {
+  store::Database db(file, store::Database::Mode::kReadOnly);
+  nlohmann::json j;
+  nlohmann::json levels = {{"1", 0}, {"2", 0}, {"3", 0}, {"4", 0}};
+  nlohmann::json types = nlohmann::json::object(), scenes = nlohmann::json::object();
+  std::int64_t total = 0;
+  {
+    store::Statement q(db, "SELECT scene, level, type, COUNT(*) FROM tasks GROUP BY scene, level, type ORDER BY scene, level, type");
+    while (q.step()) {
+      const std::string scene = q.column_text(0);
+      const std::string level = std::to_string(q.column_int(1));
+      const std::string type = q.column_text(2);
+      const std::int64_t n = q.column_int(3);
+      levels[level] = levels[level].get<std::int64_t>() + n;
+      types[type] = types.value(type, std::int64_t{0}) + n;
+      if (!scenes.contains(scene)) scenes[scene] = {{"1", 0}, {"2", 0}, {"3", 0}, {"4", 0}, {"total", 0}};
+      scenes[scene][level] = scenes[scene][level].get<std::int64_t>() + n;
+      scenes[scene]["total"] = scenes[scene]["total"].get<std::int64_t>() + n;
+      total += n;
+    }
+  }
+  nlohmann::json meta = nlohmann::json::object();
+  {
+    store::Statement q(db, "SELECT key, value FROM meta ORDER BY key");
+    while (q.step()) meta[q.column_text(0)] = q.column_text(1);
+  }
+  j["levels"] = levels;
+  j["types"] = types;
+  j["scenes"] = scenes;
+  j["total"] = total;
+  j["meta"] = meta;
+  return j;
+}
+
+}  // namespace mtg::tasks

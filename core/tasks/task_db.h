@@ -1,0 +1,33 @@
+#pragma once
+// The task database (one SQLite file per task set; schema in docs/tasks.md) and its JSONL export.
+// Writing goes to a temporary file that is renamed at the end, so an interrupted run never
+// leaves a half-written database behind.
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/tasks/feasibility.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+/// Writes every task of `sets` (and the Level 4 votes). @throws mtg::Error naming the file.
+void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>& sets,
+                   const std::vector<Vote>& votes, const TaskOptions& options);
+
+/// One task per line, keys sorted (the same content as the database).
+void write_jsonl(const std::filesystem::path& file, const std::vector<TaskSet>& sets);
+
+nlohmann::json task_to_json(const Task& task);
+
+/// Tasks of the database, optionally only some levels, in id order.
+/// @throws mtg::Error if the file is missing or is not a task database.
+std::vector<Task> read_tasks(const std::filesystem::path& file, const std::set<int>& levels = {});
+
+/// Counts per level ("levels": {"1": n, ...}), per type, per scene, total, plus the meta table.
+nlohmann::json task_db_stats(const std::filesystem::path& file);
+
+}  // namespace mtg::tasks

@@ -1,0 +1,63 @@
+#include "orchestrator/cli/task_commands.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include "core/tasks/generator.h"
+#include "core/tasks/job.h"
+#include "core/tasks/task_db.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "core/util/stopwatch.h"
+
+namespace mtg::cli {
+
+int run_tasks(const TasksOptions& o) {
+  if (o.scenes.empty()) throw Error("mtg tasks: --scene is required");
+  if (o.out.empty()) throw Error("mtg tasks: --out is required");
+  tasks::GenerationJob job;
+  job.scenes = o.scenes;
+  job.data_dir = o.data_dir;
+  job.profile = o.profile;
+  job.out = o.out;
+  job.jsonl = o.jsonl;
+  job.options.levels = tasks::parse_levels(o.levels);
+  job.options.seed = o.seed;
+  job.options.ambiguity = tasks::ambiguity_from_string(o.ambiguity);
+  job.options.level3_count = o.level3_count;
+  job.options.level3_chain = o.level3_chain;
+  job.options.level4_max_moves = o.level4_max_moves;
+  job.options.level4_templates = o.level4_templates;
+  job.options.rules.step_limit = o.step_limit;
+  if (!o.votes.empty()) job.votes = tasks::load_votes(o.votes);
+
+  const tasks::GenerationReport report = tasks::run_generation(job);
+  for (const auto& w : report.warnings) log::warn(w);
+  std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
+  for (const auto& s : report.scenes) {
+    std::printf("%-8s %8ld %8ld %8ld %8ld %9ld %7.1f s\n", s.scene.c_str(), static_cast<long>(s.levels[0]),
+                static_cast<long>(s.levels[1]), static_cast<long>(s.levels[2]), static_cast<long>(s.levels[3]),
+                static_cast<long>(s.total), s.seconds);
+  }
+  std::printf("wrote %s (%.1f s in all, peak RSS %.0f MiB)\n", o.out.c_str(), report.seconds, peak_rss_mib());
+  if (!o.jsonl.empty()) std::printf("wrote %s\n", o.jsonl.c_str());
+  return 0;
+}
+
+int run_task_stats(const TaskStatsOptions& o) {
+  const nlohmann::json stats = tasks::task_db_stats(o.db);
+  if (o.json) {
+    std::cout << stats.dump() << '\n';
+    return 0;
+  }
+  std::printf("%s: %ld tasks\n", o.db.c_str(), stats["total"].get<long>());
+  for (const auto& [level, n] : stats["levels"].items()) std::printf("  level %s  %8ld\n", level.c_str(), n.get<long>());
+  for (const auto& [type, n] : stats["types"].items()) std::printf("  %-28s %8ld\n", type.c_str(), n.get<long>());
+  for (const auto& [scene, counts] : stats["scenes"].items()) {
+    std::printf("  %-8s L1 %ld  L2 %ld  L3 %ld  L4 %ld\n", scene.c_str(), counts["1"].get<long>(),
+                counts["2"].get<long>(), counts["3"].get<long>(), counts["4"].get<long>());
+  }
+  return 0;
+}
+
+}  // namespace mtg::cli

@@ -1,0 +1,35 @@
+#pragma once
+// `mtg tasks ...`: generate task sets into SQLite (+ JSONL) and summarise them.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mtg::cli {
+
+struct TasksOptions {
+  std::vector<std::string> scenes;
+  std::string data_dir;
+  std::string out;                  // tasks.sqlite
+  std::string jsonl;                // optional export
+  std::uint64_t seed = 0;
+  std::string levels = "1,2,3,4";
+  std::string profile = "replica_cad";
+  std::string ambiguity = "name";
+  int level3_count = 10000;
+  int level3_chain = 2;
+  int level4_max_moves = 3;
+  std::string level4_templates = "builtin";
+  std::string votes;                // recorded Level 4 votes (JSONL)
+  int step_limit = 15;
+};
+
+struct TaskStatsOptions {
+  std::string db;
+  bool json = false;
+};
+
+int run_tasks(const TasksOptions& options);
+int run_task_stats(const TaskStatsOptions& options);
+
+}  // namespace mtg::cli

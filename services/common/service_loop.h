@@ -1,0 +1,44 @@
+#pragma once
+// The loop every service process runs: dispatch bus messages, publish a heartbeat once a
+// second (liveness telemetry, never used in episode logic), stop on SIGINT/SIGTERM or on a
+// run_control "shutdown" addressed to this role, and give the service a chance to do queued
+// work between messages (handlers stay short; heavy work runs from `idle`).
+
+#include <functional>
+#include <string>
+
+#include "bus/bus.h"
+#include "bus/header.h"
+
+namespace mtg::services {
+
+class ServiceLoop {
+ public:
+  ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity = 1);
+
+  /// Runs until stopped. `idle` is called after each round of message handling.
+  void run(const std::function<void()>& idle = {});
+  void stop() { stopping_ = true; }
+  bool stopping() const;
+  /// Episodes (or jobs) currently held, reported in heartbeats.
+  void set_in_flight(int n) { in_flight_ = n; }
+
+ private:
+  void heartbeat();
+
+  bus::Bus& bus_;
+  bus::HeaderStamper& stamp_;
+  std::string role_;
+  int capacity_;
+  int in_flight_ = 0;
+  long tick_ = 0;
+  bool stopping_ = false;
+};
+
+/// Installs SIGINT/SIGTERM handlers that make ServiceLoop::stopping() true (once per process).
+void install_stop_signals();
+
+/// "<role>:<host>:<pid>", unique per process.
+std::string sender_id(const std::string& role);
+
+}  // namespace mtg::services

@@ -1,0 +1,168 @@
+#include "core/episode/rules.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/episode/goals.h"
+#include "tests/support/graph_fixtures.h"
+
+namespace mtg::episode {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::vector<std::string> keys(const std::vector<ActionOption>& options) {
+  std::vector<std::string> out;
+  for (const auto& o : options) out.push_back(o.key);
+  return out;
+}
+
+class RulesTest : public ::testing::Test {
+ protected:
+  void SetUp() override { built_ = testing::two_tables(fx_); }
+  const graph::SceneGraph& g() const { return built_.graph; }
+  StepOutcome act(WorldState& s, const std::string& key) { return apply_action(g(), s, key, constraints_, options_); }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+  TaskConstraints constraints_;
+  RuleOptions options_;
+};
+
+TEST_F(RulesTest, ActionSpaceFollowsThePapersStates) {
+  WorldState s = initial_state(g());
+  ASSERT_EQ(g().navigable.size(), 2u);
+  EXPECT_EQ(keys(action_space(g(), s, options_)), (std::vector<std::string>{"0", "l1", "l2"}));
+  ASSERT_TRUE(act(s, "l1").applied);
+  EXPECT_EQ(keys(action_space(g(), s, options_)),
+            (std::vector<std::string>{"-1", "0", "o1", "o2", "o3", "l1", "l2"}));
+  ASSERT_TRUE(act(s, "o2").applied);
+  EXPECT_EQ(s.held, g().find_object("box_2"));
+  EXPECT_EQ(keys(action_space(g(), s, options_)), (std::vector<std::string>{"-1", "0", "l1", "l2", "startplace"}));
+  ASSERT_TRUE(act(s, "l2").applied);
+  ASSERT_TRUE(act(s, "startplace").applied);
+  // An empty platform: the nine cells and "anywhere".
+  EXPECT_EQ(keys(action_space(g(), s, options_)),
+            (std::vector<std::string>{"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "999"}));
+  ASSERT_TRUE(act(s, "5").applied);  // front part
+  EXPECT_EQ(s.held, -1);
+  EXPECT_EQ(s.objects[static_cast<size_t>(g().find_object("box_2"))].parent, g().navigable[1]);
+  const auto end = act(s, "0");
+  EXPECT_TRUE(end.done);
+  EXPECT_EQ(end.end_reason, "call_end");
+  EXPECT_EQ(s.steps, 6);
+}
+
+TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
+  WorldState s = initial_state(g());
+  for (const char* k : {"l1", "o1", "l2", "startplace", "5"}) ASSERT_TRUE(act(s, k).applied) << k;
+  const int box = g().find_object("box_1");
+  AtomicGoal goal;
+  goal.type = GoalType::kSurfacePart;
+  goal.item = box;
+  goal.source = g().navigable[0];
+  goal.platform = g().navigable[1];
+  goal.direction = 4;  // front
+  EXPECT_TRUE(goal_satisfied(g(), s, goal));
+  // The robot stood at the default side; the item is on the far half of the table from it.
+  const graph::Platform& p = g().platforms[static_cast<size_t>(g().navigable[1])];
+  const geom::Point2 robot = p.sides[static_cast<size_t>(p.default_side)].standing_point;
+  const geom::Point2 item = geom::centroid(geom::Region{{s.objects[static_cast<size_t>(box)].footprint}});
+  const geom::Point2 centre = p.X_WP.translation();
+  EXPECT_GT((item - robot).norm(), (centre - robot).norm());
+}
+
+TEST_F(RulesTest, BadAndUnavailableKeysCostAStepWithAHint) {
+  WorldState s = initial_state(g());
+  auto r = act(s, "banana");
+  EXPECT_FALSE(r.valid);
+  EXPECT_THAT(r.hint, HasSubstr("not an action key"));
+  r = act(s, "o1");  // valid key, but nothing to pick at the start
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.available);
+  EXPECT_THAT(r.hint, HasSubstr("not available"));
+  r = act(s, "l9");
+  EXPECT_FALSE(r.available);
+  EXPECT_EQ(s.steps, 3);
+  EXPECT_EQ(s.phase, Phase::kStart);
+}
+
+TEST_F(RulesTest, StepLimitEndsTheEpisode) {
+  options_.step_limit = 3;
+  WorldState s = initial_state(g());
+  act(s, "l1");
+  act(s, "-1");
+  const auto r = act(s, "l2");
+  EXPECT_TRUE(r.done);
+  EXPECT_EQ(r.end_reason, "step_limit");
+  EXPECT_FALSE(act(s, "l1").applied);  // nothing happens after the end
+}
+
+TEST_F(RulesTest, RotateVisitsTheUsableSidesClockwise) {
+  WorldState s = initial_state(g());
+  act(s, "l1");
+  const int first = s.side;
+  std::vector<int> seen = {first};
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(act(s, "-1").applied);
+    seen.push_back(s.side);
+  }
+  EXPECT_EQ(seen, (std::vector<int>{first, (first + 1) % 4, (first + 2) % 4, (first + 3) % 4}));
+}
+
+TEST_F(RulesTest, AnchorsCannotBePicked) {
+  constraints_.protected_objects = {g().find_object("box_2")};
+  WorldState s = initial_state(g());
+  act(s, "l1");
+  const auto r = act(s, "o2");
+  EXPECT_FALSE(r.applied);
+  EXPECT_THAT(r.hint, HasSubstr("must stay where it is"));
+  EXPECT_EQ(s.held, -1);
+  EXPECT_TRUE(act(s, "o1").applied);
+}
+
+TEST(Rules, PlacesTooSmallForTheObjectAreRefusedAndThePlacingGoesOn) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
+  fx.add_object_config("toy_plank", fx.add_box_mesh("plank", {0.35, 0.02, 0.1}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(-0.2, 0, 0.74)),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(0.2, 0, 0.74)),
+                       testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0)),
+                       testing::FixtureDataset::instance("toy_plank", testing::hab(3, 0, 0.74))}}});
+  const auto built = testing::build_fixture_scene(fx, "s");
+  const graph::SceneGraph& g = built.graph;
+  RuleOptions options;
+  WorldState s = initial_state(g);
+  for (const char* k : {"l2", "o1", "l1", "startplace"}) ASSERT_TRUE(apply_action(g, s, k, {}, options).applied) << k;
+  int refused = 0, placed = 0;
+  for (const auto& option : action_space(g, s, options)) {
+    if (option.key == "0") continue;
+    WorldState trial = s;
+    const auto out = apply_action(g, trial, option.key, {}, options);
+    (out.applied ? placed : refused) += 1;
+    if (!out.applied) {
+      EXPECT_THAT(out.hint, HasSubstr("does not fit"));
+      EXPECT_EQ(trial.phase, Phase::kPlacing);  // still holding, still placing
+      EXPECT_EQ(trial.held, s.held);
+    } else {
+      EXPECT_EQ(trial.held, -1);
+    }
+  }
+  EXPECT_GT(refused, 0);  // e.g. the 0.3 m gap between the boxes for a 0.35 m plank
+  EXPECT_GT(placed, 0);
+}
+
+TEST_F(RulesTest, PlacedItemsAreAppendedToThePlatformsNumbering) {
+  WorldState s = initial_state(g());
+  for (const char* k : {"l1", "o1", "startplace", "999"}) ASSERT_TRUE(act(s, k).applied) << k;
+  const auto objects = pickable_on(g(), s, g().navigable[0]);
+  ASSERT_EQ(objects.size(), 3u);
+  EXPECT_EQ(objects.back(), g().find_object("box_1"));  // numbers shift after a place
+  EXPECT_THAT(situation_text(g(), s), HasSubstr("object 3 box"));
+}
+
+}  // namespace
+}  // namespace mtg::episode

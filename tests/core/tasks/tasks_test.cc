@@ -1,0 +1,210 @@
+// Task generation on small fixture scenes: the goals found, their oracle plans, levels,
+// determinism, storage and bad input.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/episode/world_state.h"
+#include "core/tasks/atomic.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/outcome.h"
+#include "core/tasks/task_db.h"
+#include "core/tasks/validate.h"
+#include "core/util/error.h"
+#include "tests/support/graph_fixtures.h"
+
+namespace mtg::tasks {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+TaskOptions small_options() {
+  TaskOptions o;
+  o.level3_count = 50;
+  return o;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(AtomicTasks, MovingABoxToTheEmptyTableGivesTheSurfaceAndItsNineParts) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto& g = b.graph;
+  const auto tasks = enumerate_atomic(g, episode::initial_state(g), small_options());
+  const int box1 = g.find_object("box_1");
+  const int empty = g.navigable[1];
+  std::multiset<std::string> types;
+  for (const auto& t : tasks) {
+    if (t.goal.item == box1 && t.goal.platform == empty) types.insert(episode::to_string(t.goal.type));
+  }
+  EXPECT_EQ(types.count("surface"), 1u);
+  EXPECT_EQ(types.count("surface_part"), 9u);
+  EXPECT_EQ(types.size(), 10u);
+}
+
+TEST(AtomicTasks, BetweenAndDirectionGoalsOnTheOccupiedTable) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto& g = b.graph;
+  const auto tasks = enumerate_atomic(g, episode::initial_state(g), small_options());
+  const int box1 = g.find_object("box_1"), box2 = g.find_object("box_2"), box3 = g.find_object("box_3");
+  bool between_2_3 = false, around_2 = false;
+  std::set<int> directions_of_3;
+  for (const auto& t : tasks) {
+    if (t.goal.item != box1 || t.goal.platform != g.navigable[0]) continue;
+    between_2_3 |= t.goal.type == episode::GoalType::kBetween && t.goal.anchor == box2 && t.goal.anchor2 == box3;
+    around_2 |= t.goal.type == episode::GoalType::kAround && t.goal.anchor == box2;
+    if (t.goal.type == episode::GoalType::kDirection && t.goal.anchor == box3) directions_of_3.insert(t.goal.direction);
+    EXPECT_NE(t.goal.type, episode::GoalType::kSurface);  // not onto its own platform
+  }
+  EXPECT_TRUE(between_2_3);  // the 0.2 m gap between the other two boxes takes it
+  EXPECT_TRUE(around_2);
+  EXPECT_EQ(directions_of_3.size(), 8u);  // free all around box_3 once box_1 is picked
+}
+
+TEST(AtomicTasks, EveryOraclePlanSucceedsUnderTheEpisodeRules) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto result = generate_tasks(b.graph, small_options());
+  ASSERT_GT(result.set.tasks.size(), 100u);
+  int ok = 0;
+  for (const Task& t : result.set.tasks) {
+    const PlayResult r = play_task(b.graph, t, small_options());
+    EXPECT_TRUE(r.success) << t.id << " " << t.text << ": " << r.failure;
+    ok += r.success ? 1 : 0;
+  }
+  EXPECT_EQ(ok, static_cast<int>(result.set.tasks.size()));
+}
+
+TEST(TaskLevels, IdenticalObjectsMakeATaskLevelTwo) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  fx.add_object_config("toy_cup", fx.add_box_mesh("cup", {0.08, 0.1, 0.08}));
+  fx.add_object_config("toy_plate", fx.add_box_mesh("plate", {0.2, 0.02, 0.2}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       testing::FixtureDataset::instance("toy_cup", testing::hab(-0.3, 0, 0.74)),
+                       testing::FixtureDataset::instance("toy_cup", testing::hab(0.3, 0, 0.74)),
+                       testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0)),
+                       testing::FixtureDataset::instance("toy_plate", testing::hab(3, 0, 0.74))}}});
+  const auto b = testing::build_fixture_scene(fx, "s");
+  TaskOptions o = small_options();
+  o.levels = {1, 2};
+  const auto result = generate_tasks(b.graph, o);
+  int l1 = 0, l2 = 0;
+  for (const Task& t : result.set.tasks) {
+    const bool cup_involved = t.item.rfind("cup", 0) == 0 ||
+                              std::any_of(t.anchors.begin(), t.anchors.end(), [](const std::string& a) { return a.rfind("cup", 0) == 0; });
+    EXPECT_EQ(t.level, cup_involved && t.source.rfind("table_0", 0) == 0 ? 2 : t.level) << t.text;
+    if (t.item.rfind("plate", 0) == 0 && t.anchors.empty()) EXPECT_EQ(t.level, 1) << t.text;
+    (t.level == 1 ? l1 : l2) += 1;
+  }
+  EXPECT_GT(l1, 0);
+  EXPECT_GT(l2, 0);
+  // Under the category rule nothing changes here (the cups are one template).
+}
+
+TEST(TaskGeneration, SameSeedSameBytesOtherSeedOtherChoices) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const fs::path dir = fx.root();
+  auto write = [&](std::uint64_t seed, const std::string& tag) {
+    TaskOptions o = small_options();
+    o.seed = seed;
+    const auto r = generate_tasks(b.graph, o);
+    write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o);
+    write_jsonl(dir / (tag + ".jsonl"), {r.set});
+  };
+  write(7, "a");
+  write(7, "b");
+  write(8, "c");
+  EXPECT_EQ(read_file(dir / "a.jsonl"), read_file(dir / "b.jsonl"));
+  EXPECT_EQ(read_file(dir / "a.sqlite"), read_file(dir / "b.sqlite"));
+  EXPECT_NE(read_file(dir / "a.jsonl"), read_file(dir / "c.jsonl"));
+  EXPECT_FALSE(fs::exists(dir / "a.sqlite.partial"));
+}
+
+TEST(TaskGeneration, NoDuplicateGoals) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto r = generate_tasks(b.graph, small_options());
+  std::set<std::string> goals;
+  for (const Task& t : r.set.tasks) {
+    EXPECT_TRUE(goals.insert(std::to_string(t.level >= 3 ? t.level : 0) + t.goal.dump()).second) << t.id;
+  }
+}
+
+TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto r = generate_tasks(b.graph, small_options());
+  const fs::path db = fx.root() / "t.sqlite";
+  write_task_db(db, {r.set}, r.votes, small_options());
+  const auto stats = task_db_stats(db);
+  std::int64_t sum = 0;
+  for (const char* l : {"1", "2", "3", "4"}) sum += stats["levels"][l].get<std::int64_t>();
+  EXPECT_EQ(sum, static_cast<std::int64_t>(r.set.tasks.size()));
+  EXPECT_EQ(stats["scenes"]["two_tables"]["total"], sum);
+  EXPECT_GT(stats["levels"]["3"].get<int>(), 0);
+  EXPECT_EQ(read_tasks(db).size(), r.set.tasks.size());
+  EXPECT_EQ(read_tasks(db, {3}).size(), static_cast<std::size_t>(stats["levels"]["3"].get<int>()));
+}
+
+TEST(TaskGeneration, BadInputIsRejectedWithTheNameOfWhatIsWrong) {
+  EXPECT_THAT([] { parse_levels("1,5"); }, ::testing::ThrowsMessage<Error>(HasSubstr("unknown level '5'")));
+  testing::FixtureDataset fx;
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
+  fx.add_scene("bare", {{"object_instances", {testing::FixtureDataset::instance("toy_box", {0, 0, 0})}}});
+  const auto bare = testing::build_fixture_scene(fx, "bare");
+  EXPECT_THAT([&] { generate_tasks(bare.graph, small_options()); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("has no navigable platform")));
+  fx.write_text("bad_templates.json",
+                R"({"templates": [{"id": "x-001", "family": "pair", "kind": "pair", "text": "Put the {object} by the {vase}."}]})");
+  EXPECT_THAT([&] { load_templates((fx.root() / "bad_templates.json").string()); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("unknown placeholder {vase}")));
+  fx.write_text("bad_votes.jsonl", "{\"task_id\": \"a\", \"voter\": \"v\", \"verdict\": \"maybe\"}\n");
+  EXPECT_THAT([&] { load_votes((fx.root() / "bad_votes.jsonl").string()); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("bad_votes.jsonl:1: unknown verdict 'maybe'")));
+}
+
+TEST(TaskGeneration, TheBuiltInTemplateLibraryHasAtLeastAHundredTemplatesInSixFamilies) {
+  const auto templates = load_templates("builtin");
+  EXPECT_GE(templates.size(), 100u);
+  std::set<std::string> families, kinds;
+  for (const auto& t : templates) {
+    families.insert(t.family);
+    kinds.insert(t.kind);
+  }
+  EXPECT_EQ(families, (std::set<std::string>{"arrange", "clear", "gather", "pair", "set_up", "sort"}));
+  EXPECT_EQ(kinds.size(), 11u);
+}
+
+TEST(TaskGeneration, RecordedVotesCanVetoAnOutcomeTask) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  TaskOptions o = small_options();
+  o.levels = {4};
+  const auto first = generate_tasks(b.graph, o);
+  ASSERT_FALSE(first.set.tasks.empty());
+  const std::string victim = first.set.tasks.front().id;
+  const std::vector<Vote> votes = {{victim, "model-a", kNotFeasible}, {victim, "model-b", kNotFeasible}};
+  const auto second = generate_tasks(b.graph, o, votes);
+  EXPECT_EQ(second.set.tasks.size() + 1, first.set.tasks.size());
+  for (const Task& t : second.set.tasks) EXPECT_NE(t.id, victim);
+  // Ids of the others do not move when one is vetoed.
+  EXPECT_EQ(second.set.tasks.front().id, first.set.tasks[1].id);
+}
+
+}  // namespace
+}  // namespace mtg::tasks
