@@ -25,19 +25,9 @@ constexpr double kTol = 1e-6;
 using testing::add_table;
 using testing::hab;
 
-struct Built {
-  scene::Scene scene;
-  SceneGraph graph;
-};
+using Built = testing::BuiltScene;
 
-Built build(const FixtureDataset& fx, const std::string& name, const std::string& profile = "none") {
-  scene::MeshCache cache;
-  Built b{scene::load_scene(scene::index_dataset(fx.root()), name, cache), {}};
-  GraphOptions options;
-  apply_profile(options, profile);
-  b.graph = build_scene_graph(b.scene, options);
-  return b;
-}
+Built build(const FixtureDataset& fx, const std::string& name) { return testing::build_fixture_scene(fx, name); }
 
 const Platform& platform(const SceneGraph& g, const std::string& name) {
   const int p = g.find_platform(name);
