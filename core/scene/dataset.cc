@@ -78,14 +78,20 @@ fs::path resolve_data_root(const std::string& explicit_dir) {
     }
     return fs::absolute(env).lexically_normal();
   }
+  // data/replica_cad beside the working directory or the source tree, then the shared dataset
+  // folder (shared/datasets/replica_cad) next to either of them or one of their parents.
   const fs::path source(MTG_SOURCE_DIR);
-  const std::vector<fs::path> candidates = {
-      fs::path("data/replica_cad"), source / "data/replica_cad",
-      fs::path("../shared/datasets/replica_cad"), source / "../shared/datasets/replica_cad"};
+  std::vector<fs::path> candidates = {fs::path("data/replica_cad"), source / "data/replica_cad"};
+  for (fs::path base : {fs::current_path(), source}) {
+    for (int up = 0; up < 4 && !base.empty(); ++up, base = base.parent_path()) {
+      candidates.push_back(base / "../shared/datasets/replica_cad");
+      if (base == base.parent_path()) break;
+    }
+  }
   std::string tried;
   for (const auto& c : candidates) {
     if (fs::is_directory(c)) return fs::absolute(c).lexically_normal();
-    tried += (tried.empty() ? "" : ", ") + c.string();
+    tried += (tried.empty() ? "" : ", ") + c.lexically_normal().string();
   }
   throw Error("no dataset found: set $MTG_DATA_DIR or pass --data (tried " + tried + ")");
 }

@@ -10,8 +10,8 @@
 namespace mtg::scene {
 
 /// Where the data comes from, in this order: `explicit_dir` (a --data flag), $MTG_DATA_DIR,
-/// ./data/replica_cad, <source>/data/replica_cad, ../shared/datasets/replica_cad (relative to the
-/// working directory, then to the source tree).
+/// ./data/replica_cad, <source>/data/replica_cad, then ../shared/datasets/replica_cad relative to
+/// the working directory or the source tree or up to three of their parents.
 /// @throws mtg::Error if an explicitly given directory does not exist, or if none is found
 /// (the message lists every place tried).
 std::filesystem::path resolve_data_root(const std::string& explicit_dir = "");
