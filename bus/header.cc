@@ -2,12 +2,12 @@
 
 namespace mtg::bus {
 
-mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt) {
+mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt, const std::string& stream) {
   mtg::header_t h;
   h.run_id = run_id_;
   h.episode_id = episode_id;
   h.attempt = attempt;
-  h.seq = next_seq_[{episode_id, attempt}]++;
+  h.seq = next_seq_[{stream, episode_id, attempt}]++;
   h.sender = sender_;
   h.schema_version = kSchemaVersion;
   return h;

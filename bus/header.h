@@ -12,20 +12,22 @@ namespace mtg::bus {
 
 inline constexpr std::int32_t kSchemaVersion = 1;
 
-/// Stamps outgoing headers: seq counts per (episode, attempt) stream, from 0.
+/// Stamps outgoing headers: seq counts from 0 per (stream, episode, attempt), where a stream is
+/// one kind of message (its channel family), so a receiver of that stream sees 0, 1, 2, ... and
+/// can tell a lost message from one it was never meant to see.
 class HeaderStamper {
  public:
   HeaderStamper(std::string run_id, std::string sender)
       : run_id_(std::move(run_id)), sender_(std::move(sender)) {}
 
-  mtg::header_t next(std::int64_t episode_id = -1, std::int32_t attempt = 0);
+  mtg::header_t next(std::int64_t episode_id = -1, std::int32_t attempt = 0, const std::string& stream = "");
   const std::string& sender() const { return sender_; }
   void set_run_id(std::string run_id) { run_id_ = std::move(run_id); }
 
  private:
   std::string run_id_;
   std::string sender_;
-  std::map<std::pair<std::int64_t, std::int32_t>, std::int64_t> next_seq_;
+  std::map<std::tuple<std::string, std::int64_t, std::int32_t>, std::int64_t> next_seq_;
 };
 
 /// Checks incoming headers per (sender, episode, attempt) stream.

@@ -33,6 +33,8 @@ void Database::exec(std::string_view sql) {
   }
 }
 
+int Database::changes() const { return sqlite3_changes(db_); }
+
 void Database::fail(const std::string& what) const { throw Error(file_.string() + ": " + what); }
 
 Statement::Statement(Database& db, std::string_view sql) : db_(db) {

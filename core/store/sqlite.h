@@ -54,6 +54,8 @@ class Database {
   Database& operator=(const Database&) = delete;
 
   void exec(std::string_view sql);
+  /// Rows changed by the last INSERT/UPDATE/DELETE.
+  int changes() const;
   const std::filesystem::path& file() const { return file_; }
   sqlite3* handle() { return db_; }
   [[noreturn]] void fail(const std::string& what) const;

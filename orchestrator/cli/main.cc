@@ -9,6 +9,7 @@
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/cli/bench_commands.h"
+#include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
 #include "orchestrator/cli/task_commands.h"
 
@@ -62,6 +63,38 @@ int main(int argc, char** argv) {
   tasks_stats->add_option("db", stats_opts.db, "task database")->required();
   tasks_stats->add_flag("--json", stats_opts.json, "print one JSON object");
 
+  // mtg run / report / replay / rejudge
+  mtg::cli::RunOptions run_opts;
+  CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
+  run->add_option("--tasks", run_opts.tasks, "task database (tasks.sqlite)");
+  run->add_option("--agent", run_opts.agents, "agent: oracle, random, replay:<run dir> (repeat for several)");
+  run->add_option("--levels", run_opts.levels, "levels to run (default 1,2,3)");
+  run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
+  run->add_option("--parallel", run_opts.parallel, "episodes at once (default 4)");
+  run->add_option("--seed", run_opts.seed, "run seed (default 0)");
+  run->add_flag("--no-render", run_opts.no_render, "text-only observations (the default for now)");
+  run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
+  run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
+  run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
+  run->add_option("--url", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  run->add_option("--episode-timeout", run_opts.episode_timeout_s, "seconds without news before a retry (default 60)");
+  run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
+  run->add_flag("!--no-progress", run_opts.progress, "no progress bar");
+  mtg::cli::ReportOptions report_opts;
+  CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
+  report->add_option("run", report_opts.run, "run folder")->required();
+  report->add_option("--html", report_opts.html, "write the HTML report here");
+  report->add_flag("--json", report_opts.json, "print one JSON object");
+  mtg::cli::ReplayOptions replay_opts;
+  CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
+  replay->add_option("run", replay_opts.run, "run folder")->required();
+  replay->add_option("--out", replay_opts.out, "replay folder (default <run>/replay)");
+  replay->add_option("--url", replay_opts.url, "LCM URL");
+  replay->add_option("--parallel", replay_opts.parallel, "episodes at once (default 4)");
+  std::string rejudge_run;
+  CLI::App* rejudge = app.add_subcommand("rejudge", "Re-score a run from its recorded actions (no agent)");
+  rejudge->add_option("run", rejudge_run, "run folder")->required();
+
   // mtg bench ... (what scripts/bench prints)
   CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
   bench->require_subcommand(1);
@@ -94,6 +127,10 @@ int main(int argc, char** argv) {
     if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
     if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
+    if (run->parsed()) return mtg::cli::run_run(run_opts);
+    if (report->parsed()) return mtg::cli::run_report(report_opts);
+    if (replay->parsed()) return mtg::cli::run_replay(replay_opts);
+    if (rejudge->parsed()) return mtg::cli::run_rejudge(rejudge_run);
     if (tasks_stats->parsed()) return mtg::cli::run_task_stats(stats_opts);
     if (tasks->parsed()) return mtg::cli::run_tasks(tasks_opts);
     if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);

@@ -50,7 +50,7 @@ bool ServiceLoop::stopping() const { return stopping_ || g_stop_signal != 0; }
 
 void ServiceLoop::heartbeat() {
   mtg::heartbeat_t hb;
-  hb.header = stamp_.next();
+  hb.header = stamp_.next(-1, 0, "heartbeat");
   hb.role = role_;
   hb.host = host_name();
   hb.pid = static_cast<int32_t>(::getpid());

@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
           mtg::log::error("task set " + req.request_id + ": " + reply.error);
         }
         loop.set_in_flight(0);
-        reply.header = stamp.next();
+        reply.header = stamp.next(-1, 0, "taskset");
         bus.publish(mtg::bus::kTaskSetSummary, reply);
       }
     });

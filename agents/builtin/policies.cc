@@ -1,0 +1,138 @@
+#include "agents/builtin/policies.h"
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <filesystem>
+#include <map>
+
+#include "bus/channels.h"
+#include "core/util/error.h"
+#include "core/util/json_file.h"
+#include "core/util/rng.h"
+#include "mtg/agent_action_t.hpp"
+
+namespace mtg::agents {
+namespace {
+
+namespace fs = std::filesystem;
+
+class OraclePolicy : public Policy {
+ public:
+  AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
+    AgentReply r;
+    r.model = "oracle";
+    const auto& plan = start.task.oracle_plan;
+    r.raw = obs.step < static_cast<int>(plan.size()) ? plan[static_cast<std::size_t>(obs.step)] : "0";
+    return r;
+  }
+};
+
+class RandomPolicy : public Policy {
+ public:
+  AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
+    AgentReply r;
+    r.model = "random";
+    if (obs.actions.empty()) {
+      r.raw = "0";
+      return r;
+    }
+    Rng rng(derive_seed(static_cast<std::uint64_t>(start.seed), static_cast<std::uint64_t>(obs.step)));
+    r.raw = obs.actions[rng.uniform_index(obs.actions.size())].key;
+    return r;
+  }
+};
+
+// Replies recorded in a run's LCM logs: per episode, the answers of its last recorded attempt.
+class ReplayPolicy : public Policy {
+ public:
+  explicit ReplayPolicy(const fs::path& run_dir) {
+    if (!fs::is_directory(run_dir)) throw Error("replay agent: no run folder " + run_dir.string());
+    std::vector<fs::path> logs;
+    for (const auto& entry : fs::directory_iterator(run_dir)) {
+      if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
+    }
+    std::sort(logs.begin(), logs.end());
+    if (logs.empty()) throw Error("replay agent: no *.lcmlog recording in " + run_dir.string());
+    for (const auto& log : logs) {
+      lcm::LogFile file(log.string(), "r");
+      if (!file.good()) throw Error("replay agent: cannot read " + log.string());
+      for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
+        if (ev->channel.rfind("MTG_ACT_E", 0) != 0) continue;
+        mtg::agent_action_t a;
+        if (a.decode(ev->data, 0, ev->datalen) < 0) continue;
+        auto& by_attempt = recorded_[{a.header.run_id, a.header.episode_id}];
+        by_attempt[a.header.attempt][a.step] = a;
+      }
+    }
+  }
+
+  AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
+    AgentReply r;
+    r.provider = "replay";
+    // The recorded run may have another run id; episodes are matched by id.
+    const auto it = find_episode(start.header.episode_id);
+    if (it == nullptr) {
+      r.error = "replay: no recorded answers for episode " + std::to_string(start.header.episode_id);
+      return r;
+    }
+    const auto& last_attempt = it->rbegin()->second;
+    const auto step = last_attempt.find(obs.step);
+    if (step == last_attempt.end()) {
+      r.error = "replay: no recorded answer for episode " + std::to_string(start.header.episode_id) + " step " +
+                std::to_string(obs.step);
+      return r;
+    }
+    const mtg::agent_action_t& a = step->second;
+    r.raw = a.raw_reply;
+    r.error = a.error;
+    r.provider = a.provider;
+    r.model = a.model;
+    r.input_tokens = a.input_tokens;
+    r.output_tokens = a.output_tokens;
+    r.images_sent = a.images_sent;
+    r.cost_usd = a.cost_usd;
+    r.latency_ms = a.latency_ms;
+    r.cache_hit = true;  // nothing was asked of a provider
+    return r;
+  }
+
+ private:
+  using Steps = std::map<int, mtg::agent_action_t>;
+  const std::map<int, Steps>* find_episode(std::int64_t episode) const {
+    for (const auto& [key, attempts] : recorded_) {
+      if (key.second == episode) return &attempts;
+    }
+    return nullptr;
+  }
+  std::map<std::pair<std::string, std::int64_t>, std::map<int, Steps>> recorded_;
+};
+
+class ScriptPolicy : public Policy {
+ public:
+  explicit ScriptPolicy(const std::string& file) {
+    const nlohmann::json doc = read_json_file(file);
+    const JsonField replies = JsonField(doc, file).at("replies");
+    for (std::size_t i = 0; i < replies.size(); ++i) replies_.push_back(replies.at(i).as_string());
+  }
+  AgentReply reply(const mtg::episode_start_t&, const mtg::observation_t& obs) override {
+    AgentReply r;
+    r.model = "script";
+    r.raw = obs.step < static_cast<int>(replies_.size()) ? replies_[static_cast<std::size_t>(obs.step)] : "0";
+    return r;
+  }
+
+ private:
+  std::vector<std::string> replies_;
+};
+
+}  // namespace
+
+std::unique_ptr<Policy> make_builtin_policy(const std::string& spec) {
+  if (spec == "oracle") return std::make_unique<OraclePolicy>();
+  if (spec == "random") return std::make_unique<RandomPolicy>();
+  if (spec.rfind("replay:", 0) == 0) return std::make_unique<ReplayPolicy>(spec.substr(7));
+  if (spec.rfind("script:", 0) == 0) return std::make_unique<ScriptPolicy>(spec.substr(7));
+  throw Error("unknown agent '" + spec + "' (built-in: oracle, random, replay:<run dir>, script:<file>)");
+}
+
+}  // namespace mtg::agents

@@ -1,0 +1,18 @@
+#pragma once
+// The built-in agents (no model, no API key):
+//   oracle          follows the task's oracle plan (must score SR 100 %)
+//   random          uniform over the offered keys, seeded by (episode seed, step)
+//   replay:<run>    answers what a recorded run's agent answered (from its LCM logs)
+//   script:<file>   replies from a JSON list {"replies": [...]} in step order (tests)
+
+#include <memory>
+#include <string>
+
+#include "agents/common/policy.h"
+
+namespace mtg::agents {
+
+/// @throws mtg::Error for an unknown spec or an unreadable recording/script.
+std::unique_ptr<Policy> make_builtin_policy(const std::string& spec);
+
+}  // namespace mtg::agents

@@ -1,0 +1,67 @@
+#include "agents/common/agent_host.h"
+
+#include "bus/channels.h"
+#include "core/episode/reply_parser.h"
+#include "core/util/log.h"
+#include "mtg/agent_action_t.hpp"
+
+namespace mtg::agents {
+
+constexpr std::size_t kMaxRawReply = 64 * 1024;
+
+AgentHost::AgentHost(bus::Bus& bus, bus::HeaderStamper& stamp, std::string agent_spec, std::unique_ptr<Policy> policy,
+                     std::string run_id)
+    : bus_(bus), stamp_(stamp), spec_(std::move(agent_spec)), policy_(std::move(policy)), run_id_(std::move(run_id)) {
+  bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart,
+                                       [this](const std::string&, const mtg::episode_start_t& m) { on_start(m); });
+  bus_.subscribe<mtg::observation_t>(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
+                                     [this](const std::string&, const mtg::observation_t& m) { on_observation(m); });
+}
+
+void AgentHost::on_start(const mtg::episode_start_t& start) {
+  if (start.agent != spec_ || (!run_id_.empty() && start.header.run_id != run_id_)) return;
+  const auto key = std::make_pair(start.header.run_id, start.header.episode_id);
+  const auto it = episodes_.find(key);
+  if (it != episodes_.end() && it->second.start.header.attempt >= start.header.attempt) return;
+  episodes_[key] = Episode{start, -1};
+  policy_->begin(start);
+}
+
+void AgentHost::on_observation(const mtg::observation_t& obs) {
+  const auto key = std::make_pair(obs.header.run_id, obs.header.episode_id);
+  const auto it = episodes_.find(key);
+  if (it == episodes_.end() || it->second.start.header.attempt != obs.header.attempt) return;
+  Episode& e = it->second;
+  if (obs.done) {
+    episodes_.erase(it);
+    return;
+  }
+  if (obs.step <= e.last_step) return;  // answered already (a duplicate observation)
+  e.last_step = obs.step;
+
+  AgentReply reply = policy_->reply(e.start, obs);
+  mtg::agent_action_t a;
+  a.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "action");
+  a.header.run_id = obs.header.run_id;
+  a.step = obs.step;
+  a.raw_reply = reply.raw.substr(0, kMaxRawReply);
+  a.error = reply.error;
+  if (reply.error.empty()) {
+    std::vector<std::string> offered;
+    for (const auto& option : obs.actions) offered.push_back(option.key);
+    const episode::ParsedReply parsed = episode::parse_reply(reply.raw, offered);
+    a.parsed_key = parsed.key;
+    a.format_ok = parsed.ok;
+  }
+  a.provider = reply.provider;
+  a.model = reply.model;
+  a.input_tokens = reply.input_tokens;
+  a.output_tokens = reply.output_tokens;
+  a.images_sent = reply.images_sent;
+  a.cost_usd = reply.cost_usd;
+  a.latency_ms = reply.latency_ms;
+  a.cache_hit = reply.cache_hit;
+  bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction, obs.header.episode_id), a);
+}
+
+}  // namespace mtg::agents

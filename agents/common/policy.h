@@ -1,0 +1,33 @@
+#pragma once
+// What an agent is: given the episode (its start message) and the current observation, a reply.
+// Built-in agents reply with a key; model adapters reply with free text that the host parses.
+
+#include <string>
+
+#include "mtg/episode_start_t.hpp"
+#include "mtg/observation_t.hpp"
+
+namespace mtg::agents {
+
+struct AgentReply {
+  std::string raw;            // the reply text (a key, or a model's free text)
+  std::string error;          // provider failure ("" if none): ends the episode
+  std::string provider = "builtin";
+  std::string model;
+  int input_tokens = 0;
+  int output_tokens = 0;
+  int images_sent = 0;
+  double cost_usd = 0.0;
+  double latency_ms = 0.0;    // telemetry only
+  bool cache_hit = false;
+};
+
+class Policy {
+ public:
+  virtual ~Policy() = default;
+  /// Called once per episode attempt before its first observation.
+  virtual void begin(const mtg::episode_start_t& /*start*/) {}
+  virtual AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& observation) = 0;
+};
+
+}  // namespace mtg::agents

@@ -1,0 +1,125 @@
+#include "bus/convert.h"
+
+#include "core/util/error.h"
+
+namespace mtg::bus {
+namespace {
+
+int object_index(const graph::SceneGraph& g, const std::string& name) {
+  if (name.empty()) return -1;
+  const int i = g.find_object(name);
+  if (i < 0) throw Error("state update: unknown object '" + name + "' in scene " + g.scene);
+  return i;
+}
+
+int platform_index(const graph::SceneGraph& g, const std::string& name) {
+  if (name.empty()) return -1;
+  const int i = g.find_platform(name);
+  if (i < 0) throw Error("state update: unknown platform '" + name + "' in scene " + g.scene);
+  return i;
+}
+
+std::string object_name(const graph::SceneGraph& g, int i) {
+  return i < 0 ? std::string() : g.objects[static_cast<std::size_t>(i)].name;
+}
+std::string platform_name(const graph::SceneGraph& g, int i) {
+  return i < 0 ? std::string() : g.platforms[static_cast<std::size_t>(i)].name;
+}
+
+}  // namespace
+
+mtg::task_t to_message(const tasks::Task& t) {
+  mtg::task_t m;
+  m.task_id = t.id;
+  m.scene = t.scene;
+  m.level = static_cast<int8_t>(t.level);
+  m.task_type = t.type;
+  m.text = t.text;
+  m.goal_json = t.goal.dump();
+  m.n_oracle = static_cast<int16_t>(t.oracle.size());
+  m.oracle_plan = t.oracle;
+  return m;
+}
+
+tasks::Task from_message(const mtg::task_t& m) {
+  tasks::Task t;
+  t.id = m.task_id;
+  t.scene = m.scene;
+  t.level = m.level;
+  t.type = m.task_type;
+  t.text = m.text;
+  try {
+    t.goal = nlohmann::json::parse(m.goal_json);
+  } catch (const nlohmann::json::exception&) {
+    throw Error("task " + m.task_id + ": goal_json is not JSON");
+  }
+  t.oracle = m.oracle_plan;
+  return t;
+}
+
+mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,
+                               const episode::StateUpdate& u) {
+  mtg::state_update_t m;
+  m.step = u.step;
+  m.key = u.key;
+  m.at_platform = platform_name(g, u.at_platform);
+  m.side = static_cast<int8_t>(u.side);
+  m.holding = object_name(g, u.holding);
+  m.picked = object_name(g, u.picked);
+  for (const episode::Placement& p : u.placed) {
+    mtg::object_placement_t op;
+    op.object = object_name(g, p.object);
+    op.platform = platform_name(g, p.platform);
+    op.x = p.position.x();
+    op.y = p.position.y();
+    op.z = p.position.z();
+    const geom::Ring& fp = s.objects[static_cast<std::size_t>(p.object)].footprint;
+    op.n_vertices = static_cast<int32_t>(fp.size());
+    for (const auto& q : fp) {
+      op.footprint_x.push_back(q.x());
+      op.footprint_y.push_back(q.y());
+    }
+    m.moved.push_back(std::move(op));
+  }
+  m.n_moved = static_cast<int32_t>(m.moved.size());
+  m.invalid = u.invalid;
+  m.format_error = u.format_error;
+  m.provider_error = u.provider_error;
+  m.done = u.done;
+  m.end_reason = u.end_reason;
+  return m;
+}
+
+episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_update_t& m) {
+  episode::StateUpdate u;
+  u.step = m.step;
+  u.key = m.key;
+  u.at_platform = platform_index(g, m.at_platform);
+  u.side = m.side;
+  u.holding = object_index(g, m.holding);
+  u.picked = object_index(g, m.picked);
+  for (const auto& op : m.moved) {
+    u.placed.push_back({object_index(g, op.object), platform_index(g, op.platform), Eigen::Vector3d(op.x, op.y, op.z)});
+  }
+  u.invalid = m.invalid;
+  u.format_error = m.format_error;
+  u.provider_error = m.provider_error;
+  u.done = m.done;
+  u.end_reason = m.end_reason;
+  return u;
+}
+
+void fill_result(const episode::Verdict& v, mtg::episode_result_t& r) {
+  r.success = v.success;
+  r.ip = v.ip;
+  r.stage = v.stage;
+  r.cause = v.cause;
+  r.steps = v.steps;
+  r.invalid_actions = v.invalid_actions;
+  r.n_subtasks = static_cast<int8_t>(v.part_ip.size());
+  r.subtask_ip = v.part_ip;
+  r.subtask_success.assign(v.part_success.begin(), v.part_success.end());
+  r.detail = v.detail;
+}
+
+}  // namespace mtg::bus

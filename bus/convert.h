@@ -1,0 +1,28 @@
+#pragma once
+// Conversions between the core types and the mtg message types. core/ never sees LCM; the
+// services call these at their edges. Objects and platforms travel by name.
+
+#include <string>
+
+#include "core/episode/judge.h"
+#include "core/episode/transcript.h"
+#include "core/graph/scene_graph.h"
+#include "core/tasks/task.h"
+#include "mtg/episode_result_t.hpp"
+#include "mtg/state_update_t.hpp"
+#include "mtg/task_t.hpp"
+
+namespace mtg::bus {
+
+mtg::task_t to_message(const tasks::Task& task);
+tasks::Task from_message(const mtg::task_t& m);
+
+/// @throws mtg::Error naming an object or platform the graph does not know.
+mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,
+                               const episode::StateUpdate& u);
+episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_update_t& m);
+
+/// Fills the verdict fields of an episode result (header and identity left to the caller).
+void fill_result(const episode::Verdict& v, mtg::episode_result_t& r);
+
+}  // namespace mtg::bus

@@ -1,0 +1,151 @@
+#include "core/episode/judge.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace mtg::episode {
+namespace {
+
+const char* kStages[] = {"start", "source", "picked", "destination", "placed"};
+
+}  // namespace
+
+EpisodeJudge::EpisodeJudge(const graph::SceneGraph& g, TaskGoal goal, int level, GoalOptions options)
+    : g_(g), goal_(std::move(goal)), level_(level), options_(options), replica_(initial_state(g)) {
+  const std::size_t n = goal_.parts.size();
+  reached_.assign(n, 0);
+  wrong_item_picks_.assign(n, 0);
+  placed_elsewhere_.assign(n, false);
+  placed_on_dest_.assign(n, false);
+}
+
+std::vector<JudgeEvent> EpisodeJudge::observe(const StateUpdate& u) {
+  std::vector<JudgeEvent> events;
+  if (done_) return events;
+  apply_update(g_, replica_, u);
+  steps_ = u.step;
+  if (u.step > 0) {  // every update after the initial one answers an action
+    invalid_ += u.invalid ? 1 : 0;
+    invalid_run_ = u.invalid ? invalid_run_ + 1 : 0;
+    format_errors_ += u.format_error ? 1 : 0;
+    provider_error_ = provider_error_ || u.provider_error;
+  }
+  for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
+    const AtomicGoal& part = goal_.parts[k];
+    if (u.picked >= 0 && u.picked != part.item) wrong_item_picks_[k] += 1;
+    for (const Placement& p : u.placed) {
+      if (p.object != part.item) continue;
+      (p.platform == part.platform ? placed_on_dest_ : placed_elsewhere_)[k] = true;
+    }
+    // Milestones 1-3 in order ("holding anything" at the source, as the paper counts it).
+    bool advanced = true;
+    while (advanced && reached_[k] < 3) {
+      advanced = false;
+      const int next = reached_[k] + 1;
+      const bool hit = (next == 1 && u.at_platform == part.source) ||
+                       (next == 2 && u.holding == part.item) ||
+                       (next == 3 && u.holding == part.item && u.at_platform == part.platform);
+      if (hit) {
+        reached_[k] = next;
+        advanced = true;
+        static const char* kText[] = {"", "reached the source platform", "picked the item",
+                                      "reached the destination with the item"};
+        events.push_back({u.step, static_cast<int>(k), next, 0.0, kText[next]});
+      }
+    }
+  }
+  if (u.done) {
+    done_ = true;
+    end_reason_ = u.end_reason;
+    for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
+      if (reached_[k] == 3 && goal_satisfied(g_, replica_, goal_.parts[k], options_)) {
+        events.push_back({u.step, static_cast<int>(k), 4, 0.0, "placed the item as asked"});
+      }
+    }
+  }
+  const double ip = current_ip(done_);
+  for (auto& e : events) e.ip = ip;
+  return events;
+}
+
+double EpisodeJudge::current_ip(bool final) const {
+  if (goal_.is_outcome) {
+    if (!final || goal_.outcome.all.empty()) return 0.0;
+    int ok = 0;
+    for (const auto& p : goal_.outcome.all) ok += predicate_satisfied(g_, replica_, p, options_) ? 1 : 0;
+    return 100.0 * ok / static_cast<double>(goal_.outcome.all.size());
+  }
+  if (goal_.parts.empty()) return 0.0;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
+    int points = reached_[k];
+    if (final && points == 3 && replica_.held != goal_.parts[k].item &&
+        goal_satisfied(g_, replica_, goal_.parts[k], options_)) {
+      points = 4;
+    }
+    sum += 25.0 * points;
+  }
+  return sum / static_cast<double>(goal_.parts.size());
+}
+
+Verdict EpisodeJudge::verdict() const {
+  Verdict v;
+  v.steps = steps_;
+  v.invalid_actions = invalid_;
+  v.ip = current_ip(true);
+  const bool goal_met = task_goal_satisfied(g_, replica_, goal_, options_);
+  const bool ended_by_agent = end_reason_ == "call_end";
+  v.success = done_ && ended_by_agent && goal_met;
+  for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
+    const bool ok = replica_.held != goal_.parts[k].item && goal_satisfied(g_, replica_, goal_.parts[k], options_);
+    v.part_success.push_back(ok);
+    v.part_ip.push_back(25.0 * (reached_[k] == 3 && ok ? 4 : reached_[k]));
+  }
+  if (v.success) {
+    v.stage = "done";
+    v.detail = "goal reached and call_end";
+    return v;
+  }
+  // Stage: the first part that is not complete decides (Level 3 fails at its first failing part).
+  std::size_t failing = 0;
+  while (failing < goal_.parts.size() && v.part_success[failing]) ++failing;
+  if (goal_.is_outcome) {
+    v.stage = goal_met ? "placed" : (v.ip > 0 ? "destination" : "start");
+  } else if (failing == goal_.parts.size()) {
+    v.stage = "placed";
+  } else {
+    v.stage = kStages[reached_[failing]];
+  }
+  // Cause, from what stopped the agent most directly.
+  const bool step_limit = end_reason_ == "step_limit";
+  if (provider_error_) {
+    v.cause = "provider_error";
+  } else if (steps_ > 0 && 2 * format_errors_ >= steps_) {
+    v.cause = "format_error";
+  } else if (step_limit && invalid_run_ >= 3) {
+    v.cause = "invalid_action_loop";
+  } else if (goal_met) {
+    v.cause = "no_call_end";  // the goal held but the agent never called call_end
+  } else if (goal_.is_outcome) {
+    v.cause = step_limit ? "step_limit" : "outcome_unmet";
+  } else {
+    const std::size_t k = failing;
+    const int r = reached_[k];
+    if (r == 0) {
+      v.cause = "navigation";
+    } else if (r == 1) {
+      v.cause = wrong_item_picks_[k] > 0 ? "wrong_item" : (step_limit ? "step_limit" : "early_end");
+    } else if (placed_on_dest_[k] && replica_.objects[static_cast<std::size_t>(goal_.parts[k].item)].parent ==
+                                         goal_.parts[k].platform) {
+      v.cause = "wrong_region";
+    } else if (placed_elsewhere_[k]) {
+      v.cause = "wrong_platform";
+    } else {
+      v.cause = step_limit ? "step_limit" : "early_end";
+    }
+  }
+  v.detail = "stage " + v.stage + ", cause " + v.cause + (done_ ? ", ended by " + end_reason_ : ", not ended");
+  return v;
+}
+
+}  // namespace mtg::episode

@@ -1,0 +1,172 @@
+#include "orchestrator/cli/run_commands.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "bus/url.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "orchestrator/report/report.h"
+#include "orchestrator/run/rejudge.h"
+#include "orchestrator/run/results_db.h"
+#include "orchestrator/run/run_engine.h"
+#include "orchestrator/run/run_plan.h"
+
+namespace mtg::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using orchestrator::RunPlan;
+
+std::map<std::string, tasks::Task> load_tasks(const std::string& db) {
+  std::map<std::string, tasks::Task> out;
+  for (auto& t : tasks::read_tasks(db)) {
+    std::string id = t.id;
+    out.emplace(std::move(id), std::move(t));
+  }
+  return out;
+}
+
+void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const nlohmann::json& report) {
+  std::printf("run %s: %lld episodes planned, %lld done now (%lld before), %lld given up, %lld retries, "
+              "%d restarts, %.1f s\n",
+              dir.filename().c_str(), static_cast<long long>(s.planned), static_cast<long long>(s.completed),
+              static_cast<long long>(s.already_done), static_cast<long long>(s.errors),
+              static_cast<long long>(s.retries), s.restarts, s.seconds);
+  std::printf("  SR %.1f %%  IP %.1f  over %lld scored episodes\n", report["sr"].get<double>(),
+              report["ip"].get<double>(), static_cast<long long>(report["scored"].get<std::int64_t>()));
+  for (const auto& [agent, a] : report["by_agent"].items()) {
+    std::printf("  %-12s SR %5.1f %%  IP %5.1f  (%lld episodes)\n", agent.c_str(), a["sr"].get<double>(),
+                a["ip"].get<double>(), static_cast<long long>(a["episodes"].get<std::int64_t>()));
+  }
+  std::printf("  results     %s\n", (dir / "results.sqlite").c_str());
+  std::printf("  recording   %s/bus-*.lcmlog\n", dir.c_str());
+  std::printf("  report      %s (+ report.png, report.json)\n", (dir / "report.html").c_str());
+  std::printf("  logs        %s/logs/\n", dir.c_str());
+}
+
+}  // namespace
+
+int run_run(const RunOptions& o) {
+  if (o.out.empty()) throw Error("mtg run: --out <run dir> is required");
+  const fs::path dir = fs::absolute(o.out).lexically_normal();
+  RunPlan plan;
+  if (fs::exists(dir / "plan.json")) {
+    plan = orchestrator::load_plan(dir);
+    if (!o.tasks.empty() && fs::absolute(o.tasks).lexically_normal().string() != plan.tasks_db) {
+      throw Error(dir.string() + " holds a run of " + plan.tasks_db + "; use another --out for " + o.tasks);
+    }
+    if (!o.agents.empty() && o.agents != plan.agents) {
+      throw Error(dir.string() + " holds a run of other agents; use another --out");
+    }
+    std::printf("resuming %s\n", dir.c_str());
+  } else {
+    if (o.tasks.empty()) throw Error("mtg run: --tasks <tasks.sqlite> is required");
+    plan.run_id = dir.filename().string();
+    plan.tasks_db = fs::absolute(o.tasks).lexically_normal().string();
+    plan.agents = o.agents;
+    plan.levels = tasks::parse_levels(o.levels);
+    plan.limit = o.limit;
+    plan.seed = o.seed;
+    plan.parallel = std::max(1, o.parallel);
+    plan.step_limit = o.step_limit;
+    plan.render = !o.no_render;
+    plan.episode_timeout_s = o.episode_timeout_s;
+    plan.data_dir = o.data_dir;
+    plan.profile = o.profile;
+    plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
+    const auto all = tasks::read_tasks(plan.tasks_db);
+    plan = orchestrator::make_plan(std::move(plan), all);
+    fs::create_directories(dir);
+    orchestrator::save_plan(plan, dir);
+  }
+  const auto tasks = load_tasks(plan.tasks_db);
+  orchestrator::EngineOptions engine;
+  engine.progress = o.progress;
+  const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
+  const nlohmann::json report = orchestrator::write_reports(dir);
+  print_summary(summary, dir, report);
+  if (summary.interrupted) {
+    std::printf("interrupted: run the same command again to resume\n");
+    return 130;
+  }
+  return 0;
+}
+
+int run_report(const ReportOptions& o) {
+  const fs::path dir(o.run);
+  if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
+  const nlohmann::json report = orchestrator::write_reports(dir, o.html);
+  if (o.json) {
+    std::cout << report.dump() << '\n';
+    return 0;
+  }
+  std::printf("%s: %lld episodes, SR %.1f %%, IP %.1f\n", dir.c_str(),
+              static_cast<long long>(report["episodes"].get<std::int64_t>()), report["sr"].get<double>(),
+              report["ip"].get<double>());
+  for (const auto& [level, l] : report["by_level"].items()) {
+    std::printf("  level %s: SR %5.1f %%  IP %5.1f  (%lld)\n", level.c_str(), l["sr"].get<double>(), l["ip"].get<double>(),
+                static_cast<long long>(l["episodes"].get<std::int64_t>()));
+  }
+  for (const auto& [cause, n] : report["causes"].items()) std::printf("  %-20s %lld\n", cause.c_str(), static_cast<long long>(n.get<std::int64_t>()));
+  std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
+  return 0;
+}
+
+int run_replay(const ReplayOptions& o) {
+  const fs::path src = fs::absolute(o.run).lexically_normal();
+  RunPlan plan = orchestrator::load_plan(src);
+  const fs::path dir = o.out.empty() ? src / "replay" : fs::absolute(o.out).lexically_normal();
+  if (fs::exists(dir / "results.sqlite")) fs::remove_all(dir);  // a replay always starts afresh
+  fs::create_directories(dir);
+  const std::string spec = "replay:" + src.string();
+  plan.run_id = plan.run_id + "-replay";
+  plan.agents = {spec};
+  for (auto& e : plan.episodes) e.agent = spec;
+  plan.parallel = std::max(1, o.parallel);
+  if (!o.url.empty()) plan.bus_url = bus::normalize_url(o.url);
+  orchestrator::save_plan(plan, dir);
+  const auto tasks = load_tasks(plan.tasks_db);
+  const auto summary = orchestrator::run_plan(plan, dir, tasks);
+  orchestrator::write_reports(dir);
+  const auto original = orchestrator::read_results(src / "results.sqlite");
+  const auto replayed = orchestrator::read_results(dir / "results.sqlite");
+  std::map<std::int64_t, std::string> again;
+  for (const auto& r : replayed) again[r.episode_id] = orchestrator::verdict_fingerprint(r);
+  std::int64_t same = 0, compared = 0;
+  for (const auto& r : original) {
+    if (r.status != "scored") continue;
+    ++compared;
+    const auto it = again.find(r.episode_id);
+    if (it != again.end() && it->second == orchestrator::verdict_fingerprint(r)) {
+      ++same;
+    } else {
+      std::printf("  differs: episode %lld (%s)\n", static_cast<long long>(r.episode_id), r.task_id.c_str());
+    }
+  }
+  std::printf("replay of %s: %lld / %lld judge results identical (%.1f s); replay in %s\n", src.c_str(),
+              static_cast<long long>(same), static_cast<long long>(compared), summary.seconds, dir.c_str());
+  return same == compared ? 0 : 1;
+}
+
+int run_rejudge(const std::string& run) {
+  const fs::path dir = fs::absolute(run).lexically_normal();
+  const auto report = orchestrator::rejudge_run(dir);
+  const fs::path out = dir / "rejudge.sqlite";
+  fs::remove(out);
+  {
+    orchestrator::ResultsDb db(out);
+    for (const auto& row : report.rows) db.insert(row);
+  }
+  for (const auto& d : report.differences) std::printf("  %s\n", d.c_str());
+  std::printf("rejudged %zu episodes of %s from the recording: %lld identical, %zu differ; wrote %s\n",
+              report.rows.size(), dir.c_str(), static_cast<long long>(report.identical), report.differences.size(),
+              out.c_str());
+  return 0;
+}
+
+}  // namespace mtg::cli

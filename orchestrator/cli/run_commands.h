@@ -1,0 +1,45 @@
+#pragma once
+// `mtg run`, `mtg report`, `mtg replay`, `mtg rejudge` (docs/runtime.md).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mtg::cli {
+
+struct RunOptions {
+  std::string tasks;                 // task database
+  std::vector<std::string> agents;   // e.g. oracle, random
+  std::string levels = "1,2,3";
+  int limit = 0;                     // tasks per (scene, level); 0 = all
+  int parallel = 4;
+  std::uint64_t seed = 0;
+  bool no_render = true;             // text-only until the renderer runs
+  std::string out;                   // run folder
+  std::string data_dir;
+  std::string profile = "replica_cad";
+  std::string url;                   // LCM URL ("" = default)
+  double episode_timeout_s = 60.0;
+  int step_limit = 15;
+  bool progress = true;
+};
+
+struct ReportOptions {
+  std::string run;
+  std::string html;  // "" = <run>/report.html
+  bool json = false;
+};
+
+struct ReplayOptions {
+  std::string run;
+  std::string out;   // "" = <run>/replay
+  std::string url;
+  int parallel = 4;
+};
+
+int run_run(const RunOptions& options);
+int run_report(const ReportOptions& options);
+int run_replay(const ReplayOptions& options);
+int run_rejudge(const std::string& run);
+
+}  // namespace mtg::cli

@@ -1,0 +1,165 @@
+#include "orchestrator/report/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/util/error.h"
+#include "core/util/json_file.h"
+#include "orchestrator/report/sankey.h"
+
+namespace mtg::orchestrator {
+namespace {
+
+struct Acc {
+  std::int64_t episodes = 0, successes = 0;
+  double ip = 0.0;
+  void add(const EpisodeRow& r) {
+    ++episodes;
+    successes += r.success ? 1 : 0;
+    ip += r.ip;
+  }
+  nlohmann::json json() const {
+    auto round1 = [](double v) { return std::round(v * 10.0) / 10.0; };
+    return {{"episodes", episodes},
+            {"sr", episodes ? round1(100.0 * static_cast<double>(successes) / static_cast<double>(episodes)) : 0.0},
+            {"ip", episodes ? round1(ip / static_cast<double>(episodes)) : 0.0}};
+  }
+};
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o.precision(1);
+  o << std::fixed << v;
+  return o.str();
+}
+
+}  // namespace
+
+nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::string& run_id) {
+  Acc all;
+  std::map<std::string, Acc> by_level;
+  std::map<std::string, Acc> by_agent;
+  std::map<std::string, std::map<std::string, Acc>> by_agent_level;
+  std::map<std::string, std::int64_t> causes, stages;
+  std::int64_t errors = 0, in_tokens = 0, out_tokens = 0;
+  double cost = 0.0;
+  std::vector<SankeyFlow> flows;
+  for (const EpisodeRow& r : rows) {
+    if (r.status != "scored") {
+      ++errors;
+      continue;
+    }
+    const std::string level = std::to_string(r.level);
+    all.add(r);
+    by_level[level].add(r);
+    by_agent[r.agent].add(r);
+    by_agent_level[r.agent][level].add(r);
+    stages[r.stage] += 1;
+    if (!r.success) causes[r.cause] += 1;
+    in_tokens += r.input_tokens;
+    out_tokens += r.output_tokens;
+    cost += r.cost_usd;
+    flows.push_back({"Level " + level, r.stage, r.success ? "success" : r.cause, r.success ? "success" : "failure"});
+  }
+  nlohmann::json j;
+  j["run"] = run_id;
+  j["episodes"] = static_cast<std::int64_t>(rows.size());
+  j["scored"] = all.episodes;
+  j["errors"] = errors;
+  const nlohmann::json totals = all.json();
+  j["sr"] = totals["sr"];
+  j["ip"] = totals["ip"];
+  j["by_level"] = nlohmann::json::object();
+  for (const auto& [l, acc] : by_level) j["by_level"][l] = acc.json();
+  j["by_agent"] = nlohmann::json::object();
+  for (const auto& [agent, acc] : by_agent) {
+    nlohmann::json a = acc.json();
+    for (const auto& [l, la] : by_agent_level[agent]) a["by_level"][l] = la.json();
+    j["by_agent"][agent] = a;
+  }
+  j["causes"] = causes;
+  j["stages"] = stages;
+  j["tokens"] = {{"input", in_tokens}, {"output", out_tokens}};
+  j["cost_usd"] = std::round(cost * 1e6) / 1e6;
+  j["sankey"] = sankey_graph(flows);
+  return j;
+}
+
+std::string report_html(const nlohmann::json& r) {
+  std::ostringstream h;
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>ManiTaskGen-LCM report " << escape(r["run"])
+    << "</title><style>body{font-family:sans-serif;margin:24px;color:#222}table{border-collapse:collapse;margin:12px 0}"
+       "th,td{border:1px solid #bbb;padding:4px 10px;text-align:right}th{background:#eee}td:first-child,th:first-child"
+       "{text-align:left}h2{margin-top:28px}.note{color:#666;font-size:90%}</style></head><body>";
+  h << "<h1>Run " << escape(r["run"]) << "</h1>";
+  h << "<p>" << r["episodes"].get<std::int64_t>() << " episodes, " << r["scored"].get<std::int64_t>() << " scored"
+    << (r["errors"].get<std::int64_t>() ? ", " + std::to_string(r["errors"].get<std::int64_t>()) + " given up (infrastructure)" : "")
+    << ". SR " << fmt(r["sr"].get<double>()) << " %, IP " << fmt(r["ip"].get<double>()) << ".</p>";
+  // Table 3: rows = agents, columns = levels (IP, SR).
+  std::vector<std::string> levels;
+  for (const auto& [l, v] : r["by_level"].items()) levels.push_back(l);
+  h << "<h2>Results by level</h2><table><tr><th rowspan=2>agent</th>";
+  for (const auto& l : levels) h << "<th colspan=2>Level " << l << "</th>";
+  h << "<th colspan=2>Avg</th></tr><tr>";
+  for (std::size_t i = 0; i <= levels.size(); ++i) h << "<th>IP</th><th>SR (%)</th>";
+  h << "</tr>";
+  for (const auto& [agent, a] : r["by_agent"].items()) {
+    h << "<tr><td>" << escape(agent) << "</td>";
+    for (const auto& l : levels) {
+      if (a.contains("by_level") && a["by_level"].contains(l)) {
+        h << "<td>" << fmt(a["by_level"][l]["ip"].get<double>()) << "</td><td>" << fmt(a["by_level"][l]["sr"].get<double>())
+          << "</td>";
+      } else {
+        h << "<td></td><td></td>";
+      }
+    }
+    h << "<td>" << fmt(a["ip"].get<double>()) << "</td><td>" << fmt(a["sr"].get<double>()) << "</td></tr>";
+  }
+  h << "</table><p class=note>IP: intermediate points (25 per milestone: source reached, item picked, "
+       "destination reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.</p>";
+  h << "<h2>Failure taxonomy</h2><table><tr><th>cause</th><th>episodes</th></tr>";
+  for (const auto& [cause, n] : r["causes"].items()) h << "<tr><td>" << escape(cause) << "</td><td>" << n << "</td></tr>";
+  h << "</table><table><tr><th>stage reached</th><th>episodes</th></tr>";
+  for (const auto& [stage, n] : r["stages"].items()) h << "<tr><td>" << escape(stage) << "</td><td>" << n << "</td></tr>";
+  h << "</table>";
+  h << "<h2>Failure Sankey: task level &rarr; stage reached &rarr; cause &rarr; outcome</h2>";
+  h << sankey_svg(r["sankey"], 1000, 520);
+  h << "<p class=note>tokens in " << r["tokens"]["input"] << ", out " << r["tokens"]["output"] << "; estimated cost $"
+    << r["cost_usd"] << "</p></body></html>\n";
+  return h.str();
+}
+
+void write_report_png(const nlohmann::json& report, const std::filesystem::path& file) {
+  sankey_png(report["sankey"], "Run " + report["run"].get<std::string>() + ": SR " + fmt(report["sr"].get<double>()) +
+                                    " %, IP " + fmt(report["ip"].get<double>()),
+             file, 1400, 760);
+}
+
+nlohmann::json write_reports(const std::filesystem::path& run_dir, const std::string& html) {
+  const auto rows = read_results(run_dir / "results.sqlite");
+  const nlohmann::json report = make_report(rows, run_dir.filename().string());
+  write_json_file(run_dir / "report.json", report);
+  const std::filesystem::path html_file = html.empty() ? run_dir / "report.html" : std::filesystem::path(html);
+  std::ofstream(html_file) << report_html(report);
+  write_report_png(report, run_dir / "report.png");
+  return report;
+}
+
+}  // namespace mtg::orchestrator

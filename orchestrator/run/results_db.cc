@@ -1,0 +1,110 @@
+#include "orchestrator/run/results_db.h"
+
+#include <cstdio>
+
+#include "core/util/error.h"
+
+namespace mtg::orchestrator {
+namespace {
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS episodes (
+  episode_id INTEGER PRIMARY KEY,
+  task_id TEXT NOT NULL, scene TEXT NOT NULL, level INTEGER NOT NULL, task_type TEXT NOT NULL,
+  agent TEXT NOT NULL, attempt INTEGER NOT NULL,
+  success INTEGER NOT NULL, ip REAL NOT NULL, stage TEXT NOT NULL, cause TEXT NOT NULL,
+  steps INTEGER NOT NULL, invalid_actions INTEGER NOT NULL,
+  input_tokens INTEGER NOT NULL, output_tokens INTEGER NOT NULL, cost_usd REAL NOT NULL,
+  latency_ms REAL NOT NULL, wall_ms REAL NOT NULL,
+  subtask_ip TEXT NOT NULL, detail TEXT NOT NULL, status TEXT NOT NULL
+);
+)sql";
+
+constexpr const char* kColumns =
+    "episode_id, task_id, scene, level, task_type, agent, attempt, success, ip, stage, cause, steps, "
+    "invalid_actions, input_tokens, output_tokens, cost_usd, latency_ms, wall_ms, subtask_ip, detail, status";
+
+std::vector<EpisodeRow> select_rows(store::Database& db) {
+  store::Statement q(db, std::string("SELECT ") + kColumns + " FROM episodes ORDER BY episode_id");
+  std::vector<EpisodeRow> out;
+  while (q.step()) {
+    EpisodeRow r;
+    r.episode_id = q.column_int(0);
+    r.task_id = q.column_text(1);
+    r.scene = q.column_text(2);
+    r.level = static_cast<int>(q.column_int(3));
+    r.task_type = q.column_text(4);
+    r.agent = q.column_text(5);
+    r.attempt = static_cast<int>(q.column_int(6));
+    r.success = q.column_int(7) != 0;
+    r.ip = q.column_double(8);
+    r.stage = q.column_text(9);
+    r.cause = q.column_text(10);
+    r.steps = static_cast<int>(q.column_int(11));
+    r.invalid_actions = static_cast<int>(q.column_int(12));
+    r.input_tokens = q.column_int(13);
+    r.output_tokens = q.column_int(14);
+    r.cost_usd = q.column_double(15);
+    r.latency_ms = q.column_double(16);
+    r.wall_ms = q.column_double(17);
+    r.subtask_ip = q.column_text(18);
+    r.detail = q.column_text(19);
+    r.status = q.column_text(20);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace
+
+ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
+  db_ = std::make_unique<store::Database>(file, store::Database::Mode::kCreate);
+  // WAL: a killed orchestrator never leaves a torn database; every insert is its own commit.
+  db_->exec("PRAGMA journal_mode=WAL");
+  db_->exec("PRAGMA synchronous=NORMAL");
+  db_->exec(kSchema);
+}
+
+ResultsDb::~ResultsDb() {
+  try {
+    db_->exec("PRAGMA journal_mode=DELETE");
+  } catch (const Error&) {
+    // Another reader holds the file: the WAL stays and SQLite recovers it on the next open.
+  }
+}
+
+bool ResultsDb::insert(const EpisodeRow& r) {
+  store::Statement q(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
+                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  q.bind(1, r.episode_id).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
+  q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
+  q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
+  q.bind(14, r.input_tokens).bind(15, r.output_tokens).bind(16, r.cost_usd).bind(17, r.latency_ms);
+  q.bind(18, r.wall_ms).bind(19, r.subtask_ip).bind(20, r.detail).bind(21, r.status);
+  q.run();
+  return db_->changes() > 0;
+}
+
+std::set<std::int64_t> ResultsDb::finished() const {
+  store::Statement q(*db_, "SELECT episode_id FROM episodes");
+  std::set<std::int64_t> out;
+  while (q.step()) out.insert(q.column_int(0));
+  return out;
+}
+
+std::vector<EpisodeRow> ResultsDb::rows() const { return select_rows(*db_); }
+
+std::vector<EpisodeRow> read_results(const std::filesystem::path& file) {
+  store::Database db(file, store::Database::Mode::kReadOnly);
+  return select_rows(db);
+}
+
+std::string verdict_fingerprint(const EpisodeRow& r) {
+  char ip[32];
+  std::snprintf(ip, sizeof(ip), "%.6f", r.ip);
+  return std::to_string(r.episode_id) + "|" + r.task_id + "|" + std::to_string(r.level) + "|" +
+         (r.success ? "1" : "0") + "|" + ip + "|" + r.stage + "|" + r.cause + "|" + std::to_string(r.steps) + "|" +
+         std::to_string(r.invalid_actions) + "|" + r.subtask_ip + "|" + r.status;
+}
+
+}  // namespace mtg::orchestrator

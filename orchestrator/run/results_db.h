@@ -1,0 +1,58 @@
+#pragma once
+// results.sqlite of a run: one row per episode, written once (the first final result wins),
+// so resuming, retries and duplicated result messages can never count an episode twice.
+// Schema in docs/runtime.md.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/store/sqlite.h"
+
+namespace mtg::orchestrator {
+
+struct EpisodeRow {
+  std::int64_t episode_id = 0;
+  std::string task_id, scene, task_type, agent;
+  int level = 0;
+  int attempt = 0;
+  bool success = false;
+  double ip = 0.0;
+  std::string stage, cause;
+  int steps = 0, invalid_actions = 0;
+  std::int64_t input_tokens = 0, output_tokens = 0;
+  double cost_usd = 0.0;
+  double latency_ms = 0.0;   // telemetry: summed agent call time
+  double wall_ms = 0.0;      // telemetry: wall time of the attempt
+  std::string subtask_ip;    // JSON list
+  std::string detail;
+  std::string status = "scored";  // "scored", or "error" (infrastructure gave up; excluded from SR/IP)
+};
+
+class ResultsDb {
+ public:
+  /// Opens (creating if needed) `file`.
+  explicit ResultsDb(const std::filesystem::path& file);
+  /// Checkpoints and leaves the file in rollback-journal mode (no -wal/-shm files behind).
+  ~ResultsDb();
+  /// Inserts unless the episode already has a row; returns whether it did.
+  bool insert(const EpisodeRow& row);
+  std::set<std::int64_t> finished() const;
+  std::vector<EpisodeRow> rows() const;
+  const std::filesystem::path& file() const { return file_; }
+
+ private:
+  std::filesystem::path file_;
+  std::unique_ptr<store::Database> db_;
+};
+
+/// Rows of an existing results file (read-only). @throws mtg::Error if it is missing.
+std::vector<EpisodeRow> read_results(const std::filesystem::path& file);
+
+/// The columns that judge results must reproduce exactly (no wall-clock telemetry).
+std::string verdict_fingerprint(const EpisodeRow& row);
+
+}  // namespace mtg::orchestrator

@@ -1,0 +1,40 @@
+#pragma once
+// Runs a plan: starts lcm-logger and the run's processes (scene-graph service, judge, one
+// process per agent), hands out episodes K at a time over the bus, writes each final result
+// once to results.sqlite, and keeps going through failures:
+//   - a result with cause transport_error (the judge saw a lost message), or no message about an
+//     episode for episode_timeout_s, retries the episode (a new attempt, fresh state everywhere);
+//   - a process that dies is restarted, and the episodes it held are retried once it is back;
+//   - after max_attempts an episode is recorded with status "error" (excluded from SR and IP).
+// A killed orchestrator loses nothing: finished episodes are on disk; the next run resumes.
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/tasks/task.h"
+#include "orchestrator/run/run_plan.h"
+
+namespace mtg::orchestrator {
+
+struct RunSummary {
+  std::int64_t planned = 0;
+  std::int64_t already_done = 0;   // finished before this invocation (resume)
+  std::int64_t completed = 0;      // finished now
+  std::int64_t errors = 0;         // recorded with status "error"
+  std::int64_t retries = 0;
+  int restarts = 0;
+  double seconds = 0.0;
+  bool interrupted = false;
+};
+
+struct EngineOptions {
+  bool progress = true;  // live progress bar on stderr
+};
+
+/// @throws mtg::Error if the processes cannot be started or never become ready.
+RunSummary run_plan(const RunPlan& plan, const std::filesystem::path& run_dir,
+                    const std::map<std::string, tasks::Task>& tasks, const EngineOptions& options = {});
+
+}  // namespace mtg::orchestrator

@@ -1,0 +1,89 @@
+#include "orchestrator/run/run_plan.h"
+
+#include <algorithm>
+#include <map>
+
+#include "core/util/error.h"
+#include "core/util/hash.h"
+#include "core/util/json_file.h"
+#include "core/util/rng.h"
+
+namespace mtg::orchestrator {
+
+nlohmann::json RunPlan::to_json() const {
+  nlohmann::json eps = nlohmann::json::array();
+  for (const auto& e : episodes) eps.push_back({{"id", e.id}, {"task", e.task_id}, {"agent", e.agent}, {"seed", e.seed}});
+  return {{"format", "mtg-run-plan/1"}, {"run_id", run_id},   {"tasks_db", tasks_db},     {"agents", agents},
+          {"levels", levels},           {"limit", limit},     {"seed", seed},             {"parallel", parallel},
+          {"step_limit", step_limit},   {"render", render},   {"max_attempts", max_attempts},
+          {"episode_timeout_s", episode_timeout_s},           {"data_dir", data_dir},     {"profile", profile},
+          {"bus_url", bus_url},         {"episodes", eps}};
+}
+
+RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
+  const JsonField root(j, origin);
+  RunPlan p;
+  try {
+    p.run_id = root.at("run_id").as_string();
+    p.tasks_db = root.at("tasks_db").as_string();
+    p.agents = j.at("agents").get<std::vector<std::string>>();
+    p.levels = j.at("levels").get<std::set<int>>();
+    p.limit = j.at("limit").get<int>();
+    p.seed = j.at("seed").get<std::uint64_t>();
+    p.parallel = j.at("parallel").get<int>();
+    p.step_limit = j.at("step_limit").get<int>();
+    p.render = j.at("render").get<bool>();
+    p.max_attempts = j.at("max_attempts").get<int>();
+    p.episode_timeout_s = j.at("episode_timeout_s").get<double>();
+    p.data_dir = j.at("data_dir").get<std::string>();
+    p.profile = j.at("profile").get<std::string>();
+    p.bus_url = j.at("bus_url").get<std::string>();
+    for (const auto& e : j.at("episodes")) {
+      p.episodes.push_back({e.at("id").get<std::int64_t>(), e.at("task").get<std::string>(),
+                            e.at("agent").get<std::string>(), e.at("seed").get<std::uint64_t>()});
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(origin + ": malformed run plan (" + e.what() + ")");
+  }
+  return p;
+}
+
+RunPlan make_plan(RunPlan plan, const std::vector<tasks::Task>& all_tasks) {
+  if (plan.agents.empty()) throw Error("no agent given (e.g. --agent oracle)");
+  std::map<std::pair<std::string, int>, std::vector<const tasks::Task*>> groups;
+  for (const tasks::Task& t : all_tasks) {
+    if (plan.levels.count(t.level)) groups[{t.scene, t.level}].push_back(&t);
+  }
+  std::vector<const tasks::Task*> chosen;
+  for (auto& [key, group] : groups) {
+    if (plan.limit > 0 && static_cast<int>(group.size()) > plan.limit) {
+      // A seeded draw without replacement, then back in id order.
+      Rng rng(derive_seed(plan.seed, fnv1a64(key.first + "/L" + std::to_string(key.second))));
+      rng.shuffle(group);
+      group.resize(static_cast<std::size_t>(plan.limit));
+    }
+    chosen.insert(chosen.end(), group.begin(), group.end());
+  }
+  std::sort(chosen.begin(), chosen.end(), [](const tasks::Task* a, const tasks::Task* b) { return a->id < b->id; });
+  if (chosen.empty()) throw Error("no task of the requested levels in " + plan.tasks_db);
+  plan.episodes.clear();
+  std::int64_t id = 0;
+  for (const tasks::Task* t : chosen) {
+    for (const std::string& agent : plan.agents) {
+      plan.episodes.push_back({id, t->id, agent, derive_seed(plan.seed, static_cast<std::uint64_t>(id))});
+      ++id;
+    }
+  }
+  return plan;
+}
+
+void save_plan(const RunPlan& plan, const std::filesystem::path& run_dir) {
+  write_json_file(run_dir / "plan.json", plan.to_json());
+}
+
+RunPlan load_plan(const std::filesystem::path& run_dir) {
+  const auto file = run_dir / "plan.json";
+  return RunPlan::from_json(read_json_file(file), file.string());
+}
+
+}  // namespace mtg::orchestrator

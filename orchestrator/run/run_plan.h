@@ -1,0 +1,54 @@
+#pragma once
+// A run's plan: which tasks, which agents, which seeds, how many at once, and the episodes that
+// follow from them. Saved as plan.json in the run folder; a second `mtg run` on the same folder
+// reads it back and resumes instead of planning anew.
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/tasks/task.h"
+
+namespace mtg::orchestrator {
+
+struct PlannedEpisode {
+  std::int64_t id = 0;
+  std::string task_id;
+  std::string agent;
+  std::uint64_t seed = 0;  // derive_seed(run seed, id)
+};
+
+struct RunPlan {
+  std::string run_id;            // the run folder's name
+  std::string tasks_db;          // absolute path of the task database
+  std::vector<std::string> agents;
+  std::set<int> levels = {1, 2, 3};
+  int limit = 0;                 // tasks per (scene, level), drawn with the seed; 0 = all
+  std::uint64_t seed = 0;
+  int parallel = 4;
+  int step_limit = 15;           // at least; a task may ask for more (long L3/L4 plans)
+  bool render = false;
+  int max_attempts = 3;          // per episode, for infrastructure failures only
+  double episode_timeout_s = 60; // without any message about an episode
+  std::string data_dir;
+  std::string profile = "replica_cad";
+  std::string bus_url;
+  std::vector<PlannedEpisode> episodes;
+
+  nlohmann::json to_json() const;
+  /// @throws mtg::Error naming the field.
+  static RunPlan from_json(const nlohmann::json& j, const std::string& origin);
+};
+
+/// Draws the tasks and lays out the episodes: tasks in id order, each run by every agent in
+/// turn (so agents interleave when episodes run in parallel).
+RunPlan make_plan(RunPlan base, const std::vector<tasks::Task>& all_tasks);
+
+/// plan.json in `run_dir`. @throws mtg::Error on a malformed file.
+void save_plan(const RunPlan& plan, const std::filesystem::path& run_dir);
+RunPlan load_plan(const std::filesystem::path& run_dir);
+
+}  // namespace mtg::orchestrator

@@ -1,0 +1,102 @@
+#include "orchestrator/run/supervisor.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include "core/util/error.h"
+#include "core/util/log.h"
+
+extern char** environ;
+
+namespace mtg::orchestrator {
+
+std::filesystem::path executable_dir() {
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::filesystem::current_path() : self.parent_path();
+}
+
+Supervisor::~Supervisor() { stop_all(2000); }
+
+pid_t Supervisor::spawn(const std::string& name, const std::vector<std::string>& argv) {
+  std::filesystem::create_directories(log_dir_);
+  const std::string log = (log_dir_ / (name + ".log")).string();
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw Error("cannot start " + argv[0] + " (" + name + ")");
+  return pid;
+}
+
+void Supervisor::start(const std::string& name, const std::vector<std::string>& argv, bool restart) {
+  children_[name] = Child{argv, spawn(name, argv), restart};
+}
+
+std::vector<std::string> Supervisor::poll() {
+  std::vector<std::string> died;
+  for (auto& [name, child] : children_) {
+    if (child.pid < 0) continue;
+    int status = 0;
+    if (waitpid(child.pid, &status, WNOHANG) != child.pid) continue;
+    died.push_back(name);
+    log::warn(name + " (pid " + std::to_string(child.pid) + ") exited" +
+              (WIFSIGNALED(status) ? " on signal " + std::to_string(WTERMSIG(status))
+                                   : " with status " + std::to_string(WEXITSTATUS(status))) +
+              (child.restart ? "; restarting it" : ""));
+    child.pid = -1;
+    if (child.restart) {
+      child.pid = spawn(name, child.argv);
+      ++restarts_;
+    }
+  }
+  return died;
+}
+
+pid_t Supervisor::pid(const std::string& name) const {
+  const auto it = children_.find(name);
+  return it == children_.end() ? -1 : it->second.pid;
+}
+
+void Supervisor::stop(const std::string& name, int signal, int timeout_ms) {
+  auto it = children_.find(name);
+  if (it == children_.end() || it->second.pid < 0) return;
+  Child& child = it->second;
+  child.restart = false;
+  ::kill(child.pid, signal);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  int status = 0;
+  while (waitpid(child.pid, &status, WNOHANG) != child.pid) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(child.pid, SIGKILL);
+      waitpid(child.pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  child.pid = -1;
+}
+
+void Supervisor::stop_all(int timeout_ms) {
+  for (auto& [name, child] : children_) {
+    if (child.pid >= 0) {
+      child.restart = false;
+      ::kill(child.pid, SIGTERM);
+    }
+  }
+  for (auto& [name, child] : children_) stop(name, SIGTERM, timeout_ms);
+}
+
+}  // namespace mtg::orchestrator

@@ -1,0 +1,109 @@
+#include "services/judge/judge_host.h"
+
+#include "bus/channels.h"
+#include "bus/convert.h"
+#include "core/tasks/task.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "mtg/episode_result_t.hpp"
+#include "mtg/judge_event_t.hpp"
+
+namespace mtg::services {
+
+JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes)
+    : bus_(bus), stamp_(stamp), scenes_(scenes) {}
+
+void JudgeHost::on_start(const mtg::episode_start_t& start) {
+  const Key key{start.header.run_id, start.header.episode_id};
+  const auto existing = episodes_.find(key);
+  if (existing != episodes_.end() && existing->second.attempt >= start.header.attempt) return;
+  Episode e;
+  e.attempt = start.header.attempt;
+  e.task_id = start.task.task_id;
+  e.agent = start.agent;
+  e.level = start.task.level;
+  try {
+    const tasks::Task task = bus::from_message(start.task);
+    e.graph = &scenes_.get(task.scene, start.data_dir);
+    e.judge = std::make_unique<episode::EpisodeJudge>(*e.graph, episode::task_goal_from_json(*e.graph, task.goal),
+                                                      task.level);
+  } catch (const Error& err) {
+    log::error("episode " + std::to_string(key.second) + ": " + err.what());
+    return;
+  }
+  episodes_[key] = std::move(e);
+}
+
+void JudgeHost::on_action(const mtg::agent_action_t& action) {
+  const auto it = episodes_.find({action.header.run_id, action.header.episode_id});
+  if (it == episodes_.end() || it->second.attempt != action.header.attempt) return;
+  Episode& e = it->second;
+  if (e.actions_seen[action.step]) return;
+  e.actions_seen[action.step] = true;
+  e.input_tokens += action.input_tokens;
+  e.output_tokens += action.output_tokens;
+  e.cost_usd += action.cost_usd;
+  e.latency_ms += action.latency_ms;
+}
+
+void JudgeHost::on_state(const mtg::state_update_t& m) {
+  const Key key{m.header.run_id, m.header.episode_id};
+  const auto it = episodes_.find(key);
+  if (it == episodes_.end() || it->second.attempt != m.header.attempt) return;
+  Episode& e = it->second;
+  if (e.next_seq == 0 && e.source.empty()) e.source = m.header.sender;
+  if (m.header.sender != e.source || m.header.seq < e.next_seq) return;  // another service, or a duplicate
+  if (m.header.seq > e.next_seq) {
+    finish(key, e, "lost state update(s): expected seq " + std::to_string(e.next_seq) + ", got " +
+                       std::to_string(m.header.seq));
+    return;
+  }
+  ++e.next_seq;
+  episode::StateUpdate u;
+  try {
+    u = bus::from_message(*e.graph, m);
+  } catch (const Error& err) {
+    finish(key, e, err.what());
+    return;
+  }
+  for (const episode::JudgeEvent& ev : e.judge->observe(u)) {
+    mtg::judge_event_t out;
+    out.header = stamp_.next(key.second, e.attempt, "judge");
+    out.header.run_id = key.first;
+    out.step = ev.step;
+    out.kind = "milestone";
+    out.subtask = static_cast<int8_t>(ev.part);
+    out.milestone = static_cast<int8_t>(ev.milestone);
+    out.ip = ev.ip;
+    out.text = ev.text;
+    bus_.publish(bus::episode_channel(bus::EpisodeStream::kJudge, key.second), out);
+  }
+  if (e.judge->done()) finish(key, e);
+}
+
+void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_error) {
+  mtg::episode_result_t r;
+  r.header = stamp_.next(key.second, e.attempt, "result");
+  r.header.run_id = key.first;
+  r.task_id = e.task_id;
+  r.agent = e.agent;
+  r.level = static_cast<int8_t>(e.level);
+  if (transport_error.empty()) {
+    bus::fill_result(e.judge->verdict(), r);
+  } else {
+    r.success = false;
+    r.stage = "start";
+    r.cause = "transport_error";
+    r.detail = transport_error;
+    log::warn("episode " + std::to_string(key.second) + " attempt " + std::to_string(e.attempt) + ": " +
+              transport_error + " (to be retried)");
+  }
+  r.input_tokens = e.input_tokens;
+  r.output_tokens = e.output_tokens;
+  r.cost_usd = e.cost_usd;
+  r.latency_ms = e.latency_ms;
+  bus_.publish(bus::kEpisodeResult, r);
+  episodes_.erase(key);
+}
+
+}  // namespace mtg::services

@@ -1,0 +1,56 @@
+#pragma once
+// The judge service's episodes: from the bus alone (episode starts, state updates, agent
+// actions) it follows each episode with core's EpisodeJudge, publishes milestones as they happen
+// and the episode result at the end. A lost state update (a gap in the scene-graph service's
+// sequence numbers) cannot be scored: the judge reports cause "transport_error" so the
+// orchestrator retries the episode; duplicates are ignored.
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "bus/bus.h"
+#include "bus/header.h"
+#include "core/episode/judge.h"
+#include "mtg/agent_action_t.hpp"
+#include "mtg/episode_start_t.hpp"
+#include "mtg/state_update_t.hpp"
+#include "services/common/scene_cache.h"
+
+namespace mtg::services {
+
+class JudgeHost {
+ public:
+  JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes);
+
+  void on_start(const mtg::episode_start_t& start);
+  void on_state(const mtg::state_update_t& update);
+  void on_action(const mtg::agent_action_t& action);
+  int in_flight() const { return static_cast<int>(episodes_.size()); }
+
+ private:
+  struct Episode {
+    int attempt = 0;
+    std::string task_id;
+    std::string agent;
+    int level = 0;
+    const graph::SceneGraph* graph = nullptr;
+    std::unique_ptr<episode::EpisodeJudge> judge;
+    std::int64_t next_seq = 0;   // expected state-update seq from the scene-graph service
+    std::string source;          // that service's sender id (first update)
+    int input_tokens = 0, output_tokens = 0;
+    double cost_usd = 0.0, latency_ms = 0.0;
+    std::map<int, bool> actions_seen;  // step -> counted (duplicates of agent actions ignored)
+  };
+  using Key = std::pair<std::string, std::int64_t>;
+
+  void finish(const Key& key, Episode& e, const std::string& transport_error = "");
+
+  bus::Bus& bus_;
+  bus::HeaderStamper& stamp_;
+  SceneCache& scenes_;
+  std::map<Key, Episode> episodes_;
+};
+
+}  // namespace mtg::services

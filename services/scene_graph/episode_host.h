@@ -1,0 +1,66 @@
+#pragma once
+// The scene-graph service's episodes: one world state per running episode (many at once), the
+// paper's action rules applied to each agent answer, and the messages that follow: a step
+// result, a state update for the judge and the next observation.
+//
+// Identity is (run id, episode id, attempt): a new episode_start with a higher attempt replaces
+// the old state; answers for another attempt or another step are stale and ignored, so a late
+// or duplicated message never applies twice.
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include "bus/bus.h"
+#include "bus/header.h"
+#include "core/episode/goals.h"
+#include "core/episode/rules.h"
+#include "core/episode/transcript.h"
+#include "core/tasks/task.h"
+#include "mtg/agent_action_t.hpp"
+#include "mtg/episode_start_t.hpp"
+#include "services/common/scene_cache.h"
+
+namespace mtg::services {
+
+/// Test hook (MTG_FAULTS="drop_state:<step>,dup_state:<step>"): drop or duplicate the state
+/// update of that step, in first attempts only, to exercise loss detection end to end.
+struct FaultInjection {
+  int drop_state_step = -1;
+  int duplicate_state_step = -1;
+  static FaultInjection from_env();
+};
+
+class EpisodeHost {
+ public:
+  EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, FaultInjection faults = {});
+
+  void on_start(const mtg::episode_start_t& start);
+  void on_action(const mtg::agent_action_t& action);
+  /// Episodes currently held.
+  int in_flight() const;
+
+ private:
+  struct Episode {
+    int attempt = 0;
+    const graph::SceneGraph* graph = nullptr;
+    tasks::Task task;
+    episode::TaskConstraints constraints;
+    episode::RuleOptions rules;
+    episode::WorldState state;
+    std::string hint;
+    bool render = false;
+  };
+  using Key = std::pair<std::string, std::int64_t>;
+
+  void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u);
+  void publish_observation(const Key& key, Episode& e);
+
+  bus::Bus& bus_;
+  bus::HeaderStamper& stamp_;
+  SceneCache& scenes_;
+  FaultInjection faults_;
+  std::map<Key, Episode> episodes_;
+};
+
+}  // namespace mtg::services

@@ -1,0 +1,124 @@
+// The judge on transcripts played with the real rules on a small scene.
+
+#include "core/episode/judge.h"
+
+#include <gtest/gtest.h>
+
+#include "core/episode/rules.h"
+#include "core/episode/transcript.h"
+#include "core/tasks/atomic.h"
+#include "tests/support/graph_fixtures.h"
+
+namespace mtg::episode {
+namespace {
+
+class JudgeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    built_ = testing::two_tables(fx_);
+    // Move box_1 from table_0 to the front part of the empty table_4.
+    goal_.type = GoalType::kSurfacePart;
+    goal_.item = g().find_object("box_1");
+    goal_.source = g().navigable[0];
+    goal_.platform = g().navigable[1];
+    goal_.direction = 4;
+  }
+  const graph::SceneGraph& g() const { return built_.graph; }
+
+  Verdict play(const std::vector<std::string>& keys, int step_limit = 15, TaskGoal* custom = nullptr) {
+    TaskGoal task_goal;
+    task_goal.parts = {goal_};
+    if (custom != nullptr) task_goal = *custom;
+    EpisodeJudge judge(g(), task_goal, static_cast<int>(task_goal.parts.size()) > 1 ? 3 : 1);
+    WorldState s = initial_state(g());
+    RuleOptions rules;
+    rules.step_limit = step_limit;
+    judge.observe(StateUpdate{});
+    for (const std::string& key : keys) {
+      if (judge.done()) break;
+      AgentAnswer answer{key, key != "<garbage>", false};
+      events_ += static_cast<int>(judge.observe(step_episode(g(), s, answer, {}, rules).update).size());
+    }
+    return judge.verdict();
+  }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+  AtomicGoal goal_;
+  int events_ = 0;
+};
+
+TEST_F(JudgeTest, TheOraclePlanSucceedsWithFullPoints) {
+  const Verdict v = play({"l1", "o1", "l2", "startplace", "5", "0"});
+  EXPECT_TRUE(v.success);
+  EXPECT_DOUBLE_EQ(v.ip, 100.0);
+  EXPECT_EQ(v.stage, "done");
+  EXPECT_EQ(v.cause, "");
+  EXPECT_EQ(v.steps, 6);
+  EXPECT_EQ(events_, 4);  // the four milestones, as they happen
+}
+
+TEST_F(JudgeTest, WrongPartIsAWrongRegionAtTheDestination) {
+  const Verdict v = play({"l1", "o1", "l2", "startplace", "1", "0"});  // the rear part
+  EXPECT_FALSE(v.success);
+  EXPECT_DOUBLE_EQ(v.ip, 75.0);
+  EXPECT_EQ(v.stage, "destination");
+  EXPECT_EQ(v.cause, "wrong_region");
+}
+
+TEST_F(JudgeTest, ReachingTheGoalWithoutCallEndFailsAsInThePaper) {
+  const Verdict v = play({"l1", "o1", "l2", "startplace", "5", "-1"}, 6);
+  EXPECT_FALSE(v.success);
+  EXPECT_DOUBLE_EQ(v.ip, 100.0);
+  EXPECT_EQ(v.stage, "placed");
+  EXPECT_EQ(v.cause, "no_call_end");
+}
+
+TEST_F(JudgeTest, PickingAnotherItemIsAWrongItem) {
+  const Verdict v = play({"l1", "o2", "0"});
+  EXPECT_EQ(v.stage, "source");
+  EXPECT_EQ(v.cause, "wrong_item");
+  EXPECT_DOUBLE_EQ(v.ip, 25.0);
+}
+
+TEST_F(JudgeTest, PuttingTheItemOnAnotherPlatformIsAWrongPlatform) {
+  const Verdict v = play({"l1", "o1", "startplace", "999", "0"});
+  EXPECT_EQ(v.stage, "picked");
+  EXPECT_EQ(v.cause, "wrong_platform");
+  EXPECT_DOUBLE_EQ(v.ip, 50.0);
+}
+
+TEST_F(JudgeTest, NeverReachingTheSourceIsNavigation) {
+  const Verdict v = play({"l2", "0"});
+  EXPECT_EQ(v.stage, "start");
+  EXPECT_EQ(v.cause, "navigation");
+  EXPECT_DOUBLE_EQ(v.ip, 0.0);
+}
+
+TEST_F(JudgeTest, UnreadableRepliesAreFormatErrorsAndLoopsOfInvalidKeysAreNamed) {
+  const Verdict format = play(std::vector<std::string>(15, "<garbage>"));
+  EXPECT_EQ(format.cause, "format_error");
+  EXPECT_EQ(format.invalid_actions, 15);
+  const Verdict loop = play({"l1", "o1", "l9", "l9", "l9", "l9"}, 6);
+  EXPECT_EQ(loop.cause, "invalid_action_loop");
+  EXPECT_EQ(loop.stage, "picked");
+}
+
+TEST_F(JudgeTest, ALevelThreeTaskAveragesItsParts) {
+  AtomicGoal second = goal_;
+  second.item = g().find_object("box_2");
+  second.type = GoalType::kSurface;
+  second.direction = -1;
+  TaskGoal both;
+  both.parts = {goal_, second};
+  // Only the first part is done: 100 and 25 (the robot stood at the source), mean 62.5.
+  const Verdict v = play({"l1", "o1", "l2", "startplace", "5", "l1", "0"}, 15, &both);
+  EXPECT_FALSE(v.success);
+  EXPECT_DOUBLE_EQ(v.ip, 62.5);
+  ASSERT_EQ(v.part_success.size(), 2u);
+  EXPECT_TRUE(v.part_success[0]);
+  EXPECT_FALSE(v.part_success[1]);
+}
+
+}  // namespace
+}  // namespace mtg::episode
