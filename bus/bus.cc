@@ -1,8 +1,9 @@
 #include "bus/bus.h"
 
-#include <poll.h>
+
 
 #include <chrono>
+#include <utility>
 
 #include "bus/url.h"
 
@@ -18,6 +19,20 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
   }
 }
 
+void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler) {
+  auto owned = std::make_unique<RawHandler>(std::move(handler), pending_);
+  lcm::Subscription* sub = lcm_->subscribe(channel_regex, &RawHandler::on, owned.get());
+  if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
+  sub->setQueueCapacity(kQueueCapacity);
+  handlers_.push_back(std::move(owned));
+}
+
+void Bus::rethrow_pending() {
+  if (!pending_) return;
+  std::exception_ptr e = std::exchange(pending_, nullptr);
+  std::rethrow_exception(e);
+}
+
 bool Bus::handle_once(int timeout_ms) {
   if (is_log_) {
     // The file provider hands out one event per handle(); it returns non-zero at the end.
@@ -26,9 +41,11 @@ bool Bus::handle_once(int timeout_ms) {
       end_of_log_ = true;
       return false;
     }
+    rethrow_pending();
     return true;
   }
   const int rc = lcm_->handleTimeout(timeout_ms);
+  rethrow_pending();
   if (rc < 0) throw Error("LCM handle failed on " + url_);
   return rc > 0;
 }

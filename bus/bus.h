@@ -7,8 +7,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <exception>
 #include <functional>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,16 +39,21 @@ class Bus {
   }
 
   /// Calls `handler(channel, msg)` for every message on channels matching `channel_regex`.
-  /// Messages that do not decode as Msg are skipped by LCM.
+  /// Messages that do not decode as Msg are skipped by LCM. An exception from a handler is
+  /// rethrown by the handle_*() call that dispatched it (never through LCM's C frames).
   template <class Msg>
   void subscribe(const std::string& channel_regex,
                  std::function<void(const std::string&, const Msg&)> handler) {
-    auto owned = std::make_unique<Handler<Msg>>(std::move(handler));
+    auto owned = std::make_unique<Handler<Msg>>(std::move(handler), pending_);
     lcm::Subscription* sub = lcm_->subscribe(channel_regex, &Handler<Msg>::on, owned.get());
     if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
     sub->setQueueCapacity(kQueueCapacity);
     handlers_.push_back(std::move(owned));
   }
+
+  /// Like subscribe(), undecoded: `handler(channel, bytes, receive time in µs)`.
+  void subscribe_raw(const std::string& channel_regex,
+                     std::function<void(const std::string&, std::span<const std::uint8_t>, std::int64_t)> handler);
 
   /// Dispatches queued messages for up to `timeout_ms`; returns true if one was handled.
   /// For file:// URLs returns false at the end of the log.
@@ -64,17 +72,44 @@ class Bus {
   };
   template <class Msg>
   struct Handler : HandlerBase {
-    explicit Handler(std::function<void(const std::string&, const Msg&)> f) : fn(std::move(f)) {}
+    Handler(std::function<void(const std::string&, const Msg&)> f, std::exception_ptr& pending)
+        : fn(std::move(f)), pending_error(pending) {}
+    // Unwinding through liblcm would leave its receive buffers half-released (it aborts in
+    // lcm_destroy), so the exception waits here until LCM has returned.
     void on(const lcm::ReceiveBuffer*, const std::string& channel, const Msg* msg) {
-      fn(channel, *msg);
+      if (pending_error) return;
+      try {
+        fn(channel, *msg);
+      } catch (...) {
+        pending_error = std::current_exception();
+      }
     }
     std::function<void(const std::string&, const Msg&)> fn;
+    std::exception_ptr& pending_error;
   };
+
+  struct RawHandler : HandlerBase {
+    using Fn = std::function<void(const std::string&, std::span<const std::uint8_t>, std::int64_t)>;
+    RawHandler(Fn f, std::exception_ptr& pending) : fn(std::move(f)), pending_error(pending) {}
+    void on(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+      if (pending_error) return;
+      try {
+        fn(channel, {static_cast<const std::uint8_t*>(rbuf->data), rbuf->data_size}, rbuf->recv_utime);
+      } catch (...) {
+        pending_error = std::current_exception();
+      }
+    }
+    Fn fn;
+    std::exception_ptr& pending_error;
+  };
+
+  void rethrow_pending();
 
   std::string url_;
   bool is_log_ = false;
   bool end_of_log_ = false;
   std::unique_ptr<lcm::LCM> lcm_;
+  std::exception_ptr pending_;
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
 };
 

@@ -29,7 +29,7 @@ std::string platform_name(const graph::SceneGraph& g, int i) {
 }  // namespace
 
 mtg::task_t to_message(const tasks::Task& t) {
-  mtg::task_t m;
+  mtg::task_t m{};
   m.task_id = t.id;
   m.scene = t.scene;
   m.level = static_cast<int8_t>(t.level);
@@ -59,7 +59,7 @@ tasks::Task from_message(const mtg::task_t& m) {
 
 mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,
                                const episode::StateUpdate& u) {
-  mtg::state_update_t m;
+  mtg::state_update_t m{};
   m.step = u.step;
   m.key = u.key;
   m.at_platform = platform_name(g, u.at_platform);
@@ -67,7 +67,7 @@ mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldS
   m.holding = object_name(g, u.holding);
   m.picked = object_name(g, u.picked);
   for (const episode::Placement& p : u.placed) {
-    mtg::object_placement_t op;
+    mtg::object_placement_t op{};
     op.object = object_name(g, p.object);
     op.platform = platform_name(g, p.platform);
     op.x = p.position.x();

@@ -3,7 +3,7 @@
 namespace mtg::bus {
 
 mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt, const std::string& stream) {
-  mtg::header_t h;
+  mtg::header_t h{};
   h.run_id = run_id_;
   h.episode_id = episode_id;
   h.attempt = attempt;

@@ -24,9 +24,9 @@ int main(int argc, char** argv) {
     mtg::bus::Bus bus(url);
     mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("agent"));
     mtg::agents::AgentHost host(bus, stamp, spec, mtg::agents::make_builtin_policy(spec), run_id);
-    mtg::services::ServiceLoop loop(bus, stamp, "agent", 64);
+    mtg::services::ServiceLoop loop(bus, stamp, "agent:" + spec, 64);
     loop.run([&] { loop.set_in_flight(host.in_flight()); });
-  } catch (const mtg::Error& e) {
+  } catch (const std::exception& e) {
     mtg::log::error(e.what());
     return 1;
   }

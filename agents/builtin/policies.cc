@@ -58,7 +58,7 @@ class ReplayPolicy : public Policy {
       if (!file.good()) throw Error("replay agent: cannot read " + log.string());
       for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
         if (ev->channel.rfind("MTG_ACT_E", 0) != 0) continue;
-        mtg::agent_action_t a;
+        mtg::agent_action_t a{};
         if (a.decode(ev->data, 0, ev->datalen) < 0) continue;
         auto& by_attempt = recorded_[{a.header.run_id, a.header.episode_id}];
         by_attempt[a.header.attempt][a.step] = a;

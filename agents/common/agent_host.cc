@@ -40,7 +40,7 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   e.last_step = obs.step;
 
   AgentReply reply = policy_->reply(e.start, obs);
-  mtg::agent_action_t a;
+  mtg::agent_action_t a{};
   a.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "action");
   a.header.run_id = obs.header.run_id;
   a.step = obs.step;

@@ -22,7 +22,7 @@ class AgentHost {
 
  private:
   struct Episode {
-    mtg::episode_start_t start;
+    mtg::episode_start_t start{};
     int last_step = -1;
   };
   void on_start(const mtg::episode_start_t& start);

@@ -36,11 +36,11 @@ std::map<std::int64_t, Recorded> read_recording(const fs::path& run_dir, const s
     if (!file.good()) throw Error(log.string() + ": cannot read recording");
     for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
       if (ev->channel == "MTG_EPISODE_START") {
-        mtg::episode_start_t m;
+        mtg::episode_start_t m{};
         if (m.decode(ev->data, 0, ev->datalen) < 0 || m.header.run_id != run_id) continue;
         out[m.header.episode_id].starts[m.header.attempt] = m;
       } else if (ev->channel.rfind("MTG_ACT_E", 0) == 0) {
-        mtg::agent_action_t m;
+        mtg::agent_action_t m{};
         if (m.decode(ev->data, 0, ev->datalen) < 0 || m.header.run_id != run_id) continue;
         out[m.header.episode_id].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
       }

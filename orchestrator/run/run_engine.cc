@@ -82,8 +82,6 @@ class Engine {
       check_timeouts();
     }
     progress.draw(true);
-    // Let the logger catch the last messages, then stop everything.
-    bus_.handle_until([] { return false; }, 300);
     shutdown();
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
@@ -126,9 +124,9 @@ class Engine {
     int k = 0;
     while (fs::exists(dir_ / ("bus-" + std::to_string(k) + ".lcmlog"))) ++k;
     const fs::path log = dir_ / ("bus-" + std::to_string(k) + ".lcmlog");
-    supervisor_.start("lcm-logger", {"/usr/bin/lcm-logger", "--lcm-url=" + plan_.bus_url, "-f", log.string()});
+    supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", plan_.bus_url, log.string()});
     for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    if (!fs::exists(log)) throw Error("lcm-logger did not start (see " + (dir_ / "logs/lcm-logger.log").string() + ")");
+    if (!fs::exists(log)) throw Error("the recorder did not start (see " + (dir_ / "logs/recorder.log").string() + ")");
 
     const std::vector<std::string> common = {"--url", plan_.bus_url, "--run", plan_.run_id};
     auto with = [&](std::vector<std::string> argv) {
@@ -173,7 +171,7 @@ class Engine {
     std::set<std::string> affected_agents;
     bool all = false;
     for (const auto& name : died) {
-      if (name == "scene_graph" || name == "judge" || name == "lcm-logger") all = true;
+      if (name == "scene_graph" || name == "judge" || name == "recorder") all = true;
       for (const auto& [spec, process] : agent_process_) {
         if (process == name) affected_agents.insert(spec);
       }
@@ -184,7 +182,7 @@ class Engine {
     }
     std::vector<std::string> restarted;
     for (const auto& name : died) {
-      if (name != "lcm-logger") restarted.push_back(name);  // the logger sends no heartbeat
+      if (name != "recorder") restarted.push_back(name);  // the recorder sends no heartbeat
     }
     wait_ready(restarted, 60.0);
     for (const auto id : retry_ids) retry(id, "a process it depended on was restarted");
@@ -202,7 +200,7 @@ class Engine {
     const PlannedEpisode& e = *by_id_.at(id);
     const auto task = tasks_.find(e.task_id);
     if (task == tasks_.end()) throw Error("task " + e.task_id + " of the plan is not in " + plan_.tasks_db);
-    mtg::episode_start_t m;
+    mtg::episode_start_t m{};
     m.header = stamp_.next(id, attempt, "start");
     m.task = bus::to_message(task->second);
     m.agent = e.agent;
@@ -307,12 +305,12 @@ class Engine {
   }
 
   void shutdown() {
-    mtg::run_control_t stop;
+    mtg::run_control_t stop{};
     stop.header = stamp_.next(-1, 0, "control");
     stop.command = "shutdown";
     bus_.publish(bus::kControl, stop);
     for (const auto& name : names_) supervisor_.stop(name, SIGTERM, 3000);
-    supervisor_.stop("lcm-logger", SIGINT, 3000);  // SIGINT makes lcm-logger flush and close
+    supervisor_.stop("recorder", SIGINT, 3000);  // it records what is queued, then closes
   }
 
   const RunPlan& plan_;

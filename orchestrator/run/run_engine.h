@@ -1,5 +1,5 @@
 #pragma once
-// Runs a plan: starts lcm-logger and the run's processes (scene-graph service, judge, one
+// Runs a plan: starts the recorder and the run's processes (scene-graph service, judge, one
 // process per agent), hands out episodes K at a time over the bus, writes each final result
 // once to results.sqlite, and keeps going through failures:
 //   - a result with cause transport_error (the judge saw a lost message), or no message about an

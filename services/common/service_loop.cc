@@ -46,10 +46,12 @@ ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string r
   });
 }
 
-bool ServiceLoop::stopping() const { return stopping_ || g_stop_signal != 0; }
+bool stop_signal_received() { return g_stop_signal != 0; }
+
+bool ServiceLoop::stopping() const { return stopping_ || stop_signal_received(); }
 
 void ServiceLoop::heartbeat() {
-  mtg::heartbeat_t hb;
+  mtg::heartbeat_t hb{};
   hb.header = stamp_.next(-1, 0, "heartbeat");
   hb.role = role_;
   hb.host = host_name();

@@ -37,6 +37,8 @@ class ServiceLoop {
 
 /// Installs SIGINT/SIGTERM handlers that make ServiceLoop::stopping() true (once per process).
 void install_stop_signals();
+/// Whether SIGINT/SIGTERM arrived since install_stop_signals().
+bool stop_signal_received();
 
 /// "<role>:<host>:<pid>", unique per process.
 std::string sender_id(const std::string& role);

@@ -67,7 +67,7 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
     return;
   }
   for (const episode::JudgeEvent& ev : e.judge->observe(u)) {
-    mtg::judge_event_t out;
+    mtg::judge_event_t out{};
     out.header = stamp_.next(key.second, e.attempt, "judge");
     out.header.run_id = key.first;
     out.step = ev.step;
@@ -82,7 +82,7 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
 }
 
 void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_error) {
-  mtg::episode_result_t r;
+  mtg::episode_result_t r{};
   r.header = stamp_.next(key.second, e.attempt, "result");
   r.header.run_id = key.first;
   r.task_id = e.task_id;

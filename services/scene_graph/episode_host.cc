@@ -55,7 +55,7 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start) {
     e.render = start.render;
     episodes_[key] = std::move(e);
   } catch (const Error& err) {
-    mtg::error_event_t ev;
+    mtg::error_event_t ev{};
     ev.header = stamp_.next(start.header.episode_id, start.header.attempt, "error");
     ev.header.run_id = start.header.run_id;
     ev.source = stamp_.sender();
@@ -86,7 +86,7 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
   const episode::EpisodeStep step = episode::step_episode(*e.graph, e.state, answer, e.constraints, e.rules);
   e.hint = step.hint;
   if (!answer.provider_error) {
-    mtg::step_result_t result;
+    mtg::step_result_t result{};
     result.header = stamp_.next(key.second, e.attempt, "step");
     result.header.run_id = key.first;
     result.step = action.step;
@@ -121,7 +121,7 @@ void EpisodeHost::publish_state(const Key& key, Episode& e, const episode::State
 
 void EpisodeHost::publish_observation(const Key& key, Episode& e) {
   const graph::SceneGraph& g = *e.graph;
-  mtg::observation_t obs;
+  mtg::observation_t obs{};
   obs.header = stamp_.next(key.second, e.attempt, "observation");
   obs.header.run_id = key.first;
   obs.step = e.state.steps;
@@ -133,7 +133,7 @@ void EpisodeHost::publish_observation(const Key& key, Episode& e) {
              std::to_string(e.rules.step_limit) + " steps.";
   if (!obs.done) {
     for (const auto& option : episode::action_space(g, e.state, e.rules)) {
-      mtg::action_option_t a;
+      mtg::action_option_t a{};
       a.key = option.key;
       a.description = option.description;
       obs.actions.push_back(std::move(a));

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
                                          if (mine(m.header)) host.on_action(m);
                                        });
     loop.run([&] { loop.set_in_flight(host.in_flight()); });
-  } catch (const mtg::Error& e) {
+  } catch (const std::exception& e) {
     mtg::log::error(e.what());
     return 1;
   }

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
       while (!queue.empty()) {
         const mtg::task_set_request_t req = queue.front();
         queue.pop_front();
-        mtg::task_set_summary_t reply;
+        mtg::task_set_summary_t reply{};
         reply.request_id = req.request_id;
         reply.scene = req.scene;
         reply.seed = req.seed;
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
         bus.publish(mtg::bus::kTaskSetSummary, reply);
       }
     });
-  } catch (const mtg::Error& e) {
+  } catch (const std::exception& e) {
     mtg::log::error(e.what());
     return 1;
   }

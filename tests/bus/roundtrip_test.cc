@@ -37,7 +37,7 @@ std::vector<std::uint8_t> encode(const Msg& m) {
 }
 
 mtg::image_t sample_image(int nbytes) {
-  mtg::image_t im;
+  mtg::image_t im{};
   im.role = "view_marked";
   im.encoding = "png";
   im.width = 640;
@@ -50,7 +50,7 @@ mtg::image_t sample_image(int nbytes) {
 }
 
 mtg::task_t sample_task() {
-  mtg::task_t t;
+  mtg::task_t t{};
   t.task_id = "apt_0/L1/000001";
   t.scene = "apt_0";
   t.level = 1;
@@ -77,13 +77,13 @@ class RoundTrip {
   }
 
   void check_all() {
-    mtg::scene_request_t scene_req;
+    mtg::scene_request_t scene_req{};
     scene_req.request_id = "r1";
     scene_req.scene = "apt_0";
     scene_req.want = "info";
     check("T_SCENE_REQ", scene_req);
 
-    mtg::scene_summary_t summary;
+    mtg::scene_summary_t summary{};
     summary.ok = true;
     summary.scene = "apt_0";
     summary.objects = 119;
@@ -91,20 +91,20 @@ class RoundTrip {
     summary.details_json = R"({"scene":"apt_0"})";
     check("T_SCENE_SUMMARY", summary);
 
-    mtg::task_set_request_t ts_req;
+    mtg::task_set_request_t ts_req{};
     ts_req.scene = "apt_0";
     ts_req.levels = "1,2,3,4";
     ts_req.seed = 42;
     check("T_TASKSET_REQ", ts_req);
 
-    mtg::task_set_summary_t ts;
+    mtg::task_set_summary_t ts{};
     ts.ok = true;
     ts.level_counts[0] = 10;
     ts.level_counts[3] = 4;
     ts.total = 14;
     check("T_TASKSET_SUMMARY", ts);
 
-    mtg::episode_start_t start;
+    mtg::episode_start_t start{};
     start.task = sample_task();
     start.agent = "oracle";
     start.seed = -5;
@@ -112,7 +112,7 @@ class RoundTrip {
     start.render = true;
     check("T_EPISODE_START", start);
 
-    mtg::observation_t obs;
+    mtg::observation_t obs{};
     obs.step = 3;
     obs.step_limit = 15;
     obs.task_text = "Move the cup.";
@@ -127,7 +127,7 @@ class RoundTrip {
     obs.images = {sample_image(1000)};
     check("T_OBS", obs);
 
-    mtg::render_request_t rreq;
+    mtg::render_request_t rreq{};
     rreq.request_id = 9;
     rreq.view = "platform";
     rreq.side = 2;
@@ -135,14 +135,14 @@ class RoundTrip {
     rreq.height = 480;
     check("T_RENDER_REQ", rreq);
 
-    mtg::render_result_t rres;
+    mtg::render_result_t rres{};
     rres.request_id = 9;
     rres.ok = true;
     rres.n_images = 2;
     rres.images = {sample_image(10), sample_image(20)};
     check("T_RENDER_RES", rres);
 
-    mtg::agent_action_t act;
+    mtg::agent_action_t act{};
     act.step = 3;
     act.raw_reply = "Action: l12";
     act.parsed_key = "l12";
@@ -150,13 +150,13 @@ class RoundTrip {
     act.cost_usd = 0.0125;
     check("T_ACT", act);
 
-    mtg::step_result_t step;
+    mtg::step_result_t step{};
     step.key = "o2";
     step.valid = true;
     step.hint = "picked";
     check("T_STEP", step);
 
-    mtg::state_update_t state;
+    mtg::state_update_t state{};
     state.step = 5;
     state.key = "5";
     state.side = 1;
@@ -169,13 +169,13 @@ class RoundTrip {
     state.moved[0].footprint_y = {0.0, 0.0, 1.0};
     check("T_STATE", state);
 
-    mtg::judge_event_t judge;
+    mtg::judge_event_t judge{};
     judge.kind = "milestone";
     judge.milestone = 2;
     judge.ip = 50.0;
     check("T_JUDGE", judge);
 
-    mtg::episode_result_t result;
+    mtg::episode_result_t result{};
     result.task_id = "apt_0/L3/000002";
     result.level = 3;
     result.ip = 62.5;
@@ -186,23 +186,23 @@ class RoundTrip {
     result.subtask_success = {true, false};
     check("T_RESULT", result);
 
-    mtg::heartbeat_t hb;
+    mtg::heartbeat_t hb{};
     hb.role = "worker";
     hb.capacity = 4;
     hb.tick = 99;
     check("T_HEARTBEAT", hb);
 
-    mtg::lease_t lease;
+    mtg::lease_t lease{};
     lease.lease_id = "L1";
     lease.action = "grant";
     lease.ttl_ms = 5000;
     check("T_LEASE", lease);
 
-    mtg::run_control_t control;
+    mtg::run_control_t control{};
     control.command = "shutdown";
     check("T_CONTROL", control);
 
-    mtg::error_event_t error;
+    mtg::error_event_t error{};
     error.severity = "warning";
     error.message = "render request: unknown platform 'x'";
     check("T_ERROR", error);
@@ -227,7 +227,7 @@ TEST(BusRoundTrip, EveryTypeOverMemq) {
 
 TEST(BusRoundTrip, OneMegabyteImageOverUdpm) {
   RoundTrip rt(kDefaultUrl);
-  mtg::render_result_t big;
+  mtg::render_result_t big{};
   big.ok = true;
   big.n_images = 1;
   big.images = {sample_image(1 << 20)};

@@ -30,7 +30,7 @@ TEST(TaskGeneratorService, AnswersRequestsSurvivesBadOnesAndShutsDown) {
                                 (fx.root() / "service.log").string());
   bus::HeaderStamper stamp("", "test");
   auto ask = [&](const std::string& id, const std::string& levels, const std::string& out) {
-    mtg::task_set_request_t req;
+    mtg::task_set_request_t req{};
     req.header = stamp.next();
     req.request_id = id;
     req.scene = "two_tables";
@@ -63,7 +63,7 @@ TEST(TaskGeneratorService, AnswersRequestsSurvivesBadOnesAndShutsDown) {
   ASSERT_TRUE(again.has_value());
   EXPECT_TRUE(again->ok) << again->error;
 
-  mtg::run_control_t stop;
+  mtg::run_control_t stop{};
   stop.header = stamp.next();
   stop.command = "shutdown";
   stop.target = "task_generator";

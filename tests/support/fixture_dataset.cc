@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 
@@ -21,6 +22,7 @@ FixtureDataset::FixtureDataset() {
 }
 
 FixtureDataset::~FixtureDataset() {
+  if (std::getenv("MTG_KEEP_FIXTURES") != nullptr) return;  // to look at a failed test's files
   std::error_code ec;
   fs::remove_all(root_, ec);
 }

@@ -1,0 +1,42 @@
+// Bus recorder: appends every message of the bus to an LCM event log (services/recorder/recorder.h).
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+
+#include "bus/bus.h"
+#include "bus/url.h"
+#include "core/util/log.h"
+#include "services/common/service_loop.h"
+#include "services/recorder/recorder.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mtg bus recorder (an lcm-logger with a deep queue)"};
+  std::string url = mtg::bus::default_url(), out;
+  app.add_option("--url", url, "LCM URL");
+  app.add_option("file", out, "event log to append to")->required();
+  CLI11_PARSE(app, argc, argv);
+  mtg::log::set_role("recorder");
+  mtg::services::install_stop_signals();
+  try {
+    mtg::bus::Bus bus(url);
+    mtg::services::Recorder recorder(bus, out);
+    auto next_flush = std::chrono::steady_clock::now();
+    while (!mtg::services::stop_signal_received()) {
+      bus.handle_once(50);
+      if (std::chrono::steady_clock::now() >= next_flush) {
+        recorder.flush();  // a killed run keeps what was recorded up to 100 ms ago
+        next_flush += std::chrono::milliseconds(100);
+      }
+    }
+    // Stopped last, after the services: record until the bus has been quiet for 20 ms.
+    while (bus.handle_once(20)) {
+    }
+    recorder.flush();
+    mtg::log::info("recorded " + std::to_string(recorder.events()) + " messages in " + out);
+  } catch (const std::exception& e) {
+    mtg::log::error(e.what());
+    return 1;
+  }
+  return 0;
+}

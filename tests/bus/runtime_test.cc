@@ -1,0 +1,296 @@
+// The episode runtime end to end: `mtg run` with real processes on this test's own bus
+// (run_isolated.sh gives every test its own network namespace), with the failures the issue
+// names injected: killed processes, lost and duplicated messages, malformed replies.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "bus/bus.h"
+#include "bus/channels.h"
+#include "bus/url.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "mtg/episode_result_t.hpp"
+#include "mtg/heartbeat_t.hpp"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/process.h"
+
+namespace mtg {
+namespace {
+
+namespace fs = std::filesystem;
+using orchestrator::EpisodeRow;
+
+class RuntimeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    built_ = testing::two_tables(fx_);
+    tasks::TaskOptions options;
+    options.level3_count = 40;
+    options.levels = {1, 2, 3};
+    const auto generated = tasks::generate_tasks(built_.graph, options);
+    tasks_db_ = (fx_.root() / "tasks.sqlite").string();
+    tasks::write_task_db(tasks_db_, {generated.set}, generated.votes, options);
+  }
+
+  std::vector<std::string> run_args(const std::string& out, const std::vector<std::string>& agents, int limit,
+                                    int parallel) {
+    std::vector<std::string> args = {testing::bin("mtg"), "run", "--tasks", tasks_db_, "--levels", "1,2,3", "--limit",
+                                     std::to_string(limit), "--parallel", std::to_string(parallel), "--out",
+                                     (fx_.root() / out).string(), "--data", fx_.root().string(), "--profile", "none",
+                                     "--episode-timeout", "5", "--no-progress"};
+    for (const auto& a : agents) {
+      args.push_back("--agent");
+      args.push_back(a);
+    }
+    return args;
+  }
+
+  int mtg(const std::vector<std::string>& args, int timeout_ms = 120000) {
+    testing::ChildProcess p(args, log());
+    return p.wait(timeout_ms);
+  }
+
+  std::string log() const { return (fx_.root() / "mtg.log").string(); }
+  std::string log_text() const {
+    std::ifstream in(log());
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+  std::vector<EpisodeRow> results(const std::string& out) {
+    return orchestrator::read_results(fx_.root() / out / "results.sqlite");
+  }
+
+  std::size_t planned(const std::string& out) {
+    std::ifstream in(fx_.root() / out / "plan.json");
+    return nlohmann::json::parse(in)["episodes"].size();
+  }
+
+  // Waits until the run has at least `n` results (polling the database), up to `timeout_ms`.
+  bool wait_for_results(const std::string& out, std::size_t n, int timeout_ms) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < deadline) {
+      try {
+        if (fs::exists(fx_.root() / out / "results.sqlite") && results(out).size() >= n) return true;
+      } catch (const std::exception&) {
+        // the orchestrator is creating the file
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  static std::map<std::int64_t, std::string> fingerprints(const std::vector<EpisodeRow>& rows) {
+    std::map<std::int64_t, std::string> out;
+    for (const auto& r : rows) out[r.episode_id] = orchestrator::verdict_fingerprint(r);
+    return out;
+  }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+  std::string tasks_db_;
+};
+
+TEST_F(RuntimeTest, EveryEpisodeOnceOracleAlwaysSucceedsReportHasTheContract) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle", "random"}, 6, 4)), 0) << log_text();
+  const auto rows = results("run");
+  ASSERT_EQ(rows.size(), planned("run"));
+  int oracle = 0;
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.status, "scored");
+    if (r.agent == "oracle") {
+      ++oracle;
+      EXPECT_TRUE(r.success) << r.task_id << " " << r.detail;
+      EXPECT_DOUBLE_EQ(r.ip, 100.0);
+    }
+  }
+  EXPECT_EQ(oracle * 2, static_cast<int>(rows.size()));
+  EXPECT_TRUE(fs::exists(fx_.root() / "run" / "bus-0.lcmlog"));
+  EXPECT_TRUE(fs::exists(fx_.root() / "run" / "report.html"));
+  EXPECT_TRUE(fs::exists(fx_.root() / "run" / "report.png"));
+  // mtg report --json: one object with episodes, sr, ip, by_level.
+  const std::string out = (fx_.root() / "report.json").string();
+  ASSERT_EQ(std::system((testing::bin("mtg") + " report " + (fx_.root() / "run").string() + " --json > " + out).c_str()), 0);
+  std::ifstream in(out);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["episodes"].get<std::size_t>(), rows.size());
+  for (const char* key : {"sr", "ip", "by_level"}) EXPECT_TRUE(report.contains(key)) << key;
+  // The fixture's three identical boxes make every atomic task Level 2 (no Level 1 exists).
+  std::set<std::string> levels;
+  for (const auto& r : rows) levels.insert(std::to_string(r.level));
+  EXPECT_EQ(levels, (std::set<std::string>{"2", "3"}));
+  for (const std::string& level : levels) {
+    ASSERT_TRUE(report["by_level"].contains(level)) << level << " in " << report.dump();
+    for (const char* key : {"episodes", "sr", "ip"}) EXPECT_TRUE(report["by_level"][level].contains(key));
+  }
+}
+
+TEST_F(RuntimeTest, SameSeedSameResultsAndReplayAndRejudgeReproduceThem) {
+  ASSERT_EQ(mtg(run_args("a", {"random"}, 8, 4)), 0) << log_text();
+  ASSERT_EQ(mtg(run_args("b", {"random"}, 8, 1)), 0) << log_text();
+  const auto a = fingerprints(results("a"));
+  EXPECT_EQ(a, fingerprints(results("b")));  // other parallelism, same seed: same verdicts
+  ASSERT_EQ(mtg({testing::bin("mtg"), "replay", (fx_.root() / "a").string()}), 0) << log_text();
+  EXPECT_EQ(a, fingerprints(results("a/replay")));
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("judge results identical"));
+  ASSERT_EQ(mtg({testing::bin("mtg"), "rejudge", (fx_.root() / "a").string()}), 0) << log_text();
+  EXPECT_EQ(a, fingerprints(orchestrator::read_results(fx_.root() / "a" / "rejudge.sqlite")));
+  EXPECT_THAT(log_text(), ::testing::HasSubstr(std::to_string(a.size()) + " identical, 0 differ"));
+}
+
+TEST_F(RuntimeTest, KillingTheOrchestratorAndRunningAgainResumesWithoutRunningAnythingTwice) {
+  const auto args = run_args("resume", {"oracle"}, 40, 1);
+  std::vector<EpisodeRow> before;
+  {
+    testing::ChildProcess run(args, log());
+    ASSERT_TRUE(wait_for_results("resume", 5, 60000)) << log_text();
+    run.kill(SIGKILL);
+    before = results("resume");
+  }
+  ASSERT_GE(before.size(), 5u);
+  ASSERT_LT(before.size(), planned("resume"));
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto after = results("resume");
+  EXPECT_EQ(after.size(), planned("resume"));
+  const auto first = fingerprints(before);
+  const auto all = fingerprints(after);
+  for (const auto& [id, fp] : first) EXPECT_EQ(all.at(id), fp) << id;  // finished ones untouched
+  for (const auto& r : after) EXPECT_TRUE(r.success) << r.task_id;
+  EXPECT_TRUE(fs::exists(fx_.root() / "resume" / "bus-1.lcmlog"));  // a second recording
+}
+
+// Kills one service (found through its heartbeat) once the run is under way.
+class KillServiceTest : public RuntimeTest, public ::testing::WithParamInterface<std::string> {};
+
+TEST_P(KillServiceTest, TheOrchestratorRestartsItAndRetriesItsEpisodes) {
+  const std::string role = GetParam();
+  bus::Bus bus(bus::kDefaultUrl);
+  std::map<std::string, int> pids;
+  bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
+    if (pids.count(m.role) == 0) pids[m.role] = m.pid;
+  });
+  testing::ChildProcess run(run_args("kill", {"oracle"}, 40, 2), log());
+  ASSERT_TRUE(wait_for_results("kill", 5, 60000)) << log_text();
+  bus.handle_until([&] { return pids.count(role) != 0; }, 5000);
+  ASSERT_TRUE(pids.count(role)) << "no heartbeat from " << role;
+  ASSERT_EQ(::kill(pids[role], SIGKILL), 0);
+  ASSERT_EQ(run.wait(120000), 0) << log_text();
+  const auto rows = results("kill");
+  EXPECT_EQ(rows.size(), planned("kill"));
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+    EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+  }
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("restarting it"));
+}
+
+INSTANTIATE_TEST_SUITE_P(EachService, KillServiceTest, ::testing::Values("scene_graph", "judge", "agent:oracle"),
+                         [](const auto& p) {
+                           std::string n = p.param;
+                           for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return n;
+                         });
+
+TEST_F(RuntimeTest, ALostStateUpdateIsDetectedAndTheEpisodeRetried) {
+  ::setenv("MTG_FAULTS", "drop_state:2", 1);
+  const int status = mtg(run_args("drop", {"oracle"}, 4, 2));
+  ::unsetenv("MTG_FAULTS");
+  ASSERT_EQ(status, 0) << log_text();
+  const auto rows = results("drop");
+  ASSERT_EQ(rows.size(), planned("drop"));
+  for (const auto& r : rows) {
+    EXPECT_TRUE(r.success) << r.detail;  // never mis-scored
+    EXPECT_EQ(r.attempt, 1);             // the first attempt lost a message and was retried
+  }
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("lost state update"));
+}
+
+TEST_F(RuntimeTest, ADuplicatedStateUpdateIsIgnored) {
+  ::setenv("MTG_FAULTS", "dup_state:2", 1);
+  const int status = mtg(run_args("dup", {"oracle"}, 4, 2));
+  ::unsetenv("MTG_FAULTS");
+  ASSERT_EQ(status, 0) << log_text();
+  for (const auto& r : results("dup")) {
+    EXPECT_TRUE(r.success) << r.detail;
+    EXPECT_EQ(r.attempt, 0);
+  }
+}
+
+TEST_F(RuntimeTest, MalformedRepliesCostAStepEachAndCrashNothing) {
+  const std::string script = (fx_.root() / "script.json").string();
+  std::ofstream(script) << nlohmann::json{{"replies", {"garbage !!!", "", std::string(100000, 'x'), "l99", "o7", "0"}}}.dump();
+  ASSERT_EQ(mtg(run_args("bad", {"script:" + script}, 2, 2)), 0) << log_text();
+  const auto rows = results("bad");
+  ASSERT_EQ(rows.size(), planned("bad"));
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.status, "scored");
+    EXPECT_EQ(r.steps, 6);
+    EXPECT_EQ(r.invalid_actions, 5);
+    EXPECT_FALSE(r.success);
+  }
+}
+
+TEST_F(RuntimeTest, AnEpisodeThatCannotRunIsGivenUpNeverHangs) {
+  // A task of a scene the data does not have: the scene-graph service reports it every time.
+  tasks::Task t;
+  t.id = "nowhere/L1/000000";
+  t.scene = "nowhere";
+  t.level = 1;
+  t.type = "surface";
+  t.text = "Move the box.";
+  t.goal = {{"atomic", {{"type", "surface"}, {"item", "box_1"}, {"source", "x"}, {"platform", "y"}}}};
+  t.oracle = {"0"};
+  tasks::TaskSet set;
+  set.scene = "nowhere";
+  set.tasks = {t};
+  tasks_db_ = (fx_.root() / "bad_tasks.sqlite").string();
+  tasks::write_task_db(tasks_db_, {set}, {}, tasks::TaskOptions{});
+  ASSERT_EQ(mtg(run_args("nowhere", {"oracle"}, 0, 1), 60000), 0) << log_text();
+  const auto rows = results("nowhere");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].status, "error");
+  EXPECT_EQ(rows[0].cause, "infrastructure");
+  EXPECT_THAT(rows[0].detail, ::testing::HasSubstr("unknown scene 'nowhere'"));
+}
+
+TEST_F(RuntimeTest, LcmLogplayerOntoABusWithAJudgeGivesTheSameResults) {
+  ASSERT_EQ(mtg(run_args("played", {"random"}, 5, 2)), 0) << log_text();
+  const auto recorded = results("played");
+  bus::Bus bus(bus::kDefaultUrl);
+  testing::ChildProcess judge({testing::bin("mtg_judge"), "--profile", "none"}, log());
+  const std::string prefix = "judge:";
+  std::map<std::int64_t, mtg::episode_result_t> fresh;
+  bool ready = false;
+  bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
+    ready = ready || m.pid == judge.pid();
+  });
+  bus.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [&](const std::string&, const mtg::episode_result_t& m) {
+    if (m.header.sender.find(":" + std::to_string(judge.pid())) != std::string::npos) fresh[m.header.episode_id] = m;
+  });
+  ASSERT_TRUE(bus.handle_until([&] { return ready; }, 10000));
+  // The stock player, only the channels a judge listens to, as fast as it goes.
+  testing::ChildProcess player({"/usr/bin/lcm-logplayer", "-s", "20", "-e", "^MTG_(EPISODE_START|STATE_E.*|ACT_E.*)$",
+                                (fx_.root() / "played" / "bus-0.lcmlog").string()},
+                               log());
+  ASSERT_TRUE(bus.handle_until([&] { return fresh.size() == recorded.size(); }, 30000)) << fresh.size();
+  for (const auto& r : recorded) {
+    const auto& m = fresh.at(r.episode_id);
+    EXPECT_EQ(m.success != 0, r.success);
+    EXPECT_DOUBLE_EQ(m.ip, r.ip);
+    EXPECT_EQ(m.cause, r.cause);
+    EXPECT_EQ(m.stage, r.stage);
+    EXPECT_EQ(m.steps, r.steps);
+  }
+}
+
+}  // namespace
+}  // namespace mtg
