@@ -7,7 +7,6 @@ const char* prefix(EpisodeStream stream) {
   switch (stream) {
     case EpisodeStream::kObservation: return "MTG_OBS_E";
     case EpisodeStream::kAction: return "MTG_ACT_E";
-    case EpisodeStream::kStep: return "MTG_STEP_E";
     case EpisodeStream::kState: return "MTG_STATE_E";
     case EpisodeStream::kJudge: return "MTG_JUDGE_E";
   }

@@ -20,7 +20,7 @@ inline constexpr const char* kTaskSetRequest = "MTG_TASKSET_REQ";
 inline constexpr const char* kTaskSetSummary = "MTG_TASKSET_SUMMARY";
 
 /// Per-episode streams.
-enum class EpisodeStream { kObservation, kAction, kStep, kState, kJudge };
+enum class EpisodeStream { kObservation, kAction, kState, kJudge };
 
 /// e.g. episode_channel(kObservation, 12) == "MTG_OBS_E12".
 std::string episode_channel(EpisodeStream stream, std::int64_t episode_id);

@@ -24,8 +24,17 @@ struct BenchTasksOptions {
   std::string out = "/tmp/mtg_bench_tasks.sqlite";
 };
 
+struct BenchRuntimeOptions {
+  std::string scene = "apt_0";
+  std::string data_dir;
+  std::string work = "/tmp/mtg_bench_runtime";  // tasks and one run folder per parallelism
+  int per_level = 200;                          // tasks per level, Levels 1-3
+  std::vector<int> parallel = {1, 2, 4};
+};
+
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
 int run_bench_tasks(const BenchTasksOptions& options);
 int run_bench_scene_graph(const BenchSceneGraphOptions& options);
+int run_bench_runtime(const BenchRuntimeOptions& options);
 
 }  // namespace mtg::cli

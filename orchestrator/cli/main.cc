@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   run->add_option("--episode-timeout", run_opts.episode_timeout_s, "seconds without news before a retry (default 60)");
   run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
   run->add_flag("!--no-progress", run_opts.progress, "no progress bar");
+  run->add_option("--recorder", run_opts.recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
   mtg::cli::ReportOptions report_opts;
   CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
   report->add_option("run", report_opts.run, "run folder")->required();
@@ -115,6 +116,13 @@ int main(int argc, char** argv) {
   bench_tasks_cmd->add_option("--scene", bench_tasks.scenes, "scene names (repeatable)");
   bench_tasks_cmd->add_option("--data", bench_tasks.data_dir, "dataset root");
   bench_tasks_cmd->add_option("--out", bench_tasks.out, "where the benchmark's task database goes");
+  mtg::cli::BenchRuntimeOptions bench_runtime;
+  CLI::App* bench_runtime_cmd = bench->add_subcommand("runtime", "Oracle episodes per second over the bus, per-step latency");
+  bench_runtime_cmd->add_option("--scene", bench_runtime.scene, "scene name");
+  bench_runtime_cmd->add_option("--data", bench_runtime.data_dir, "dataset root");
+  bench_runtime_cmd->add_option("--work", bench_runtime.work, "scratch folder for tasks and runs (emptied first)");
+  bench_runtime_cmd->add_option("--per-level", bench_runtime.per_level, "tasks per level (Levels 1-3)");
+  bench_runtime_cmd->add_option("--parallel", bench_runtime.parallel, "episodes in flight (repeatable)");
 
   try {
     app.parse(argc, argv);
@@ -136,6 +144,7 @@ int main(int argc, char** argv) {
     if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);
     if (bench_tasks_cmd->parsed()) return mtg::cli::run_bench_tasks(bench_tasks);
     if (bench_scene_graph->parsed()) return mtg::cli::run_bench_scene_graph(bench_graph);
+    if (bench_runtime_cmd->parsed()) return mtg::cli::run_bench_runtime(bench_runtime);
   } catch (const mtg::Error& e) {
     std::cerr << "mtg: " << e.what() << '\n';
     return 1;

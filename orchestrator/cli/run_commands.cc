@@ -87,6 +87,7 @@ int run_run(const RunOptions& o) {
   const auto tasks = load_tasks(plan.tasks_db);
   orchestrator::EngineOptions engine;
   engine.progress = o.progress;
+  engine.recorder = o.recorder;
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   const nlohmann::json report = orchestrator::write_reports(dir);
   print_summary(summary, dir, report);

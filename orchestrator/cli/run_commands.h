@@ -22,6 +22,7 @@ struct RunOptions {
   double episode_timeout_s = 60.0;
   int step_limit = 15;
   bool progress = true;
+  std::string recorder = "mtg";      // or lcm-logger
 };
 
 struct ReportOptions {

@@ -68,6 +68,7 @@ class Engine {
     start_processes();
     Progress progress(summary.planned, summary.already_done, options_.progress);
     progress_ = &progress;
+    const auto episodes_started = Clock::now();
     signal(SIGINT, on_interrupt);
     signal(SIGTERM, on_interrupt);
 
@@ -81,6 +82,7 @@ class Engine {
       bus_.handle_once(20);
       check_timeouts();
     }
+    summary.episode_seconds = seconds_since(episodes_started);
     progress.draw(true);
     shutdown();
     signal(SIGINT, SIG_DFL);
@@ -106,10 +108,10 @@ class Engine {
     bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
       ready_pids_.insert(m.pid);
     });
+    // Liveness for the episode time-out: one state update per step suffices, and every stream
+    // subscribed to costs this process a wake-up per message.
     bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
                                         [this](const std::string&, const mtg::state_update_t& m) { touch(m.header); });
-    bus_.subscribe<mtg::observation_t>(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
-                                       [this](const std::string&, const mtg::observation_t& m) { touch(m.header); });
     bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
       if (m.header.run_id != plan_.run_id) return;
       log::warn("error from " + m.source + ": " + m.message);
@@ -124,7 +126,14 @@ class Engine {
     int k = 0;
     while (fs::exists(dir_ / ("bus-" + std::to_string(k) + ".lcmlog"))) ++k;
     const fs::path log = dir_ / ("bus-" + std::to_string(k) + ".lcmlog");
-    supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", plan_.bus_url, log.string()});
+    // Both append, so a restarted recorder continues the file.
+    if (options_.recorder == "lcm-logger") {
+      supervisor_.start("recorder", {"/usr/bin/lcm-logger", "--lcm-url=" + plan_.bus_url, "--append", log.string()});
+    } else if (options_.recorder == "mtg") {
+      supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", plan_.bus_url, log.string()});
+    } else {
+      throw Error("unknown recorder '" + options_.recorder + "' (mtg or lcm-logger)");
+    }
     for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!fs::exists(log)) throw Error("the recorder did not start (see " + (dir_ / "logs/recorder.log").string() + ")");
 

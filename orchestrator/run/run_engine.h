@@ -25,12 +25,16 @@ struct RunSummary {
   std::int64_t errors = 0;         // recorded with status "error"
   std::int64_t retries = 0;
   int restarts = 0;
-  double seconds = 0.0;
+  double seconds = 0.0;            // the whole invocation (telemetry)
+  double episode_seconds = 0.0;    // first episode handed out to last result (telemetry)
   bool interrupted = false;
 };
 
 struct EngineOptions {
   bool progress = true;  // live progress bar on stderr
+  /// "mtg" (mtg_recorder, the default) or "lcm-logger" (the stock tool, which drops bursts of
+  /// more than 30 messages when its process is starved: docs/runtime.md, "Recording").
+  std::string recorder = "mtg";
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

@@ -11,7 +11,6 @@
 #include "mtg/error_event_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/state_update_t.hpp"
-#include "mtg/step_result_t.hpp"
 
 namespace mtg::services {
 
@@ -85,25 +84,18 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
   const episode::AgentAnswer answer{action.parsed_key, action.format_ok != 0, !action.error.empty()};
   const episode::EpisodeStep step = episode::step_episode(*e.graph, e.state, answer, e.constraints, e.rules);
   e.hint = step.hint;
-  if (!answer.provider_error) {
-    mtg::step_result_t result{};
-    result.header = stamp_.next(key.second, e.attempt, "step");
-    result.header.run_id = key.first;
-    result.step = action.step;
-    result.key = step.update.key;
-    result.valid = step.outcome.valid;
-    result.applied = step.outcome.applied;
-    result.available = step.outcome.available;
-    result.hint = e.hint;
-    bus_.publish(bus::episode_channel(bus::EpisodeStream::kStep, key.second), result);
-  }
-  const episode::StateUpdate& update = step.update;
-  publish_state(key, e, update);
+  publish_state(key, e, step.update, &step);
   publish_observation(key, e);
 }
 
-void EpisodeHost::publish_state(const Key& key, Episode& e, const episode::StateUpdate& u) {
+void EpisodeHost::publish_state(const Key& key, Episode& e, const episode::StateUpdate& u,
+                                const episode::EpisodeStep* step) {
   mtg::state_update_t m = bus::to_message(*e.graph, e.state, u);
+  if (step != nullptr) {
+    m.available = step->outcome.available;
+    m.applied = step->outcome.applied;
+    m.hint = step->hint;
+  }
   m.header = stamp_.next(key.second, e.attempt, "state");
   m.header.run_id = key.first;
   const std::string channel = bus::episode_channel(bus::EpisodeStream::kState, key.second);

@@ -53,7 +53,9 @@ class EpisodeHost {
   };
   using Key = std::pair<std::string, std::int64_t>;
 
-  void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u);
+  /// `step` (null for the initial state) adds how the action was applied.
+  void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u,
+                     const episode::EpisodeStep* step = nullptr);
   void publish_observation(const Key& key, Episode& e);
 
   bus::Bus& bus_;

@@ -22,7 +22,6 @@
 #include "mtg/scene_request_t.hpp"
 #include "mtg/scene_summary_t.hpp"
 #include "mtg/state_update_t.hpp"
-#include "mtg/step_result_t.hpp"
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
 
@@ -150,16 +149,12 @@ class RoundTrip {
     act.cost_usd = 0.0125;
     check("T_ACT", act);
 
-    mtg::step_result_t step{};
-    step.key = "o2";
-    step.valid = true;
-    step.hint = "picked";
-    check("T_STEP", step);
-
     mtg::state_update_t state{};
     state.step = 5;
     state.key = "5";
     state.side = 1;
+    state.applied = true;
+    state.hint = "placed";
     state.n_moved = 1;
     state.moved.resize(1);
     state.moved[0].object = "cup_01_3";

@@ -23,6 +23,7 @@
 #include "orchestrator/run/results_db.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
+#include "tests/support/shipped_data.h"
 
 namespace mtg {
 namespace {
@@ -290,6 +291,45 @@ TEST_F(RuntimeTest, LcmLogplayerOntoABusWithAJudgeGivesTheSameResults) {
     EXPECT_EQ(m.stage, r.stage);
     EXPECT_EQ(m.steps, r.steps);
   }
+}
+
+
+// The whole runtime on a real apartment: tasks of all four levels from apt_0, then the oracle
+// and the random agent over the bus, several episodes in flight.
+TEST(ShippedRuntime, OracleSolvesEveryLevelOfApt0AndRandomRunsToAVerdict) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  testing::FixtureDataset scratch;
+  const fs::path dir = scratch.root();
+  const std::string log = (dir / "mtg.log").string();
+  const std::string db = (dir / "apt_0.sqlite").string();
+  ASSERT_EQ(testing::ChildProcess({testing::bin("mtg"), "tasks", "--scene", "apt_0", "--levels", "1,2,3,4",
+                                   "--l3-count", "50", "--out", db},
+                                  log)
+                .wait(300000),
+            0);
+  ASSERT_EQ(testing::ChildProcess({testing::bin("mtg"), "run", "--tasks", db, "--levels", "1,2,3,4", "--limit", "4",
+                                   "--parallel", "4", "--agent", "oracle", "--agent", "random", "--out",
+                                   (dir / "run").string(), "--no-progress"},
+                                  log)
+                .wait(300000),
+            0);
+  const auto rows = orchestrator::read_results(dir / "run" / "results.sqlite");
+  ASSERT_EQ(rows.size(), 32u);  // 4 per level and agent
+  std::set<int> levels;
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+    levels.insert(r.level);
+    if (r.agent == "oracle") {
+      EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+      EXPECT_DOUBLE_EQ(r.ip, 100.0) << r.task_id;
+    } else {
+      EXPECT_LE(r.steps, 15) << r.task_id;
+      if (!r.success) {
+        EXPECT_FALSE(r.cause.empty()) << r.task_id;
+      }
+    }
+  }
+  EXPECT_EQ(levels, (std::set<int>{1, 2, 3, 4}));
 }
 
 }  // namespace

@@ -1,0 +1,137 @@
+// `mtg bench runtime`: episodes per second of text-only oracle runs over the bus with 1, 2 and 4
+// episodes in flight, and the per-step latency read back from the run's own recording (the
+// recorder stamps every message on arrival, one clock for all processes).
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <vector>
+
+#include "bus/url.h"
+#include "core/tasks/job.h"
+#include "core/tasks/task_db.h"
+#include "mtg/agent_action_t.hpp"
+#include "mtg/observation_t.hpp"
+#include "orchestrator/cli/bench_commands.h"
+#include "orchestrator/run/results_db.h"
+#include "orchestrator/run/run_engine.h"
+#include "orchestrator/run/run_plan.h"
+
+namespace mtg::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(i, v.size() - 1)];
+}
+
+struct StepLatencies {
+  std::vector<double> cycle_ms;    // observation n -> observation n+1 (one whole step)
+  std::vector<double> service_ms;  // action n -> observation n+1 (scene-graph service and two hops)
+  std::vector<double> agent_ms;    // observation n -> action n (agent and two hops)
+};
+
+// Receive times (µs) per (episode, attempt) and step, from every recording of `run_dir`.
+StepLatencies step_latencies(const fs::path& run_dir) {
+  using Key = std::pair<std::int64_t, std::int32_t>;
+  std::map<Key, std::map<int, std::int64_t>> obs, act;
+  for (const auto& entry : fs::directory_iterator(run_dir)) {
+    if (entry.path().extension() != ".lcmlog") continue;
+    lcm::LogFile file(entry.path().string(), "r");
+    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
+      if (ev->channel.rfind("MTG_OBS_E", 0) == 0) {
+        mtg::observation_t m{};
+        if (m.decode(ev->data, 0, ev->datalen) >= 0) obs[{m.header.episode_id, m.header.attempt}][m.step] = ev->timestamp;
+      } else if (ev->channel.rfind("MTG_ACT_E", 0) == 0) {
+        mtg::agent_action_t m{};
+        if (m.decode(ev->data, 0, ev->datalen) >= 0) act[{m.header.episode_id, m.header.attempt}][m.step] = ev->timestamp;
+      }
+    }
+  }
+  StepLatencies out;
+  for (const auto& [key, steps] : obs) {
+    const auto& acts = act[key];
+    for (const auto& [step, t] : steps) {
+      const auto next = steps.find(step + 1);
+      if (next == steps.end()) continue;
+      out.cycle_ms.push_back(static_cast<double>(next->second - t) / 1000.0);
+      const auto a = acts.find(step);
+      if (a == acts.end()) continue;
+      out.service_ms.push_back(static_cast<double>(next->second - a->second) / 1000.0);
+      out.agent_ms.push_back(static_cast<double>(a->second - t) / 1000.0);
+    }
+  }
+  return out;
+}
+
+void print_latency(const char* what, const std::vector<double>& ms) {
+  std::printf("  %-44s median %6.2f ms   p99 %6.2f ms   (%zu steps)\n", what, percentile(ms, 0.5), percentile(ms, 0.99),
+              ms.size());
+}
+
+}  // namespace
+
+int run_bench_runtime(const BenchRuntimeOptions& options) {
+  const fs::path work = fs::absolute(options.work);
+  fs::remove_all(work);
+  fs::create_directories(work);
+
+  tasks::GenerationJob job;
+  job.scenes = {options.scene};
+  job.data_dir = options.data_dir;
+  job.out = (work / "tasks.sqlite").string();
+  job.options.levels = {1, 2, 3};
+  job.options.level3_count = std::max(1, options.per_level);
+  tasks::run_generation(job);
+  const std::vector<tasks::Task> all = tasks::read_tasks(job.out);
+  std::map<std::string, tasks::Task> by_id;
+  for (const auto& t : all) by_id.emplace(t.id, t);
+
+  std::printf("runtime: text-only oracle episodes on %s, %d tasks per level (L1-L3), over %s\n", options.scene.c_str(),
+              options.per_level, bus::default_url().c_str());
+  double one = 0.0;
+  for (const int k : options.parallel) {
+    orchestrator::RunPlan plan;
+    plan.run_id = "parallel-" + std::to_string(k);
+    plan.tasks_db = job.out;
+    plan.agents = {"oracle"};
+    plan.levels = {1, 2, 3};
+    plan.limit = options.per_level;
+    plan.parallel = k;
+    plan.data_dir = options.data_dir;
+    plan.bus_url = bus::normalize_url(bus::default_url());
+    plan = orchestrator::make_plan(std::move(plan), all);
+    const fs::path dir = work / plan.run_id;
+    fs::create_directories(dir);
+    orchestrator::save_plan(plan, dir);
+    const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false});
+    long steps = 0, succeeded = 0;
+    for (const auto& row : orchestrator::read_results(dir / "results.sqlite")) {
+      steps += row.steps;
+      succeeded += row.success ? 1 : 0;
+    }
+    const double eps = static_cast<double>(summary.completed) / summary.episode_seconds;
+    if (one == 0.0) one = eps;
+    std::printf("  parallel %d: %ld episodes (%ld succeeded, %ld steps) in %.2f s = %6.1f episodes/s  (%.2fx one;"
+                " %.2f s with process start and stop)\n",
+                k, static_cast<long>(summary.completed), succeeded, steps, summary.episode_seconds, eps, eps / one,
+                summary.seconds);
+    if (k == 1) {
+      const StepLatencies lat = step_latencies(dir);
+      print_latency("per step, observation to next observation", lat.cycle_ms);
+      print_latency("  action to next observation (scene graph)", lat.service_ms);
+      print_latency("  observation to action (oracle agent)", lat.agent_ms);
+    }
+  }
+  std::printf("  runs kept in %s\n", work.c_str());
+  return 0;
+}
+
+}  // namespace mtg::cli
