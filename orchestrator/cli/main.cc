@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts.tasks, "task database (tasks.sqlite)");
   run->add_option("--agent", run_opts.agents, "agent: oracle, random, replay:<run dir> (repeat for several)");
+  run->add_option("--scene", run_opts.scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts.levels, "levels to run (default 1,2,3)");
   run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
   run->add_option("--parallel", run_opts.parallel, "episodes at once (default 4)");

@@ -69,6 +69,7 @@ int run_run(const RunOptions& o) {
     plan.run_id = dir.filename().string();
     plan.tasks_db = fs::absolute(o.tasks).lexically_normal().string();
     plan.agents = o.agents;
+    plan.scenes = {o.scenes.begin(), o.scenes.end()};
     plan.levels = tasks::parse_levels(o.levels);
     plan.limit = o.limit;
     plan.seed = o.seed;
@@ -106,14 +107,33 @@ int run_report(const ReportOptions& o) {
     std::cout << report.dump() << '\n';
     return 0;
   }
-  std::printf("%s: %lld episodes, SR %.1f %%, IP %.1f\n", dir.c_str(),
-              static_cast<long long>(report["episodes"].get<std::int64_t>()), report["sr"].get<double>(),
+  std::printf("%s: %lld episodes scored (%lld errors), SR %.1f %%, IP %.1f\n", dir.c_str(),
+              static_cast<long long>(report["scored"].get<std::int64_t>()),
+              static_cast<long long>(report["errors"].get<std::int64_t>()), report["sr"].get<double>(),
               report["ip"].get<double>());
-  for (const auto& [level, l] : report["by_level"].items()) {
-    std::printf("  level %s: SR %5.1f %%  IP %5.1f  (%lld)\n", level.c_str(), l["sr"].get<double>(), l["ip"].get<double>(),
-                static_cast<long long>(l["episodes"].get<std::int64_t>()));
+  // Table 3 of the paper: per agent, SR and IP of each level, then overall.
+  std::printf("  %-14s", "agent");
+  for (const auto& [level, l] : report["by_level"].items()) std::printf("   L%s SR    IP", level.c_str());
+  std::printf("  |  all SR    IP\n");
+  for (const auto& [agent, a] : report["by_agent"].items()) {
+    std::printf("  %-14s", agent.c_str());
+    for (const auto& [level, l] : report["by_level"].items()) {
+      if (a["by_level"].contains(level)) {
+        const auto& al = a["by_level"][level];
+        std::printf("  %6.1f %5.1f", al["sr"].get<double>(), al["ip"].get<double>());
+      } else {
+        std::printf("  %6s %5s", "-", "-");
+      }
+    }
+    std::printf("  |  %6.1f %5.1f\n", a["sr"].get<double>(), a["ip"].get<double>());
   }
-  for (const auto& [cause, n] : report["causes"].items()) std::printf("  %-20s %lld\n", cause.c_str(), static_cast<long long>(n.get<std::int64_t>()));
+  if (!report["causes"].empty()) {
+    std::printf("  failure causes:");
+    for (const auto& [cause, n] : report["causes"].items()) {
+      std::printf(" %s %lld", cause.c_str(), static_cast<long long>(n.get<std::int64_t>()));
+    }
+    std::printf("\n");
+  }
   std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
   return 0;
 }

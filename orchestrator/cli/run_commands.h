@@ -10,6 +10,7 @@ namespace mtg::cli {
 struct RunOptions {
   std::string tasks;                 // task database
   std::vector<std::string> agents;   // e.g. oracle, random
+  std::vector<std::string> scenes;   // empty = all
   std::string levels = "1,2,3";
   int limit = 0;                     // tasks per (scene, level); 0 = all
   int parallel = 4;

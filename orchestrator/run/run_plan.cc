@@ -13,11 +13,23 @@ namespace mtg::orchestrator {
 nlohmann::json RunPlan::to_json() const {
   nlohmann::json eps = nlohmann::json::array();
   for (const auto& e : episodes) eps.push_back({{"id", e.id}, {"task", e.task_id}, {"agent", e.agent}, {"seed", e.seed}});
-  return {{"format", "mtg-run-plan/1"}, {"run_id", run_id},   {"tasks_db", tasks_db},     {"agents", agents},
-          {"levels", levels},           {"limit", limit},     {"seed", seed},             {"parallel", parallel},
-          {"step_limit", step_limit},   {"render", render},   {"max_attempts", max_attempts},
-          {"episode_timeout_s", episode_timeout_s},           {"data_dir", data_dir},     {"profile", profile},
-          {"bus_url", bus_url},         {"episodes", eps}};
+  return {{"format", "mtg-run-plan/1"},
+          {"run_id", run_id},
+          {"tasks_db", tasks_db},
+          {"agents", agents},
+          {"scenes", scenes},
+          {"levels", levels},
+          {"limit", limit},
+          {"seed", seed},
+          {"parallel", parallel},
+          {"step_limit", step_limit},
+          {"render", render},
+          {"max_attempts", max_attempts},
+          {"episode_timeout_s", episode_timeout_s},
+          {"data_dir", data_dir},
+          {"profile", profile},
+          {"bus_url", bus_url},
+          {"episodes", eps}};
 }
 
 RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
@@ -27,6 +39,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.run_id = root.at("run_id").as_string();
     p.tasks_db = root.at("tasks_db").as_string();
     p.agents = j.at("agents").get<std::vector<std::string>>();
+    p.scenes = j.at("scenes").get<std::set<std::string>>();
     p.levels = j.at("levels").get<std::set<int>>();
     p.limit = j.at("limit").get<int>();
     p.seed = j.at("seed").get<std::uint64_t>();
@@ -52,7 +65,8 @@ RunPlan make_plan(RunPlan plan, const std::vector<tasks::Task>& all_tasks) {
   if (plan.agents.empty()) throw Error("no agent given (e.g. --agent oracle)");
   std::map<std::pair<std::string, int>, std::vector<const tasks::Task*>> groups;
   for (const tasks::Task& t : all_tasks) {
-    if (plan.levels.count(t.level)) groups[{t.scene, t.level}].push_back(&t);
+    const bool scene_wanted = plan.scenes.empty() || plan.scenes.count(t.scene) != 0;
+    if (scene_wanted && plan.levels.count(t.level)) groups[{t.scene, t.level}].push_back(&t);
   }
   std::vector<const tasks::Task*> chosen;
   for (auto& [key, group] : groups) {
@@ -65,7 +79,7 @@ RunPlan make_plan(RunPlan plan, const std::vector<tasks::Task>& all_tasks) {
     chosen.insert(chosen.end(), group.begin(), group.end());
   }
   std::sort(chosen.begin(), chosen.end(), [](const tasks::Task* a, const tasks::Task* b) { return a->id < b->id; });
-  if (chosen.empty()) throw Error("no task of the requested levels in " + plan.tasks_db);
+  if (chosen.empty()) throw Error("no task of the requested scenes and levels in " + plan.tasks_db);
   plan.episodes.clear();
   std::int64_t id = 0;
   for (const tasks::Task* t : chosen) {

@@ -25,6 +25,7 @@ struct RunPlan {
   std::string run_id;            // the run folder's name
   std::string tasks_db;          // absolute path of the task database
   std::vector<std::string> agents;
+  std::set<std::string> scenes;  // empty = every scene of the task set
   std::set<int> levels = {1, 2, 3};
   int limit = 0;                 // tasks per (scene, level), drawn with the seed; 0 = all
   std::uint64_t seed = 0;

@@ -1,5 +1,5 @@
 // Scene-graph service: holds the world state of every running episode, applies the agents'
-// action keys and publishes observations, step results and state updates (docs/runtime.md).
+// action keys and publishes observations, and state updates (docs/runtime.md).
 
 #include <CLI/CLI.hpp>
 
