@@ -1,8 +1,6 @@
 #include "orchestrator/run/supervisor.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +9,7 @@
 
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "core/util/subprocess.h"
 
 namespace mtg::orchestrator {
 
@@ -24,28 +23,7 @@ Supervisor::~Supervisor() { stop_all(2000); }
 
 pid_t Supervisor::spawn(const std::string& name, const std::vector<std::string>& argv) {
   std::filesystem::create_directories(log_dir_);
-  const std::string log = (log_dir_ / (name + ".log")).string();
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) throw Error("cannot start " + argv[0] + " (" + name + "): fork failed");
-  if (pid == 0) {
-    // The child dies with the orchestrator: a killed orchestrator never leaves services behind
-    // that would answer a resumed run twice.
-    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (::getppid() != parent) ::_exit(1);
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-      ::close(fd);
-    }
-    ::execv(args[0], args.data());
-    ::_exit(127);
-  }
-  return pid;
+  return spawn_process(argv, (log_dir_ / (name + ".log")).string(), SIGTERM);
 }
 
 void Supervisor::start(const std::string& name, const std::vector<std::string>& argv, bool restart) {

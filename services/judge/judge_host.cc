@@ -10,8 +10,21 @@
 
 namespace mtg::services {
 
-JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes)
-    : bus_(bus), stamp_(stamp), scenes_(scenes) {}
+JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id)
+    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)) {
+  auto mine = [this](const mtg::header_t& h) { return run_id_.empty() || h.run_id == run_id_; };
+  bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart, [this, mine](const std::string&, const mtg::episode_start_t& m) {
+    if (mine(m.header)) on_start(m);
+  });
+  bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
+                                      [this, mine](const std::string&, const mtg::state_update_t& m) {
+                                        if (mine(m.header)) on_state(m);
+                                      });
+  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel_regex(bus::EpisodeStream::kAction),
+                                      [this, mine](const std::string&, const mtg::agent_action_t& m) {
+                                        if (mine(m.header)) on_action(m);
+                                      });
+}
 
 void JudgeHost::on_start(const mtg::episode_start_t& start) {
   const Key key{start.header.run_id, start.header.episode_id};

@@ -22,7 +22,8 @@ namespace mtg::services {
 
 class JudgeHost {
  public:
-  JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes);
+  /// Subscribes to episode starts, state updates and agent actions of run `run_id` ("" = every run).
+  JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id);
 
   void on_start(const mtg::episode_start_t& start);
   void on_state(const mtg::state_update_t& update);
@@ -50,6 +51,7 @@ class JudgeHost {
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
   SceneCache& scenes_;
+  std::string run_id_;
   std::map<Key, Episode> episodes_;
 };
 

@@ -3,9 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/bus.h"
-#include "bus/channels.h"
 #include "bus/url.h"
-#include "core/util/error.h"
 #include "core/util/log.h"
 #include "services/common/service_loop.h"
 #include "services/judge/judge_host.h"
@@ -24,20 +22,8 @@ int main(int argc, char** argv) {
     mtg::bus::Bus bus(url);
     mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("judge"));
     mtg::services::SceneCache scenes(profile);
-    mtg::services::JudgeHost host(bus, stamp, scenes);
+    mtg::services::JudgeHost host(bus, stamp, scenes, run_id);
     mtg::services::ServiceLoop loop(bus, stamp, "judge", 64);
-    auto mine = [&](const mtg::header_t& h) { return run_id.empty() || h.run_id == run_id; };
-    bus.subscribe<mtg::episode_start_t>(mtg::bus::kEpisodeStart, [&](const std::string&, const mtg::episode_start_t& m) {
-      if (mine(m.header)) host.on_start(m);
-    });
-    bus.subscribe<mtg::state_update_t>(mtg::bus::episode_channel_regex(mtg::bus::EpisodeStream::kState),
-                                       [&](const std::string&, const mtg::state_update_t& m) {
-                                         if (mine(m.header)) host.on_state(m);
-                                       });
-    bus.subscribe<mtg::agent_action_t>(mtg::bus::episode_channel_regex(mtg::bus::EpisodeStream::kAction),
-                                       [&](const std::string&, const mtg::agent_action_t& m) {
-                                         if (mine(m.header)) host.on_action(m);
-                                       });
     loop.run([&] { loop.set_in_flight(host.in_flight()); });
   } catch (const std::exception& e) {
     mtg::log::error(e.what());

@@ -30,8 +30,17 @@ FaultInjection FaultInjection::from_env() {
   return f;
 }
 
-EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, FaultInjection faults)
-    : bus_(bus), stamp_(stamp), scenes_(scenes), faults_(faults) {}
+EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
+                         FaultInjection faults)
+    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults) {
+  bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart, [this](const std::string&, const mtg::episode_start_t& m) {
+    if (run_id_.empty() || m.header.run_id == run_id_) on_start(m);
+  });
+  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel_regex(bus::EpisodeStream::kAction),
+                                      [this](const std::string&, const mtg::agent_action_t& m) {
+                                        if (run_id_.empty() || m.header.run_id == run_id_) on_action(m);
+                                      });
+}
 
 int EpisodeHost::in_flight() const {
   int n = 0;

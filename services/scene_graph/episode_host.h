@@ -1,7 +1,7 @@
 #pragma once
 // The scene-graph service's episodes: one world state per running episode (many at once), the
-// paper's action rules applied to each agent answer, and the messages that follow: a step
-// result, a state update for the judge and the next observation.
+// paper's action rules applied to each agent answer, and the messages that follow: a state
+// update for the judge (with how the action was applied) and the next observation.
 //
 // Identity is (run id, episode id, attempt): a new episode_start with a higher attempt replaces
 // the old state; answers for another attempt or another step are stale and ignored, so a late
@@ -33,7 +33,9 @@ struct FaultInjection {
 
 class EpisodeHost {
  public:
-  EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, FaultInjection faults = {});
+  /// Subscribes to episode starts and agent actions of run `run_id` ("" = every run).
+  EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
+              FaultInjection faults = {});
 
   void on_start(const mtg::episode_start_t& start);
   void on_action(const mtg::agent_action_t& action);
@@ -61,6 +63,7 @@ class EpisodeHost {
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
   SceneCache& scenes_;
+  std::string run_id_;
   FaultInjection faults_;
   std::map<Key, Episode> episodes_;
 };

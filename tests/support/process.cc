@@ -1,8 +1,6 @@
 #include "tests/support/process.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,32 +8,14 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/util/subprocess.h"
+
 namespace mtg::testing {
 
 std::string bin(const std::string& name) { return std::string(MTG_BIN_DIR) + "/" + name; }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_file) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t parent = ::getpid();
-  pid_ = ::fork();
-  if (pid_ < 0) throw std::runtime_error("cannot start " + argv[0]);
-  if (pid_ == 0) {
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the test
-    if (::getppid() != parent) ::_exit(1);
-    if (!log_file.empty()) {
-      const int fd = ::open(log_file.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-      if (fd >= 0) {
-        ::dup2(fd, 1);
-        ::dup2(fd, 2);
-        ::close(fd);
-      }
-    }
-    ::execv(args[0], args.data());
-    ::_exit(127);
-  }
-}
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_file)
+    : pid_(spawn_process(argv, log_file, SIGKILL)) {}  // SIGKILL: never outlive the test
 
 ChildProcess::~ChildProcess() {
   if (!reaped_) kill(SIGKILL);

@@ -1,0 +1,18 @@
+#pragma once
+// Starting a child process that cannot outlive its parent: the kernel sends it
+// `parent_death_signal` when the parent dies, so a killed orchestrator (or test) never leaves
+// services behind that would answer a resumed run twice.
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace mtg {
+
+/// Starts argv[0] (an absolute path) with `argv`; stdout and stderr are appended to `log_file`
+/// ("" = inherited). Returns the child's pid; the caller reaps it.
+/// @throws mtg::Error if the process cannot be forked. A failed exec exits the child with 127.
+pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal);
+
+}  // namespace mtg
