@@ -1,7 +1,5 @@
 #include "bus/bus.h"
 
-
-
 #include <chrono>
 #include <utility>
 

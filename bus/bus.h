@@ -7,9 +7,9 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <cstdint>
 #include <exception>
 #include <functional>
-#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>

@@ -18,7 +18,6 @@
 #include "mtg/episode_start_t.hpp"
 #include "mtg/error_event_t.hpp"
 #include "mtg/heartbeat_t.hpp"
-#include "mtg/observation_t.hpp"
 #include "mtg/run_control_t.hpp"
 #include "mtg/state_update_t.hpp"
 #include "orchestrator/run/progress.h"
@@ -134,8 +133,12 @@ class Engine {
     } else {
       throw Error("unknown recorder '" + options_.recorder + "' (mtg or lcm-logger)");
     }
-    for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    if (!fs::exists(log)) throw Error("the recorder did not start (see " + (dir_ / "logs/recorder.log").string() + ")");
+    if (recorder_beats()) {
+      wait_ready({"recorder"}, 60.0);  // subscribed before its first heartbeat
+    } else {
+      for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      if (!fs::exists(log)) throw Error("lcm-logger did not start (see " + (dir_ / "logs/recorder.log").string() + ")");
+    }
 
     const std::vector<std::string> common = {"--url", plan_.bus_url, "--run", plan_.run_id};
     auto with = [&](std::vector<std::string> argv) {
@@ -156,6 +159,8 @@ class Engine {
     }
     wait_ready(names_, 60.0);
   }
+
+  bool recorder_beats() const { return options_.recorder != "lcm-logger"; }
 
   void wait_ready(const std::vector<std::string>& names, double timeout_s) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
@@ -191,7 +196,7 @@ class Engine {
     }
     std::vector<std::string> restarted;
     for (const auto& name : died) {
-      if (name != "recorder") restarted.push_back(name);  // the recorder sends no heartbeat
+      if (name != "recorder" || recorder_beats()) restarted.push_back(name);  // lcm-logger sends no heartbeat
     }
     wait_ready(restarted, 60.0);
     for (const auto id : retry_ids) retry(id, "a process it depended on was restarted");

@@ -35,8 +35,10 @@ std::string sender_id(const std::string& role) {
   return role + ":" + host_name() + ":" + std::to_string(::getpid());
 }
 
-ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity)
+ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity,
+                         bool obeys_shutdown)
     : bus_(bus), stamp_(stamp), role_(std::move(role)), capacity_(capacity) {
+  if (!obeys_shutdown) return;
   bus_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
     const bool for_me = m.target.empty() || m.target == role_ || m.target == stamp_.sender();
     if (for_me && m.command == "shutdown") {

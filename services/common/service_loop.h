@@ -14,7 +14,10 @@ namespace mtg::services {
 
 class ServiceLoop {
  public:
-  ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity = 1);
+  /// `obeys_shutdown` false: only a signal stops the loop, not a run_control "shutdown" (the
+  /// recorder keeps recording while the other services stop).
+  ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity = 1,
+              bool obeys_shutdown = true);
 
   /// Runs until stopped. `idle` is called after each round of message handling.
   void run(const std::function<void()>& idle = {});

@@ -1,10 +1,13 @@
 // Bus recorder: appends every message of the bus to an LCM event log (services/recorder/recorder.h).
+// It sends heartbeats like every service but ignores run_control "shutdown": the orchestrator
+// stops it last, with a signal, so it records the other services' last messages.
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 
 #include "bus/bus.h"
+#include "bus/header.h"
 #include "bus/url.h"
 #include "core/util/log.h"
 #include "services/common/service_loop.h"
@@ -21,14 +24,14 @@ int main(int argc, char** argv) {
   try {
     mtg::bus::Bus bus(url);
     mtg::services::Recorder recorder(bus, out);
+    mtg::bus::HeaderStamper stamp("", mtg::services::sender_id("recorder"));
+    mtg::services::ServiceLoop loop(bus, stamp, "recorder", 1, /*obeys_shutdown=*/false);
     auto next_flush = std::chrono::steady_clock::now();
-    while (!mtg::services::stop_signal_received()) {
-      bus.handle_once(50);
-      if (std::chrono::steady_clock::now() >= next_flush) {
-        recorder.flush();  // a killed run keeps what was recorded up to 100 ms ago
-        next_flush += std::chrono::milliseconds(100);
-      }
-    }
+    loop.run([&] {
+      if (std::chrono::steady_clock::now() < next_flush) return;
+      recorder.flush();  // a killed run keeps what was recorded up to 100 ms ago
+      next_flush += std::chrono::milliseconds(100);
+    });
     // Stopped last, after the services: record until the bus has been quiet for 20 ms.
     while (bus.handle_once(20)) {
     }

@@ -194,7 +194,8 @@ TEST_P(KillServiceTest, TheOrchestratorRestartsItAndRetriesItsEpisodes) {
   EXPECT_THAT(log_text(), ::testing::HasSubstr("restarting it"));
 }
 
-INSTANTIATE_TEST_SUITE_P(EachService, KillServiceTest, ::testing::Values("scene_graph", "judge", "agent:oracle"),
+INSTANTIATE_TEST_SUITE_P(EachService, KillServiceTest,
+                         ::testing::Values("scene_graph", "judge", "agent:oracle", "recorder"),
                          [](const auto& p) {
                            std::string n = p.param;
                            for (auto& c : n) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
