@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <vector>
 
 #include "bus/url.h"
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
+#include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "orchestrator/cli/bench_commands.h"
@@ -80,8 +82,14 @@ void print_latency(const char* what, const std::vector<double>& ms) {
 
 int run_bench_runtime(const BenchRuntimeOptions& options) {
   const fs::path work = fs::absolute(options.work);
+  // The scratch folder is emptied first; never a folder this command did not make.
+  const fs::path marker = work / ".mtg_bench_runtime";
+  if (fs::exists(work) && !fs::is_empty(work) && !fs::exists(marker)) {
+    throw Error(work.string() + " is not empty and not a bench scratch folder; pass another --work");
+  }
   fs::remove_all(work);
   fs::create_directories(work);
+  std::ofstream(marker) << "scratch folder of mtg bench runtime; emptied on every run\n";
 
   tasks::GenerationJob job;
   job.scenes = {options.scene};
