@@ -23,4 +23,8 @@ std::string episode_channel_regex(EpisodeStream stream) {
   return std::string(prefix(stream)) + "[0-9]+";
 }
 
+bool is_episode_channel(const std::string& channel, EpisodeStream stream) {
+  return channel.rfind(prefix(stream), 0) == 0;
+}
+
 }  // namespace mtg::bus

@@ -26,5 +26,7 @@ enum class EpisodeStream { kObservation, kAction, kState, kJudge };
 std::string episode_channel(EpisodeStream stream, std::int64_t episode_id);
 /// Regex matching that stream for every episode, e.g. "MTG_OBS_E[0-9]+".
 std::string episode_channel_regex(EpisodeStream stream);
+/// Whether `channel` is one episode's channel of that stream (e.g. "MTG_ACT_E7" for kAction).
+bool is_episode_channel(const std::string& channel, EpisodeStream stream);
 
 }  // namespace mtg::bus

@@ -109,6 +109,16 @@ episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_u
   return u;
 }
 
+episode::RuleOptions episode_rules(const mtg::episode_start_t& start) {
+  episode::RuleOptions rules;
+  if (start.step_limit > 0) rules.step_limit = start.step_limit;
+  return rules;
+}
+
+episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {
+  return {action.parsed_key, action.format_ok != 0, !action.error.empty()};
+}
+
 void fill_result(const episode::Verdict& v, mtg::episode_result_t& r) {
   r.success = v.success;
   r.ip = v.ip;

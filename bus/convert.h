@@ -5,10 +5,13 @@
 #include <string>
 
 #include "core/episode/judge.h"
+#include "core/episode/rules.h"
 #include "core/episode/transcript.h"
 #include "core/graph/scene_graph.h"
 #include "core/tasks/task.h"
+#include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
+#include "mtg/episode_start_t.hpp"
 #include "mtg/state_update_t.hpp"
 #include "mtg/task_t.hpp"
 
@@ -21,6 +24,13 @@ tasks::Task from_message(const mtg::task_t& m);
 mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,
                                const episode::StateUpdate& u);
 episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_update_t& m);
+
+/// The episode rules an episode start asks for (its step limit; the defaults otherwise). The
+/// scene-graph service and `mtg rejudge` must step an episode alike.
+episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
+
+/// What the rules need of an agent's action.
+episode::AgentAnswer to_answer(const mtg::agent_action_t& action);
 
 /// Fills the verdict fields of an episode result (header and identity left to the caller).
 void fill_result(const episode::Verdict& v, mtg::episode_result_t& r);

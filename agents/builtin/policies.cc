@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bus/channels.h"
+#include "bus/recording.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/util/rng.h"
@@ -46,36 +47,24 @@ class RandomPolicy : public Policy {
 class ReplayPolicy : public Policy {
  public:
   explicit ReplayPolicy(const fs::path& run_dir) {
-    if (!fs::is_directory(run_dir)) throw Error("replay agent: no run folder " + run_dir.string());
-    std::vector<fs::path> logs;
-    for (const auto& entry : fs::directory_iterator(run_dir)) {
-      if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
-    }
-    std::sort(logs.begin(), logs.end());
-    if (logs.empty()) throw Error("replay agent: no *.lcmlog recording in " + run_dir.string());
-    for (const auto& log : logs) {
-      lcm::LogFile file(log.string(), "r");
-      if (!file.good()) throw Error("replay agent: cannot read " + log.string());
-      for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
-        if (ev->channel.rfind("MTG_ACT_E", 0) != 0) continue;
-        mtg::agent_action_t a{};
-        if (a.decode(ev->data, 0, ev->datalen) < 0) continue;
-        auto& by_attempt = recorded_[{a.header.run_id, a.header.episode_id}];
-        by_attempt[a.header.attempt][a.step] = a;
-      }
-    }
+    bus::for_each_recorded_event(run_dir, [this](const lcm::LogEvent& ev) {
+      if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) return;
+      mtg::agent_action_t a{};
+      if (a.decode(ev.data, 0, ev.datalen) < 0) return;
+      recorded_[a.header.episode_id][a.header.attempt][a.step] = a;
+    });
   }
 
   AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
     AgentReply r;
     r.provider = "replay";
-    // The recorded run may have another run id; episodes are matched by id.
-    const auto it = find_episode(start.header.episode_id);
-    if (it == nullptr) {
+    // The recorded run has another run id; episodes are matched by id.
+    const auto it = recorded_.find(start.header.episode_id);
+    if (it == recorded_.end()) {
       r.error = "replay: no recorded answers for episode " + std::to_string(start.header.episode_id);
       return r;
     }
-    const auto& last_attempt = it->rbegin()->second;
+    const auto& last_attempt = it->second.rbegin()->second;
     const auto step = last_attempt.find(obs.step);
     if (step == last_attempt.end()) {
       r.error = "replay: no recorded answer for episode " + std::to_string(start.header.episode_id) + " step " +
@@ -98,13 +87,7 @@ class ReplayPolicy : public Policy {
 
  private:
   using Steps = std::map<int, mtg::agent_action_t>;
-  const std::map<int, Steps>* find_episode(std::int64_t episode) const {
-    for (const auto& [key, attempts] : recorded_) {
-      if (key.second == episode) return &attempts;
-    }
-    return nullptr;
-  }
-  std::map<std::pair<std::string, std::int64_t>, std::map<int, Steps>> recorded_;
+  std::map<std::int64_t, std::map<int, Steps>> recorded_;  // episode -> attempt -> step -> answer
 };
 
 class ScriptPolicy : public Policy {
@@ -126,6 +109,10 @@ class ScriptPolicy : public Policy {
 };
 
 }  // namespace
+
+bool is_builtin_agent(const std::string& spec) {
+  return spec == "oracle" || spec == "random" || spec.rfind("replay:", 0) == 0 || spec.rfind("script:", 0) == 0;
+}
 
 std::unique_ptr<Policy> make_builtin_policy(const std::string& spec) {
   if (spec == "oracle") return std::make_unique<OraclePolicy>();

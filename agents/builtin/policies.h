@@ -12,6 +12,9 @@
 
 namespace mtg::agents {
 
+/// Whether `spec` names one of the agents above (their files are not checked).
+bool is_builtin_agent(const std::string& spec);
+
 /// @throws mtg::Error for an unknown spec or an unreadable recording/script.
 std::unique_ptr<Policy> make_builtin_policy(const std::string& spec);
 

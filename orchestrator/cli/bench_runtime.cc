@@ -11,6 +11,8 @@
 #include <map>
 #include <vector>
 
+#include "bus/channels.h"
+#include "bus/recording.h"
 #include "bus/url.h"
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
@@ -44,19 +46,15 @@ struct StepLatencies {
 StepLatencies step_latencies(const fs::path& run_dir) {
   using Key = std::pair<std::int64_t, std::int32_t>;
   std::map<Key, std::map<int, std::int64_t>> obs, act;
-  for (const auto& entry : fs::directory_iterator(run_dir)) {
-    if (entry.path().extension() != ".lcmlog") continue;
-    lcm::LogFile file(entry.path().string(), "r");
-    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
-      if (ev->channel.rfind("MTG_OBS_E", 0) == 0) {
-        mtg::observation_t m{};
-        if (m.decode(ev->data, 0, ev->datalen) >= 0) obs[{m.header.episode_id, m.header.attempt}][m.step] = ev->timestamp;
-      } else if (ev->channel.rfind("MTG_ACT_E", 0) == 0) {
-        mtg::agent_action_t m{};
-        if (m.decode(ev->data, 0, ev->datalen) >= 0) act[{m.header.episode_id, m.header.attempt}][m.step] = ev->timestamp;
-      }
+  bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
+    if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) {
+      mtg::observation_t m{};
+      if (m.decode(ev.data, 0, ev.datalen) >= 0) obs[{m.header.episode_id, m.header.attempt}][m.step] = ev.timestamp;
+    } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
+      mtg::agent_action_t m{};
+      if (m.decode(ev.data, 0, ev.datalen) >= 0) act[{m.header.episode_id, m.header.attempt}][m.step] = ev.timestamp;
     }
-  }
+  });
   StepLatencies out;
   for (const auto& [key, steps] : obs) {
     const auto& acts = act[key];

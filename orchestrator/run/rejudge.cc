@@ -2,10 +2,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include <algorithm>
 #include <map>
 
+#include "bus/channels.h"
 #include "bus/convert.h"
+#include "bus/recording.h"
 #include "core/episode/judge.h"
 #include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
@@ -24,28 +25,18 @@ struct Recorded {
 };
 
 std::map<std::int64_t, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id) {
-  std::vector<fs::path> logs;
-  for (const auto& entry : fs::directory_iterator(run_dir)) {
-    if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
-  }
-  std::sort(logs.begin(), logs.end());
-  if (logs.empty()) throw Error(run_dir.string() + ": no recording (*.lcmlog)");
   std::map<std::int64_t, Recorded> out;
-  for (const auto& log : logs) {
-    lcm::LogFile file(log.string(), "r");
-    if (!file.good()) throw Error(log.string() + ": cannot read recording");
-    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
-      if (ev->channel == "MTG_EPISODE_START") {
-        mtg::episode_start_t m{};
-        if (m.decode(ev->data, 0, ev->datalen) < 0 || m.header.run_id != run_id) continue;
-        out[m.header.episode_id].starts[m.header.attempt] = m;
-      } else if (ev->channel.rfind("MTG_ACT_E", 0) == 0) {
-        mtg::agent_action_t m{};
-        if (m.decode(ev->data, 0, ev->datalen) < 0 || m.header.run_id != run_id) continue;
-        out[m.header.episode_id].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
-      }
+  bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
+    if (ev.channel == bus::kEpisodeStart) {
+      mtg::episode_start_t m{};
+      if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
+      out[m.header.episode_id].starts[m.header.attempt] = m;
+    } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
+      mtg::agent_action_t m{};
+      if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
+      out[m.header.episode_id].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
     }
-  }
+  });
   return out;
 }
 
@@ -71,8 +62,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
       episode::EpisodeJudge judge(g, goal, task.level);
       episode::WorldState state = episode::initial_state(g);
-      episode::RuleOptions rules;
-      rules.step_limit = start.step_limit;
+      const episode::RuleOptions rules = bus::episode_rules(start);
       const episode::TaskConstraints constraints{goal.protected_objects()};
       judge.observe(episode::StateUpdate{});
       const auto answers = rec->second.actions.find(original.attempt);
@@ -81,19 +71,12 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
           throw Error(run_dir.string() + ": the recording lacks episode " + std::to_string(original.episode_id) +
                       "'s answer to step " + std::to_string(step));
         }
-        const mtg::agent_action_t& a = answers->second.at(step);
-        const episode::AgentAnswer answer{a.parsed_key, a.format_ok != 0, !a.error.empty()};
+        const episode::AgentAnswer answer = bus::to_answer(answers->second.at(step));
         judge.observe(episode::step_episode(g, state, answer, constraints, rules).update);
       }
-      const episode::Verdict v = judge.verdict();
-      row.success = v.success;
-      row.ip = v.ip;
-      row.stage = v.stage;
-      row.cause = v.cause;
-      row.steps = v.steps;
-      row.invalid_actions = v.invalid_actions;
-      row.subtask_ip = nlohmann::json(v.part_ip).dump();
-      row.detail = v.detail;
+      mtg::episode_result_t result{};
+      bus::fill_result(judge.verdict(), result);
+      set_verdict(row, result);
     }
     if (verdict_fingerprint(row) == verdict_fingerprint(original)) {
       ++report.identical;

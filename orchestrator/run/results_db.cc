@@ -1,5 +1,7 @@
 #include "orchestrator/run/results_db.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 
 #include "core/util/error.h"
@@ -56,6 +58,17 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
 }
 
 }  // namespace
+
+void set_verdict(EpisodeRow& row, const mtg::episode_result_t& result) {
+  row.success = result.success;
+  row.ip = result.ip;
+  row.stage = result.stage;
+  row.cause = result.cause;
+  row.steps = result.steps;
+  row.invalid_actions = result.invalid_actions;
+  row.subtask_ip = nlohmann::json(result.subtask_ip).dump();
+  row.detail = result.detail;
+}
 
 ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   db_ = std::make_unique<store::Database>(file, store::Database::Mode::kCreate);

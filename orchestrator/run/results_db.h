@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/store/sqlite.h"
+#include "mtg/episode_result_t.hpp"
 
 namespace mtg::orchestrator {
 
@@ -31,6 +32,10 @@ struct EpisodeRow {
   std::string detail;
   std::string status = "scored";  // "scored", or "error" (infrastructure gave up; excluded from SR/IP)
 };
+
+/// Copies the verdict of a judge's result into `row` (success, IP, stage, cause, steps, invalid
+/// actions, sub-task IP, detail); identity, usage and timing stay as they are.
+void set_verdict(EpisodeRow& row, const mtg::episode_result_t& result);
 
 class ResultsDb {
  public:

@@ -8,6 +8,7 @@
 #include <set>
 #include <thread>
 
+#include "agents/builtin/policies.h"
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/convert.h"
@@ -35,10 +36,6 @@ void on_interrupt(int) { g_interrupted = 1; }
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-bool is_builtin_agent(const std::string& spec) {
-  return spec == "oracle" || spec == "random" || spec.rfind("replay:", 0) == 0 || spec.rfind("script:", 0) == 0;
 }
 
 class Engine {
@@ -151,7 +148,7 @@ class Engine {
     names_.push_back("judge");
     for (std::size_t i = 0; i < plan_.agents.size(); ++i) {
       const std::string& spec = plan_.agents[i];
-      if (!is_builtin_agent(spec)) throw Error("agent '" + spec + "' has no adapter in this build (built-in: oracle, random, replay:<run>, script:<file>)");
+      if (!agents::is_builtin_agent(spec)) throw Error("agent '" + spec + "' has no adapter in this build (built-in: oracle, random, replay:<run>, script:<file>)");
       const std::string name = "agent-" + std::to_string(i);
       supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
       agent_process_[spec] = name;
@@ -206,7 +203,7 @@ class Engine {
     while (static_cast<int>(in_flight_.size()) < plan_.parallel && !pending_.empty()) {
       const std::int64_t id = pending_.front();
       pending_.pop_front();
-      send_start(id, attempts_[id]);
+      send_start(id, 0);  // retries do not queue: retry() sends the next attempt itself
     }
   }
 
@@ -264,7 +261,6 @@ class Engine {
     log::info("episode " + std::to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
     ++retries_;
     if (progress_ != nullptr) progress_->retry();
-    attempts_[id] = attempt;
     send_start(id, attempt);
   }
 
@@ -291,19 +287,12 @@ class Engine {
       return;
     }
     EpisodeRow row = base_row(m.header.episode_id, m.header.attempt);
-    row.success = m.success;
-    row.ip = m.ip;
-    row.stage = m.stage;
-    row.cause = m.cause;
-    row.steps = m.steps;
-    row.invalid_actions = m.invalid_actions;
+    set_verdict(row, m);
     row.input_tokens = m.input_tokens;
     row.output_tokens = m.output_tokens;
     row.cost_usd = m.cost_usd;
     row.latency_ms = m.latency_ms;
     row.wall_ms = 1000.0 * seconds_since(it->second.started);
-    row.subtask_ip = nlohmann::json(m.subtask_ip).dump();
-    row.detail = m.detail;
     in_flight_.erase(it);
     store(row, true);
   }
@@ -341,7 +330,6 @@ class Engine {
   std::map<std::int64_t, const PlannedEpisode*> by_id_;
   std::deque<std::int64_t> pending_;
   std::map<std::int64_t, Flight> in_flight_;
-  std::map<std::int64_t, int> attempts_;
   Progress* progress_ = nullptr;
   std::int64_t completed_ = 0, errors_ = 0, retries_ = 0;
 };

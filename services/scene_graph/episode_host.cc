@@ -42,12 +42,6 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& s
                                       });
 }
 
-int EpisodeHost::in_flight() const {
-  int n = 0;
-  for (const auto& [key, e] : episodes_) n += e.state.phase == episode::Phase::kDone ? 0 : 1;
-  return n;
-}
-
 void EpisodeHost::on_start(const mtg::episode_start_t& start) {
   const Key key{start.header.run_id, start.header.episode_id};
   const auto existing = episodes_.find(key);
@@ -58,7 +52,7 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start) {
     e.task = bus::from_message(start.task);
     e.graph = &scenes_.get(e.task.scene, start.data_dir);
     e.constraints.protected_objects = episode::task_goal_from_json(*e.graph, e.task.goal).protected_objects();
-    e.rules.step_limit = start.step_limit > 0 ? start.step_limit : 15;
+    e.rules = bus::episode_rules(start);
     e.state = episode::initial_state(*e.graph);
     e.render = start.render;
     episodes_[key] = std::move(e);
@@ -90,8 +84,8 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
       e.state.phase == episode::Phase::kDone) {
     return;  // stale, duplicate or late: never applied twice
   }
-  const episode::AgentAnswer answer{action.parsed_key, action.format_ok != 0, !action.error.empty()};
-  const episode::EpisodeStep step = episode::step_episode(*e.graph, e.state, answer, e.constraints, e.rules);
+  const episode::EpisodeStep step =
+      episode::step_episode(*e.graph, e.state, bus::to_answer(action), e.constraints, e.rules);
   e.hint = step.hint;
   publish_state(key, e, step.update, &step);
   publish_observation(key, e);

@@ -39,8 +39,8 @@ class EpisodeHost {
 
   void on_start(const mtg::episode_start_t& start);
   void on_action(const mtg::agent_action_t& action);
-  /// Episodes currently held.
-  int in_flight() const;
+  /// Episodes currently held (a finished episode is dropped with its last observation).
+  int in_flight() const { return static_cast<int>(episodes_.size()); }
 
  private:
   struct Episode {

@@ -1,5 +1,5 @@
 // The episode runtime end to end: `mtg run` with real processes on this test's own bus
-// (run_isolated.sh gives every test its own network namespace), with the failures the issue
+// (`scripts/with-bus --isolated` gives every test its own network namespace), with the failures the issue
 // names injected: killed processes, lost and duplicated messages, malformed replies.
 
 #include <gmock/gmock.h>

@@ -32,7 +32,7 @@ TEST(BusUrl, ParseUdpm) {
   EXPECT_THROW(parse_udpm("udpm://not-an-address:1"), Error);
 }
 
-// run_isolated.sh gives this process its own namespace, so changing routes is safe here.
+// `scripts/with-bus --isolated` gives this process its own namespace, so changing routes is safe here.
 TEST(BusUrl, RouteCheckPassesOnLoAndExplainsTheFixWhenMissing) {
   EXPECT_EQ(multicast_interface("239.255.76.67"), "lo");
   EXPECT_NO_THROW(check_multicast_route(kDefaultUrl));
