@@ -262,14 +262,21 @@ OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::j
   return goal;
 }
 
+std::vector<int> AtomicGoal::anchors() const {
+  std::vector<int> out;
+  if (anchor >= 0) out.push_back(anchor);
+  if (anchor2 >= 0) out.push_back(anchor2);
+  return out;
+}
+
 std::vector<int> TaskGoal::protected_objects() const {
   // Anchors stay put, unless a part of the task moves them itself (a Level 3 chain may use the
   // first part's item as the second part's anchor).
   std::vector<int> out;
   for (const AtomicGoal& p : parts) {
-    for (const int a : {p.anchor, p.anchor2}) {
+    for (const int a : p.anchors()) {
       const bool moved = std::any_of(parts.begin(), parts.end(), [&](const AtomicGoal& q) { return q.item == a; });
-      if (a >= 0 && !moved && std::find(out.begin(), out.end(), a) == out.end()) out.push_back(a);
+      if (!moved && std::find(out.begin(), out.end(), a) == out.end()) out.push_back(a);
     }
   }
   return out;

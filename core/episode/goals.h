@@ -40,6 +40,9 @@ struct AtomicGoal {
   int anchor = -1;
   int anchor2 = -1;
   int direction = -1;   // relative direction (surface_part 0..8, direction 0..7)
+
+  /// The anchors this goal names (none, one, or two for "between").
+  std::vector<int> anchors() const;
 };
 
 bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,

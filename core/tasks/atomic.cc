@@ -118,19 +118,19 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
   auto wanted = [](const std::vector<int>& list, int v) {
     return list.empty() || std::find(list.begin(), list.end(), v) != list.end();
   };
-  // Placement targets of each destination as the initial state offers them; reused for every
-  // item that does not come from that destination (its obstacles are then the same).
+  auto build_targets = [&](const episode::WorldState& placing, int pd, graph::Side side) {
+    std::vector<episode::PlaceTarget> t = episode::place_targets(g, placing, pd, side, options.rules.min_region_size);
+    std::stable_partition(t.begin(), t.end(),
+                          [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
+    return t;
+  };
+  // Placement targets of each destination as the initial state offers them; shared (not copied)
+  // by every item that does not come from that destination (its obstacles are then the same).
   std::map<int, std::vector<episode::PlaceTarget>> cached_targets;
-  auto targets_for = [&](const episode::WorldState& placing, int pd, graph::Side side, bool item_from_here) {
-    auto build = [&] {
-      std::vector<episode::PlaceTarget> t = episode::place_targets(g, placing, pd, side, options.rules.min_region_size);
-      std::stable_partition(t.begin(), t.end(),
-                            [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
-      return t;
-    };
-    if (item_from_here) return build();
+  auto cached_targets_for = [&](const episode::WorldState& placing, int pd,
+                                graph::Side side) -> const std::vector<episode::PlaceTarget>& {
     auto it = cached_targets.find(pd);
-    if (it == cached_targets.end()) it = cached_targets.emplace(pd, build()).first;
+    if (it == cached_targets.end()) it = cached_targets.emplace(pd, build_targets(placing, pd, side)).first;
     return it->second;
   };
   for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
@@ -160,7 +160,10 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
         const geom::Region feasible = episode::held_feasible_centres(g, placing, pd);
         if (feasible.empty()) continue;
         const bool from_here = episode::objects_on(placing, pd) != episode::objects_on(s, pd);
-        const std::vector<episode::PlaceTarget> targets = targets_for(placing, pd, side, from_here);
+        std::vector<episode::PlaceTarget> own_targets;
+        if (from_here) own_targets = build_targets(placing, pd, side);
+        const std::vector<episode::PlaceTarget>& targets =
+            from_here ? own_targets : cached_targets_for(placing, pd, side);
         // Anchors: everything on the destination now, in the frame of the platform.
         const Eigen::Isometry2d X_PW = episode::platform_frame(g, placing, pd).inverse();
         std::vector<AnchorInfo> anchors;
@@ -217,10 +220,7 @@ bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const Atomi
                  const TaskOptions& options) {
   episode::RuleOptions rules = options.rules;
   rules.step_limit = 1 << 20;  // the caller's plan decides the length
-  episode::TaskConstraints constraints;
-  for (const int a : {task.goal.anchor, task.goal.anchor2}) {
-    if (a >= 0) constraints.protected_objects.push_back(a);
-  }
+  const episode::TaskConstraints constraints{task.goal.anchors()};
   for (const std::string& key : task.oracle) {
     const episode::StepOutcome out = episode::apply_action(g, s, key, constraints, rules);
     if (!out.applied) return false;

@@ -25,17 +25,15 @@ void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, T
   t.item = g.objects[static_cast<std::size_t>(goal.item)].name;
   t.source = g.platforms[static_cast<std::size_t>(goal.source)].name;
   t.destination = g.platforms[static_cast<std::size_t>(goal.platform)].name;
-  for (const int a : {goal.anchor, goal.anchor2}) {
-    if (a >= 0) t.anchors.push_back(g.objects[static_cast<std::size_t>(a)].name);
-  }
+  for (const int a : goal.anchors()) t.anchors.push_back(g.objects[static_cast<std::size_t>(a)].name);
   if (goal.direction >= 0) t.direction = graph::direction_name(goal.direction);
 }
 
 bool is_ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& goal,
                   Ambiguity rule) {
   if (ambiguous(g, s, goal.item, goal.source, rule)) return true;
-  for (const int a : {goal.anchor, goal.anchor2}) {
-    if (a >= 0 && ambiguous(g, s, a, goal.platform, rule, goal.item)) return true;
+  for (const int a : goal.anchors()) {
+    if (ambiguous(g, s, a, goal.platform, rule, goal.item)) return true;
   }
   return false;
 }
@@ -80,7 +78,6 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
   if (want_atomic) atomic = enumerate_atomic(g, initial, options);
 
-  std::map<std::string, int> by_type;
   for (const AtomicTask& a : atomic) {
     const int level = is_ambiguous(g, initial, a.goal, options.ambiguity) ? 2 : 1;
     if (options.levels.count(level) == 0) continue;
@@ -93,7 +90,6 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
     t.oracle = a.oracle;
     t.oracle.push_back("0");
     t.step_limit = options.rules.step_limit;
-    by_type[t.type] += 1;
     add(std::move(t));
   }
 
@@ -145,15 +141,10 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
         continue;
       }
       result.votes.insert(result.votes.end(), votes.begin(), votes.end());
-      by_type[t.type] += 1;
       add(std::move(t));
     }
     if (vetoed > 0) set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by recorded votes");
   }
-
-  nlohmann::json levels = nlohmann::json::object();
-  for (const auto& [level, n] : next_index) levels[std::to_string(level)] = n;
-  set.stats = {{"scene", g.scene}, {"levels", levels}, {"types", by_type}, {"atomic_enumerated", atomic.size()}};
   return result;
 }
 

@@ -93,9 +93,15 @@ struct Move {
   int next_to = -1;            // place in one of this object's free spaces
 };
 
-// Plays a greedy plan with the episode rules. Returns the keys, or nullopt when a move fails.
-std::optional<std::vector<std::string>> plan_moves(const graph::SceneGraph& g, WorldState s,
-                                                   const std::vector<Move>& moves, const TaskOptions& options) {
+struct Plan {
+  std::vector<std::string> keys;
+  WorldState after;  // the world once the keys are played
+};
+
+// Plays a greedy plan with the episode rules. Returns the keys and the world they leave, or
+// nullopt when a move fails.
+std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const std::vector<Move>& moves,
+                               const TaskOptions& options) {
   episode::RuleOptions rules = options.rules;
   rules.step_limit = 1 << 20;
   std::vector<std::string> keys;
@@ -139,7 +145,7 @@ std::optional<std::vector<std::string>> plan_moves(const graph::SceneGraph& g, W
     }
     if (!placed) return std::nullopt;
   }
-  return keys;
+  return Plan{std::move(keys), std::move(s)};
 }
 
 std::string category_text(const std::string& c) {
@@ -210,26 +216,15 @@ class Instantiator {
   // Fills the template, plans, verifies the goal with the judge's predicate, and keeps the task.
   bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
             const std::vector<Move>& moves) {
-    const auto plan = plan_moves(g_, s_, moves, options_);
-    if (!plan) return false;
-    WorldState after = s_;
-    episode::RuleOptions rules = options_.rules;
-    rules.step_limit = 1 << 20;
-    for (const auto& key : *plan) episode::apply_action(g_, after, key, {}, rules);
-    if (!episode::outcome_satisfied(g_, after, goal, options_.goals)) return false;
     if (episode::outcome_satisfied(g_, s_, goal, options_.goals)) return false;  // nothing to do
+    auto plan = plan_moves(g_, s_, moves, options_);
+    if (!plan || !episode::outcome_satisfied(g_, plan->after, goal, options_.goals)) return false;
     OutcomeTask task;
     task.tmpl = tmpl_;
     task.text = tmpl_->text;
-    for (const auto& [key, value] : values) {
-      const std::string ph = "{" + key + "}";
-      for (std::size_t pos = 0; (pos = task.text.find(ph, pos)) != std::string::npos; pos += value.size()) {
-        task.text.replace(pos, ph.size(), value);
-      }
-    }
+    for (const auto& [key, value] : values) replace_all(task.text, "{" + key + "}", value);
     task.goal = std::move(goal);
-    task.oracle = *plan;
-    for (const Move& m : moves) task.moved.push_back(m.object);
+    task.oracle = std::move(plan->keys);
     out_->push_back(std::move(task));
     return true;
   }

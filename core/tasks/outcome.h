@@ -45,7 +45,6 @@ struct OutcomeTask {
   std::string text;
   episode::OutcomeGoal goal;
   std::vector<std::string> oracle;  // without call_end
-  std::vector<int> moved;           // objects the plan moves
 };
 
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,

@@ -37,13 +37,13 @@ constexpr std::array<const char*, 4> kBetween = {
     "Take the {item} on {source} and place it between the {anchor} and the {anchor2} on {target}.",
     "Place the {item} from {source} between the {anchor} and the {anchor2}, on {target}."};
 
+}  // namespace
+
 void replace_all(std::string& s, const std::string& from, const std::string& to) {
   for (std::size_t pos = 0; (pos = s.find(from, pos)) != std::string::npos; pos += to.size()) {
     s.replace(pos, from.size(), to);
   }
 }
-
-}  // namespace
 
 std::string plural(const std::string& noun) {
   if (noun.empty()) return noun;

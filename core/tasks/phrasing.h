@@ -17,6 +17,9 @@ std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& g
 /// "<first>, then <second>" (the paper's THEN connector), for any number of parts.
 std::string sequence_text(const std::vector<std::string>& parts);
 
+/// Replaces every `from` in `s` by `to` (a template's "{placeholder}" by its value).
+void replace_all(std::string& s, const std::string& from, const std::string& to);
+
 /// Naive English plural of a category name ("book" -> "books", "box" -> "boxes").
 std::string plural(const std::string& noun);
 

@@ -11,13 +11,6 @@ namespace {
 
 constexpr int kAttemptsPerChain = 25;
 
-std::vector<int> anchors_of(const episode::AtomicGoal& goal) {
-  std::vector<int> out;
-  if (goal.anchor >= 0) out.push_back(goal.anchor);
-  if (goal.anchor2 >= 0) out.push_back(goal.anchor2);
-  return out;
-}
-
 // Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
 std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,
                                  const AtomicTask& task, const TaskOptions& options) {
@@ -63,7 +56,7 @@ std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episo
             const int item = items[rng.uniform_index(items.size())];
             std::vector<AtomicTask> options_here;
             for (AtomicTask& t : enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}})) {
-              const auto anchors = anchors_of(t.goal);
+              const auto anchors = t.goal.anchors();
               if (std::find(anchors.begin(), anchors.end(), last_item) != anchors.end()) {
                 options_here.push_back(std::move(t));
               }
@@ -78,7 +71,7 @@ std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episo
             break;
           }
           bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
-          for (const int a : anchors_of(pick.goal)) touched = touched || moved.count(a) != 0;
+          for (const int a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
           next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
           if (!next) {
             ok = false;

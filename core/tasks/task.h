@@ -62,7 +62,6 @@ struct TaskSet {
   std::string scene;
   std::vector<Task> tasks;
   std::vector<std::string> warnings;
-  nlohmann::json stats;  // counts and generation details
 };
 
 }  // namespace mtg::tasks

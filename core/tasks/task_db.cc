@@ -1,8 +1,9 @@
 #include "core/tasks/task_db.h"
 
-#include <fstream>
+#include <ostream>
 
 #include "core/store/sqlite.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace mtg::tasks {
@@ -76,30 +77,29 @@ nlohmann::json task_to_json(const Task& t) {
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
                    const TaskOptions& options) {
-  const fs::path tmp = file.string() + ".partial";
+  const fs::path tmp = partial_path(file);  // SQLite writes it; renamed once committed
   fs::remove(tmp);
   {
     store::Database db(tmp, store::Database::Mode::kCreate);
     db.exec(kSchema);
     store::Transaction tx(db);
     store::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?, ?)");
-    std::string scenes;
-    for (const auto& s : sets) scenes += (scenes.empty() ? "" : ",") + s.scene;
-    const nlohmann::json config = options.to_json();
+    std::vector<std::string> scenes;
+    for (const auto& s : sets) scenes.push_back(s.scene);
+    const std::string hash = options.config_hash();
     for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
              {"format", "mtg-task-db/1"},
              {"generator_version", kGeneratorVersion},
-             {"config_json", config.dump()},
-             {"config_hash", options.config_hash()},
+             {"config_json", options.to_json().dump()},
+             {"config_hash", hash},
              {"seed", std::to_string(options.seed)},
-             {"scenes", scenes}}) {
+             {"scenes", join(scenes)}}) {
       meta.bind(1, k).bind(2, v).run();
     }
     store::Statement insert(db,
                             "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
                             "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
                             "generator_version, config_hash, seed) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    const std::string hash = options.config_hash();
     for (const TaskSet& set : sets) {
       for (const Task& t : set.tasks) {
         insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
@@ -119,16 +119,11 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
 }
 
 void write_jsonl(const fs::path& file, const std::vector<TaskSet>& sets) {
-  const fs::path tmp = file.string() + ".partial";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write");
+  write_file_atomically(file, [&](std::ostream& out) {
     for (const TaskSet& set : sets) {
       for (const Task& t : set.tasks) out << task_to_json(t).dump() << '\n';
     }
-    if (!out) throw Error(file.string() + ": write failed");
-  }
-  fs::rename(tmp, file);
+  });
 }
 
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace mtg {
@@ -44,14 +45,7 @@ nlohmann::json read_json_file(const std::filesystem::path& file) {
 }
 
 void write_json_file(const std::filesystem::path& file, const nlohmann::json& value) {
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write file");
-    out << value.dump(1, ' ') << '\n';
-    if (!out) throw Error(file.string() + ": write failed");
-  }
-  std::filesystem::rename(tmp, file);
+  write_file_atomically(file, [&](std::ostream& out) { out << value.dump(1, ' ') << '\n'; });
 }
 
 JsonField JsonField::at(const std::string& key) const {
