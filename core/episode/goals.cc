@@ -15,10 +15,7 @@ constexpr double kEps = 1e-9;
 geom::Point2 footprint_centre(const ObjectState& o) { return geom::centroid(geom::Region{{o.footprint}}); }
 
 double segment_distance(const geom::Point2& p, const geom::Point2& a, const geom::Point2& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
+  return (geom::closest_on_segment(a, b, p) - p).norm();
 }
 
 bool inside_convex(const geom::Ring& ring, const geom::Point2& p) {

@@ -57,6 +57,8 @@ double cross(const Point2& o, const Point2& a, const Point2& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
 
+}  // namespace
+
 Point2 closest_on_segment(const Point2& a, const Point2& b, const Point2& p) {
   const Eigen::Vector2d ab = b - a;
   const double len2 = ab.squaredNorm();
@@ -64,8 +66,6 @@ Point2 closest_on_segment(const Point2& a, const Point2& b, const Point2& p) {
   const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
   return a + t * ab;
 }
-
-}  // namespace
 
 double signed_area(const Ring& ring) {
   double a = 0.0;
@@ -88,10 +88,16 @@ Region rectangle(const Point2& min, const Point2& max) {
   return Region{{Ring{min, Point2(max.x(), min.y()), max, Point2(min.x(), max.y())}}};
 }
 
-Region from_ring(Ring ring) {
+Region from_ring(const Ring& ring) {
   if (ring.size() < 3) return {};
-  if (signed_area(ring) < 0.0) std::reverse(ring.begin(), ring.end());
-  return unite_rings({ring});
+  return unite_rings({ring});  // it orients the ring
+}
+
+Ring mirrored(const Ring& ring) {
+  Ring out;
+  out.reserve(ring.size());
+  for (const auto& q : ring) out.push_back(-q);
+  return out;
 }
 
 Region unite_rings(const std::vector<Ring>& rings) {
@@ -169,13 +175,12 @@ Region dilate(const Region& a, const Ring& convex_pattern) {
 
 Region erode(const Region& a, const Ring& convex_pattern) {
   if (a.empty() || convex_pattern.empty()) return {};
-  Ring mirrored;
-  for (const auto& q : convex_pattern) mirrored.push_back(-q);
+  const Ring minus_b = mirrored(convex_pattern);
   if (contains(from_ring(convex_pattern), Point2::Zero())) {
     // For a convex B holding its reference point: p + B ⊆ A  <=>  p ∈ A and p ∉ ∂A ⊕ (-B)
     // (a path from p into B that leaves A crosses its boundary). The band around the boundary
     // is one Minkowski sum of the rings, much cheaper than dilating A's complement.
-    return execute(cl::ctDifference, to_paths(a), boundary_band(a, mirrored));
+    return execute(cl::ctDifference, to_paths(a), boundary_band(a, minus_b));
   }
   // General case: p + B ⊆ A  <=>  p ∉ (complement(A) ⊕ (-B)).
   Eigen::AlignedBox2d box = bounds(a);
@@ -184,7 +189,7 @@ Region erode(const Region& a, const Ring& convex_pattern) {
   box.min() -= Eigen::Vector2d::Constant(2.0 * reach + 1.0);
   box.max() += Eigen::Vector2d::Constant(2.0 * reach + 1.0);
   const Region outside = subtract(rectangle(box.min(), box.max()), a);
-  return subtract(a, dilate(outside, mirrored));
+  return subtract(a, dilate(outside, minus_b));
 }
 
 Region clean(const Region& region, double min_area, double tolerance) {

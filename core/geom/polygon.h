@@ -28,7 +28,10 @@ double area(const Region& region);
 /// Axis-aligned rectangle [min, max].
 Region rectangle(const Point2& min, const Point2& max);
 /// A region from one simple ring of either orientation.
-Region from_ring(Ring ring);
+Region from_ring(const Ring& ring);
+/// The ring reflected through its reference point (-q for every q): turns "the pattern at p
+/// overlaps X" into "p lies in X ⊕ mirrored(pattern)".
+Ring mirrored(const Ring& ring);
 /// Union of rings of any orientation (each ring taken as a filled polygon).
 Region unite_rings(const std::vector<Ring>& rings);
 
@@ -48,6 +51,8 @@ Region clean(const Region& region, double min_area, double tolerance = 1e-5);
 bool contains(const Region& region, const Point2& p);
 /// Each connected piece (one outer ring with its holes).
 std::vector<Region> components(const Region& region);
+/// The point of segment ab nearest to p.
+Point2 closest_on_segment(const Point2& a, const Point2& b, const Point2& p);
 /// The point of the region nearest to p (p itself when inside). Requires a non-empty region.
 Point2 closest_point(const Region& region, const Point2& p);
 /// Area centroid of the region.

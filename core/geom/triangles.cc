@@ -10,18 +10,11 @@ Eigen::Vector3d Triangle::normal() const {
   return len > 1e-15 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
 }
 
-double Triangle::area() const { return 0.5 * (b - a).cross(c - a).norm(); }
-
 void TriangleSoup::add(const Triangle& t) {
   triangles.push_back(t);
   bounds.extend(t.a);
   bounds.extend(t.b);
   bounds.extend(t.c);
-}
-
-void TriangleSoup::append(const TriangleSoup& other) {
-  triangles.insert(triangles.end(), other.triangles.begin(), other.triangles.end());
-  if (!other.bounds.isEmpty()) bounds.extend(other.bounds);
 }
 
 double ray_hit(const TriangleSoup& soup, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,

@@ -10,14 +10,12 @@ namespace mtg::geom {
 struct Triangle {
   Eigen::Vector3d a, b, c;
   Eigen::Vector3d normal() const;  // unit, zero for degenerate triangles
-  double area() const;
 };
 
 struct TriangleSoup {
   std::vector<Triangle> triangles;
   Eigen::AlignedBox3d bounds;
   void add(const Triangle& t);
-  void append(const TriangleSoup& other);
   bool empty() const { return triangles.empty(); }
 };
 

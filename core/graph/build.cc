@@ -45,7 +45,6 @@ void classify(const scene::Scene& scene, const std::vector<ObjectGeometry>& geo,
     o.template_name = src.template_name;
     o.short_name = src.short_name;
     o.category = src.category;
-    o.instance = static_cast<int>(i);
     o.X_WO = src.X_WO;
     o.heading = yaw_of(src.X_WO);
     o.bottom = geo[i].bottom;
@@ -122,10 +121,6 @@ int find_support(int object, const ObjectGeometry& geometry, const std::vector<D
   return -1;
 }
 
-struct OwnSurfaces {
-  std::vector<Surface> up, down;
-};
-
 }  // namespace
 
 SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& options,
@@ -142,16 +137,18 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
   classify(scene, geo, options, g);
   t.geometry = watch.elapsed_ms();
 
-  // Whatever stands on the floor drops (or rises) to z = 0.
-  for (std::size_t i = 0; i < n; ++i) {
+  // Moves object i (its geometry and its pose) up or down by dz.
+  auto settle = [&](std::size_t i, double dz) {
     GraphObject& o = g.objects[i];
-    if (o.kind == ObjectKind::kUnsupported) continue;
-    const double dz = -geo[i].bottom;
     translate(geo[i], Eigen::Vector3d(0, 0, dz));
     o.X_WO.translation().z() += dz;
     o.settle_dz = dz;
     o.bottom = geo[i].bottom;
     o.top = geo[i].top;
+  };
+  // Whatever stands on the floor drops (or rises) to z = 0.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (g.objects[i].kind != ObjectKind::kUnsupported) settle(i, -geo[i].bottom);
   }
 
   // Furniture platforms (candidates; declared-receptacle objects keep reserves).
@@ -193,14 +190,13 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
   for (const int oi : pending) {
     const auto i = static_cast<std::size_t>(oi);
     GraphObject& o = g.objects[i];
-    const bool movable = !scene.objects[i].articulated &&
-                         scene.objects[i].motion != scene::MotionType::kStatic;
+    const bool falls = !scene.objects[i].articulated && scene.objects[i].motion != scene::MotionType::kStatic;
     // Fixed objects (STATIC, articulated) do not fall: they attach only within the tolerance.
     GraphOptions search = options;
-    if (!movable) search.max_settle_drop = options.contact_tolerance;
+    if (!falls) search.max_settle_drop = options.contact_tolerance;
     const int d = find_support(oi, geo[i], drafts, search);
     if (d < 0) {
-      if (movable && !o.excluded) {
+      if (o.movable) {
         o.note = "rests on no platform";
         g.warnings.push_back("object " + o.name + " cannot be placed: no platform within " +
                              fmt_cm(options.max_settle_drop) + " below it supports it");
@@ -218,15 +214,11 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
     }
     Draft& support = drafts[static_cast<std::size_t>(d)];
     support.active = true;
-    o.kind = movable && !o.excluded ? ObjectKind::kItem : ObjectKind::kFixed;
+    o.kind = o.movable ? ObjectKind::kItem : ObjectKind::kFixed;
     if (o.excluded) o.note = "scenery (excluded by scene profile " + options.profile_name + ")";
     parent_draft[i] = d;
     const double dz = support.surface.height - geo[i].bottom;
-    translate(geo[i], Eigen::Vector3d(0, 0, dz));
-    o.X_WO.translation().z() += dz;
-    o.settle_dz = dz;
-    o.bottom = geo[i].bottom;
-    o.top = geo[i].top;
+    settle(i, dz);
     if (std::abs(dz) > options.contact_tolerance) {
       ++far_drops;
       max_drop = std::max(max_drop, std::abs(dz));
@@ -310,16 +302,16 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
 
   // Clearance and interior layers: surfaces above covering most of the platform.
   watch.reset();
-  std::map<int, OwnSurfaces> surfaces_of;
-  auto surfaces = [&](int oi) -> const OwnSurfaces& {
-    auto it = surfaces_of.find(oi);
+  // Detected once per object and direction, and only when asked: an object's upward surfaces
+  // matter only above its own platforms (interior layers), its downward ones above anyone's.
+  const SurfaceOptions surface_opts = surface_options(options);
+  std::map<std::pair<int, bool>, std::vector<Surface>> surfaces_of;
+  auto surfaces = [&](int oi, bool upward) -> const std::vector<Surface>& {
+    auto it = surfaces_of.find({oi, upward});
     if (it == surfaces_of.end()) {
-      SurfaceOptions so;
-      so.max_angle_deg = options.seed_angle_deg;
-      so.min_area = options.min_platform_area;
-      OwnSurfaces s{detect_surfaces(geo[static_cast<size_t>(oi)].soup, true, so),
-                    detect_surfaces(geo[static_cast<size_t>(oi)].soup, false, so)};
-      it = surfaces_of.emplace(oi, std::move(s)).first;
+      it = surfaces_of.emplace(std::make_pair(oi, upward),
+                               detect_surfaces(geo[static_cast<size_t>(oi)].soup, upward, surface_opts))
+               .first;
     }
     return it->second;
   };
@@ -327,6 +319,14 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
     const geom::Region region_W = p.polygon_W();
     const double area = geom::area(region_W);
     const Eigen::AlignedBox2d box_W = geom::bounds(region_W);
+    auto covered_by = [&](const std::vector<Surface>& above_list, bool own) {
+      for (const Surface& above : above_list) {
+        if (above.height <= p.height + 0.005) continue;
+        if (geom::area(geom::intersect(region_W, above.region)) <= options.ceiling_coverage * area) continue;
+        p.clearance = std::min(p.clearance, above.height - p.height);
+        if (own) p.interior = true;
+      }
+    };
     for (std::size_t i = 0; i < n; ++i) {
       const GraphObject& o = g.objects[i];
       const bool own = static_cast<int>(i) == p.owner;
@@ -336,18 +336,8 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
       const Eigen::AlignedBox2d ob(Eigen::Vector2d(geo[i].soup.bounds.min().head<2>()),
                                    Eigen::Vector2d(geo[i].soup.bounds.max().head<2>()));
       if (!ob.intersects(box_W)) continue;
-      const OwnSurfaces& s = surfaces(static_cast<int>(i));
-      for (const auto* list : {&s.down, &s.up}) {
-        if (!own && list == &s.up) continue;
-        for (const Surface& above : *list) {
-          if (above.height <= p.height + 0.005) continue;
-          if (geom::area(geom::intersect(region_W, above.region)) <= options.ceiling_coverage * area) {
-            continue;
-          }
-          p.clearance = std::min(p.clearance, above.height - p.height);
-          if (own) p.interior = true;
-        }
-      }
+      covered_by(surfaces(static_cast<int>(i), false), own);
+      if (own) covered_by(surfaces(static_cast<int>(i), true), own);
     }
   }
   t.clearance = watch.elapsed_ms();

@@ -208,10 +208,9 @@ geom::Region feasible_positions(const Platform& platform, const std::vector<Obst
                                 const geom::Ring& item_hull) {
   geom::Region inside = geom::erode(platform.polygon_P, item_hull);
   if (inside.empty() || obstacles.empty()) return inside;
-  geom::Ring mirrored;
-  for (const auto& q : item_hull) mirrored.push_back(-q);
+  const geom::Ring minus_item = geom::mirrored(item_hull);
   std::vector<geom::Ring> blocked;
-  for (const Obstacle& o : obstacles) blocked.push_back(minkowski_convex(o.hull_P, mirrored));
+  for (const Obstacle& o : obstacles) blocked.push_back(minkowski_convex(o.hull_P, minus_item));
   return geom::subtract(inside, geom::unite_rings(blocked));
 }
 

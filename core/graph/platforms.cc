@@ -45,6 +45,14 @@ double min_width(const geom::Region& region) {
   return 2.0 * std::min(box.half.x(), box.half.y());
 }
 
+SurfaceOptions surface_options(const GraphOptions& options) {
+  SurfaceOptions so;
+  so.max_angle_deg = options.seed_angle_deg;
+  so.height_tolerance = options.surface_height_tolerance;
+  so.min_area = options.min_platform_area;
+  return so;
+}
+
 std::vector<PlatformCandidate> platform_candidates(const scene::ObjectInstance& object,
                                                    const Eigen::Isometry3d& X_WO,
                                                    const ObjectGeometry& geometry,
@@ -52,11 +60,7 @@ std::vector<PlatformCandidate> platform_candidates(const scene::ObjectInstance& 
                                                    std::vector<std::string>& warnings) {
   std::vector<PlatformCandidate> out;
   if (!geometry.has_geometry()) return out;
-  SurfaceOptions so;
-  so.max_angle_deg = options.seed_angle_deg;
-  so.height_tolerance = options.surface_height_tolerance;
-  so.min_area = options.min_platform_area;
-  const std::vector<Surface> surfaces = detect_surfaces(geometry.soup, true, so);
+  const std::vector<Surface> surfaces = detect_surfaces(geometry.soup, true, surface_options(options));
   double largest = 0.0;
   for (const auto& s : surfaces) largest = std::max(largest, s.area);
 

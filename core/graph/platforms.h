@@ -29,6 +29,9 @@ struct PlatformCandidate {
   bool active = true;    // false: kept in reserve (see above)
 };
 
+/// Surface detection as the graph options ask for it (platforms and the surfaces above them).
+SurfaceOptions surface_options(const GraphOptions& options);
+
 /// Candidates of `object` standing at `X_WO` (its settled pose) with world geometry
 /// `geometry`, lowest first. Problems (receptacle without surface, zero-area receptacle) are
 /// appended to `warnings`.

@@ -39,7 +39,6 @@ struct GraphObject {
   std::string template_name;
   std::string short_name;   // template without the dataset prefix ("name without instance id")
   std::string category;     // semantic class ("" if none)
-  int instance = -1;        // index into scene::Scene::objects
   ObjectKind kind = ObjectKind::kUnsupported;
   std::string note;         // why it is scenery / unsupported, or how it was settled
   bool excluded = false;    // named by the scene profile (then it is scenery, kFixed)

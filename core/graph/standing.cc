@@ -23,7 +23,7 @@ FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles
   const Eigen::Vector2d size = bounds.sizes() + Eigen::Vector2d(2.0, 2.0);
   const int cols = static_cast<int>(std::ceil(size.x() / resolution_));
   const int rows = static_cast<int>(std::ceil(size.y() / resolution_));
-  occupied_ = cv::Mat::zeros(rows, cols, CV_8U);
+  cv::Mat occupied = cv::Mat::zeros(rows, cols, CV_8U);  // 1 = furniture
   // Fixed-point drawing (shift 4) keeps sub-cell precision of the triangle corners.
   constexpr int kShift = 4;
   const double scale = (1 << kShift) / resolution_;
@@ -35,13 +35,13 @@ FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles
         pts[k] = cv::Point(static_cast<int>(std::lround((v[k]->x() - origin_.x()) * scale)),
                            static_cast<int>(std::lround((v[k]->y() - origin_.y()) * scale)));
       }
-      cv::fillConvexPoly(occupied_, pts, 3, cv::Scalar(1), cv::LINE_8, kShift);
+      cv::fillConvexPoly(occupied, pts, 3, cv::Scalar(1), cv::LINE_8, kShift);
     }
   }
   // A centre is valid when the robot square around it is clear: dilate the obstacles by it.
   const int half = static_cast<int>(std::lround(options.robot_size / 2.0 / resolution_));
   cv::Mat blocked;
-  cv::dilate(occupied_, blocked,
+  cv::dilate(occupied, blocked,
              cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
   robot_free_ = 1 - blocked;
 }
@@ -53,12 +53,6 @@ cv::Point2i FloorRaster::cell_of(const geom::Point2& p) const {
 
 geom::Point2 FloorRaster::cell_centre(int row, int col) const {
   return origin_ + geom::Point2((col + 0.5) * resolution_, (row + 0.5) * resolution_);
-}
-
-bool FloorRaster::free_at(const geom::Point2& p) const {
-  const cv::Point2i c = cell_of(p);
-  if (c.x < 0 || c.y < 0 || c.x >= robot_free_.cols || c.y >= robot_free_.rows) return true;
-  return robot_free_.at<std::uint8_t>(c.y, c.x) != 0;
 }
 
 namespace {
@@ -100,9 +94,9 @@ Strip side_strip(Side side, const Eigen::AlignedBox2d& owner_H, const Eigen::Ali
   return s;
 }
 
-bool visible_from(const geom::Point2& stand, const Platform& platform,
-                  const geom::TriangleSoup& occluders, const GraphOptions& options) {
-  const geom::Region poly_W = platform.polygon_W();
+// Points of the platform a camera must see: the centroid and four points halfway to its edges.
+// They do not depend on where the robot stands, so they are computed once per platform.
+std::vector<geom::Point2> visibility_targets(const Platform& platform, const geom::Region& poly_W) {
   const geom::Point2 c = geom::centroid(poly_W);
   const Eigen::Vector2d half = platform.box_P.sizes() / 4.0;
   const Eigen::Rotation2Dd R(platform.X_WP.rotation());
@@ -111,6 +105,11 @@ bool visible_from(const geom::Point2& stand, const Platform& platform,
                         Eigen::Vector2d(0, half.y()), Eigen::Vector2d(0, -half.y())}) {
     targets.push_back(geom::closest_point(poly_W, c + R * d));
   }
+  return targets;
+}
+
+bool visible_from(const geom::Point2& stand, const Platform& platform, const std::vector<geom::Point2>& targets,
+                  const geom::TriangleSoup& occluders, const GraphOptions& options) {
   for (const double above : options.camera_heights_above) {
     const Eigen::Vector3d eye(stand.x(), stand.y(), platform.height + above);
     for (const auto& t : targets) {
@@ -130,11 +129,13 @@ void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, doubl
   // Heading frame H: rotation by owner_heading about the world origin.
   const Eigen::Rotation2Dd R_WH(owner_heading);
   const Eigen::Rotation2Dd R_HW = R_WH.inverse();
+  const geom::Region poly_W = platform.polygon_W();
   Eigen::AlignedBox2d owner_H, plat_H;
   for (const auto& p : owner_footprint) owner_H.extend(R_HW * p);
-  for (const auto& ring : platform.polygon_W().rings) {
+  for (const auto& ring : poly_W.rings) {
     for (const auto& p : ring) plat_H.extend(R_HW * p);
   }
+  const std::vector<geom::Point2> targets = visibility_targets(platform, poly_W);
   const double cell_area = raster.resolution() * raster.resolution();
   double best_area = -1.0;
   platform.default_side = -1;
@@ -173,7 +174,7 @@ void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, doubl
       }
     }
     info.standing_area = static_cast<double>(count) * cell_area;
-    if (count > 0) info.visible = visible_from(info.standing_point, platform, owner_soup, options);
+    if (count > 0) info.visible = visible_from(info.standing_point, platform, targets, owner_soup, options);
     platform.sides[static_cast<std::size_t>(side)] = info;
     if (info.usable() && info.standing_area > best_area + 1e-9) {
       best_area = info.standing_area;

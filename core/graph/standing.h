@@ -23,20 +23,16 @@ class FloorRaster {
   /// Rasterises the footprints of `obstacles` over their bounds plus a 1 m margin.
   FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles, const GraphOptions& options);
 
-  /// True when a robot centred at p (world xy) collides with no furniture.
-  bool free_at(const geom::Point2& p) const;
   double resolution() const { return resolution_; }
   /// Cell centre of (row, col) in world xy.
   geom::Point2 cell_centre(int row, int col) const;
   /// Row/column of the cell holding p (may be outside the raster).
   cv::Point2i cell_of(const geom::Point2& p) const;
   const cv::Mat& robot_free() const { return robot_free_; }    // CV_8U, 1 = valid centre
-  const cv::Mat& occupied() const { return occupied_; }        // CV_8U, 1 = furniture
 
  private:
   double resolution_;
   geom::Point2 origin_;  // world xy of the corner of cell (0, 0)
-  cv::Mat occupied_;
   cv::Mat robot_free_;
 };
 
