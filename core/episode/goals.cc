@@ -12,8 +12,6 @@ namespace {
 
 constexpr double kEps = 1e-9;
 
-geom::Point2 footprint_centre(const ObjectState& o) { return geom::centroid(geom::Region{{o.footprint}}); }
-
 double segment_distance(const geom::Point2& p, const geom::Point2& a, const geom::Point2& b) {
   return (geom::closest_on_segment(a, b, p) - p).norm();
 }

@@ -78,14 +78,13 @@ double EpisodeJudge::current_ip(bool final) const {
   if (goal_.parts.empty()) return 0.0;
   double sum = 0.0;
   for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
-    int points = reached_[k];
-    if (final && points == 3 && replica_.held != goal_.parts[k].item &&
-        goal_satisfied(g_, replica_, goal_.parts[k], options_)) {
-      points = 4;
-    }
-    sum += 25.0 * points;
+    sum += part_points(k, final && reached_[k] == 3 && goal_satisfied(g_, replica_, goal_.parts[k], options_));
   }
   return sum / static_cast<double>(goal_.parts.size());
+}
+
+double EpisodeJudge::part_points(std::size_t k, bool goal_holds) const {
+  return 25.0 * (reached_[k] == 3 && goal_holds ? 4 : reached_[k]);
 }
 
 Verdict EpisodeJudge::verdict() const {
@@ -97,9 +96,9 @@ Verdict EpisodeJudge::verdict() const {
   const bool ended_by_agent = end_reason_ == "call_end";
   v.success = done_ && ended_by_agent && goal_met;
   for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
-    const bool ok = replica_.held != goal_.parts[k].item && goal_satisfied(g_, replica_, goal_.parts[k], options_);
+    const bool ok = goal_satisfied(g_, replica_, goal_.parts[k], options_);  // false while held
     v.part_success.push_back(ok);
-    v.part_ip.push_back(25.0 * (reached_[k] == 3 && ok ? 4 : reached_[k]));
+    v.part_ip.push_back(part_points(k, ok));
   }
   if (v.success) {
     v.stage = "done";

@@ -56,6 +56,8 @@ class EpisodeJudge {
 
  private:
   double current_ip(bool final) const;
+  /// 25 per milestone matched in order; 100 when all three are and the part's goal holds.
+  double part_points(std::size_t k, bool goal_holds) const;
 
   const graph::SceneGraph& g_;
   TaskGoal goal_;

@@ -85,7 +85,7 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
 
 geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform) {
   const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
-  const geom::Point2 c = geom::centroid(geom::Region{{o.footprint}});
+  const geom::Point2 c = footprint_centre(o);
   const Eigen::Rotation2Dd R_PW(platform_frame(g, s, platform).rotation().transpose());
   geom::Ring out;
   for (const auto& q : o.footprint) out.push_back(R_PW * (q - c));
@@ -108,7 +108,7 @@ std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const 
   const Eigen::Vector2d centre_W = platform_frame(g, s, platform) * centre_P;
   // Reference point = centre minus the centre's offset from the object's origin.
   const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
-  const geom::Point2 c = geom::centroid(geom::Region{{o.footprint}});
+  const geom::Point2 c = footprint_centre(o);
   return centre_W - (c - o.position.head<2>());
 }
 

@@ -36,6 +36,15 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(b, e - b + 1));
 }
 
+// The distinct offered keys among the tokens of `text`.
+std::set<std::string> offered_in(std::string_view text, const std::set<std::string>& keys) {
+  std::set<std::string> found;
+  for (const auto& t : tokens(text)) {
+    if (keys.count(t)) found.insert(t);
+  }
+  return found;
+}
+
 }  // namespace
 
 ParsedReply parse_reply(std::string_view reply, const std::vector<std::string>& offered) {
@@ -60,28 +69,18 @@ ParsedReply parse_reply(std::string_view reply, const std::vector<std::string>& 
     }
   }
   if (!marked.empty()) return {marked, true, ""};
-  // 3. A code fence or the first line holding exactly one offered key.
-  for (const std::string_view part : {std::string_view(reply).substr(0, reply.find('\n'))}) {
-    std::set<std::string> found;
-    for (const auto& t : tokens(part)) {
-      if (keys.count(t)) found.insert(t);
-    }
-    if (found.size() == 1) return {*found.begin(), true, ""};
+  // 3. The first line, then a code fence, holding exactly one offered key.
+  if (const auto found = offered_in(reply.substr(0, reply.find('\n')), keys); found.size() == 1) {
+    return {*found.begin(), true, ""};
   }
   if (const auto fence = reply.find("```"); fence != std::string_view::npos) {
     const auto end = reply.find("```", fence + 3);
-    const std::string_view body = reply.substr(fence + 3, end == std::string_view::npos ? std::string_view::npos : end - fence - 3);
-    std::set<std::string> found;
-    for (const auto& t : tokens(body)) {
-      if (keys.count(t)) found.insert(t);
-    }
-    if (found.size() == 1) return {*found.begin(), true, ""};
+    const std::string_view body =
+        reply.substr(fence + 3, end == std::string_view::npos ? std::string_view::npos : end - fence - 3);
+    if (const auto found = offered_in(body, keys); found.size() == 1) return {*found.begin(), true, ""};
   }
   // 4. Exactly one distinct offered key anywhere (ignoring bare numbers that are not keys).
-  std::set<std::string> found;
-  for (const auto& t : tokens(reply)) {
-    if (keys.count(t)) found.insert(t);
-  }
+  const auto found = offered_in(reply, keys);
   if (found.size() == 1) return {*found.begin(), true, ""};
   out.why = found.empty() ? "no offered action key in the reply" : "the reply names several action keys";
   return out;

@@ -42,22 +42,10 @@ WorldState initial_state(const graph::SceneGraph& g) {
 }
 
 std::vector<int> pickable_on(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  std::vector<int> out;
-  std::vector<int> stack(s.children[static_cast<std::size_t>(platform)].rbegin(),
-                         s.children[static_cast<std::size_t>(platform)].rend());
-  while (!stack.empty()) {
-    const int o = stack.back();
-    stack.pop_back();
-    if (g.objects[static_cast<std::size_t>(o)].pickable()) out.push_back(o);
-    std::vector<int> above;
-    for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
-      const auto& on = s.children[static_cast<std::size_t>(p)];
-      above.insert(above.end(), on.begin(), on.end());
-    }
-    stack.insert(stack.end(), above.rbegin(), above.rend());
-  }
-  return out;
+  return g.pickable_on(platform, [&s](int p) -> const std::vector<int>& { return objects_on(s, p); });
 }
+
+geom::Point2 footprint_centre(const ObjectState& o) { return geom::centroid(geom::Region{{o.footprint}}); }
 
 const std::vector<int>& objects_on(const WorldState& s, int platform) {
   return s.children.at(static_cast<std::size_t>(platform));

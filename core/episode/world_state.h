@@ -42,6 +42,9 @@ WorldState initial_state(const graph::SceneGraph& g);
 /// objects resting on it (the paper's order); items only (scenery is never picked).
 std::vector<int> pickable_on(const graph::SceneGraph& g, const WorldState& s, int platform);
 
+/// The centre of an object's footprint (world xy): where it stands, for placement and goals.
+geom::Point2 footprint_centre(const ObjectState& o);
+
 /// Objects directly on `platform` (items and scenery): the obstacles for placing there.
 const std::vector<int>& objects_on(const WorldState& s, int platform);
 

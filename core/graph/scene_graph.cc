@@ -46,24 +46,9 @@ int SceneGraph::find_platform(const std::string& name) const {
 }
 
 std::vector<int> SceneGraph::pickable_on(int platform) const {
-  std::vector<int> out;
-  std::vector<int> stack;
-  const auto& direct = platforms.at(static_cast<std::size_t>(platform)).items;
-  for (auto it = direct.rbegin(); it != direct.rend(); ++it) stack.push_back(*it);
-  while (!stack.empty()) {
-    const int o = stack.back();
-    stack.pop_back();
-    const GraphObject& obj = objects[static_cast<std::size_t>(o)];
-    if (obj.pickable()) out.push_back(o);
-    // Children of this object's own platforms come right after it.
-    std::vector<int> children;
-    for (const int p : obj.platforms) {
-      const auto& on = platforms[static_cast<std::size_t>(p)].items;
-      children.insert(children.end(), on.begin(), on.end());
-    }
-    for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(*it);
-  }
-  return out;
+  return pickable_on(platform, [this](int p) -> const std::vector<int>& {
+    return platforms.at(static_cast<std::size_t>(p)).items;
+  });
 }
 
 }  // namespace mtg::graph

@@ -101,8 +101,33 @@ struct SceneGraph {
   int find_object(const std::string& name) const;    // -1 if absent
   int find_platform(const std::string& name) const;  // -1 if absent
   /// Pickable objects on a platform in the agent's o-numbering: each direct child followed by
-  /// its own descendants (the paper's order).
+  /// its own descendants (the paper's order), as the graph found them.
   std::vector<int> pickable_on(int platform) const;
+  /// The same order where `children_of(p)` lists what rests on platform p now (a world state's
+  /// view, episode::pickable_on); `children_of` returns a const std::vector<int>&.
+  template <class ChildrenOf>
+  std::vector<int> pickable_on(int platform, const ChildrenOf& children_of) const;
 };
+
+template <class ChildrenOf>
+std::vector<int> SceneGraph::pickable_on(int platform, const ChildrenOf& children_of) const {
+  std::vector<int> out;
+  const std::vector<int>& direct = children_of(platform);
+  std::vector<int> stack(direct.rbegin(), direct.rend());
+  while (!stack.empty()) {
+    const int o = stack.back();
+    stack.pop_back();
+    const GraphObject& obj = objects[static_cast<std::size_t>(o)];
+    if (obj.pickable()) out.push_back(o);
+    // What rests on this object's own platforms comes right after it.
+    std::vector<int> above;
+    for (const int p : obj.platforms) {
+      const std::vector<int>& on = children_of(p);
+      above.insert(above.end(), on.begin(), on.end());
+    }
+    stack.insert(stack.end(), above.rbegin(), above.rend());
+  }
+  return out;
+}
 
 }  // namespace mtg::graph

@@ -63,12 +63,10 @@ class MeshCache {
   explicit MeshCache(MeshLoadOptions options = {}) : options_(options) {}
   /// @throws mtg::Error as load_mesh does (failures are not cached).
   MeshHandle get(const std::filesystem::path& file);
-  std::size_t size() const;
-  void clear();
 
  private:
   MeshLoadOptions options_;
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   std::map<std::string, MeshHandle> meshes_;
 };
 

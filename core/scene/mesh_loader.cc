@@ -123,14 +123,4 @@ MeshHandle MeshCache::get(const std::filesystem::path& file) {
   return meshes_.emplace(key, std::move(loaded)).first->second;
 }
 
-std::size_t MeshCache::size() const {
-  std::lock_guard lock(mutex_);
-  return meshes_.size();
-}
-
-void MeshCache::clear() {
-  std::lock_guard lock(mutex_);
-  meshes_.clear();
-}
-
 }  // namespace mtg::scene

@@ -84,7 +84,6 @@ UrdfModel load_urdf(const std::filesystem::path& file) {
   const auto model = urdf::parseURDF(normalize_urdf_vector_attributes(buffer.str()));
   if (!model || !model->getRoot()) throw Error(file.string() + ": URDF does not parse");
   UrdfModel out;
-  out.robot_name = model->getName();
   visit(*model, model->getRoot(), Eigen::Isometry3d::Identity(), false, file.parent_path(), out);
   return out;
 }

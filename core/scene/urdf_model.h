@@ -29,7 +29,6 @@ struct UrdfLink {
 };
 
 struct UrdfModel {
-  std::string robot_name;
   std::vector<UrdfLink> links;  // depth-first from the root, children in file order
 };
 

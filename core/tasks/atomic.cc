@@ -181,7 +181,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
           episode::WorldState placed = placing;
           episode::place_held(g, placed, pd, *xy);
           const auto& moved = placed.objects[static_cast<std::size_t>(item)];
-          const geom::Point2 c_P = X_PW * geom::centroid(geom::Region{{moved.footprint}});
+          const geom::Point2 c_P = X_PW * episode::footprint_centre(moved);
           std::vector<AtomicGoal> goals;
           if (pd != ps) {
             AtomicGoal surface = base;

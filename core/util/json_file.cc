@@ -85,11 +85,6 @@ double JsonField::as_double() const {
   return value_->get<double>();
 }
 
-bool JsonField::as_bool() const {
-  if (!value_->is_boolean()) fail("expected true/false, got " + type_name(*value_));
-  return value_->get<bool>();
-}
-
 std::vector<double> JsonField::as_doubles(std::size_t n) const {
   if (!value_->is_array() || value_->size() != n) {
     fail("expected an array of " + std::to_string(n) + " numbers");

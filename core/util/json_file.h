@@ -35,12 +35,8 @@ class JsonField {
 
   std::string as_string() const;
   double as_double() const;
-  bool as_bool() const;
   /// An array of exactly n numbers.
   std::vector<double> as_doubles(std::size_t n) const;
-
-  const nlohmann::json& raw() const { return *value_; }
-  const std::string& pointer() const { return pointer_; }
 
   /// "file: /json/pointer: what".
   [[noreturn]] void fail(const std::string& what) const;
