@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "orchestrator/report/sankey.h"
@@ -157,7 +157,7 @@ nlohmann::json write_reports(const std::filesystem::path& run_dir, const std::st
   const nlohmann::json report = make_report(rows, run_dir.filename().string());
   write_json_file(run_dir / "report.json", report);
   const std::filesystem::path html_file = html.empty() ? run_dir / "report.html" : std::filesystem::path(html);
-  std::ofstream(html_file) << report_html(report);
+  write_file_atomically(html_file, [&](std::ostream& out) { out << report_html(report); });
   write_report_png(report, run_dir / "report.png");
   return report;
 }
