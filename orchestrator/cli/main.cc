@@ -9,6 +9,7 @@
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/cli/bench_commands.h"
+#include "orchestrator/cli/render_commands.h"
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
 #include "orchestrator/cli/task_commands.h"
@@ -39,6 +40,31 @@ int main(int argc, char** argv) {
   scene_graph->add_option("--png", graph_opts.png, "write a top-down map (PNG) here");
   scene_graph->add_option("--profile", graph_opts.profile,
                           "scene profile: replica_cad (default), none, or a JSON file");
+
+  // mtg render
+  mtg::cli::RenderOptions render_opts;
+  CLI::App* render = app.add_subcommand("render", "Render one view of a scene as the agent sees it");
+  render->add_option("--scene", render_opts.scene, "scene name, e.g. apt_0")->required();
+  render->add_option("--data", render_opts.data_dir, "dataset root (default: search order)");
+  render->add_option("--profile", render_opts.profile, "scene profile (default replica_cad)");
+  render->add_option("--view", render_opts.view, "platform (default), item or topdown")
+      ->check(CLI::IsMember({"platform", "item", "topdown"}));
+  render->add_option("--platform", render_opts.platform, "platform name (platform views)");
+  render->add_option("--side", render_opts.side, "0 rear, 1 left, 2 front, 3 right (default: the platform's default side)")
+      ->check(CLI::Range(-1, 3));
+  render->add_option("--item", render_opts.item, "object name (item views)");
+  render->add_option("--marks", render_opts.marks, "auto (default), items, targets, labels or none")
+      ->check(CLI::IsMember({"auto", "items", "targets", "labels", "none"}));
+  render->add_option("--width", render_opts.width, "pixels (default 640)");
+  render->add_option("--height", render_opts.height, "pixels (default 480)");
+  render->add_option("--out", render_opts.out, "image file (.png or .jpg); the marked copy goes to <stem>_marked")
+      ->required();
+
+  mtg::cli::ImagesOptions images_opts;
+  CLI::App* images = app.add_subcommand("images", "Write the images the agents saw in a run to files");
+  images->add_option("run", images_opts.run, "run folder")->required();
+  images->add_option("--out", images_opts.out, "folder for the image files")->required();
+  images->add_option("--episode", images_opts.episode, "only this episode id");
 
   // mtg tasks ... / mtg tasks stats DB
   mtg::cli::TasksOptions tasks_opts;
@@ -73,7 +99,11 @@ int main(int argc, char** argv) {
   run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
   run->add_option("--parallel", run_opts.parallel, "episodes at once (default 4)");
   run->add_option("--seed", run_opts.seed, "run seed (default 0)");
-  run->add_flag("--no-render", run_opts.no_render, "text-only observations (the default for now)");
+  run->add_flag("--render", run_opts.render, "observations carry images (default: only for model agents)");
+  run->add_flag("--no-render", run_opts.no_render, "text-only observations, for any agent");
+  run->add_option("--image-size", run_opts.image_size, "observation images WIDTHxHEIGHT (default 640x480)");
+  run->add_option("--image-encoding", run_opts.image_encoding, "png (default) or jpeg")
+      ->check(CLI::IsMember({"png", "jpeg"}));
   run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
   run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
   run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
@@ -137,6 +167,8 @@ int main(int argc, char** argv) {
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
     if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
     if (run->parsed()) return mtg::cli::run_run(run_opts);
+    if (render->parsed()) return mtg::cli::run_render(render_opts);
+    if (images->parsed()) return mtg::cli::run_images(images_opts);
     if (report->parsed()) return mtg::cli::run_report(report_opts);
     if (replay->parsed()) return mtg::cli::run_replay(replay_opts);
     if (rejudge->parsed()) return mtg::cli::run_rejudge(rejudge_run);

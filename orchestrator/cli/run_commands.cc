@@ -1,10 +1,12 @@
 #include "orchestrator/cli/run_commands.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 
+#include "agents/builtin/policies.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
@@ -75,7 +77,23 @@ int run_run(const RunOptions& o) {
     plan.seed = o.seed;
     plan.parallel = std::max(1, o.parallel);
     plan.step_limit = o.step_limit;
-    plan.render = !o.no_render;
+    if (o.render && o.no_render) throw Error("mtg run: --render and --no-render contradict each other");
+    // Built-in agents read only the text; images are for model agents unless asked for.
+    const bool model_agent = std::any_of(o.agents.begin(), o.agents.end(),
+                                         [](const std::string& a) { return !agents::is_builtin_agent(a); });
+    plan.render = o.render || (model_agent && !o.no_render);
+    const auto x = o.image_size.find('x');
+    try {
+      if (x == std::string::npos) throw std::invalid_argument("no x");
+      plan.image_width = std::stoi(o.image_size.substr(0, x));
+      plan.image_height = std::stoi(o.image_size.substr(x + 1));
+    } catch (const std::exception&) {
+      throw Error("mtg run: --image-size must be WIDTHxHEIGHT, e.g. 640x480, not '" + o.image_size + "'");
+    }
+    if (plan.image_width < 16 || plan.image_height < 16 || plan.image_width > 8192 || plan.image_height > 8192) {
+      throw Error("mtg run: --image-size " + o.image_size + " is outside 16..8192 pixels");
+    }
+    plan.image_encoding = o.image_encoding;
     plan.episode_timeout_s = o.episode_timeout_s;
     plan.data_dir = o.data_dir;
     plan.profile = o.profile;

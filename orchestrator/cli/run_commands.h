@@ -15,7 +15,10 @@ struct RunOptions {
   int limit = 0;                     // tasks per (scene, level); 0 = all
   int parallel = 4;
   std::uint64_t seed = 0;
-  bool no_render = true;             // text-only until the renderer runs
+  bool render = false;               // --render: images even for built-in agents
+  bool no_render = false;            // --no-render: text only even for model agents
+  std::string image_size = "640x480";
+  std::string image_encoding = "png";
   std::string out;                   // run folder
   std::string data_dir;
   std::string profile = "replica_cad";

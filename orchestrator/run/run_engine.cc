@@ -142,7 +142,14 @@ class Engine {
       argv.insert(argv.end(), common.begin(), common.end());
       return argv;
     };
-    supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--profile", plan_.profile}));
+    supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--profile", plan_.profile,
+                                           "--image-width", std::to_string(plan_.image_width), "--image-height",
+                                           std::to_string(plan_.image_height), "--image-encoding",
+                                           plan_.image_encoding}));
+    if (plan_.render) {
+      supervisor_.start("renderer", with({(bin / "mtg_renderer").string(), "--profile", plan_.profile}));
+      names_.push_back("renderer");
+    }
     supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--profile", plan_.profile}));
     names_.push_back("scene_graph");
     names_.push_back("judge");
@@ -182,7 +189,7 @@ class Engine {
     std::set<std::string> affected_agents;
     bool all = false;
     for (const auto& name : died) {
-      if (name == "scene_graph" || name == "judge" || name == "recorder") all = true;
+      if (name == "scene_graph" || name == "judge" || name == "recorder" || name == "renderer") all = true;
       for (const auto& [spec, process] : agent_process_) {
         if (process == name) affected_agents.insert(spec);
       }

@@ -24,6 +24,9 @@ nlohmann::json RunPlan::to_json() const {
           {"parallel", parallel},
           {"step_limit", step_limit},
           {"render", render},
+          {"image_width", image_width},
+          {"image_height", image_height},
+          {"image_encoding", image_encoding},
           {"max_attempts", max_attempts},
           {"episode_timeout_s", episode_timeout_s},
           {"data_dir", data_dir},
@@ -46,6 +49,9 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.parallel = j.at("parallel").get<int>();
     p.step_limit = j.at("step_limit").get<int>();
     p.render = j.at("render").get<bool>();
+    p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
+    p.image_height = j.value("image_height", p.image_height);
+    p.image_encoding = j.value("image_encoding", p.image_encoding);
     p.max_attempts = j.at("max_attempts").get<int>();
     p.episode_timeout_s = j.at("episode_timeout_s").get<double>();
     p.data_dir = j.at("data_dir").get<std::string>();

@@ -31,7 +31,10 @@ struct RunPlan {
   std::uint64_t seed = 0;
   int parallel = 4;
   int step_limit = 15;           // at least; a task may ask for more (long L3/L4 plans)
-  bool render = false;
+  bool render = false;           // observations carry images (a renderer process runs)
+  int image_width = 640;
+  int image_height = 480;
+  std::string image_encoding = "png";
   int max_attempts = 3;          // per episode, for infrastructure failures only
   double episode_timeout_s = 60; // without any message about an episode
   std::string data_dir;

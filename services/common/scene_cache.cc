@@ -6,17 +6,20 @@
 
 namespace mtg::services {
 
-const graph::SceneGraph& SceneCache::get(const std::string& scene_name, const std::string& data_dir) {
+const SceneCache::Entry& SceneCache::load(const std::string& scene_name, const std::string& data_dir) {
   const std::string key = data_dir + "|" + scene_name;
-  auto it = graphs_.find(key);
-  if (it == graphs_.end()) {
+  auto it = entries_.find(key);
+  if (it == entries_.end()) {
     const auto dataset = scene::index_dataset(scene::resolve_data_root(data_dir));
-    const scene::Scene loaded = scene::load_scene(dataset, scene_name, meshes_);
+    auto e = std::make_unique<Entry>();
+    e->key = key;
+    e->scene = scene::load_scene(dataset, scene_name, meshes_);
     graph::GraphOptions options;
     graph::apply_profile(options, profile_);
-    auto g = std::make_unique<graph::SceneGraph>(graph::build_scene_graph(loaded, options));
-    log::info("loaded scene " + scene_name + ": " + std::to_string(g->navigable.size()) + " navigable platforms");
-    it = graphs_.emplace(key, std::move(g)).first;
+    e->graph = graph::build_scene_graph(e->scene, options);
+    log::info("loaded scene " + scene_name + ": " + std::to_string(e->graph.navigable.size()) +
+              " navigable platforms");
+    it = entries_.emplace(key, std::move(e)).first;
   }
   return *it->second;
 }

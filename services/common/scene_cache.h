@@ -7,21 +7,33 @@
 
 #include "core/graph/scene_graph.h"
 #include "core/scene/mesh.h"
+#include "core/scene/scene.h"
 
 namespace mtg::services {
 
 class SceneCache {
  public:
-  explicit SceneCache(std::string profile = "replica_cad") : profile_(std::move(profile)) {}
+  /// `with_textures`: keep the meshes' embedded textures (the renderer draws them; geometry
+  /// does not need them and loads faster without).
+  explicit SceneCache(std::string profile = "replica_cad", bool with_textures = false)
+      : profile_(std::move(profile)), meshes_(scene::MeshLoadOptions{.keep_textures = with_textures}) {}
 
-  /// The graph of `scene` in the dataset at `data_dir` ("" = default search order).
+  struct Entry {
+    std::string key;  // data dir and scene name: stable identity for per-scene caches
+    scene::Scene scene;
+    graph::SceneGraph graph;
+  };
+  /// The scene `scene` in the dataset at `data_dir` ("" = default search order) and its graph.
   /// @throws mtg::Error if the scene cannot be loaded.
-  const graph::SceneGraph& get(const std::string& scene, const std::string& data_dir);
+  const Entry& load(const std::string& scene, const std::string& data_dir);
+  const graph::SceneGraph& get(const std::string& scene, const std::string& data_dir) {
+    return load(scene, data_dir).graph;
+  }
 
  private:
   std::string profile_;
-  scene::MeshCache meshes_{scene::MeshLoadOptions{.keep_textures = false}};
-  std::map<std::string, std::unique_ptr<graph::SceneGraph>> graphs_;
+  scene::MeshCache meshes_;
+  std::map<std::string, std::unique_ptr<Entry>> entries_;
 };
 
 }  // namespace mtg::services

@@ -5,7 +5,9 @@
 
 #include "bus/channels.h"
 #include "bus/convert.h"
+#include "core/episode/state_json.h"
 #include "core/episode/transcript.h"
+#include "core/render/view.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/error_event_t.hpp"
@@ -31,8 +33,8 @@ FaultInjection FaultInjection::from_env() {
 }
 
 EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
-                         FaultInjection faults)
-    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults) {
+                         FaultInjection faults, ImageOptions images)
+    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults), images_(std::move(images)) {
   bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart, [this](const std::string&, const mtg::episode_start_t& m) {
     if (run_id_.empty() || m.header.run_id == run_id_) on_start(m);
   });
@@ -40,6 +42,9 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& s
                                       [this](const std::string&, const mtg::agent_action_t& m) {
                                         if (run_id_.empty() || m.header.run_id == run_id_) on_action(m);
                                       });
+  bus_.subscribe<mtg::render_result_t>(bus::kRenderResult, [this](const std::string&, const mtg::render_result_t& m) {
+    if (run_id_.empty() || m.header.run_id == run_id_) on_render_result(m);
+  });
 }
 
 void EpisodeHost::on_start(const mtg::episode_start_t& start) {
@@ -56,15 +61,9 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start) {
     e.state = episode::initial_state(*e.graph);
     e.render = start.render;
     episodes_[key] = std::move(e);
+    e.data_dir = start.data_dir;
   } catch (const Error& err) {
-    mtg::error_event_t ev{};
-    ev.header = stamp_.next(start.header.episode_id, start.header.attempt, "error");
-    ev.header.run_id = start.header.run_id;
-    ev.source = stamp_.sender();
-    ev.severity = "error";
-    ev.message = "episode " + std::to_string(start.header.episode_id) + ": " + err.what();
-    bus_.publish(bus::kError, ev);
-    log::error(ev.message);
+    report_error(key, start.header.attempt, err.what());
     return;
   }
   Episode& e = episodes_[key];
@@ -81,7 +80,7 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
   if (it == episodes_.end()) return;
   Episode& e = it->second;
   if (action.header.attempt != e.attempt || action.step != e.state.steps ||
-      e.state.phase == episode::Phase::kDone) {
+      e.state.phase == episode::Phase::kDone || e.awaiting_images) {
     return;  // stale, duplicate or late: never applied twice
   }
   const episode::EpisodeStep step =
@@ -136,8 +135,106 @@ void EpisodeHost::publish_observation(const Key& key, Episode& e) {
   }
   obs.n_actions = static_cast<int32_t>(obs.actions.size());
   obs.n_images = 0;
-  bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, key.second), obs);
-  if (obs.done) episodes_.erase(key);  // the judge has what it needs; free the world
+  send_observation(key, e, std::move(obs));
+}
+
+void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_t obs) {
+  const std::vector<render::ViewRequest> views =
+      e.render ? render::observation_views(e.state, images_.width, images_.height, e.rules.min_region_size)
+               : std::vector<render::ViewRequest>{};
+  e.pending = std::move(obs);
+  if (views.empty()) {
+    finish_observation(key, e);
+    return;
+  }
+  const graph::SceneGraph& g = *e.graph;
+  mtg::render_request_t& r = e.request;
+  r = mtg::render_request_t{};
+  r.header = stamp_.next(key.second, e.attempt, "render");
+  r.header.run_id = key.first;
+  r.request_id = e.state.steps;
+  r.scene = e.task.scene;
+  r.data_dir = e.data_dir;
+  r.width = images_.width;
+  r.height = images_.height;
+  r.encoding = images_.encoding;
+  r.state_json = episode::state_delta_to_json(g, e.state).dump();
+  r.min_region_size = e.rules.min_region_size;
+  for (const render::ViewRequest& v : views) {
+    mtg::render_view_t m{};
+    m.view = render::to_string(v.view);
+    m.platform = v.platform >= 0 ? g.platforms[static_cast<std::size_t>(v.platform)].name : "";
+    m.side = static_cast<int8_t>(v.side);
+    m.item = v.object >= 0 ? g.objects[static_cast<std::size_t>(v.object)].name : "";
+    m.marks = render::to_string(v.marks);
+    r.views.push_back(std::move(m));
+  }
+  r.n_views = static_cast<int32_t>(r.views.size());
+  e.awaiting_images = true;
+  e.resent = false;
+  e.requested_at = std::chrono::steady_clock::now();
+  bus_.publish(bus::kRenderRequest, r);
+}
+
+void EpisodeHost::finish_observation(const Key& key, Episode& e) {
+  e.awaiting_images = false;
+  e.pending.n_images = static_cast<int32_t>(e.pending.images.size());
+  bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, key.second), e.pending);
+  if (e.pending.done) {
+    episodes_.erase(key);  // the judge has what it needs; free the world
+    return;
+  }
+  e.pending = mtg::observation_t{};
+}
+
+void EpisodeHost::on_render_result(const mtg::render_result_t& result) {
+  const Key key{result.header.run_id, result.header.episode_id};
+  const auto it = episodes_.find(key);
+  if (it == episodes_.end()) return;
+  Episode& e = it->second;
+  if (!e.awaiting_images || result.header.attempt != e.attempt || result.request_id != e.request.request_id) {
+    return;  // for another step or attempt, or a second answer to a resent request
+  }
+  if (result.ok) {
+    e.pending.images = result.images;
+  } else {
+    report_error(key, e.attempt, "no images for step " + std::to_string(result.request_id) + ": " + result.error);
+  }
+  finish_observation(key, e);
+}
+
+void EpisodeHost::check_render_timeouts() {
+  const auto now = std::chrono::steady_clock::now();
+  const auto limit = std::chrono::duration<double>(images_.timeout_s);
+  std::vector<Key> expired;
+  for (auto& [key, e] : episodes_) {
+    if (!e.awaiting_images || now - e.requested_at < limit) continue;
+    if (!e.resent) {
+      e.resent = true;
+      e.requested_at = now;
+      log::warn("episode " + std::to_string(key.second) + ": no renderer answer, asking again");
+      bus_.publish(bus::kRenderRequest, e.request);
+    } else {
+      expired.push_back(key);
+    }
+  }
+  for (const Key& key : expired) {
+    Episode& e = episodes_.at(key);
+    report_error(key, e.attempt, "no renderer answered for step " + std::to_string(e.request.request_id) +
+                                     "; the observation goes without images");
+    finish_observation(key, e);
+  }
+}
+
+void EpisodeHost::report_error(const Key& key, int attempt, const std::string& message) {
+  mtg::error_event_t ev{};
+  ev.header = stamp_.next(key.second, attempt, "error");
+  ev.header.run_id = key.first;
+  ev.source = stamp_.sender();
+  ev.severity = "error";
+  ev.message = "episode " + std::to_string(key.second) + ": " + message;
+  bus_.publish(bus::kError, ev);
+  log::error(ev.message);
 }
 
 }  // namespace mtg::services

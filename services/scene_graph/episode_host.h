@@ -7,6 +7,7 @@
 // the old state; answers for another attempt or another step are stale and ignored, so a late
 // or duplicated message never applies twice.
 
+#include <chrono>
 #include <map>
 #include <string>
 #include <utility>
@@ -19,6 +20,9 @@
 #include "core/tasks/task.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/observation_t.hpp"
+#include "mtg/render_request_t.hpp"
+#include "mtg/render_result_t.hpp"
 #include "services/common/scene_cache.h"
 
 namespace mtg::services {
@@ -31,14 +35,26 @@ struct FaultInjection {
   static FaultInjection from_env();
 };
 
+/// Images for episodes that ask for them (episode_start_t.render), from a renderer process.
+struct ImageOptions {
+  int width = 640;
+  int height = 480;
+  std::string encoding = "png";
+  double timeout_s = 20.0;  // per request; one resend, then the observation goes without images
+};
+
 class EpisodeHost {
  public:
-  /// Subscribes to episode starts and agent actions of run `run_id` ("" = every run).
+  /// Subscribes to episode starts, agent actions and render results of run `run_id` ("" = every run).
   EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
-              FaultInjection faults = {});
+              FaultInjection faults = {}, ImageOptions images = {});
 
   void on_start(const mtg::episode_start_t& start);
   void on_action(const mtg::agent_action_t& action);
+  void on_render_result(const mtg::render_result_t& result);
+  /// Resends or gives up on render requests that got no answer in time (liveness only: what the
+  /// agent is told never depends on it unless the renderer is gone).
+  void check_render_timeouts();
   /// Episodes currently held (a finished episode is dropped with its last observation).
   int in_flight() const { return static_cast<int>(episodes_.size()); }
 
@@ -52,6 +68,13 @@ class EpisodeHost {
     episode::WorldState state;
     std::string hint;
     bool render = false;
+    std::string data_dir;
+    // An observation waiting for its images (request id = its step).
+    bool awaiting_images = false;
+    mtg::observation_t pending;
+    mtg::render_request_t request;  // kept for the one resend
+    std::chrono::steady_clock::time_point requested_at;
+    bool resent = false;
   };
   using Key = std::pair<std::string, std::int64_t>;
 
@@ -59,12 +82,17 @@ class EpisodeHost {
   void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u,
                      const episode::EpisodeStep* step = nullptr);
   void publish_observation(const Key& key, Episode& e);
+  /// Sends the observation now, or asks the renderer first and sends it when the images arrive.
+  void send_observation(const Key& key, Episode& e, mtg::observation_t obs);
+  void finish_observation(const Key& key, Episode& e);
+  void report_error(const Key& key, int attempt, const std::string& message);
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
   SceneCache& scenes_;
   std::string run_id_;
   FaultInjection faults_;
+  ImageOptions images_;
   std::map<Key, Episode> episodes_;
 };
 

@@ -16,6 +16,11 @@ int main(int argc, char** argv) {
   app.add_option("--url", url, "LCM URL");
   app.add_option("--profile", profile, "scene profile");
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
+  mtg::services::ImageOptions images;
+  app.add_option("--image-width", images.width, "observation image width (pixels)")->check(CLI::Range(16, 8192));
+  app.add_option("--image-height", images.height, "observation image height (pixels)")->check(CLI::Range(16, 8192));
+  app.add_option("--image-encoding", images.encoding, "png or jpeg")->check(CLI::IsMember({"png", "jpeg"}));
+  app.add_option("--render-timeout", images.timeout_s, "seconds to wait for the renderer before asking again");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("scene_graph");
   mtg::services::install_stop_signals();
@@ -23,9 +28,13 @@ int main(int argc, char** argv) {
     mtg::bus::Bus bus(url);
     mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("scene_graph"));
     mtg::services::SceneCache scenes(profile);
-    mtg::services::EpisodeHost host(bus, stamp, scenes, run_id, mtg::services::FaultInjection::from_env());
+    mtg::services::EpisodeHost host(bus, stamp, scenes, run_id, mtg::services::FaultInjection::from_env(),
+                                        images);
     mtg::services::ServiceLoop loop(bus, stamp, "scene_graph", 64);
-    loop.run([&] { loop.set_in_flight(host.in_flight()); });
+    loop.run([&] {
+      loop.set_in_flight(host.in_flight());
+      host.check_render_timeouts();
+    });
   } catch (const std::exception& e) {
     mtg::log::error(e.what());
     return 1;

@@ -128,8 +128,10 @@ class RoundTrip {
 
     mtg::render_request_t rreq{};
     rreq.request_id = 9;
-    rreq.view = "platform";
-    rreq.side = 2;
+    rreq.n_views = 1;
+    rreq.views.resize(1);
+    rreq.views[0].view = "platform";
+    rreq.views[0].side = 2;
     rreq.width = 640;
     rreq.height = 480;
     check("T_RENDER_REQ", rreq);

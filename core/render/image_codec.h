@@ -1,0 +1,14 @@
+#pragma once
+// Encoded images for the bus and for files: PNG (lossless, fast settings) or JPEG.
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace mtg::render {
+
+/// "png" or "jpeg" ("jpg" accepted). @throws mtg::Error for another encoding or a failed encode.
+std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& encoding);
+
+}  // namespace mtg::render

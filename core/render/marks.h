@@ -1,0 +1,52 @@
+#pragma once
+// What an annotated image numbers, in world coordinates. The numbers come from the same
+// functions that build the agent's action space (episode::pickable_on for o<N>,
+// episode::place_targets for the placement keys, SceneGraph::navigable for l<N>), so an image
+// can never disagree with the observation text.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+
+namespace mtg::render {
+
+/// A pickable item: key o<number>, marked at the centre of its top.
+struct ItemMark {
+  int number = 0;
+  int object = -1;
+  Eigen::Vector3d anchor_W = Eigen::Vector3d::Zero();
+};
+
+/// A placement target (free-space region or 3x3 cell): key <number>, drawn on the surface.
+struct RegionMark {
+  int number = 0;
+  std::vector<std::vector<Eigen::Vector3d>> rings_W;  // outer rings and holes, on the surface
+  Eigen::Vector3d label_W = Eigen::Vector3d::Zero();  // a point inside the region
+};
+
+/// A navigable platform on the overview: key l<number>.
+struct LabelMark {
+  std::string text;
+  Eigen::Vector3d anchor_W = Eigen::Vector3d::Zero();
+};
+
+struct Marks {
+  std::vector<ItemMark> items;
+  std::vector<RegionMark> regions;
+  std::vector<LabelMark> labels;
+  bool empty() const { return items.empty() && regions.empty() && labels.empty(); }
+};
+
+/// The items the agent may pick on `platform`, numbered as its o<N> keys.
+std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform);
+
+/// The placement targets offered on `platform` to a robot at `side` (not "anywhere").
+std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform,
+                                     graph::Side side, double min_region_size);
+
+/// Every navigable platform with its l<N> key, at the centre of its surface.
+std::vector<LabelMark> platform_labels(const graph::SceneGraph& g, const episode::WorldState& s);
+
+}  // namespace mtg::render

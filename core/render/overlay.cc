@@ -1,0 +1,191 @@
+#include "core/render/overlay.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
+
+namespace mtg::render {
+namespace {
+
+// 24 colours that stay distinct on wood, white and grey surfaces (RGB, converted to BGR below).
+constexpr std::array<std::array<int, 3>, 24> kPalette = {{
+    {230, 25, 75},  {60, 180, 75},   {0, 130, 200},  {245, 130, 48}, {145, 30, 180}, {70, 240, 240},
+    {240, 50, 230}, {210, 245, 60},  {250, 190, 212}, {0, 128, 128}, {220, 190, 255}, {170, 110, 40},
+    {255, 225, 25}, {128, 0, 0},     {170, 255, 195}, {128, 128, 0}, {255, 215, 180}, {0, 0, 128},
+    {255, 99, 71},  {46, 139, 87},   {65, 105, 225}, {255, 140, 0},  {199, 21, 133}, {32, 178, 170},
+}};
+
+cv::Point to_cv(const Eigen::Vector2d& p) {
+  return {static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y()))};
+}
+
+// Black or white, whichever reads better on `c`.
+cv::Scalar ink_on(const cv::Scalar& c) {
+  const double luma = 0.114 * c[0] + 0.587 * c[1] + 0.299 * c[2];
+  return luma > 150 ? cv::Scalar(0, 0, 0) : cv::Scalar(255, 255, 255);
+}
+
+struct Style {
+  int radius;        // label disc
+  double font;       // cv::putText scale
+  int thickness;
+};
+
+Style style_for(const cv::Mat& image) {
+  const double s = std::min(image.cols, image.rows) / 480.0;
+  return {std::max(9, static_cast<int>(std::lround(13 * s))), 0.5 * s, std::max(1, static_cast<int>(std::lround(1.6 * s)))};
+}
+
+void centred_text(cv::Mat& image, const std::string& text, cv::Point at, const Style& st, const cv::Scalar& ink) {
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, st.font, st.thickness, &baseline);
+  cv::putText(image, text, {at.x - size.width / 2, at.y + size.height / 2}, cv::FONT_HERSHEY_SIMPLEX, st.font, ink,
+              st.thickness, cv::LINE_AA);
+}
+
+
+// Places number discs near their anchors without covering each other: each disc tries a fixed
+// sequence of offsets and keeps the first that is clear of the discs already placed (or, when
+// none is, the one farthest from them). Deterministic: the order of the marks decides.
+class DiscPlacer {
+ public:
+  DiscPlacer(const cv::Mat& image, const Style& st)
+      : r_(st.radius), lo_(r_ + 2, r_ + 2), hi_(image.cols - r_ - 3, image.rows - r_ - 3) {}
+
+  Eigen::Vector2d place(const Eigen::Vector2d& anchor, bool on_anchor_first) {
+    static const std::array<Eigen::Vector2d, 13> kOffsets = {{{0, 0}, {0, -2.6}, {2.4, -2.4}, {-2.4, -2.4},
+                                                             {0, -4.6}, {3.6, -3.6}, {-3.6, -3.6}, {2.6, 0},
+                                                             {-2.6, 0}, {0, 2.6}, {2.4, 2.4}, {-2.4, 2.4}, {0, -6.6}}};
+    Eigen::Vector2d best = anchor;
+    double best_gap = -1.0;
+    for (std::size_t k = on_anchor_first ? 0 : 1; k < kOffsets.size(); ++k) {
+      const Eigen::Vector2d c = (anchor + kOffsets[k] * r_).cwiseMax(lo_).cwiseMin(hi_);
+      double gap = std::numeric_limits<double>::infinity();
+      for (const auto& q : placed_) gap = std::min(gap, (q - c).norm());
+      if (gap >= 2.3 * r_) {
+        best = c;
+        break;
+      }
+      if (gap > best_gap) {
+        best_gap = gap;
+        best = c;
+      }
+    }
+    placed_.push_back(best);
+    return best;
+  }
+
+ private:
+  double r_;
+  Eigen::Vector2d lo_, hi_;
+  std::vector<Eigen::Vector2d> placed_;
+};
+
+struct Disc {
+  int number;
+  cv::Point anchor, label;
+  cv::Scalar fill, ink;
+};
+
+// Leader lines first, so no line crosses a disc drawn earlier; then anchor dots; then discs.
+void draw_discs(cv::Mat& image, const std::vector<Disc>& discs, const Style& st, bool dots) {
+  for (const Disc& d : discs) {
+    if (d.anchor == d.label) continue;
+    cv::line(image, d.anchor, d.label, cv::Scalar(0, 0, 0), st.thickness + 2, cv::LINE_AA);
+    cv::line(image, d.anchor, d.label, mark_colour(d.number), st.thickness, cv::LINE_AA);
+  }
+  if (dots) {
+    for (const Disc& d : discs) {
+      cv::circle(image, d.anchor, std::max(3, st.radius / 3), cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+      cv::circle(image, d.anchor, std::max(2, st.radius / 3 - 1), mark_colour(d.number), cv::FILLED, cv::LINE_AA);
+    }
+  }
+  for (const Disc& d : discs) {
+    cv::circle(image, d.label, st.radius + 1, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+    cv::circle(image, d.label, st.radius, d.fill, cv::FILLED, cv::LINE_AA);
+    centred_text(image, std::to_string(d.number), d.label, st, d.ink);
+  }
+}
+
+bool inside(const cv::Mat& image, const Eigen::Vector2d& p) {
+  return p.x() >= 0 && p.y() >= 0 && p.x() < image.cols && p.y() < image.rows;
+}
+
+// Targets: translucent regions in their colour, a white disc with the black key on each.
+void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<RegionMark>& regions, const Style& st,
+                  DiscPlacer& placer) {
+  cv::Mat tint = image.clone();
+  std::vector<Disc> discs;
+  for (const RegionMark& r : regions) {
+    std::vector<std::vector<cv::Point>> polys;
+    bool visible = true;
+    for (const auto& ring : r.rings_W) {
+      std::vector<cv::Point> poly;
+      for (const auto& p : ring) {
+        const auto q = camera.project(p);
+        if (!q) visible = false;
+        else poly.push_back(to_cv(*q));
+      }
+      polys.push_back(std::move(poly));
+    }
+    const auto label = camera.project(r.label_W);
+    if (!visible || !label) continue;  // a region behind the camera is not drawn at all
+    cv::fillPoly(tint, polys, mark_colour(r.number), cv::LINE_AA);
+    cv::polylines(image, polys, true, mark_colour(r.number), st.thickness, cv::LINE_AA);
+    if (!inside(image, *label)) continue;
+    discs.push_back({r.number, to_cv(*label), to_cv(placer.place(*label, true)), cv::Scalar(255, 255, 255),
+                     cv::Scalar(0, 0, 0)});
+  }
+  cv::addWeighted(tint, 0.5, image, 0.5, 0.0, image);
+  draw_discs(image, discs, st, false);
+}
+
+// Items: a dot on the item, a leader line, a disc in the item's colour above it.
+void draw_items(cv::Mat& image, const Camera& camera, const std::vector<ItemMark>& items, const Style& st,
+                DiscPlacer& placer) {
+  std::vector<Disc> discs;
+  for (const ItemMark& m : items) {
+    const auto a = camera.project(m.anchor_W);
+    if (!a || !inside(image, *a)) continue;
+    const cv::Scalar fill = mark_colour(m.number);
+    discs.push_back({m.number, to_cv(*a), to_cv(placer.place(*a, false)), fill, ink_on(fill)});
+  }
+  draw_discs(image, discs, st, true);
+}
+
+void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+  for (const LabelMark& l : labels) {
+    const auto at = camera.project(l.anchor_W);
+    if (!at) continue;
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(l.text, cv::FONT_HERSHEY_SIMPLEX, st.font, st.thickness, &baseline);
+    const cv::Point c = to_cv(*at);
+    const cv::Rect box(c.x - size.width / 2 - 3, c.y - size.height / 2 - 3, size.width + 6, size.height + 6);
+    cv::rectangle(image, box, cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::rectangle(image, box, cv::Scalar(0, 0, 0), 1);
+    centred_text(image, l.text, c, st, cv::Scalar(0, 0, 0));
+  }
+}
+
+}  // namespace
+
+cv::Scalar mark_colour(int n) {
+  const auto& c = kPalette[static_cast<std::size_t>(std::max(0, n - 1)) % kPalette.size()];
+  return cv::Scalar(c[2], c[1], c[0]);
+}
+
+cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks) {
+  cv::Mat out = image.clone();
+  const Style st = style_for(out);
+  DiscPlacer placer(out, st);
+  if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, placer);
+  if (!marks.items.empty()) draw_items(out, camera, marks.items, st, placer);
+  if (!marks.labels.empty()) draw_labels(out, camera, marks.labels, st);
+  return out;
+}
+
+}  // namespace mtg::render

@@ -1,0 +1,20 @@
+#pragma once
+// Draws the marks of a view onto a rendered image (the annotated copy the agent receives next to
+// the plain one): placement targets as translucent coloured regions with a circled number;
+// items as a dot on the item joined by a leader line to a coloured disc with its number; overview
+// labels as boxed l<N> keys. Deterministic: a fixed palette and a fixed label-placement order.
+
+#include <opencv2/core.hpp>
+
+#include "core/render/camera.h"
+#include "core/render/marks.h"
+
+namespace mtg::render {
+
+/// A copy of `image` (8-bit BGR, the camera's size) with `marks` drawn on it.
+cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks);
+
+/// The colour of mark number `n` (1-based) in the fixed high-contrast palette, BGR.
+cv::Scalar mark_colour(int n);
+
+}  // namespace mtg::render

@@ -1,0 +1,294 @@
+#include "core/render/view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/util/error.h"
+
+namespace mtg::render {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFocus = 0.86;               // key points fill at most this share of the image
+constexpr double kMinFovy = 20.0 * kPi / 180;
+constexpr double kMaxFovy = 100.0 * kPi / 180;
+constexpr double kStepBack = 0.25;            // metres per step when even kMaxFovy is too narrow
+constexpr int kMaxStepsBack = 8;
+constexpr double kMinSpan = 0.6;              // metres of surroundings around a small platform
+
+// Bad requests are the caller's input, not our invariants: a plain one-line error.
+void require(bool condition, const std::string& message) {
+  if (!condition) throw Error(message);
+}
+
+struct Tangents {
+  Eigen::AlignedBox2d box;  // of (x / -z, y / -z) in the camera frame
+  bool behind = false;      // some key point is behind the camera
+};
+
+Tangents tangents(const Eigen::Isometry3d& X_WC, const std::vector<Eigen::Vector3d>& points) {
+  Tangents t;
+  const Eigen::Isometry3d X_CW = X_WC.inverse();
+  for (const auto& p : points) {
+    const Eigen::Vector3d c = X_CW * p;
+    if (-c.z() < 0.02) {
+      t.behind = true;
+      continue;
+    }
+    t.box.extend(Eigen::Vector2d(c.x() / -c.z(), c.y() / -c.z()));
+  }
+  return t;
+}
+
+// Aims a camera at `eye` so `points` are centred and picks the field of view that holds them.
+// Returns false when no field of view up to kMaxFovy can.
+bool aim(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const std::vector<Eigen::Vector3d>& points,
+         double aspect, Eigen::Isometry3d& X_WC, double& fovy) {
+  X_WC = look_at(eye, target);
+  for (int i = 0; i < 3; ++i) {  // the centre moves a little as the aim does; three rounds settle it
+    const Tangents t = tangents(X_WC, points);
+    if (t.box.isEmpty()) return false;
+    const Eigen::Vector2d c = t.box.center();
+    const Eigen::Vector3d forward = X_WC.linear() * Eigen::Vector3d(c.x(), c.y(), -1.0);
+    X_WC = look_at(eye, eye + forward);
+  }
+  const Tangents t = tangents(X_WC, points);
+  if (t.behind || t.box.isEmpty()) return false;
+  const Eigen::Vector2d half = t.box.sizes() / 2.0;
+  const double need = std::max(half.y(), half.x() / aspect) / kFocus;
+  fovy = std::max(kMinFovy, 2.0 * std::atan(need));
+  return fovy <= kMaxFovy;
+}
+
+// The world xy where the robot stands on `side` of `platform` (moved item platforms move along).
+Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldState& s, int platform, int side) {
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+  const graph::SideInfo& info = p.sides[static_cast<std::size_t>(side)];
+  const Eigen::Vector2d shift = s.platform_offset[static_cast<std::size_t>(platform)].head<2>();
+  if (info.standing_area > 0.0) return info.standing_point + shift;
+  if (!info.strip_W.empty()) {  // nowhere to stand: look from the middle of that side's strip
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (const auto& q : info.strip_W) c += q;
+    return c / static_cast<double>(info.strip_W.size()) + shift;
+  }
+  // No strip either (a platform the graph never measured): one metre out from the named side.
+  static const Eigen::Vector2d kOut[4] = {{0, -1}, {-1, 0}, {0, 1}, {1, 0}};
+  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
+  const Eigen::Vector2d half = p.box_P.sizes() / 2.0;
+  const Eigen::Vector2d out = kOut[side];
+  return X_WP * Eigen::Vector2d(out.x() * (half.x() + 1.0), out.y() * (half.y() + 1.0));
+}
+
+ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
+  require(r.platform >= 0 && r.platform < static_cast<int>(g.platforms.size()),
+             "render: platform index " + std::to_string(r.platform) + " out of range");
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(r.platform)];
+  ViewPlan plan;
+  plan.side = r.side;
+  if (plan.side < 0) plan.side = s.at_platform == r.platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
+  require(plan.side <= 3, "render: side " + std::to_string(plan.side) + " is not 0..3");
+
+  const double h = episode::platform_height(g, s, r.platform);
+  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, r.platform);
+  std::vector<Eigen::Vector3d> keys;
+  for (const geom::Ring& ring : geom::transform(p.polygon_P, X_WP).rings) {
+    for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
+  }
+  double top = h;
+  for (const int o : episode::pickable_on(g, s, r.platform)) {
+    const episode::ObjectState& st = s.objects[static_cast<std::size_t>(o)];
+    top = std::max(top, st.top);
+  }
+  for (const int o : episode::objects_on(s, r.platform)) {
+    const episode::ObjectState& st = s.objects[static_cast<std::size_t>(o)];
+    top = std::max(top, st.top);
+    for (const auto& q : st.footprint) {
+      keys.emplace_back(q.x(), q.y(), st.bottom);
+      keys.emplace_back(q.x(), q.y(), st.top);
+    }
+  }
+  // A small surface (a stool, a bin lid) is shown with some of its surroundings, so the agent
+  // can tell where it is: the key points span at least kMinSpan around the platform's centre.
+  const Eigen::Vector2d mid = X_WP.translation();
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                                       Eigen::Vector2d(-1, 1)}) {
+    const Eigen::Vector2d q = mid + corner * (kMinSpan / 2.0);
+    keys.emplace_back(q.x(), q.y(), h);
+  }
+  // Eye height: above the tallest item, looking down on the surface; under the layer above an
+  // interior platform (a shelf), so the robot looks into the cabinet rather than at its top.
+  double eye_z = std::max(h + 0.6, top + 0.35);
+  if (std::isfinite(p.clearance)) eye_z = std::min(eye_z, h + std::max(0.06, p.clearance - 0.04));
+
+  const Eigen::Vector2d stand = standing_point(g, s, r.platform, plan.side);
+  const Eigen::Vector2d centre = X_WP.translation();
+  Eigen::Vector2d away = stand - centre;
+  away = away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d(0, -1);
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+  for (const auto& k : keys) target += k;
+  target /= static_cast<double>(keys.size());
+
+  Camera& cam = plan.camera;
+  cam.width = r.width;
+  cam.height = r.height;
+  for (int step = 0; step <= kMaxStepsBack; ++step) {
+    const Eigen::Vector2d xy = stand + away * (kStepBack * step);
+    const Eigen::Vector3d eye(xy.x(), xy.y(), eye_z);
+    if (aim(eye, target, keys, cam.aspect(), cam.X_WC, cam.fovy)) break;
+    cam.fovy = kMaxFovy;  // the last step keeps the widest lens
+  }
+  if (s.held >= 0) plan.hidden.push_back(s.held);
+  if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
+  if (r.marks == MarkKind::kTargets) {
+    plan.marks.regions = target_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
+  }
+  return plan;
+}
+
+ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
+  require(r.object >= 0 && r.object < static_cast<int>(g.objects.size()),
+             "render: object index " + std::to_string(r.object) + " out of range");
+  const episode::ObjectState& o = s.objects[static_cast<std::size_t>(r.object)];
+  const geom::Point2 c2 = episode::footprint_centre(o);
+  const Eigen::AlignedBox2d box = geom::bounds(o.footprint);
+  const Eigen::Vector3d centre(c2.x(), c2.y(), (o.bottom + o.top) / 2.0);
+  const double radius = std::max(0.03, 0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), o.top - o.bottom).norm());
+  // Seen from where the robot stands when it stands somewhere, else from the south-west.
+  Eigen::Vector2d from(-1.0, -1.0);
+  if (s.at_platform >= 0 && s.side >= 0) from = standing_point(g, s, s.at_platform, s.side) - c2;
+  from = from.norm() > 1e-6 ? from.normalized() : Eigen::Vector2d(0, -1);
+  ViewPlan plan;
+  Camera& cam = plan.camera;
+  cam.width = r.width;
+  cam.height = r.height;
+  cam.fovy = 40.0 * kPi / 180;
+  const double distance = radius / std::tan(cam.fovy / 2.0) / 0.7;
+  const double elevation = 30.0 * kPi / 180;
+  const Eigen::Vector3d eye = centre + distance * Eigen::Vector3d(std::cos(elevation) * from.x(),
+                                                                  std::cos(elevation) * from.y(), std::sin(elevation));
+  cam.X_WC = look_at(eye, centre);
+  cam.near = std::max(0.01, distance - 2.0 * radius);
+  cam.far = distance + 2.0 * radius;
+  plan.only = r.object;
+  return plan;
+}
+
+ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
+  Eigen::AlignedBox2d box;
+  double top = 0.0;
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    const graph::ObjectKind kind = g.objects[i].kind;
+    if (kind == graph::ObjectKind::kUnsupported || static_cast<int>(i) == s.held) continue;
+    for (const auto& q : s.objects[i].footprint) box.extend(q);
+    top = std::max(top, s.objects[i].top);
+  }
+  require(!box.isEmpty(), "render: the scene has no objects to look down on");
+  ViewPlan plan;
+  Camera& cam = plan.camera;
+  cam.width = r.width;
+  cam.height = r.height;
+  cam.orthographic = true;
+  const Eigen::Vector2d c = box.center();
+  const Eigen::Vector2d half = box.sizes() / 2.0;
+  cam.ortho_half_height = 1.04 * std::max(half.y(), half.x() / cam.aspect());
+  cam.X_WC = look_at(Eigen::Vector3d(c.x(), c.y(), top + 2.0), Eigen::Vector3d(c.x(), c.y(), 0.0),
+                     Eigen::Vector3d::UnitY());
+  cam.near = 0.1;
+  cam.far = top + 3.0;
+  if (s.held >= 0) plan.hidden.push_back(s.held);
+  if (r.marks == MarkKind::kLabels) plan.marks.labels = platform_labels(g, s);
+  return plan;
+}
+
+}  // namespace
+
+const char* to_string(ViewKind kind) {
+  switch (kind) {
+    case ViewKind::kPlatform: return "platform";
+    case ViewKind::kItem: return "item";
+    case ViewKind::kTopdown: return "topdown";
+  }
+  return "platform";
+}
+
+const char* to_string(MarkKind kind) {
+  switch (kind) {
+    case MarkKind::kNone: return "";
+    case MarkKind::kItems: return "items";
+    case MarkKind::kTargets: return "targets";
+    case MarkKind::kLabels: return "labels";
+  }
+  return "";
+}
+
+ViewKind parse_view_kind(const std::string& name) {
+  if (name == "platform") return ViewKind::kPlatform;
+  if (name == "item") return ViewKind::kItem;
+  if (name == "topdown") return ViewKind::kTopdown;
+  throw Error("render: unknown view '" + name + "' (platform, item or topdown)");
+}
+
+MarkKind parse_mark_kind(const std::string& name) {
+  if (name.empty() || name == "none") return MarkKind::kNone;
+  if (name == "items") return MarkKind::kItems;
+  if (name == "targets") return MarkKind::kTargets;
+  if (name == "labels") return MarkKind::kLabels;
+  throw Error("render: unknown marks '" + name + "' (items, targets, labels or none)");
+}
+
+ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request) {
+  require(request.width > 0 && request.height > 0 && request.width <= 8192 && request.height <= 8192,
+             "render: image size " + std::to_string(request.width) + "x" + std::to_string(request.height) +
+                 " is not in 1..8192");
+  switch (request.view) {
+    case ViewKind::kPlatform: return platform_view(g, s, request);
+    case ViewKind::kItem: return item_view(g, s, request);
+    case ViewKind::kTopdown: return topdown_view(g, s, request);
+  }
+  throw Error("render: unknown view kind");
+}
+
+std::vector<ViewRequest> observation_views(const episode::WorldState& s, int width, int height,
+                                           double min_region_size) {
+  std::vector<ViewRequest> out;
+  ViewRequest base;
+  base.width = width;
+  base.height = height;
+  base.min_region_size = min_region_size;
+  switch (s.phase) {
+    case episode::Phase::kDone: return out;
+    case episode::Phase::kStart: {
+      ViewRequest r = base;
+      r.view = ViewKind::kTopdown;
+      r.marks = MarkKind::kLabels;
+      out.push_back(r);
+      break;
+    }
+    case episode::Phase::kAtPlatform:
+    case episode::Phase::kPlacing: {
+      ViewRequest r = base;
+      r.view = ViewKind::kPlatform;
+      r.platform = s.at_platform;
+      r.side = s.side;
+      r.marks = s.phase == episode::Phase::kPlacing ? MarkKind::kTargets : MarkKind::kItems;
+      out.push_back(r);
+      break;
+    }
+  }
+  if (s.held >= 0) {
+    ViewRequest r = base;
+    r.view = ViewKind::kItem;
+    r.object = s.held;
+    out.push_back(r);
+  }
+  return out;
+}
+
+Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, int i) {
+  const graph::GraphObject& o = g.objects[static_cast<std::size_t>(i)];
+  const Eigen::Vector3d moved = s.objects[static_cast<std::size_t>(i)].position - o.X_WO.translation();
+  return Eigen::Translation3d(moved) * o.X_WO;
+}
+
+}  // namespace mtg::render

@@ -1,0 +1,64 @@
+#pragma once
+// Where the camera goes for each kind of image the agent receives, and what the image shows
+// (docs/render.md, "Views"). Pure geometry of the scene graph and a world state; no GL.
+//
+//   platform  from the robot's standing point on one side of a platform, at eye height above
+//             the tallest item, aimed and zoomed so the whole surface and its items are in view
+//             (closed form: aim at the angular centre of the key points, then the field of view
+//             that holds them, stepping back when even a wide lens cannot)
+//   item      a close-up of one object alone (the held item), seen from the robot's side
+//   topdown   an orthographic overview of the whole scene, north up
+
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+#include "core/render/camera.h"
+#include "core/render/marks.h"
+
+namespace mtg::render {
+
+enum class ViewKind { kPlatform, kItem, kTopdown };
+enum class MarkKind { kNone, kItems, kTargets, kLabels };
+
+/// "platform", "item", "topdown" / "", "items", "targets", "labels". @throws mtg::Error otherwise.
+ViewKind parse_view_kind(const std::string& name);
+MarkKind parse_mark_kind(const std::string& name);
+const char* to_string(ViewKind kind);
+const char* to_string(MarkKind kind);  // "" for kNone
+
+struct ViewRequest {
+  ViewKind view = ViewKind::kPlatform;
+  int platform = -1;   // platform views
+  int side = -1;       // -1: where the robot stands if it is at that platform, else the default side
+  int object = -1;     // item views
+  MarkKind marks = MarkKind::kNone;
+  int width = 640;
+  int height = 480;
+  double min_region_size = 0.03;  // as episode::RuleOptions, for target numbering
+};
+
+struct ViewPlan {
+  Camera camera;
+  int side = -1;             // the side used (platform views)
+  std::vector<int> hidden;   // objects not drawn (the held item stays out of scene views)
+  int only = -1;             // when >= 0, the single object drawn (item close-ups)
+  Marks marks;
+};
+
+/// @throws mtg::Error naming the problem (index out of range, non-positive size, ...).
+ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request);
+
+/// The images an observation in state `s` carries (docs/render.md, "What the agent sees"):
+///   start            the overview with every platform's l<N>
+///   at a platform    the platform from where the robot stands, items numbered o<N>
+///   placing          the same view with the placement targets numbered as their keys
+///   holding          plus a close-up of the item in hand
+///   done             nothing
+std::vector<ViewRequest> observation_views(const episode::WorldState& s, int width, int height,
+                                           double min_region_size);
+
+/// The world pose of object `i` in state `s` (its settled pose moved as the episode moved it).
+Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, int i);
+
+}  // namespace mtg::render
