@@ -81,7 +81,7 @@ json state_delta_to_json(const graph::SceneGraph& g, const WorldState& s) {
 
 WorldState state_from_delta_json(const graph::SceneGraph& g, const json& delta) {
   WorldState s = initial_state(g);
-  if (delta.is_null() || delta.empty()) return s;
+  if (delta.is_null()) return s;
   if (!delta.is_object()) throw Error("state: expected a JSON object, got " + std::string(delta.type_name()));
   try {
     if (delta.contains("phase")) {

@@ -32,6 +32,15 @@ struct BenchRuntimeOptions {
   std::vector<int> parallel = {1, 2, 4};
 };
 
+struct BenchRenderOptions {
+  std::string scene = "apt_0";
+  std::string data_dir;
+  std::string profile = "replica_cad";
+  int rounds = 3;     // passes over every navigable platform, per image size
+  int episodes = 20;  // oracle episodes rendered end to end
+};
+
+int run_bench_render(const BenchRenderOptions& options);
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
 int run_bench_tasks(const BenchTasksOptions& options);
 int run_bench_scene_graph(const BenchSceneGraphOptions& options);

@@ -155,6 +155,13 @@ int main(int argc, char** argv) {
   bench_runtime_cmd->add_option("--per-level", bench_runtime.per_level, "tasks per level (Levels 1-3)");
   bench_runtime_cmd->add_option("--parallel", bench_runtime.parallel, "episodes in flight (repeatable)");
 
+  mtg::cli::BenchRenderOptions bench_render;
+  CLI::App* bench_render_cmd = bench->add_subcommand("render", "Renderer: ms per annotated observation, episodes with images");
+  bench_render_cmd->add_option("--scene", bench_render.scene, "scene name");
+  bench_render_cmd->add_option("--data", bench_render.data_dir, "dataset root");
+  bench_render_cmd->add_option("--rounds", bench_render.rounds, "passes over every navigable platform");
+  bench_render_cmd->add_option("--episodes", bench_render.episodes, "oracle episodes rendered end to end");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -178,6 +185,7 @@ int main(int argc, char** argv) {
     if (bench_tasks_cmd->parsed()) return mtg::cli::run_bench_tasks(bench_tasks);
     if (bench_scene_graph->parsed()) return mtg::cli::run_bench_scene_graph(bench_graph);
     if (bench_runtime_cmd->parsed()) return mtg::cli::run_bench_runtime(bench_runtime);
+    if (bench_render_cmd->parsed()) return mtg::cli::run_bench_render(bench_render);
   } catch (const mtg::Error& e) {
     std::cerr << "mtg: " << e.what() << '\n';
     return 1;

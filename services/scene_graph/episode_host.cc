@@ -60,8 +60,8 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start) {
     e.rules = bus::episode_rules(start);
     e.state = episode::initial_state(*e.graph);
     e.render = start.render;
-    episodes_[key] = std::move(e);
     e.data_dir = start.data_dir;
+    episodes_[key] = std::move(e);
   } catch (const Error& err) {
     report_error(key, start.header.attempt, err.what());
     return;

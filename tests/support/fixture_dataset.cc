@@ -1,7 +1,9 @@
 #include "tests/support/fixture_dataset.h"
 
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -34,8 +36,19 @@ std::string FixtureDataset::add_box_mesh(const std::string& name, const Eigen::V
 
 std::string FixtureDataset::add_boxes_mesh(const std::string& name, const std::vector<Box>& boxes) {
   std::ofstream out(root_ / "objects" / (name + ".obj"));
+  const bool coloured = std::any_of(boxes.begin(), boxes.end(), [](const Box& b) { return b.rgb.x() >= 0; });
+  if (coloured) {
+    std::ofstream mtl(root_ / "objects" / (name + ".mtl"));
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      const Eigen::Vector3d c = boxes[k].rgb.cwiseMax(0.0);
+      mtl << "newmtl m" << k << "\nKd " << c.x() << ' ' << c.y() << ' ' << c.z() << "\n";
+    }
+    out << "mtllib " << name << ".mtl\n";
+  }
   int base = 1;
+  int k = 0;
   for (const Box& b : boxes) {
+    if (coloured) out << "usemtl m" << k++ << '\n';
     const Eigen::Vector3d lo = b.bottom_centre - Eigen::Vector3d(b.size.x() / 2, 0, b.size.z() / 2);
     const Eigen::Vector3d hi = lo + b.size;
     for (int i = 0; i < 8; ++i) {

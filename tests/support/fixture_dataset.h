@@ -27,6 +27,7 @@ class FixtureDataset {
   struct Box {
     Eigen::Vector3d size;
     Eigen::Vector3d bottom_centre;
+    Eigen::Vector3d rgb = -Eigen::Vector3d::Ones();  // diffuse colour 0..1 (an .mtl); negative: none
   };
   std::string add_boxes_mesh(const std::string& name, const std::vector<Box>& boxes);
   /// Writes raw bytes as objects/<file>.

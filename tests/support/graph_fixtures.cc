@@ -35,4 +35,32 @@ BuiltScene two_tables(FixtureDataset& fx) {
   return build_fixture_scene(fx, "two_tables");
 }
 
+BuiltScene render_room(FixtureDataset& fx) {
+  const Eigen::Vector3d wood(0.55, 0.36, 0.2), grey(0.6, 0.6, 0.62);
+  auto table = [&](const std::string& name, const Eigen::Vector3d& rgb) {
+    std::vector<FixtureDataset::Box> parts = {{{1.0, 0.04, 0.6}, {0, 0.70, 0}, rgb}};
+    for (const double x : {-0.45, 0.45}) {
+      for (const double z : {-0.25, 0.25}) parts.push_back({{0.04, 0.70, 0.04}, {x, 0, z}, rgb * 0.6});
+    }
+    fx.add_object_config("toy_" + name, fx.add_boxes_mesh(name, parts));
+  };
+  table("wood_table", wood);
+  table("grey_table", grey);
+  auto box = [&](const std::string& name, const Eigen::Vector3d& size, const Eigen::Vector3d& rgb) {
+    fx.add_object_config("toy_" + name, fx.add_boxes_mesh(name, {{size, Eigen::Vector3d::Zero(), rgb}}));
+  };
+  box("red_cube", {0.12, 0.12, 0.12}, {0.85, 0.1, 0.1});
+  box("green_tower", {0.08, 0.22, 0.08}, {0.1, 0.7, 0.2});
+  box("blue_slab", {0.22, 0.05, 0.16}, {0.15, 0.3, 0.9});
+  fx.add_object_config("toy_ghost", "../../objects/ghost_is_missing.obj");
+  fx.add_scene("render_room", {{"object_instances",
+                                {FixtureDataset::instance("toy_wood_table", {0, 0, 0}),
+                                 FixtureDataset::instance("toy_red_cube", hab(-0.3, 0.05, 0.75)),
+                                 FixtureDataset::instance("toy_green_tower", hab(0.0, 0.12, 0.75)),
+                                 FixtureDataset::instance("toy_blue_slab", hab(0.28, -0.08, 0.75), 30.0),
+                                 FixtureDataset::instance("toy_ghost", hab(0.0, -0.18, 0.75)),
+                                 FixtureDataset::instance("toy_grey_table", hab(2.5, 0, 0))}}});
+  return build_fixture_scene(fx, "render_room");
+}
+
 }  // namespace mtg::testing

@@ -1,0 +1,126 @@
+// `mtg bench render`: the renderer's figures (issue 7) on llvmpipe or a GPU: scene upload, ms per
+// annotated observation at two sizes over every navigable platform of a scene, triangles per
+// frame, memory, and whole oracle episodes with the images the scene-graph service would ask for.
+// Wall-clock here is telemetry only.
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <vector>
+
+#include "core/episode/goals.h"
+#include "core/episode/rules.h"
+#include "core/render/image_codec.h"
+#include "core/render/view.h"
+#include "core/tasks/generator.h"
+#include "core/util/stopwatch.h"
+#include "orchestrator/cli/bench_commands.h"
+#include "services/renderer/renderer.h"
+
+namespace mtg::cli {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+// Renders, marks and encodes every view an observation in `s` asks for; returns the bytes.
+std::size_t observation_images(render::SceneRenderer& renderer, const graph::SceneGraph& g,
+                               const episode::WorldState& s, int width, int height, double min_region,
+                               std::int64_t& triangles) {
+  std::size_t bytes = 0;
+  for (const render::ViewRequest& v : render::observation_views(s, width, height, min_region)) {
+    const render::ViewPlan plan = render::plan_view(g, s, v);
+    const render::ViewImages images = render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone);
+    triangles += images.triangles;
+    bytes += render::encode_image(images.plain, "png").size();
+    if (!images.marked.empty()) bytes += render::encode_image(images.marked, "png").size();
+  }
+  return bytes;
+}
+
+}  // namespace
+
+int run_bench_render(const BenchRenderOptions& o) {
+  services::Renderer renderer(o.profile);
+  std::printf("renderer: %s\n", renderer.gl_description().c_str());
+  Stopwatch load;
+  const services::SceneCache::Entry& entry = renderer.scenes().load(o.scene, o.data_dir);
+  const double scene_ms = load.elapsed_ms();
+  load.reset();
+  render::SceneRenderer& gpu = renderer.scene_renderer(entry);
+  const double upload_ms = load.elapsed_ms();
+  const graph::SceneGraph& g = entry.graph;
+  std::printf("%s: scene + graph %.0f ms, GPU upload (meshes, textures <= %d px) %.0f ms, textures %.0f MiB\n",
+              o.scene.c_str(), scene_ms, render::RendererOptions{}.max_texture_size, upload_ms,
+              static_cast<double>(gpu.uploaded_texture_bytes()) / (1 << 20));
+
+  const episode::WorldState initial = episode::initial_state(g);
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{640, 480}, {1280, 720}}) {
+    std::vector<double> frame_ms, observation_ms;
+    std::int64_t triangles = 0;
+    std::size_t bytes = 0;
+    int frames = 0;
+    for (int round = 0; round < o.rounds; ++round) {
+      for (const int p : g.navigable) {
+        render::ViewRequest r;
+        r.platform = p;
+        r.width = w;
+        r.height = h;
+        r.marks = render::MarkKind::kItems;
+        Stopwatch watch;
+        const render::ViewPlan plan = render::plan_view(g, initial, r);
+        const render::ViewImages images = render::draw_view(gpu, g, initial, plan, true);
+        frame_ms.push_back(watch.elapsed_ms());
+        bytes += render::encode_image(images.plain, "png").size() + render::encode_image(images.marked, "png").size();
+        observation_ms.push_back(watch.elapsed_ms());
+        triangles += images.triangles;
+        ++frames;
+      }
+    }
+    std::printf("%dx%d platform views (%d, every navigable platform x %d): annotated frame median %.1f ms, "
+                "mean %.1f ms = %.0f frames/s; with both PNGs encoded median %.1f ms = %.0f observations/s; "
+                "%lld triangles/frame; %.0f KiB PNG per observation (plain + marked)\n",
+                w, h, frames, o.rounds, median(frame_ms), mean(frame_ms), 1000.0 / mean(frame_ms),
+                median(observation_ms), 1000.0 / mean(observation_ms), static_cast<long long>(triangles / frames),
+                static_cast<double>(bytes) / frames / 1024.0);
+  }
+
+  // Whole oracle episodes, rendered as the service would: every observation's views at 640x480.
+  tasks::TaskOptions task_options;
+  task_options.levels = {1, 2};
+  const auto generated = tasks::generate_tasks(g, task_options);
+  std::vector<double> episode_ms;
+  std::vector<double> steps;
+  const episode::RuleOptions rules;
+  for (std::size_t i = 0; i < generated.set.tasks.size() && static_cast<int>(episode_ms.size()) < o.episodes;
+       i += std::max<std::size_t>(1, generated.set.tasks.size() / static_cast<std::size_t>(o.episodes))) {
+    const tasks::Task& task = generated.set.tasks[i];
+    episode::TaskConstraints constraints;
+    constraints.protected_objects = episode::task_goal_from_json(g, task.goal).protected_objects();
+    episode::WorldState s = episode::initial_state(g);
+    std::int64_t triangles = 0;
+    Stopwatch watch;
+    observation_images(gpu, g, s, 640, 480, rules.min_region_size, triangles);
+    for (const std::string& key : task.oracle) {
+      episode::apply_action(g, s, key, constraints, rules);
+      observation_images(gpu, g, s, 640, 480, rules.min_region_size, triangles);
+    }
+    episode_ms.push_back(watch.elapsed_ms());
+    steps.push_back(static_cast<double>(task.oracle.size()));
+  }
+  std::printf("oracle episodes with images (640x480, %zu Level 1-2 tasks, %.1f steps on average): median %.0f ms, "
+              "max %.0f ms per episode\n",
+              episode_ms.size(), mean(steps), median(episode_ms),
+              episode_ms.empty() ? 0.0 : *std::max_element(episode_ms.begin(), episode_ms.end()));
+  std::printf("peak RSS %.0f MiB\n", peak_rss_mib());
+  return 0;
+}
+
+}  // namespace mtg::cli

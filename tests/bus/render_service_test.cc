@@ -1,0 +1,160 @@
+// The renderer as a process on the bus: a bad request (unknown platform, missing mesh, zero-size
+// image) gets a reply with a one-line error and the process serves the next request; and a
+// rendered benchmark run gives the agent images in its observations.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+
+#include "bus/bus.h"
+#include "bus/channels.h"
+#include "bus/recording.h"
+#include "bus/url.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "mtg/heartbeat_t.hpp"
+#include "mtg/observation_t.hpp"
+#include "mtg/render_request_t.hpp"
+#include "mtg/render_result_t.hpp"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/process.h"
+
+namespace mtg {
+namespace {
+
+using ::testing::HasSubstr;
+
+class RenderServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override { built_ = testing::render_room(fx_); }
+
+  std::string object_named(const std::string& template_name) const {
+    for (const auto& o : built_.graph.objects) {
+      if (o.template_name == template_name) return o.name;
+    }
+    return "";
+  }
+  std::string table_top() const {
+    for (const auto& p : built_.graph.platforms) {
+      if (p.navigable && built_.graph.objects[p.owner].template_name == "toy_wood_table") return p.name;
+    }
+    return "";
+  }
+
+  mtg::render_request_t request(std::int64_t id, mtg::render_view_t view) const {
+    mtg::render_request_t r{};
+    r.header.episode_id = 7;
+    r.request_id = id;
+    r.scene = "render_room";
+    r.data_dir = fx_.root().string();
+    r.width = 320;
+    r.height = 240;
+    r.encoding = "png";
+    r.views = {std::move(view)};
+    r.n_views = 1;
+    return r;
+  }
+
+  static mtg::render_view_t view(const std::string& kind, const std::string& platform, const std::string& item,
+                                 const std::string& marks) {
+    mtg::render_view_t v{};
+    v.view = kind;
+    v.platform = platform;
+    v.side = -1;
+    v.item = item;
+    v.marks = marks;
+    return v;
+  }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+};
+
+TEST_F(RenderServiceTest, BadRequestsGetErrorRepliesAndTheRendererKeepsServing) {
+  bus::Bus bus(bus::kDefaultUrl);
+  bool ready = false;
+  std::map<std::int64_t, mtg::render_result_t> replies;
+  bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
+    ready = ready || m.role == "renderer";
+  });
+  bus.subscribe<mtg::render_result_t>(bus::kRenderResult, [&](const std::string&, const mtg::render_result_t& m) {
+    replies[m.request_id] = m;
+  });
+  testing::ChildProcess renderer({testing::bin("mtg_renderer"), "--url", bus::kDefaultUrl, "--profile", "none"},
+                                 (fx_.root() / "renderer.log").string());
+  ASSERT_TRUE(bus.handle_until([&] { return ready; }, 30000)) << "the renderer sent no heartbeat";
+
+  bus.publish(bus::kRenderRequest, request(1, view("platform", "no_such_platform", "", "items")));
+  auto zero = request(2, view("platform", table_top(), "", "items"));
+  zero.width = 0;
+  bus.publish(bus::kRenderRequest, zero);
+  bus.publish(bus::kRenderRequest, request(3, view("item", "", object_named("toy_ghost"), "")));
+  bus.publish(bus::kRenderRequest, request(4, view("platform", table_top(), "", "items")));
+  ASSERT_TRUE(bus.handle_until([&] { return replies.size() == 4; }, 60000)) << replies.size() << " replies";
+
+  EXPECT_FALSE(replies[1].ok);
+  EXPECT_THAT(replies[1].error, HasSubstr("no platform 'no_such_platform'"));
+  EXPECT_FALSE(replies[2].ok);
+  EXPECT_THAT(replies[2].error, HasSubstr("image size 0x240"));
+  EXPECT_FALSE(replies[3].ok);
+  EXPECT_THAT(replies[3].error, HasSubstr("has no mesh to draw"));
+  for (const std::int64_t id : {1, 2, 3}) {
+    EXPECT_EQ(replies[id].n_images, 0);
+    EXPECT_EQ(replies[id].header.episode_id, 7) << "a reply names the requester's episode";
+  }
+  const mtg::render_result_t& good = replies[4];
+  ASSERT_TRUE(good.ok) << good.error;
+  ASSERT_EQ(good.n_images, 2);
+  EXPECT_EQ(good.images[0].role, "view");
+  EXPECT_EQ(good.images[1].role, "view_marked");
+  const cv::Mat png = cv::imdecode(good.images[1].data, cv::IMREAD_COLOR);
+  EXPECT_EQ(png.cols, 320);
+  EXPECT_EQ(png.rows, 240);
+  EXPECT_TRUE(renderer.running());
+}
+
+TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
+  tasks::TaskOptions options;
+  options.levels = {1};
+  const auto generated = tasks::generate_tasks(built_.graph, options);
+  const std::string db = (fx_.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  const auto out = fx_.root() / "run";
+  testing::ChildProcess run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "3",
+                             "--parallel", "2", "--render", "--image-size", "320x240", "--out", out.string(), "--data",
+                             fx_.root().string(), "--profile", "none", "--no-progress"},
+                            (fx_.root() / "mtg.log").string());
+  ASSERT_EQ(run.wait(120000), 0) << "see " << (fx_.root() / "mtg.log");
+  const auto rows = orchestrator::read_results(out / "results.sqlite");
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+
+  int observations = 0, with_images = 0, marked = 0;
+  bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
+    if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+    mtg::observation_t obs{};
+    ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
+    ++observations;
+    if (obs.done) {
+      EXPECT_EQ(obs.n_images, 0) << "the final observation needs no picture";
+      return;
+    }
+    EXPECT_GE(obs.n_images, 2) << "step " << obs.step << " of episode " << obs.header.episode_id;
+    if (obs.n_images > 0) ++with_images;
+    for (const auto& img : obs.images) {
+      marked += img.role.ends_with("_marked");
+      const cv::Mat m = cv::imdecode(img.data, cv::IMREAD_COLOR);
+      EXPECT_EQ(m.cols, 320);
+      EXPECT_EQ(m.rows, 240);
+    }
+  });
+  EXPECT_GT(observations, 6);
+  EXPECT_EQ(with_images, observations - 3);
+  EXPECT_GE(marked, with_images);
+}
+
+}  // namespace
+}  // namespace mtg

@@ -1,0 +1,271 @@
+// The renderer on real geometry: golden images of a small coloured fixture room and of an apt_0
+// shelf, numbers that are the action space's keys and sit on their items, the picked item gone
+// and the placed one drawn, and clear errors for bad requests after which rendering goes on.
+// These tests need a headless GL context (Mesa's llvmpipe is enough).
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/episode/rules.h"
+#include "core/episode/state_json.h"
+#include "core/render/view.h"
+#include "core/util/error.h"
+#include "services/renderer/renderer.h"
+#include "tests/support/golden_image.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/shipped_data.h"
+
+namespace mtg {
+namespace {
+
+using ::testing::HasSubstr;
+
+int object_of(const graph::SceneGraph& g, const std::string& template_name) {
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    if (g.objects[i].template_name == template_name) return static_cast<int>(i);
+  }
+  ADD_FAILURE() << "no object of template " << template_name;
+  return -1;
+}
+
+int top_of(const graph::SceneGraph& g, const std::string& owner_template) {
+  const int owner = object_of(g, owner_template);
+  for (std::size_t p = 0; p < g.platforms.size(); ++p) {
+    if (g.platforms[p].owner == owner && g.platforms[p].navigable) return static_cast<int>(p);
+  }
+  ADD_FAILURE() << "no navigable platform on " << owner_template;
+  return -1;
+}
+
+cv::Mat decode(const services::EncodedImage& e) {
+  return cv::imdecode(cv::Mat(1, static_cast<int>(e.bytes.size()), CV_8UC1, const_cast<std::uint8_t*>(e.bytes.data())),
+                      cv::IMREAD_COLOR);
+}
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fx_ = new testing::FixtureDataset();
+    built_ = new testing::BuiltScene(testing::render_room(*fx_));
+    renderer_ = new services::Renderer("none");
+  }
+  static void TearDownTestSuite() {
+    delete renderer_;
+    delete built_;
+    delete fx_;
+  }
+
+  const graph::SceneGraph& g() const { return built_->graph; }
+  int table() const { return top_of(g(), "toy_wood_table"); }
+  int empty_table() const { return top_of(g(), "toy_grey_table"); }
+
+  // The robot at `platform` on its default side, hands empty.
+  episode::WorldState at(int platform) const {
+    episode::WorldState s = episode::initial_state(g());
+    s.phase = episode::Phase::kAtPlatform;
+    s.at_platform = platform;
+    s.side = g().platforms[static_cast<std::size_t>(platform)].default_side;
+    return s;
+  }
+
+  services::ImageRequest request(const episode::WorldState& s, std::vector<services::ViewSpec> views) const {
+    services::ImageRequest r;
+    r.scene = "render_room";
+    r.data_dir = fx_->root().string();
+    r.state_json = episode::state_delta_to_json(g(), s).dump();
+    r.views = std::move(views);
+    return r;
+  }
+
+  services::ViewSpec platform_view(int p, const std::string& marks) const {
+    return {"platform", g().platforms[static_cast<std::size_t>(p)].name, -1, "", marks};
+  }
+
+  // Renders a plan with the renderer's GPU copy of the fixture.
+  render::ViewImages draw(const episode::WorldState& s, const render::ViewPlan& plan, bool marks = false) {
+    const auto& entry = renderer_->scenes().load("render_room", fx_->root().string());
+    return render::draw_view(renderer_->scene_renderer(entry), entry.graph, s, plan, marks);
+  }
+
+  static testing::FixtureDataset* fx_;
+  static testing::BuiltScene* built_;
+  static services::Renderer* renderer_;
+};
+
+testing::FixtureDataset* RenderTest::fx_ = nullptr;
+testing::BuiltScene* RenderTest::built_ = nullptr;
+services::Renderer* RenderTest::renderer_ = nullptr;
+
+TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
+  episode::WorldState s = at(table());
+  auto reply = renderer_->render(request(s, {platform_view(table(), "items")}));
+  ASSERT_EQ(reply.images.size(), 2u);
+  EXPECT_EQ(reply.images[0].role, "view");
+  EXPECT_EQ(reply.images[1].role, "view_marked");
+  EXPECT_EQ(testing::compare_golden_image("render/room_table.png", decode(reply.images[0])), "");
+  EXPECT_EQ(testing::compare_golden_image("render/room_table_marked.png", decode(reply.images[1])), "");
+
+  // Holding the red cube at the empty table, about to place: the 3x3 grid numbered as its keys.
+  episode::pick(g(), s, object_of(g(), "toy_red_cube"));
+  s.at_platform = empty_table();
+  s.side = g().platforms[static_cast<std::size_t>(empty_table())].default_side;
+  s.phase = episode::Phase::kPlacing;
+  reply = renderer_->render(request(s, {platform_view(empty_table(), "targets"),
+                                        {"item", "", -1, g().objects[static_cast<std::size_t>(s.held)].name, ""},
+                                        {"topdown", "", -1, "", "labels"}}));
+  ASSERT_EQ(reply.images.size(), 5u);
+  EXPECT_EQ(reply.images[2].role, "item");
+  EXPECT_EQ(reply.images[4].role, "topdown_marked");
+  EXPECT_EQ(testing::compare_golden_image("render/room_grid_marked.png", decode(reply.images[1])), "");
+  EXPECT_EQ(testing::compare_golden_image("render/room_held_item.png", decode(reply.images[2])), "");
+  EXPECT_EQ(testing::compare_golden_image("render/room_topdown_marked.png", decode(reply.images[4])), "");
+}
+
+TEST_F(RenderTest, ItemAndTargetNumbersAreTheActionSpaceKeys) {
+  episode::WorldState s = at(table());
+  const episode::RuleOptions rules;
+  std::vector<std::string> item_keys;
+  for (const auto& a : episode::action_space(g(), s, rules)) {
+    if (a.key[0] == 'o') item_keys.push_back(a.key);
+  }
+  const auto items = render::item_marks(g(), s, table());
+  ASSERT_EQ(items.size(), item_keys.size());
+  ASSERT_EQ(items.size(), 3u) << "the ghost has no geometry, so it is not an item";
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    EXPECT_EQ("o" + std::to_string(items[k].number), item_keys[k]);
+    EXPECT_EQ(items[k].object, episode::pickable_on(g(), s, table())[k]);
+  }
+
+  episode::pick(g(), s, items[0].object);
+  s.phase = episode::Phase::kPlacing;
+  std::vector<std::string> place_keys;
+  for (const auto& a : episode::action_space(g(), s, rules)) {
+    if (a.key != "0" && a.key != episode::kAnywhereKey) place_keys.push_back(a.key);
+  }
+  const auto regions = render::target_marks(g(), s, table(), static_cast<graph::Side>(s.side), rules.min_region_size);
+  ASSERT_FALSE(regions.empty());
+  ASSERT_EQ(regions.size(), place_keys.size());
+  for (std::size_t k = 0; k < regions.size(); ++k) EXPECT_EQ(std::to_string(regions[k].number), place_keys[k]);
+}
+
+TEST_F(RenderTest, EachNumberSitsOnItsItem) {
+  const episode::WorldState s = at(table());
+  render::ViewRequest r;
+  r.platform = table();
+  r.marks = render::MarkKind::kItems;
+  const render::ViewPlan plan = render::plan_view(g(), s, r);
+  ASSERT_EQ(plan.marks.items.size(), 3u);
+  const cv::Vec3b background(235, 222, 214);
+  for (const render::ItemMark& m : plan.marks.items) {
+    render::ViewPlan alone = plan;
+    alone.only = m.object;  // the item by itself, seen by the same camera
+    const cv::Mat image = draw(s, alone).plain;
+    const auto px = plan.camera.project(m.anchor_W - Eigen::Vector3d(0, 0, 0.01));
+    ASSERT_TRUE(px.has_value());
+    const cv::Point p(static_cast<int>(px->x()), static_cast<int>(px->y()));
+    ASSERT_TRUE(cv::Rect(0, 0, image.cols, image.rows).contains(p));
+    EXPECT_NE(image.at<cv::Vec3b>(p), background) << "mark " << m.number << " is not on " << g().objects[m.object].name;
+  }
+}
+
+TEST_F(RenderTest, APickedItemVanishesAndAPlacedItemAppearsWhereTheStateSays) {
+  episode::WorldState s = at(table());
+  render::ViewRequest r;
+  r.platform = table();
+  r.marks = render::MarkKind::kItems;
+  const render::ViewPlan before = render::plan_view(g(), s, r);
+  const int cube = object_of(g(), "toy_red_cube");
+  const auto cube_px = before.camera.project(episode::initial_state(g()).objects[cube].position);
+  ASSERT_TRUE(cube_px.has_value());
+  const cv::Point p(static_cast<int>(cube_px->x()), static_cast<int>(cube_px->y()));
+  const cv::Vec3b red_before = draw(s, before).plain.at<cv::Vec3b>(p);
+  EXPECT_GT(red_before[2], 2 * red_before[1]) << "the cube is red where it stands";
+
+  episode::pick(g(), s, cube);
+  const render::ViewPlan after = render::plan_view(g(), s, r);
+  EXPECT_EQ(after.marks.items.size(), 2u) << "numbers shift once the cube is in hand";
+  const cv::Vec3b there_after = draw(s, after).plain.at<cv::Vec3b>(p);
+  EXPECT_LT(there_after[2], 2 * there_after[1]) << "the cube is gone from the table";
+
+  // Put it on the empty table's centre and look there.
+  s.at_platform = empty_table();
+  s.side = g().platforms[static_cast<std::size_t>(empty_table())].default_side;
+  const Eigen::Vector2d centre = episode::platform_frame(g(), s, empty_table()).translation();
+  episode::place_held(g(), s, empty_table(), centre);
+  r.platform = empty_table();
+  const render::ViewPlan placed = render::plan_view(g(), s, r);
+  ASSERT_EQ(placed.marks.items.size(), 1u);
+  const auto q = placed.camera.project(s.objects[cube].position);
+  ASSERT_TRUE(q.has_value());
+  const cv::Vec3b now = draw(s, placed).plain.at<cv::Vec3b>(cv::Point(static_cast<int>(q->x()), static_cast<int>(q->y())));
+  EXPECT_GT(now[2], 2 * now[1]) << "the cube is drawn where it was placed";
+}
+
+TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
+  const episode::WorldState s = at(table());
+  auto expect_error = [&](services::ImageRequest req, const std::string& what) {
+    try {
+      renderer_->render(req);
+      ADD_FAILURE() << "no error for " << what;
+    } catch (const Error& e) {
+      EXPECT_THAT(e.what(), HasSubstr(what));
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+  };
+  expect_error(request(s, {{"platform", "no_such_platform", -1, "", "items"}}), "no platform 'no_such_platform'");
+  auto zero = request(s, {platform_view(table(), "items")});
+  zero.height = 0;
+  expect_error(zero, "image size 640x0");
+  const int ghost = object_of(g(), "toy_ghost");
+  expect_error(request(s, {{"item", "", -1, g().objects[static_cast<std::size_t>(ghost)].name, ""}}),
+               "has no mesh to draw");
+  auto state = request(s, {platform_view(table(), "items")});
+  state.state_json = R"({"held": "nobody"})";
+  expect_error(state, "'held' names no object");
+  auto encoding = request(s, {platform_view(table(), "items")});
+  encoding.encoding = "bmp";
+  expect_error(encoding, "unknown encoding 'bmp'");
+  // ... and the next good request is served as usual.
+  const auto reply = renderer_->render(request(s, {platform_view(table(), "items")}));
+  ASSERT_EQ(reply.images.size(), 2u);
+  EXPECT_EQ(decode(reply.images[0]).cols, 640);
+  EXPECT_GT(reply.triangles, 0);
+}
+
+TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  services::Renderer renderer;
+  const std::string data = testing::shipped_dataset()->root.string();
+  const graph::SceneGraph& g = renderer.scenes().load("apt_0", data).graph;
+  const int shelf = g.find_platform("wall_cabinet_02_30_platform_3");
+  ASSERT_GE(shelf, 0);
+  services::ImageRequest req;
+  req.scene = "apt_0";
+  req.data_dir = data;
+  req.views = {{"platform", "wall_cabinet_02_30_platform_3", -1, "", "items"}};
+  const auto reply = renderer.render(req);
+  ASSERT_EQ(reply.images.size(), 2u);
+  EXPECT_EQ(testing::compare_golden_image("render/apt_0_wall_cabinet_shelf_marked.png", decode(reply.images[1])), "");
+
+  // Every navigable platform, from its default side: each numbered item's mark is in the frame.
+  const episode::WorldState s = episode::initial_state(g);
+  int items = 0, in_frame = 0;
+  for (const int p : g.navigable) {
+    render::ViewRequest r;
+    r.platform = p;
+    r.marks = render::MarkKind::kItems;
+    const render::ViewPlan plan = render::plan_view(g, s, r);
+    for (const render::ItemMark& m : plan.marks.items) {
+      ++items;
+      const auto px = plan.camera.project(m.anchor_W);
+      if (px && px->x() >= 0 && px->y() >= 0 && px->x() < 640 && px->y() < 480) ++in_frame;
+    }
+  }
+  EXPECT_GT(items, 50);
+  EXPECT_EQ(in_frame, items);
+}
+
+}  // namespace
+}  // namespace mtg
