@@ -237,10 +237,13 @@ MarkKind parse_mark_kind(const std::string& name) {
   throw Error("render: unknown marks '" + name + "' (items, targets, labels or none)");
 }
 
+void require_image_size(int width, int height) {
+  require(width > 0 && height > 0 && width <= 8192 && height <= 8192,
+          "render: image size " + std::to_string(width) + "x" + std::to_string(height) + " is not in 1..8192");
+}
+
 ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request) {
-  require(request.width > 0 && request.height > 0 && request.width <= 8192 && request.height <= 8192,
-             "render: image size " + std::to_string(request.width) + "x" + std::to_string(request.height) +
-                 " is not in 1..8192");
+  require_image_size(request.width, request.height);
   switch (request.view) {
     case ViewKind::kPlatform: return platform_view(g, s, request);
     case ViewKind::kItem: return item_view(g, s, request);

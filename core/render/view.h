@@ -46,6 +46,9 @@ struct ViewPlan {
   Marks marks;
 };
 
+/// @throws mtg::Error unless 1 <= width, height <= 8192 (checked before any work).
+void require_image_size(int width, int height);
+
 /// @throws mtg::Error naming the problem (index out of range, non-positive size, ...).
 ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request);
 

@@ -43,13 +43,8 @@ render::SceneRenderer& Renderer::scene_renderer(const SceneCache::Entry& entry) 
 
 ImageReply Renderer::render(const ImageRequest& request) {
   // Everything that can be checked without the scene first, so a bad request costs nothing.
-  if (request.width <= 0 || request.height <= 0 || request.width > 8192 || request.height > 8192) {
-    throw Error("render: image size " + std::to_string(request.width) + "x" + std::to_string(request.height) +
-                " is not in 1..8192");
-  }
-  if (request.encoding != "png" && request.encoding != "jpeg" && request.encoding != "jpg") {
-    throw Error("render: unknown encoding '" + request.encoding + "' (png or jpeg)");
-  }
+  render::require_image_size(request.width, request.height);
+  render::require_encoding(request.encoding);
   if (request.views.empty()) throw Error("render: the request asks for no views");
   std::vector<std::pair<render::ViewKind, render::MarkKind>> kinds;
   for (const ViewSpec& v : request.views) kinds.emplace_back(render::parse_view_kind(v.view), render::parse_mark_kind(v.marks));

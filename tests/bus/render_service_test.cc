@@ -32,16 +32,12 @@ class RenderServiceTest : public ::testing::Test {
   void SetUp() override { built_ = testing::render_room(fx_); }
 
   std::string object_named(const std::string& template_name) const {
-    for (const auto& o : built_.graph.objects) {
-      if (o.template_name == template_name) return o.name;
-    }
-    return "";
+    const int i = testing::object_of_template(built_.graph, template_name);
+    return i < 0 ? "" : built_.graph.objects[static_cast<std::size_t>(i)].name;
   }
   std::string table_top() const {
-    for (const auto& p : built_.graph.platforms) {
-      if (p.navigable && built_.graph.objects[p.owner].template_name == "toy_wood_table") return p.name;
-    }
-    return "";
+    const int p = testing::navigable_platform_of(built_.graph, "toy_wood_table");
+    return p < 0 ? "" : built_.graph.platforms[static_cast<std::size_t>(p)].name;
   }
 
   mtg::render_request_t request(std::int64_t id, mtg::render_view_t view) const {

@@ -23,20 +23,15 @@ namespace {
 using ::testing::HasSubstr;
 
 int object_of(const graph::SceneGraph& g, const std::string& template_name) {
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
-    if (g.objects[i].template_name == template_name) return static_cast<int>(i);
-  }
-  ADD_FAILURE() << "no object of template " << template_name;
-  return -1;
+  const int i = testing::object_of_template(g, template_name);
+  if (i < 0) ADD_FAILURE() << "no object of template " << template_name;
+  return i;
 }
 
 int top_of(const graph::SceneGraph& g, const std::string& owner_template) {
-  const int owner = object_of(g, owner_template);
-  for (std::size_t p = 0; p < g.platforms.size(); ++p) {
-    if (g.platforms[p].owner == owner && g.platforms[p].navigable) return static_cast<int>(p);
-  }
-  ADD_FAILURE() << "no navigable platform on " << owner_template;
-  return -1;
+  const int p = testing::navigable_platform_of(g, owner_template);
+  if (p < 0) ADD_FAILURE() << "no navigable platform on " << owner_template;
+  return p;
 }
 
 cv::Mat decode(const services::EncodedImage& e) {

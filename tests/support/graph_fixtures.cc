@@ -35,6 +35,21 @@ BuiltScene two_tables(FixtureDataset& fx) {
   return build_fixture_scene(fx, "two_tables");
 }
 
+int object_of_template(const graph::SceneGraph& g, const std::string& template_name) {
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    if (g.objects[i].template_name == template_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int navigable_platform_of(const graph::SceneGraph& g, const std::string& owner_template) {
+  const int owner = object_of_template(g, owner_template);
+  for (std::size_t p = 0; p < g.platforms.size(); ++p) {
+    if (owner >= 0 && g.platforms[p].owner == owner && g.platforms[p].navigable) return static_cast<int>(p);
+  }
+  return -1;
+}
+
 BuiltScene render_room(FixtureDataset& fx) {
   const Eigen::Vector3d wood(0.55, 0.36, 0.2), grey(0.6, 0.6, 0.62);
   auto table = [&](const std::string& name, const Eigen::Vector3d& rgb) {
