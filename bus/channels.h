@@ -12,6 +12,7 @@ inline constexpr const char* kRenderRequest = "MTG_RENDER_REQ";
 inline constexpr const char* kRenderResult = "MTG_RENDER_RES";
 inline constexpr const char* kHeartbeat = "MTG_HEARTBEAT";
 inline constexpr const char* kLease = "MTG_LEASE";
+inline constexpr const char* kRateLimit = "MTG_RATE";
 inline constexpr const char* kControl = "MTG_CONTROL";
 inline constexpr const char* kError = "MTG_ERROR";
 inline constexpr const char* kSceneRequest = "MTG_SCENE_REQ";

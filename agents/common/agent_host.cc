@@ -4,18 +4,29 @@
 #include "core/episode/reply_parser.h"
 #include "core/util/log.h"
 #include "mtg/agent_action_t.hpp"
+#include "mtg/error_event_t.hpp"
 
 namespace mtg::agents {
 
 constexpr std::size_t kMaxRawReply = 64 * 1024;
 
 AgentHost::AgentHost(bus::Bus& bus, bus::HeaderStamper& stamp, std::string agent_spec, std::unique_ptr<Policy> policy,
-                     std::string run_id)
+                     std::string run_id, int workers)
     : bus_(bus), stamp_(stamp), spec_(std::move(agent_spec)), policy_(std::move(policy)), run_id_(std::move(run_id)) {
   bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart,
                                        [this](const std::string&, const mtg::episode_start_t& m) { on_start(m); });
   bus_.subscribe<mtg::observation_t>(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
                                      [this](const std::string&, const mtg::observation_t& m) { on_observation(m); });
+  for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { work(); });
+}
+
+AgentHost::~AgentHost() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  work_ready_.notify_all();
+  for (auto& t : workers_) t.join();
 }
 
 void AgentHost::on_start(const mtg::episode_start_t& start) {
@@ -23,6 +34,7 @@ void AgentHost::on_start(const mtg::episode_start_t& start) {
   const auto key = std::make_pair(start.header.run_id, start.header.episode_id);
   const auto it = episodes_.find(key);
   if (it != episodes_.end() && it->second.start.header.attempt >= start.header.attempt) return;
+  if (it != episodes_.end()) policy_->end(it->second.start);
   episodes_[key] = Episode{start, -1};
   policy_->begin(start);
 }
@@ -33,13 +45,66 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   if (it == episodes_.end() || it->second.start.header.attempt != obs.header.attempt) return;
   Episode& e = it->second;
   if (obs.done) {
+    policy_->end(e.start);
     episodes_.erase(it);
     return;
   }
   if (obs.step <= e.last_step) return;  // answered already (a duplicate observation)
   e.last_step = obs.step;
+  if (workers_.empty()) {
+    publish(obs, policy_->reply(e.start, obs));
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back({e.start, obs});
+  }
+  work_ready_.notify_one();
+}
 
-  AgentReply reply = policy_->reply(e.start, obs);
+void AgentHost::work() {
+  for (;;) {
+    Job job;
+    {
+      std::unique_lock lock(mutex_);
+      work_ready_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+      if (stopping_) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    AgentReply reply;
+    try {
+      reply = policy_->reply(job.start, job.observation);
+    } catch (const std::exception& e) {
+      reply.error = e.what();
+    }
+    std::lock_guard lock(mutex_);
+    done_.push_back({std::move(job.observation), std::move(reply)});
+  }
+}
+
+void AgentHost::poll() {
+  std::deque<Done> done;
+  {
+    std::lock_guard lock(mutex_);
+    done.swap(done_);
+  }
+  for (const Done& d : done) publish(d.observation, d.reply);
+}
+
+void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) {
+  if (reply.stop_agent && !stop_reported_) {
+    // Once per process: the orchestrator stops giving this agent episodes and says why.
+    stop_reported_ = true;
+    log::error("agent stopped: " + reply.error);
+    mtg::error_event_t ev{};
+    ev.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "error");
+    ev.header.run_id = obs.header.run_id;
+    ev.source = "agent:" + spec_;
+    ev.severity = "fatal";
+    ev.message = reply.error;
+    bus_.publish(bus::kError, ev);
+  }
   mtg::agent_action_t a{};
   a.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "action");
   a.header.run_id = obs.header.run_id;
@@ -61,6 +126,7 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   a.cost_usd = reply.cost_usd;
   a.latency_ms = reply.latency_ms;
   a.cache_hit = reply.cache_hit;
+  a.prompt_version = reply.prompt_version;
   bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction, obs.header.episode_id), a);
 }
 

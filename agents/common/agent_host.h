@@ -2,11 +2,20 @@
 // Runs a Policy on the bus: serves the episodes whose episode_start names this agent, answers
 // each observation once (per episode, attempt and step), parses the reply against the offered
 // keys and publishes an agent_action_t. The agent sees only episode starts and observations.
+//
+// Built-in policies answer in the bus thread (workers = 0). Model policies wait seconds for an
+// API, so they answer on `workers` threads, several episodes at once; the bus thread publishes
+// their actions from poll(). Only the bus thread touches the bus.
 
+#include <condition_variable>
+#include <deque>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <utility>
+#include <vector>
 
 #include "agents/common/policy.h"
 #include "bus/bus.h"
@@ -17,16 +26,33 @@ namespace mtg::agents {
 class AgentHost {
  public:
   AgentHost(bus::Bus& bus, bus::HeaderStamper& stamp, std::string agent_spec, std::unique_ptr<Policy> policy,
-            std::string run_id = "");
+            std::string run_id = "", int workers = 0);
+  /// Stops the workers (after their current call returns).
+  ~AgentHost();
+  AgentHost(const AgentHost&) = delete;
+  AgentHost& operator=(const AgentHost&) = delete;
+
   int in_flight() const { return static_cast<int>(episodes_.size()); }
+  /// Publishes the actions the workers finished. Call from the bus thread between messages.
+  void poll();
 
  private:
   struct Episode {
     mtg::episode_start_t start{};
     int last_step = -1;
   };
+  struct Job {
+    mtg::episode_start_t start;
+    mtg::observation_t observation;
+  };
+  struct Done {
+    mtg::observation_t observation;
+    AgentReply reply;
+  };
   void on_start(const mtg::episode_start_t& start);
   void on_observation(const mtg::observation_t& obs);
+  void work();
+  void publish(const mtg::observation_t& obs, const AgentReply& reply);
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
@@ -34,6 +60,14 @@ class AgentHost {
   std::unique_ptr<Policy> policy_;
   std::string run_id_;
   std::map<std::pair<std::string, std::int64_t>, Episode> episodes_;
+  bool stop_reported_ = false;
+
+  std::mutex mutex_;
+  std::condition_variable work_ready_;
+  std::deque<Job> jobs_;
+  std::deque<Done> done_;
+  bool stopping_ = false;
+  std::vector<std::thread> workers_;
 };
 
 }  // namespace mtg::agents

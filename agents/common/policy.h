@@ -20,6 +20,8 @@ struct AgentReply {
   double cost_usd = 0.0;
   double latency_ms = 0.0;    // telemetry only
   bool cache_hit = false;
+  std::string prompt_version; // "" for built-in agents
+  bool stop_agent = false;    // the error ends this agent for the whole run (auth, quota, billing)
 };
 
 class Policy {
@@ -27,7 +29,11 @@ class Policy {
   virtual ~Policy() = default;
   /// Called once per episode attempt before its first observation.
   virtual void begin(const mtg::episode_start_t& /*start*/) {}
+  /// May be called from several threads at once for different episodes (AgentHost workers);
+  /// never twice at once for the same episode.
   virtual AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& observation) = 0;
+  /// Called once when the episode attempt ends (or is replaced by a newer attempt).
+  virtual void end(const mtg::episode_start_t& /*start*/) {}
 };
 
 }  // namespace mtg::agents

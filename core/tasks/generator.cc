@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 #include "core/tasks/atomic.h"
 #include "core/tasks/outcome.h"
@@ -55,8 +56,23 @@ std::set<int> parse_levels(const std::string& text) {
   return levels;
 }
 
+std::string describe_scene(const graph::SceneGraph& g) {
+  const episode::WorldState s = episode::initial_state(g);
+  std::string out;
+  for (std::size_t k = 0; k < g.navigable.size(); ++k) {
+    const int p = g.navigable[k];
+    out += "\n- platform l" + std::to_string(k + 1) + " " + g.platforms[static_cast<std::size_t>(p)].name + ":";
+    const auto& objects = episode::objects_on(s, p);
+    if (objects.empty()) out += " empty";
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      out += std::string(i ? ", " : " ") + episode::display_name(g.objects[static_cast<std::size_t>(objects[i])]);
+    }
+  }
+  return out;
+}
+
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
-                                const std::vector<Vote>& recorded_votes) {
+                                const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters) {
   for (const int level : options.levels) {
     if (level < 1 || level > 4) throw Error("unknown level " + std::to_string(level) + " (levels are 1..4)");
   }
@@ -117,11 +133,12 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
 
   if (options.levels.count(4)) {
     const auto templates = load_templates(options.level4_templates);
-    const auto recorded = group_votes(recorded_votes);
-    std::size_t vetoed = 0;
+    // Candidates first (ids are fixed by their order), then every voter on all of them at once.
+    std::vector<std::pair<std::string, Task>> candidates;
     for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, set.warnings)) {
       Task t;
       t.level = 4;
+      t.scene = g.scene;
       t.type = "outcome:" + o.tmpl->kind;
       t.template_id = o.tmpl->id;
       t.text = o.text;
@@ -129,12 +146,24 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
       t.oracle = o.oracle;
       t.oracle.push_back("0");
       t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
-      // The id is only known once added; votes refer to it.
-      const std::string id = task_id(g.scene, 4, next_index[4]);
-      std::vector<Vote> votes = {{id, "rules", kFeasible}};
-      if (const auto it = recorded.find(id); it != recorded.end()) {
-        votes.insert(votes.end(), it->second.begin(), it->second.end());
+      candidates.emplace_back(task_id(g.scene, 4, next_index[4] + candidates.size()), std::move(t));
+    }
+    std::vector<Vote> all_votes;
+    for (const auto& [id, t] : candidates) all_votes.push_back({id, "rules", kFeasible});
+    if (!live_voters.empty() && !candidates.empty()) {
+      std::vector<VoteRequest> requests;
+      const std::string scene = describe_scene(g);
+      for (const auto& [id, t] : candidates) requests.push_back({id, g.scene, t.text, scene, t.step_limit});
+      for (const VoteBatch& voter : live_voters) {
+        const std::vector<Vote> cast = voter(requests);
+        all_votes.insert(all_votes.end(), cast.begin(), cast.end());
       }
+    }
+    all_votes.insert(all_votes.end(), recorded_votes.begin(), recorded_votes.end());
+    auto votes_by_task = group_votes(all_votes);
+    std::size_t vetoed = 0;
+    for (auto& [id, t] : candidates) {
+      const std::vector<Vote>& votes = votes_by_task[id];
       if (!accepted(votes)) {
         ++vetoed;
         ++next_index[4];  // ids stay stable whether or not votes veto earlier tasks
@@ -143,7 +172,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
       result.votes.insert(result.votes.end(), votes.begin(), votes.end());
       add(std::move(t));
     }
-    if (vetoed > 0) set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by recorded votes");
+    if (vetoed > 0) set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by votes");
   }
   return result;
 }

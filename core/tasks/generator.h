@@ -19,7 +19,11 @@ struct GenerationResult {
 /// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template
 /// library that does not load.
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
-                                const std::vector<Vote>& recorded_votes = {});
+                                const std::vector<Vote>& recorded_votes = {},
+                                const std::vector<VoteBatch>& live_voters = {});
+
+/// The platforms an agent can go to and what stands on them, one line each (for voters).
+std::string describe_scene(const graph::SceneGraph& g);
 
 /// "1,2,4" -> {1, 2, 4}. @throws mtg::Error naming an unknown level.
 std::set<int> parse_levels(const std::string& text);

@@ -25,7 +25,7 @@ GenerationReport run_generation(const GenerationJob& job) {
     const Stopwatch watch;
     const scene::Scene loaded = scene::load_scene(dataset, name, cache);
     const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
-    GenerationResult result = generate_tasks(g, job.options, job.votes);
+    GenerationResult result = generate_tasks(g, job.options, job.votes, job.voters);
     SceneReport sr;
     sr.scene = name;
     for (const Task& t : result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;

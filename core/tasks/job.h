@@ -20,6 +20,7 @@ struct GenerationJob {
   std::string jsonl;           // optional export
   TaskOptions options;
   std::vector<Vote> votes;     // recorded Level 4 votes
+  std::vector<VoteBatch> voters;  // live Level 4 voters (model adapters)
 };
 
 struct SceneReport {

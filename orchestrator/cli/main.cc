@@ -13,6 +13,7 @@
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
 #include "orchestrator/cli/task_commands.h"
+#include "orchestrator/cli/vlm_commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
@@ -84,6 +85,8 @@ int main(int argc, char** argv) {
   tasks->add_option("--l4-templates", tasks_opts.level4_templates, "Level 4 template library (builtin or a file)");
   tasks->add_option("--votes", tasks_opts.votes, "recorded Level 4 feasibility votes (JSONL)");
   tasks->add_option("--step-limit", tasks_opts.step_limit, "episode step limit (default 15)");
+  tasks->add_option("--voter", tasks_opts.voters, "model agent voting live on Level 4 candidates (repeatable)");
+  mtg::vlm::add_vlm_options(*tasks, tasks_opts.vlm, true);
   mtg::cli::TaskStatsOptions stats_opts;
   CLI::App* tasks_stats = tasks->add_subcommand("stats", "Counts per level, type and scene of a task database");
   tasks_stats->add_option("db", stats_opts.db, "task database")->required();
@@ -93,7 +96,9 @@ int main(int argc, char** argv) {
   mtg::cli::RunOptions run_opts;
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts.tasks, "task database (tasks.sqlite)");
-  run->add_option("--agent", run_opts.agents, "agent: oracle, random, replay:<run dir> (repeat for several)");
+  run->add_option("--agent", run_opts.agents,
+                  "agent: oracle, random, replay:<run dir>, script:<file>, openai:<model>, anthropic:<model>, "
+                  "gemini:<model>, openai-compatible:<url>:<model> (repeat for several)");
   run->add_option("--scene", run_opts.scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts.levels, "levels to run (default 1,2,3)");
   run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
@@ -112,6 +117,21 @@ int main(int argc, char** argv) {
   run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
   run->add_flag("!--no-progress", run_opts.progress, "no progress bar");
   run->add_option("--recorder", run_opts.recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
+  mtg::vlm::add_vlm_options(*run, run_opts.vlm, true);
+  // mtg vlm ask
+  CLI::App* vlm = app.add_subcommand("vlm", "Talk to a model agent directly");
+  vlm->require_subcommand(1);
+  mtg::cli::VlmAskOptions ask_opts;
+  CLI::App* vlm_ask = vlm->add_subcommand("ask", "Send one prompt (and images); check a key, a URL, the cache");
+  vlm_ask->add_option("--agent", ask_opts.agent, "openai:<model>, anthropic:<model>, gemini:<model>, "
+                      "openai-compatible:<url>:<model>")->required();
+  vlm_ask->add_option("--text", ask_opts.text, "the prompt");
+  vlm_ask->add_option("--image", ask_opts.images, "a PNG or JPEG file to attach (repeatable)");
+  vlm_ask->add_option("--repeat", ask_opts.repeat, "send it this many times");
+  vlm_ask->add_option("--parallel", ask_opts.parallel, "calls in flight at once");
+  vlm_ask->add_option("--bus", ask_opts.bus_url, "share the rate governor on this LCM URL");
+  vlm_ask->add_flag("--json", ask_opts.json, "one JSON line per call");
+  mtg::vlm::add_vlm_options(*vlm_ask, ask_opts.vlm, false);
   mtg::cli::ReportOptions report_opts;
   CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
   report->add_option("run", report_opts.run, "run folder")->required();
@@ -179,6 +199,7 @@ int main(int argc, char** argv) {
     if (report->parsed()) return mtg::cli::run_report(report_opts);
     if (replay->parsed()) return mtg::cli::run_replay(replay_opts);
     if (rejudge->parsed()) return mtg::cli::run_rejudge(rejudge_run);
+    if (vlm_ask->parsed()) return mtg::cli::run_vlm_ask(ask_opts);
     if (tasks_stats->parsed()) return mtg::cli::run_task_stats(stats_opts);
     if (tasks->parsed()) return mtg::cli::run_tasks(tasks_opts);
     if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "agents/builtin/policies.h"
+#include "agents/vlm/model_setup.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
@@ -44,6 +45,18 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
   for (const auto& [agent, a] : report["by_agent"].items()) {
     std::printf("  %-12s SR %5.1f %%  IP %5.1f  (%lld episodes)\n", agent.c_str(), a["sr"].get<double>(),
                 a["ip"].get<double>(), static_cast<long long>(a["episodes"].get<std::int64_t>()));
+  }
+  if (report.contains("usage")) {
+    for (const auto& [agent, u] : report["usage"].items()) {
+      std::printf("  %-12s %lld calls (%lld from the cache), %lld+%lld tokens, %lld images, $%.4f list price, "
+                  "$%.4f spent\n",
+                  agent.c_str(), static_cast<long long>(u["calls"].get<std::int64_t>()),
+                  static_cast<long long>(u["cache_hits"].get<std::int64_t>()),
+                  static_cast<long long>(u["input_tokens"].get<std::int64_t>()),
+                  static_cast<long long>(u["output_tokens"].get<std::int64_t>()),
+                  static_cast<long long>(u["images"].get<std::int64_t>()), u["cost_usd"].get<double>(),
+                  u["spent_usd"].get<double>());
+    }
   }
   std::printf("  results     %s\n", (dir / "results.sqlite").c_str());
   std::printf("  recording   %s/bus-*.lcmlog\n", dir.c_str());
@@ -94,7 +107,8 @@ int run_run(const RunOptions& o) {
       throw Error("mtg run: --image-size " + o.image_size + " is outside 16..8192 pixels");
     }
     plan.image_encoding = o.image_encoding;
-    plan.episode_timeout_s = o.episode_timeout_s;
+    // A model call may wait minutes for rate limits and retries before the next message.
+    plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
     plan.data_dir = o.data_dir;
     plan.profile = o.profile;
     plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
@@ -103,16 +117,33 @@ int run_run(const RunOptions& o) {
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
   }
+  // Model agents are checked here (spec, key, settings, prompts, prices, cache), so a missing key
+  // is one clear line now rather than adapters that never become ready.
+  for (const std::string& spec : plan.agents) {
+    if (vlm::is_model_spec(spec)) {
+      (void)vlm::ModelSetup::make(spec, o.vlm.resolve());
+    } else if (!agents::is_builtin_agent(spec)) {
+      throw Error("mtg run: unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
+                  "openai:<model>, anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
+    }
+  }
   const auto tasks = load_tasks(plan.tasks_db);
   orchestrator::EngineOptions engine;
   engine.progress = o.progress;
   engine.recorder = o.recorder;
+  engine.vlm_args = o.vlm.to_args();
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   const nlohmann::json report = orchestrator::write_reports(dir);
   print_summary(summary, dir, report);
   if (summary.interrupted) {
     std::printf("interrupted: run the same command again to resume\n");
     return 130;
+  }
+  if (!summary.stopped_agents.empty()) {
+    for (const auto& [agent, why] : summary.stopped_agents) std::fprintf(stderr, "agent %s stopped: %s\n", agent.c_str(), why.c_str());
+    std::fprintf(stderr, "%lld episode(s) not run; fix the cause and run the same command again to resume\n",
+                 static_cast<long long>(summary.not_run));
+    return 1;
   }
   return 0;
 }

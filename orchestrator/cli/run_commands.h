@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "agents/vlm/options.h"
+
 namespace mtg::cli {
 
 struct RunOptions {
@@ -23,10 +25,11 @@ struct RunOptions {
   std::string data_dir;
   std::string profile = "replica_cad";
   std::string url;                   // LCM URL ("" = default)
-  double episode_timeout_s = 60.0;
+  double episode_timeout_s = -1.0;   // -1 = 60 s, or 900 s with a model agent (API retries)
   int step_limit = 15;
   bool progress = true;
   std::string recorder = "mtg";      // or lcm-logger
+  vlm::VlmOptions vlm;               // for model agents (forwarded to every adapter)
 };
 
 struct ReportOptions {

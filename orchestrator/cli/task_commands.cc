@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "agents/vlm/model_client.h"
+#include "agents/vlm/model_setup.h"
+#include "agents/vlm/voter.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
@@ -31,6 +34,31 @@ int run_tasks(const TasksOptions& o) {
   job.options.rules.step_limit = o.step_limit;
   if (!o.votes.empty()) job.votes = tasks::load_votes(o.votes);
 
+  // Live voters: one model client each (cache, retries, a local rate gate), voting in parallel.
+  struct Voter {
+    vlm::ModelSetup setup;
+    std::unique_ptr<vlm::LocalRateGate> gate;
+    std::unique_ptr<vlm::ModelClient> client;
+    vlm::VoteTally tally;
+  };
+  std::vector<std::unique_ptr<Voter>> voters;
+  if (!o.voters.empty()) {
+    if (!job.options.levels.count(4)) throw Error("mtg tasks: --voter votes on Level 4 tasks; add 4 to --levels");
+    const vlm::VlmSettings settings = o.vlm.resolve();
+    for (const std::string& spec : o.voters) {
+      auto v = std::make_unique<Voter>();
+      v->setup = vlm::ModelSetup::make(spec, settings);
+      v->gate = std::make_unique<vlm::LocalRateGate>(v->setup.limits());
+      v->client = std::make_unique<vlm::ModelClient>(v->setup.spec, v->setup.key, v->setup.settings, v->setup.prices,
+                                                     v->setup.cache.get(), v->gate.get());
+      Voter* raw = v.get();
+      job.voters.push_back([raw](const std::vector<tasks::VoteRequest>& requests) {
+        return vlm::cast_votes(*raw->client, raw->setup.prompts, requests, raw->setup.settings.workers, raw->tally);
+      });
+      voters.push_back(std::move(v));
+    }
+  }
+
   const tasks::GenerationReport report = tasks::run_generation(job);
   for (const auto& w : report.warnings) log::warn(w);
   std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
@@ -41,6 +69,11 @@ int run_tasks(const TasksOptions& o) {
   }
   std::printf("wrote %s (%.1f s in all, peak RSS %.0f MiB)\n", o.out.c_str(), report.seconds, peak_rss_mib());
   if (!o.jsonl.empty()) std::printf("wrote %s\n", o.jsonl.c_str());
+  for (const auto& v : voters) {
+    std::printf("voter %s (prompts %s): %d asked, %d votes, %d unreadable, %d failed, %d from the cache, $%.4f\n",
+                v->setup.spec.spec().c_str(), v->setup.prompts.version.c_str(), v->tally.asked, v->tally.cast,
+                v->tally.unreadable, v->tally.failed, v->tally.cache_hits, v->tally.cost_usd);
+  }
   return 0;
 }
 

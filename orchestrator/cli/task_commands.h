@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "agents/vlm/options.h"
+
 namespace mtg::cli {
 
 struct TasksOptions {
@@ -21,6 +23,8 @@ struct TasksOptions {
   int level4_max_moves = 3;
   std::string level4_templates = "builtin";
   std::string votes;                // recorded Level 4 votes (JSONL)
+  std::vector<std::string> voters;  // model agents voting live on Level 4 candidates
+  vlm::VlmOptions vlm;
   int step_limit = 15;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/util/atomic_file.h"
@@ -26,6 +27,37 @@ struct Acc {
     return {{"episodes", episodes},
             {"sr", episodes ? round1(100.0 * static_cast<double>(successes) / static_cast<double>(episodes)) : 0.0},
             {"ip", episodes ? round1(ip / static_cast<double>(episodes)) : 0.0}};
+  }
+};
+
+// What a model agent's calls cost, over every episode of the run (spending happens whether or
+// not the episode was scored).
+struct Usage {
+  std::int64_t calls = 0, cache_hits = 0, input_tokens = 0, output_tokens = 0, images = 0;
+  double cost_usd = 0.0, spent_usd = 0.0, latency_ms = 0.0;
+  std::set<std::string> prompt_versions;
+  void add(const EpisodeRow& r) {
+    calls += r.model_calls;
+    cache_hits += r.cache_hits;
+    input_tokens += r.input_tokens;
+    output_tokens += r.output_tokens;
+    images += r.images_sent;
+    cost_usd += r.cost_usd;
+    spent_usd += r.spent_usd;
+    latency_ms += r.latency_ms;
+    if (!r.prompt_version.empty()) prompt_versions.insert(r.prompt_version);
+  }
+  nlohmann::json json() const {
+    auto round6 = [](double v) { return std::round(v * 1e6) / 1e6; };
+    return {{"calls", calls},
+            {"cache_hits", cache_hits},
+            {"input_tokens", input_tokens},
+            {"output_tokens", output_tokens},
+            {"images", images},
+            {"cost_usd", round6(cost_usd)},
+            {"spent_usd", round6(spent_usd)},
+            {"mean_latency_ms", calls ? std::round(latency_ms / static_cast<double>(calls)) : 0.0},
+            {"prompt_versions", prompt_versions}};
   }
 };
 
@@ -61,7 +93,9 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   std::int64_t errors = 0, in_tokens = 0, out_tokens = 0;
   double cost = 0.0;
   std::vector<SankeyFlow> flows;
+  std::map<std::string, Usage> usage;
   for (const EpisodeRow& r : rows) {
+    if (r.model_calls > 0) usage[r.agent].add(r);
     if (r.status != "scored") {
       ++errors;
       continue;
@@ -99,6 +133,11 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   j["tokens"] = {{"input", in_tokens}, {"output", out_tokens}};
   j["cost_usd"] = std::round(cost * 1e6) / 1e6;
   j["sankey"] = sankey_graph(flows);
+  // Only runs with model agents have a usage section, so built-in runs keep byte-identical reports.
+  if (!usage.empty()) {
+    j["usage"] = nlohmann::json::object();
+    for (const auto& [agent, u] : usage) j["usage"][agent] = u.json();
+  }
   return j;
 }
 
@@ -141,6 +180,21 @@ std::string report_html(const nlohmann::json& r) {
   h << "</table>";
   h << "<h2>Failure Sankey: task level &rarr; stage reached &rarr; cause &rarr; outcome</h2>";
   h << sankey_svg(r["sankey"], 1000, 520);
+  if (r.contains("usage")) {
+    h << "<h2>Model usage</h2><table><tr><th>agent</th><th>calls</th><th>from cache</th><th>input tokens</th>"
+         "<th>output tokens</th><th>images</th><th>list price ($)</th><th>spent ($)</th><th>mean latency (ms)</th>"
+         "<th>prompts</th></tr>";
+    for (const auto& [agent, u] : r["usage"].items()) {
+      std::string versions;
+      for (const auto& v : u["prompt_versions"]) versions += (versions.empty() ? "" : ", ") + v.get<std::string>();
+      h << "<tr><td>" << escape(agent) << "</td><td>" << u["calls"] << "</td><td>" << u["cache_hits"] << "</td><td>"
+        << u["input_tokens"] << "</td><td>" << u["output_tokens"] << "</td><td>" << u["images"] << "</td><td>"
+        << u["cost_usd"] << "</td><td>" << u["spent_usd"] << "</td><td>" << u["mean_latency_ms"] << "</td><td>"
+        << escape(versions) << "</td></tr>";
+    }
+    h << "</table><p class=note>List price: what the answers used would cost at the price table's rates (the "
+         "same on a cached rerun). Spent: what this run paid (answers from the response cache cost nothing).</p>";
+  }
   h << "<p class=note>tokens in " << r["tokens"]["input"] << ", out " << r["tokens"]["output"] << "; estimated cost $"
     << r["cost_usd"] << "</p></body></html>\n";
   return h.str();

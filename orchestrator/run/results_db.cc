@@ -18,13 +18,24 @@ CREATE TABLE IF NOT EXISTS episodes (
   steps INTEGER NOT NULL, invalid_actions INTEGER NOT NULL,
   input_tokens INTEGER NOT NULL, output_tokens INTEGER NOT NULL, cost_usd REAL NOT NULL,
   latency_ms REAL NOT NULL, wall_ms REAL NOT NULL,
-  subtask_ip TEXT NOT NULL, detail TEXT NOT NULL, status TEXT NOT NULL
+  subtask_ip TEXT NOT NULL, detail TEXT NOT NULL, status TEXT NOT NULL,
+  spent_usd REAL NOT NULL DEFAULT 0, images_sent INTEGER NOT NULL DEFAULT 0,
+  model_calls INTEGER NOT NULL DEFAULT 0, cache_hits INTEGER NOT NULL DEFAULT 0,
+  prompt_version TEXT NOT NULL DEFAULT ''
 );
 )sql";
 
+// Columns added after the first schema: a results file of an older run gains them on open, so
+// resuming it keeps working.
+constexpr const char* kAddedColumns[][2] = {
+    {"spent_usd", "REAL NOT NULL DEFAULT 0"},     {"images_sent", "INTEGER NOT NULL DEFAULT 0"},
+    {"model_calls", "INTEGER NOT NULL DEFAULT 0"}, {"cache_hits", "INTEGER NOT NULL DEFAULT 0"},
+    {"prompt_version", "TEXT NOT NULL DEFAULT ''"}};
+
 constexpr const char* kColumns =
     "episode_id, task_id, scene, level, task_type, agent, attempt, success, ip, stage, cause, steps, "
-    "invalid_actions, input_tokens, output_tokens, cost_usd, latency_ms, wall_ms, subtask_ip, detail, status";
+    "invalid_actions, input_tokens, output_tokens, cost_usd, latency_ms, wall_ms, subtask_ip, detail, status, "
+    "spent_usd, images_sent, model_calls, cache_hits, prompt_version";
 
 std::vector<EpisodeRow> select_rows(store::Database& db) {
   store::Statement q(db, std::string("SELECT ") + kColumns + " FROM episodes ORDER BY episode_id");
@@ -52,12 +63,38 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
     r.subtask_ip = q.column_text(18);
     r.detail = q.column_text(19);
     r.status = q.column_text(20);
+    r.spent_usd = q.column_double(21);
+    r.images_sent = static_cast<int>(q.column_int(22));
+    r.model_calls = static_cast<int>(q.column_int(23));
+    r.cache_hits = static_cast<int>(q.column_int(24));
+    r.prompt_version = q.column_text(25);
     out.push_back(std::move(r));
   }
   return out;
 }
 
+void add_missing_columns(store::Database& db) {
+  std::set<std::string> have;
+  store::Statement q(db, "PRAGMA table_info(episodes)");
+  while (q.step()) have.insert(q.column_text(1));
+  for (const auto& [name, type] : kAddedColumns) {
+    if (have.count(name) == 0) db.exec(std::string("ALTER TABLE episodes ADD COLUMN ") + name + " " + type);
+  }
+}
+
 }  // namespace
+
+void set_usage(EpisodeRow& row, const mtg::episode_result_t& result) {
+  row.input_tokens = result.input_tokens;
+  row.output_tokens = result.output_tokens;
+  row.images_sent = result.images_sent;
+  row.model_calls = result.model_calls;
+  row.cache_hits = result.cache_hits;
+  row.cost_usd = result.cost_usd;
+  row.spent_usd = result.spent_usd;
+  row.prompt_version = result.prompt_version;
+  row.latency_ms = result.latency_ms;
+}
 
 void set_verdict(EpisodeRow& row, const mtg::episode_result_t& result) {
   row.success = result.success;
@@ -76,6 +113,7 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   db_->exec("PRAGMA journal_mode=WAL");
   db_->exec("PRAGMA synchronous=NORMAL");
   db_->exec(kSchema);
+  add_missing_columns(*db_);
 }
 
 ResultsDb::~ResultsDb() {
@@ -88,12 +126,14 @@ ResultsDb::~ResultsDb() {
 
 bool ResultsDb::insert(const EpisodeRow& r) {
   store::Statement q(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
-                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   q.bind(1, r.episode_id).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
   q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
   q.bind(14, r.input_tokens).bind(15, r.output_tokens).bind(16, r.cost_usd).bind(17, r.latency_ms);
   q.bind(18, r.wall_ms).bind(19, r.subtask_ip).bind(20, r.detail).bind(21, r.status);
+  q.bind(22, r.spent_usd).bind(23, std::int64_t{r.images_sent}).bind(24, std::int64_t{r.model_calls});
+  q.bind(25, std::int64_t{r.cache_hits}).bind(26, r.prompt_version);
   q.run();
   return db_->changes() > 0;
 }

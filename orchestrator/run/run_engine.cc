@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "agents/builtin/policies.h"
+#include "agents/vlm/model_spec.h"
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/convert.h"
@@ -87,6 +88,8 @@ class Engine {
     summary.errors = errors_;
     summary.retries = retries_;
     summary.restarts = supervisor_.restarts();
+    summary.stopped_agents = stopped_agents_;
+    summary.not_run = not_run_;
     summary.seconds = seconds_since(started);
     return summary;
   }
@@ -110,6 +113,10 @@ class Engine {
                                         [this](const std::string&, const mtg::state_update_t& m) { touch(m.header); });
     bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
       if (m.header.run_id != plan_.run_id) return;
+      if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) {
+        stop_agent(m.source.substr(6), m.message);
+        return;
+      }
       log::warn("error from " + m.source + ": " + m.message);
       const auto it = in_flight_.find(m.header.episode_id);
       if (it != in_flight_.end() && it->second.attempt == m.header.attempt) retry(m.header.episode_id, m.message);
@@ -153,13 +160,29 @@ class Engine {
     supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--profile", plan_.profile}));
     names_.push_back("scene_graph");
     names_.push_back("judge");
+    bool model_agents = false;
     for (std::size_t i = 0; i < plan_.agents.size(); ++i) {
       const std::string& spec = plan_.agents[i];
-      if (!agents::is_builtin_agent(spec)) throw Error("agent '" + spec + "' has no adapter in this build (built-in: oracle, random, replay:<run>, script:<file>)");
       const std::string name = "agent-" + std::to_string(i);
-      supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
+      if (agents::is_builtin_agent(spec)) {
+        supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
+      } else if (vlm::is_model_spec(spec)) {
+        // As many calls in flight as episodes, unless the settings say otherwise.
+        std::vector<std::string> argv = {(bin / "mtg_vlm_agent").string(), "--agent", spec, "--workers",
+                                         std::to_string(plan_.parallel)};
+        argv.insert(argv.end(), options_.vlm_args.begin(), options_.vlm_args.end());
+        supervisor_.start(name, with(argv));
+        model_agents = true;
+      } else {
+        throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, openai:<model>, "
+                    "anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
+      }
       agent_process_[spec] = name;
       names_.push_back(name);
+    }
+    if (model_agents) {
+      supervisor_.start("governor", with({(bin / "mtg_governor").string()}));
+      names_.push_back("governor");
     }
     wait_ready(names_, 60.0);
   }
@@ -189,6 +212,7 @@ class Engine {
     std::set<std::string> affected_agents;
     bool all = false;
     for (const auto& name : died) {
+      // The governor holds no episode: its restart only delays calls.
       if (name == "scene_graph" || name == "judge" || name == "recorder" || name == "renderer") all = true;
       for (const auto& [spec, process] : agent_process_) {
         if (process == name) affected_agents.insert(spec);
@@ -249,7 +273,26 @@ class Engine {
     }
   }
 
-  void retry(std::int64_t id, const std::string& why) {
+  void stop_agent(const std::string& spec, const std::string& why) {
+    if (!stopped_agents_.emplace(spec, why).second) return;
+    log::error("agent " + spec + " stopped: " + why);
+    std::deque<std::int64_t> keep;
+    for (const auto id : pending_) {
+      if (by_id_.at(id)->agent == spec) {
+        ++not_run_;
+      } else {
+        keep.push_back(id);
+      }
+    }
+    pending_.swap(keep);
+    for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+      const bool theirs = by_id_.at(it->first)->agent == spec;
+      not_run_ += theirs ? 1 : 0;
+      it = theirs ? in_flight_.erase(it) : std::next(it);
+    }
+  }
+
+  void retry(std::int64_t id, const std::string& why, const std::string& cause = "infrastructure") {
     const auto it = in_flight_.find(id);
     if (it == in_flight_.end()) return;
     const int attempt = it->second.attempt + 1;
@@ -259,7 +302,7 @@ class Engine {
       EpisodeRow row = base_row(id, attempt - 1);
       row.status = "error";
       row.stage = "start";
-      row.cause = "infrastructure";
+      row.cause = cause;
       row.detail = why;
       store(row, false);
       ++errors_;
@@ -289,16 +332,14 @@ class Engine {
   void on_result(const mtg::episode_result_t& m) {
     const auto it = in_flight_.find(m.header.episode_id);
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
-    if (m.cause == "transport_error") {
-      retry(m.header.episode_id, m.detail);
+    // Neither a lost message nor a failing API is the agent's failure: try the episode again.
+    if (m.cause == "transport_error" || m.cause == "provider_error") {
+      retry(m.header.episode_id, m.detail, m.cause == "provider_error" ? "provider_error" : "infrastructure");
       return;
     }
     EpisodeRow row = base_row(m.header.episode_id, m.header.attempt);
     set_verdict(row, m);
-    row.input_tokens = m.input_tokens;
-    row.output_tokens = m.output_tokens;
-    row.cost_usd = m.cost_usd;
-    row.latency_ms = m.latency_ms;
+    set_usage(row, m);
     row.wall_ms = 1000.0 * seconds_since(it->second.started);
     in_flight_.erase(it);
     store(row, true);
@@ -338,7 +379,8 @@ class Engine {
   std::deque<std::int64_t> pending_;
   std::map<std::int64_t, Flight> in_flight_;
   Progress* progress_ = nullptr;
-  std::int64_t completed_ = 0, errors_ = 0, retries_ = 0;
+  std::int64_t completed_ = 0, errors_ = 0, retries_ = 0, not_run_ = 0;
+  std::map<std::string, std::string> stopped_agents_;
 };
 
 }  // namespace

@@ -1,9 +1,12 @@
 #pragma once
-// Runs a plan: starts the recorder and the run's processes (scene-graph service, judge, one
-// process per agent), hands out episodes K at a time over the bus, writes each final result
+// Runs a plan: starts the recorder and the run's processes (scene-graph service, judge, renderer
+// when images are on, one process per agent, the rate governor for model agents), hands out episodes K at a time over the bus, writes each final result
 // once to results.sqlite, and keeps going through failures:
-//   - a result with cause transport_error (the judge saw a lost message), or no message about an
-//     episode for episode_timeout_s, retries the episode (a new attempt, fresh state everywhere);
+//   - a result with cause transport_error (the judge saw a lost message) or provider_error (the
+//     model's API failed after the adapter's own retries), or no message about an episode for
+//     episode_timeout_s, retries the episode (a new attempt, fresh state everywhere);
+//   - a model agent that reports a fatal error (authentication, quota, billing) gets no more
+//     episodes; what it has not finished stays unfinished for a later resume;
 //   - a process that dies is restarted, and the episodes it held are retried once it is back;
 //   - after max_attempts an episode is recorded with status "error" (excluded from SR and IP).
 // A killed orchestrator loses nothing: finished episodes are on disk; the next run resumes.
@@ -28,6 +31,10 @@ struct RunSummary {
   double seconds = 0.0;            // the whole invocation (telemetry)
   double episode_seconds = 0.0;    // first episode handed out to last result (telemetry)
   bool interrupted = false;
+  /// Agents that stopped (authentication, quota, billing): agent spec -> why. Their episodes
+  /// not yet finished stay unfinished, so the same command resumes them once fixed.
+  std::map<std::string, std::string> stopped_agents;
+  std::int64_t not_run = 0;        // episodes left unfinished because their agent stopped
 };
 
 struct EngineOptions {
@@ -35,6 +42,8 @@ struct EngineOptions {
   /// "mtg" (mtg_recorder, the default) or "lcm-logger" (the stock tool, which drops bursts of
   /// more than 30 messages when its process is starved: docs/runtime.md, "Recording").
   std::string recorder = "mtg";
+  /// Arguments for every model adapter process (agents/vlm/options.h, VlmOptions::to_args).
+  std::vector<std::string> vlm_args;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

@@ -53,10 +53,19 @@ void JudgeHost::on_action(const mtg::agent_action_t& action) {
   Episode& e = it->second;
   if (e.actions_seen[action.step]) return;
   e.actions_seen[action.step] = true;
-  e.input_tokens += action.input_tokens;
-  e.output_tokens += action.output_tokens;
-  e.cost_usd += action.cost_usd;
-  e.latency_ms += action.latency_ms;
+  Usage& u = e.usage;
+  u.input_tokens += action.input_tokens;
+  u.output_tokens += action.output_tokens;
+  u.images_sent += action.images_sent;
+  u.cost_usd += action.cost_usd;
+  u.latency_ms += action.latency_ms;
+  if (action.provider != "builtin") {
+    ++u.model_calls;
+    u.cache_hits += action.cache_hit ? 1 : 0;
+    u.spent_usd += action.cache_hit ? 0.0 : action.cost_usd;
+  }
+  if (!action.prompt_version.empty()) u.prompt_version = action.prompt_version;
+  if (!action.error.empty()) e.provider_error = action.error;
 }
 
 void JudgeHost::on_state(const mtg::state_update_t& m) {
@@ -103,6 +112,7 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
   r.level = static_cast<int8_t>(e.level);
   if (transport_error.empty()) {
     bus::fill_result(e.judge->verdict(), r);
+    if (r.cause == "provider_error" && !e.provider_error.empty()) r.detail += ": " + e.provider_error;
   } else {
     r.success = false;
     r.stage = "start";
@@ -111,10 +121,15 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
     log::warn("episode " + std::to_string(key.second) + " attempt " + std::to_string(e.attempt) + ": " +
               transport_error + " (to be retried)");
   }
-  r.input_tokens = e.input_tokens;
-  r.output_tokens = e.output_tokens;
-  r.cost_usd = e.cost_usd;
-  r.latency_ms = e.latency_ms;
+  r.input_tokens = e.usage.input_tokens;
+  r.output_tokens = e.usage.output_tokens;
+  r.images_sent = e.usage.images_sent;
+  r.model_calls = e.usage.model_calls;
+  r.cache_hits = e.usage.cache_hits;
+  r.cost_usd = e.usage.cost_usd;
+  r.spent_usd = e.usage.spent_usd;
+  r.prompt_version = e.usage.prompt_version;
+  r.latency_ms = e.usage.latency_ms;
   bus_.publish(bus::kEpisodeResult, r);
   episodes_.erase(key);
 }

@@ -31,6 +31,12 @@ class JudgeHost {
   int in_flight() const { return static_cast<int>(episodes_.size()); }
 
  private:
+  // What the agent's model answers cost, summed over the episode (telemetry; never in the verdict).
+  struct Usage {
+    int input_tokens = 0, output_tokens = 0, images_sent = 0, model_calls = 0, cache_hits = 0;
+    double cost_usd = 0.0, spent_usd = 0.0, latency_ms = 0.0;
+    std::string prompt_version;
+  };
   struct Episode {
     int attempt = 0;
     std::string task_id;
@@ -40,8 +46,8 @@ class JudgeHost {
     std::unique_ptr<episode::EpisodeJudge> judge;
     std::int64_t next_seq = 0;   // expected state-update seq from the scene-graph service
     std::string source;          // that service's sender id (first update)
-    int input_tokens = 0, output_tokens = 0;
-    double cost_usd = 0.0, latency_ms = 0.0;
+    Usage usage;
+    std::string provider_error;  // the agent's last provider error, for the verdict's detail
     std::map<int, bool> actions_seen;  // step -> counted (duplicates of agent actions ignored)
   };
   using Key = std::pair<std::string, std::int64_t>;

@@ -1,0 +1,107 @@
+#include "agents/vlm/conversation.h"
+
+#include <algorithm>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "agents/vlm/encoding.h"
+#include "core/util/error.h"
+
+namespace mtg::vlm {
+namespace {
+
+std::string role_legend(const std::string& role) {
+  if (role == "view_marked") return "the platform from where you stand, objects or free spaces numbered as the keys";
+  if (role == "view") return "the platform from where you stand, without numbers";
+  if (role == "item") return "the object in your hand";
+  if (role == "topdown_marked") return "the apartment from above, platforms numbered as the l keys";
+  if (role == "topdown") return "the apartment from above";
+  return role;
+}
+
+bool wanted(const VlmSettings& s, const std::string& role) {
+  return std::find(s.image_roles.begin(), s.image_roles.end(), role) != s.image_roles.end();
+}
+
+}  // namespace
+
+std::vector<ImagePart> images_to_send(const mtg::observation_t& obs, const VlmSettings& settings) {
+  std::vector<ImagePart> out;
+  for (const mtg::image_t& img : obs.images) {
+    if (!wanted(settings, img.role) || img.data.empty()) continue;
+    const int longest = std::max(img.width, img.height);
+    if (settings.image_max_side > 0 && longest > settings.image_max_side) {
+      const cv::Mat decoded = cv::imdecode(img.data, cv::IMREAD_COLOR);
+      if (decoded.empty()) throw Error("observation image '" + img.role + "' (" + img.encoding + ") cannot be decoded");
+      const double f = static_cast<double>(settings.image_max_side) / longest;
+      cv::Mat small;
+      cv::resize(decoded, small, cv::Size(), f, f, cv::INTER_AREA);
+      std::vector<std::uint8_t> bytes;
+      cv::imencode(img.encoding == "jpeg" ? ".jpg" : ".png", small, bytes);
+      out.push_back({img.encoding == "jpeg" ? "image/jpeg" : "image/png", base64_encode(bytes)});
+    } else {
+      out.push_back({img.encoding == "jpeg" ? "image/jpeg" : "image/png", base64_encode(img.data)});
+    }
+  }
+  return out;
+}
+
+std::string step_text(const PromptSet& prompts, const VlmSettings& settings, const mtg::observation_t& obs) {
+  std::string actions;
+  for (const auto& a : obs.actions) actions += "- " + a.key + ": " + a.description + "\n";
+  std::string images;
+  int n = 0;
+  for (const mtg::image_t& img : obs.images) {
+    if (wanted(settings, img.role) && !img.data.empty()) {
+      images += "Image " + std::to_string(++n) + ": " + role_legend(img.role) + ".\n";
+    }
+  }
+  const std::map<std::string, std::string> vars = {
+      {"task", obs.task_text},
+      {"step", std::to_string(obs.step + 1)},
+      {"steps_used", std::to_string(obs.step)},
+      {"step_limit", std::to_string(obs.step_limit)},
+      {"situation", obs.text},
+      {"hint", obs.hint.empty() ? "" : "Feedback on your last action: " + obs.hint},
+      {"actions", actions},
+      {"images", images}};
+  return render_template(prompts.step, vars, prompts.dir + "/step.txt");
+}
+
+Conversation::Conversation(const PromptSet& prompts, const VlmSettings& settings, const mtg::episode_start_t& start)
+    : prompts_(prompts), settings_(settings) {
+  system_.role = ChatMessage::Role::kSystem;
+  system_.text = render_template(prompts.system, {{"step_limit", std::to_string(start.step_limit)}},
+                                 prompts.dir + "/system.txt");
+}
+
+std::vector<ChatMessage> Conversation::ask(const mtg::observation_t& obs) {
+  ChatMessage user;
+  user.role = ChatMessage::Role::kUser;
+  user.text = step_text(prompts_, settings_, obs);
+  user.images = images_to_send(obs, settings_);
+  turns_.push_back(std::move(user));
+
+  // The last history_steps earlier (user, assistant) pairs, then this step's question.
+  const std::size_t steps = (turns_.size() - 1) / 2;
+  const std::size_t kept = settings_.history_steps == 0 ? steps
+                                                        : std::min<std::size_t>(steps, settings_.history_steps);
+  const std::size_t first = turns_.size() - 1 - 2 * kept;
+  std::vector<ChatMessage> out = {system_};
+  for (std::size_t i = first; i < turns_.size(); ++i) {
+    out.push_back(turns_[i]);
+    // Images stay only on the newest history_images user turns.
+    const std::size_t age = (turns_.size() - 1 - i) / 2;
+    if (age >= static_cast<std::size_t>(settings_.history_images)) out.back().images.clear();
+  }
+  return out;
+}
+
+void Conversation::answered(const std::string& reply) {
+  ChatMessage a;
+  a.role = ChatMessage::Role::kAssistant;
+  a.text = reply;
+  turns_.push_back(std::move(a));
+}
+
+}  // namespace mtg::vlm

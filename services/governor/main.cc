@@ -1,0 +1,34 @@
+// Rate-limit governor: one per run, shared by every model adapter process (docs/vlm.md).
+
+#include <CLI/CLI.hpp>
+
+#include "bus/bus.h"
+#include "bus/url.h"
+#include "core/util/log.h"
+#include "services/common/service_loop.h"
+#include "services/governor/governor.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mtg rate-limit governor"};
+  std::string url = mtg::bus::default_url();
+  std::string run_id;
+  app.add_option("--url", url, "LCM URL");
+  app.add_option("--run", run_id, "the run it serves (for its heartbeats)");
+  CLI11_PARSE(app, argc, argv);
+  mtg::log::set_role("governor");
+  mtg::services::install_stop_signals();
+  try {
+    mtg::bus::Bus bus(url);
+    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("governor"));
+    mtg::services::Governor governor(bus, stamp);
+    mtg::services::ServiceLoop loop(bus, stamp, "governor", 1);
+    loop.run([&] {
+      governor.tick();
+      loop.set_in_flight(governor.waiting());
+    });
+  } catch (const std::exception& e) {
+    mtg::log::error(e.what());
+    return 1;
+  }
+  return 0;
+}
