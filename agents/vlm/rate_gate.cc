@@ -1,6 +1,12 @@
 #include "agents/vlm/rate_gate.h"
 
+#include <algorithm>
+
 namespace mtg::vlm {
+
+LocalRateGate::LocalRateGate(RateLimits limits) : limits_(limits) {
+  limits_.window += std::min(limits.window / 20, std::chrono::milliseconds(1000));
+}
 
 std::int64_t LocalRateGate::acquire(const std::string& bucket, int tokens) {
   std::unique_lock lock(mutex_);

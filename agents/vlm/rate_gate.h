@@ -26,7 +26,8 @@ class RateGate {
 
 class LocalRateGate : public RateGate {
  public:
-  explicit LocalRateGate(RateLimits limits) : limits_(limits) {}
+  /// The window is kept 5 % (at most 1 s) longer than the provider's, as in the governor.
+  explicit LocalRateGate(RateLimits limits);
   std::int64_t acquire(const std::string& bucket, int tokens) override;
   void done(const std::string& bucket, std::int64_t permit, int tokens) override;
   void pause(const std::string& bucket, double ms) override;

@@ -1,5 +1,7 @@
 #include "services/governor/governor.h"
 
+#include <algorithm>
+
 #include "bus/channels.h"
 
 namespace mtg::services {
@@ -19,7 +21,10 @@ void Governor::on_message(const mtg::rate_limit_t& m) {
   const RequestKey key{m.requester, m.request_id};
   Bucket& b = buckets_[m.bucket];
   if (m.action == "request") {
-    b.limits = RateLimits{m.rpm, m.tpm, std::chrono::milliseconds(m.window_ms > 0 ? m.window_ms : 60000)};
+    // The window is kept a little longer than the provider's: a grant reaches the provider some
+    // milliseconds later, and not every grant equally late (5 %, at most 1 s).
+    const int window = m.window_ms > 0 ? m.window_ms : 60000;
+    b.limits = RateLimits{m.rpm, m.tpm, std::chrono::milliseconds(window + std::min(window / 20, 1000))};
     if (granted_.count(key) != 0) {
       grant(b, m, 0);  // the grant was lost: the same permit again
     } else if (queued_.insert(key).second) {

@@ -89,6 +89,7 @@ struct FakeModelServer::Impl {
   int rejected = 0;
 
   void handle(const httplib::Request& req, httplib::Response& res) {
+    const auto entered = Clock::now();
     SeenRequest s;
     s.path = req.path;
     s.body = req.body;
@@ -142,6 +143,7 @@ struct FakeModelServer::Impl {
       record(std::move(s), res.status);
       return;
     }
+    const auto slept = latency;
     if (latency.count() > 0) std::this_thread::sleep_for(latency);
     switch (b.kind) {
       case Behaviour::Kind::kStall:
@@ -174,6 +176,7 @@ struct FakeModelServer::Impl {
         });
         break;
     }
+    s.handle_ms = std::chrono::duration<double, std::milli>(Clock::now() - entered - slept).count();
     record(std::move(s), res.status);
   }
 
@@ -191,6 +194,9 @@ FakeModelServer::FakeModelServer() : impl_(std::make_unique<Impl>()) {
   impl_->server.new_task_queue = [] { return new httplib::ThreadPool(24); };
   // Idle keep-alive connections hold a worker until this passes, also when the server stops.
   impl_->server.set_keep_alive_timeout(1);
+  // Headers and body go out in separate writes: with Nagle on, the body waits for the client's
+  // delayed ACK (40 ms per call on Linux), which would be charged to the adapter.
+  impl_->server.set_tcp_nodelay(true);
   port_ = impl_->server.bind_to_any_port("127.0.0.1");
   if (port_ <= 0) throw std::runtime_error("fake model server: cannot bind 127.0.0.1");
   impl_->thread = std::thread([this] { impl_->server.listen_after_bind(); });

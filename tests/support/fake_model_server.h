@@ -33,6 +33,7 @@ struct SeenRequest {
   std::string body;
   SeenChat chat;
   double at_ms = 0.0;   // since the server started
+  double handle_ms = 0.0;  // time spent in the handler (parsing and answering; no artificial latency)
   int status = 0;       // what it answered
 };
 

@@ -1,0 +1,170 @@
+// Model agents end to end: `mtg run` with real adapter processes against a local server that
+// plays a scripted model in all three wire formats, with images; a rerun from the cache makes no
+// HTTP call and gives the same verdicts; the key never reaches the run folder; a rejected key
+// stops the run with a clear message; and the rate governor holds two processes to one budget.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "bus/url.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/fake_model_server.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/process.h"
+
+namespace mtg {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using testing::Behaviour;
+
+constexpr const char* kKey = "sk-test-SECRET-b7f3e9-DO-NOT-LEAK";
+
+std::string slurp(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class VlmRunTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    built_ = testing::render_room(fx_);
+    tasks::TaskOptions options;
+    options.levels = {1};
+    const auto generated = tasks::generate_tasks(built_.graph, options);
+    db_ = (fx_.root() / "tasks.sqlite").string();
+    tasks::write_task_db(db_, {generated.set}, generated.votes, options);
+    std::map<std::string, std::vector<std::string>> plans;
+    for (const auto& t : generated.set.tasks) plans.emplace(t.text, t.oracle);
+    server_.set_model(testing::oracle_model(plans));
+    // Children inherit the environment: the keys, the servers' addresses, a private cache.
+    ::setenv("OPENAI_API_KEY", kKey, 1);
+    ::setenv("ANTHROPIC_API_KEY", kKey, 1);
+    ::setenv("GEMINI_API_KEY", kKey, 1);
+    ::setenv("OPENAI_BASE_URL", (server_.url() + "/v1").c_str(), 1);
+    ::setenv("ANTHROPIC_BASE_URL", server_.url().c_str(), 1);
+    ::setenv("GEMINI_BASE_URL", server_.url().c_str(), 1);
+    ::setenv("MTG_CACHE_DIR", (fx_.root() / "cache").c_str(), 1);
+  }
+
+  int mtg_run(const std::string& out, const std::vector<std::string>& agents, const std::vector<std::string>& extra,
+              int limit = 3) {
+    std::vector<std::string> args = {testing::bin("mtg"), "run", "--tasks", db_, "--limit", std::to_string(limit),
+                                     "--parallel", "3", "--image-size", "320x240", "--out", (fx_.root() / out).string(),
+                                     "--data", fx_.root().string(), "--profile", "none", "--no-progress",
+                                     "--episode-timeout", "60"};
+    for (const auto& a : agents) args.insert(args.end(), {"--agent", a});
+    args.insert(args.end(), extra.begin(), extra.end());
+    testing::ChildProcess p(args, (fx_.root() / (out + ".log")).string());
+    return p.wait(240000);
+  }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+  std::string db_;
+  testing::FakeModelServer server_;
+};
+
+TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
+  const std::vector<std::string> agents = {"openai:gpt-4o", "anthropic:claude-3-5-haiku-20241022",
+                                           "gemini:gemini-2.0-flash"};
+  ASSERT_EQ(mtg_run("run", agents, {}), 0) << slurp(fx_.root() / "run.log");
+  const auto rows = orchestrator::read_results(fx_.root() / "run" / "results.sqlite");
+  ASSERT_EQ(rows.size(), 9u);
+  for (const auto& r : rows) {
+    EXPECT_TRUE(r.success) << r.agent << " " << r.task_id << ": " << r.detail;
+    EXPECT_EQ(r.model_calls, r.steps) << "one call per step";
+    EXPECT_EQ(r.cache_hits, 0);
+    EXPECT_GT(r.images_sent, 0);
+    EXPECT_GT(r.input_tokens, 0);
+    EXPECT_THAT(r.prompt_version, ::testing::StartsWith("v1+"));
+  }
+  const auto seen = server_.requests();
+  std::set<std::string> providers;
+  for (const auto& s : seen) {
+    providers.insert(s.chat.provider);
+    EXPECT_GT(s.chat.last_turn_images, 0) << "every step's question carries its images";
+    const bool keyed = (s.headers.count("authorization") && s.headers.at("authorization") == std::string("Bearer ") + kKey) ||
+                       (s.headers.count("x-api-key") && s.headers.at("x-api-key") == kKey) ||
+                       (s.headers.count("x-goog-api-key") && s.headers.at("x-goog-api-key") == kKey);
+    EXPECT_TRUE(keyed) << s.path;
+  }
+  EXPECT_EQ(providers, (std::set<std::string>{"openai", "anthropic", "gemini"}));
+
+  // The key is nowhere in what the run wrote: recording, logs, results, plan, reports.
+  for (const auto& entry : fs::recursive_directory_iterator(fx_.root() / "run")) {
+    if (entry.is_regular_file()) {
+      EXPECT_EQ(slurp(entry.path()).find(kKey), std::string::npos) << "the API key leaked into " << entry.path();
+    }
+  }
+  EXPECT_EQ(slurp(fx_.root() / "run.log").find(kKey), std::string::npos);
+
+  // A rerun answers from the cache alone: no HTTP call, the same verdicts, nothing spent.
+  const std::size_t calls = seen.size();
+  ASSERT_EQ(mtg_run("rerun", agents, {"--cache-only"}), 0) << slurp(fx_.root() / "rerun.log");
+  EXPECT_EQ(server_.requests().size(), calls);
+  const auto again = orchestrator::read_results(fx_.root() / "rerun" / "results.sqlite");
+  ASSERT_EQ(again.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(orchestrator::verdict_fingerprint(again[i]), orchestrator::verdict_fingerprint(rows[i]));
+    EXPECT_EQ(again[i].cache_hits, again[i].model_calls);
+    EXPECT_EQ(again[i].input_tokens, rows[i].input_tokens);
+    EXPECT_DOUBLE_EQ(again[i].cost_usd, rows[i].cost_usd);
+    EXPECT_EQ(again[i].spent_usd, 0.0);
+  }
+}
+
+TEST_F(VlmRunTest, ARejectedKeyStopsTheAgentWithAClearMessageAndScoresNothing) {
+  server_.script(std::vector<Behaviour>(
+      20, Behaviour{Behaviour::Kind::kStatus, 401,
+                    std::string(R"({"error":{"message":"Incorrect API key provided: )") + kKey + R"(","code":"invalid_api_key"}})",
+                    {}, 0, ""}));
+  EXPECT_EQ(mtg_run("denied", {"openai:gpt-4o"}, {"--no-render"}), 1);
+  const std::string log = slurp(fx_.root() / "denied.log");
+  EXPECT_THAT(log, HasSubstr("authentication failed"));
+  EXPECT_THAT(log, HasSubstr("run the same command again to resume"));
+  EXPECT_EQ(log.find(kKey), std::string::npos) << "the server echoed the key; the adapter must redact it";
+  EXPECT_TRUE(orchestrator::read_results(fx_.root() / "denied" / "results.sqlite").empty())
+      << "a rejected key is not the model's failure";
+  EXPECT_LE(server_.requests().size(), 3u) << "no retries after 401 (one call per episode in flight at most)";
+}
+
+TEST_F(VlmRunTest, TheGovernorHoldsTwoProcessesToOneBudget) {
+  // 8 calls per 2 s window between them; the server itself answers 429 beyond 8 per 2 s.
+  server_.enforce_limit(8, std::chrono::milliseconds(2000));
+  testing::ChildProcess governor({testing::bin("mtg_governor"), "--url", bus::kDefaultUrl},
+                                 (fx_.root() / "governor.log").string());
+  auto asker = [&](const std::string& name) {
+    return std::make_unique<testing::ChildProcess>(
+        std::vector<std::string>{testing::bin("mtg"), "vlm", "ask", "--agent", "openai:gpt-4o", "--repeat", "12",
+                                 "--parallel", "4", "--bus", bus::kDefaultUrl, "--rpm", "8", "--rate-window", "2",
+                                 "--no-cache"},
+        (fx_.root() / (name + ".log")).string());
+  };
+  auto a = asker("a");
+  auto b = asker("b");
+  EXPECT_EQ(a->wait(60000), 0) << slurp(fx_.root() / "a.log");
+  EXPECT_EQ(b->wait(60000), 0) << slurp(fx_.root() / "b.log");
+  const auto seen = server_.requests();
+  ASSERT_EQ(seen.size(), 24u);
+  EXPECT_EQ(server_.answered_429(), 0) << "the governor let too many through";
+  // Any 2 s window holds at most 8 calls (a little slack for the server's own clock).
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    int in_window = 0;
+    for (const auto& s : seen) in_window += s.at_ms >= seen[i].at_ms && s.at_ms < seen[i].at_ms + 1950.0;
+    EXPECT_LE(in_window, 8) << "window starting at " << seen[i].at_ms << " ms";
+  }
+  EXPECT_GE(seen.back().at_ms - seen.front().at_ms, 4000.0 - 100.0) << "24 calls at 8 per 2 s need at least 4 s";
+}
+
+}  // namespace
+}  // namespace mtg
