@@ -83,7 +83,7 @@ int run_vlm_ask(const VlmAskOptions& o) {
       } else if (o.repeat == 1) {
         if (r.ok) std::printf("%s\n", r.text.c_str());
         std::fprintf(stderr, "%s: %s, %d+%d tokens, $%.6f, %.0f ms%s\n", setup.spec.spec().c_str(),
-                     r.ok ? "ok" : r.error.c_str(), r.input_tokens, r.output_tokens, r.cost_usd, r.latency_ms,
+                     r.ok ? "ok" : "failed", r.input_tokens, r.output_tokens, r.cost_usd, r.latency_ms,
                      r.cache_hit ? " (from the cache)" : "");
       }
       std::fflush(stdout);

@@ -11,6 +11,9 @@
 
 #include "agents/vlm/model_client.h"
 #include "agents/vlm/model_spec.h"
+#include "agents/vlm/voter.h"
+#include "core/tasks/generator.h"
+#include "tests/support/graph_fixtures.h"
 #include "agents/vlm/wire.h"
 #include "core/util/error.h"
 #include "tests/support/fake_model_server.h"
@@ -226,6 +229,46 @@ TEST_F(AdapterTest, PricesComeFromTheTable) {
   const CallResult local = client("openai-compatible:" + server_.url() + "/v1:llava")->call(conversation(0));
   ASSERT_TRUE(local.ok) << local.error;
   EXPECT_EQ(local.cost_usd, 0.0);
+}
+
+TEST_F(AdapterTest, ModelsVoteOnLevel4CandidatesAndCanVetoThem) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  tasks::TaskOptions o;
+  o.levels = {4};
+  const auto plain = tasks::generate_tasks(b.graph, o);
+  ASSERT_GE(plain.set.tasks.size(), 2u);
+  const std::string victim_text = plain.set.tasks.front().text;
+  server_.set_model([&](const testing::SeenChat& chat) {
+    const std::string& q = chat.turns.back().second;
+    EXPECT_THAT(q, HasSubstr("platform l1"));  // the scene description reached the voter
+    return q.find("Task: " + victim_text + "\n") != std::string::npos ? "Not feasible: the box is fixed."
+                                                                      : "**Feasible**";
+  });
+  ResponseCache cache(dir_ / "votes.sqlite");
+  auto a = client("openai:gpt-4o", &cache);
+  auto c = client("anthropic:claude-3-5-sonnet-20241022", &cache);
+  const PromptSet prompts = PromptSet::builtin();
+  VoteTally ta, tc;
+  const std::vector<tasks::VoteBatch> voters = {
+      [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*a, prompts, r, 4, ta); },
+      [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*c, prompts, r, 4, tc); }};
+  const auto voted = tasks::generate_tasks(b.graph, o, {}, voters);
+  EXPECT_EQ(voted.set.tasks.size() + 1, plain.set.tasks.size()) << "two 'Not feasible' outvote the rules";
+  for (const auto& t : voted.set.tasks) EXPECT_NE(t.text, victim_text);
+  EXPECT_EQ(ta.cast, static_cast<int>(plain.set.tasks.size()));
+  EXPECT_EQ(ta.unreadable + ta.failed, 0);
+  std::set<std::string> voter_names;
+  for (const auto& v : voted.votes) voter_names.insert(v.voter);
+  EXPECT_EQ(voter_names, (std::set<std::string>{"rules", "openai:gpt-4o", "anthropic:claude-3-5-sonnet-20241022"}));
+  // The same generation again costs no call and gives the same votes.
+  const auto calls = server_.requests().size();
+  VoteTally again;
+  const std::vector<tasks::VoteBatch> cached = {
+      [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*a, prompts, r, 4, again); }};
+  (void)tasks::generate_tasks(b.graph, o, {}, cached);
+  EXPECT_EQ(server_.requests().size(), calls);
+  EXPECT_EQ(again.cache_hits, again.asked);
 }
 
 }  // namespace
