@@ -26,6 +26,14 @@ double duration_ms(const std::string& s) {
 
 }  // namespace
 
+std::string system_text(std::span<const ChatMessage> messages) {
+  std::string system;
+  for (const ChatMessage& m : messages) {
+    if (m.role == ChatMessage::Role::kSystem) system += (system.empty() ? "" : "\n\n") + m.text;
+  }
+  return system;
+}
+
 WireRequest build_request(const ModelSpec& spec, const GenerationParams& params,
                           std::span<const ChatMessage> messages) {
   switch (spec.provider) {

@@ -34,6 +34,9 @@ std::vector<std::pair<std::string, std::string>> request_headers(const ModelSpec
 ModelAnswer parse_answer(const ModelSpec& spec, const std::string& body);
 ErrorInfo parse_error(const ModelSpec& spec, const std::string& body);
 
+/// The system messages joined (Anthropic and Gemini take the system prompt as its own field).
+std::string system_text(std::span<const ChatMessage> messages);
+
 // Per provider (wire_<provider>.cc).
 namespace openai {
 WireRequest build_request(const ModelSpec& spec, const GenerationParams& params, std::span<const ChatMessage> messages);

@@ -10,13 +10,10 @@ namespace mtg::vlm::anthropic {
 
 WireRequest build_request(const ModelSpec& spec, const GenerationParams& params,
                           std::span<const ChatMessage> messages) {
-  std::string system;
+  const std::string system = system_text(messages);
   nlohmann::json msgs = nlohmann::json::array();
   for (const ChatMessage& m : messages) {
-    if (m.role == ChatMessage::Role::kSystem) {
-      system += (system.empty() ? "" : "\n\n") + m.text;
-      continue;
-    }
+    if (m.role == ChatMessage::Role::kSystem) continue;
     nlohmann::json blocks = nlohmann::json::array();
     for (const ImagePart& img : m.images) {
       blocks.push_back(
