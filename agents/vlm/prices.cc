@@ -1,18 +1,15 @@
 #include "agents/vlm/prices.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
+#include "core/util/text.h"
 
 namespace mtg::vlm {
 extern const char* const kPricesJson;  // agents/vlm/prices.json, compiled in
 
 PriceTable PriceTable::from_file(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw Error(file + ": cannot open the price table");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return from_json_text(text, file);
+  return from_json_text(read_text_file(file, "price table"), file);
 }
 
 PriceTable PriceTable::builtin() { return from_json_text(kPricesJson, "agents/vlm/prices.json"); }

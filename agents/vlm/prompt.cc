@@ -1,12 +1,11 @@
 #include "agents/vlm/prompt.h"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "core/util/error.h"
 #include "core/util/hash.h"
+#include "core/util/text.h"
 
 namespace mtg::vlm {
 // Compiled in from agents/vlm/prompts/v1 (agents/CMakeLists.txt).
@@ -18,19 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw Error(file.string() + ": cannot read the prompt template");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
+std::string read_text(const fs::path& file) { return read_text_file(file, "prompt template"); }
 
 // Renders with every allowed placeholder set, so an unknown one fails now.
 void check(const std::string& text, const std::vector<std::string>& allowed, const fs::path& file) {
@@ -50,7 +37,7 @@ std::string render_template(std::string_view text, const std::map<std::string, s
     if (open == std::string_view::npos) break;
     const auto close = text.find("}}", open + 2);
     if (close == std::string_view::npos) throw Error(origin + ": unclosed '{{'");
-    const std::string name = trim(std::string(text.substr(open + 2, close - open - 2)));
+    const std::string name = trim_whitespace(text.substr(open + 2, close - open - 2));
     const auto it = vars.find(name);
     if (it == vars.end()) throw Error(origin + ": unknown placeholder {{" + name + "}}");
     out.append(text.substr(pos, open - pos));
@@ -83,7 +70,7 @@ PromptSet PromptSet::load(const std::string& dir) {
   p.system = read_text(d / "system.txt");
   p.step = read_text(d / "step.txt");
   p.vote = read_text(d / "vote.txt");
-  return checked(std::move(p), trim(read_text(d / "VERSION")));
+  return checked(std::move(p), trim_whitespace(read_text(d / "VERSION")));
 }
 
 PromptSet PromptSet::builtin() {
@@ -92,7 +79,7 @@ PromptSet PromptSet::builtin() {
   p.system = kPromptV1System;
   p.step = kPromptV1Step;
   p.vote = kPromptV1Vote;
-  return checked(std::move(p), trim(kPromptV1Version));
+  return checked(std::move(p), trim_whitespace(kPromptV1Version));
 }
 
 }  // namespace mtg::vlm

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "core/util/error.h"
 
@@ -12,15 +13,32 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <typename T>
-void take(const nlohmann::json& j, const char* key, T& field, const std::string& origin) {
-  if (!j.contains(key)) return;
-  try {
-    field = j.at(key).get<T>();
-  } catch (const nlohmann::json::exception&) {
-    throw Error(origin + ": field '" + key + "' has the wrong type");
+// Reads the fields it is asked for and remembers their names, so that whatever else the file
+// holds can be reported as unknown.
+class Fields {
+ public:
+  Fields(const nlohmann::json& j, std::string origin) : j_(j), origin_(std::move(origin)) {}
+  template <typename T>
+  void take(const char* key, T& field) {
+    known_.insert(key);
+    if (!j_.contains(key)) return;
+    try {
+      field = j_.at(key).get<T>();
+    } catch (const nlohmann::json::exception&) {
+      throw Error(origin_ + ": field '" + key + "' has the wrong type");
+    }
   }
-}
+  void reject_unknown() const {
+    for (const auto& [key, value] : j_.items()) {
+      if (known_.count(key) == 0) throw Error(origin_ + ": unknown field '" + key + "'");
+    }
+  }
+
+ private:
+  const nlohmann::json& j_;
+  std::string origin_;
+  std::set<std::string> known_;
+};
 
 }  // namespace
 
@@ -35,41 +53,33 @@ VlmSettings VlmSettings::from_json_file(const std::string& file) {
   }
   if (!j.is_object()) throw Error(file + ": expected a JSON object");
   VlmSettings s;
-  static const char* const kFields[] = {
-      "temperature", "max_output_tokens", "seed", "image_roles", "image_detail", "image_max_side", "history_steps",
-      "history_images", "request_timeout_s", "connect_timeout_s", "max_attempts", "backoff_base_s", "backoff_cap_s",
-      "max_retry_wait_s", "rpm", "tpm", "rate_window_s", "cache_file", "cache_only", "no_cache", "prompts_dir",
-      "prices_file", "key_file", "base_url", "workers"};
-  for (const auto& [key, value] : j.items()) {
-    bool ok = false;
-    for (const char* f : kFields) ok = ok || key == f;
-    if (!ok) throw Error(file + ": unknown field '" + key + "'");
-  }
-  take(j, "temperature", s.temperature, file);
-  take(j, "max_output_tokens", s.max_output_tokens, file);
-  take(j, "seed", s.seed, file);
-  take(j, "image_roles", s.image_roles, file);
-  take(j, "image_detail", s.image_detail, file);
-  take(j, "image_max_side", s.image_max_side, file);
-  take(j, "history_steps", s.history_steps, file);
-  take(j, "history_images", s.history_images, file);
-  take(j, "request_timeout_s", s.request_timeout_s, file);
-  take(j, "connect_timeout_s", s.connect_timeout_s, file);
-  take(j, "max_attempts", s.max_attempts, file);
-  take(j, "backoff_base_s", s.backoff_base_s, file);
-  take(j, "backoff_cap_s", s.backoff_cap_s, file);
-  take(j, "max_retry_wait_s", s.max_retry_wait_s, file);
-  take(j, "rpm", s.rpm, file);
-  take(j, "tpm", s.tpm, file);
-  take(j, "rate_window_s", s.rate_window_s, file);
-  take(j, "cache_file", s.cache_file, file);
-  take(j, "cache_only", s.cache_only, file);
-  take(j, "no_cache", s.no_cache, file);
-  take(j, "prompts_dir", s.prompts_dir, file);
-  take(j, "prices_file", s.prices_file, file);
-  take(j, "key_file", s.key_file, file);
-  take(j, "base_url", s.base_url, file);
-  take(j, "workers", s.workers, file);
+  Fields f(j, file);
+  f.take("temperature", s.temperature);
+  f.take("max_output_tokens", s.max_output_tokens);
+  f.take("seed", s.seed);
+  f.take("image_roles", s.image_roles);
+  f.take("image_detail", s.image_detail);
+  f.take("image_max_side", s.image_max_side);
+  f.take("history_steps", s.history_steps);
+  f.take("history_images", s.history_images);
+  f.take("request_timeout_s", s.request_timeout_s);
+  f.take("connect_timeout_s", s.connect_timeout_s);
+  f.take("max_attempts", s.max_attempts);
+  f.take("backoff_base_s", s.backoff_base_s);
+  f.take("backoff_cap_s", s.backoff_cap_s);
+  f.take("max_retry_wait_s", s.max_retry_wait_s);
+  f.take("rpm", s.rpm);
+  f.take("tpm", s.tpm);
+  f.take("rate_window_s", s.rate_window_s);
+  f.take("cache_file", s.cache_file);
+  f.take("cache_only", s.cache_only);
+  f.take("no_cache", s.no_cache);
+  f.take("prompts_dir", s.prompts_dir);
+  f.take("prices_file", s.prices_file);
+  f.take("key_file", s.key_file);
+  f.take("base_url", s.base_url);
+  f.take("workers", s.workers);
+  f.reject_unknown();
   try {
     s.validate();
   } catch (const Error& e) {

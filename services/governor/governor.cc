@@ -26,9 +26,8 @@ void Governor::on_message(const mtg::rate_limit_t& m) {
     const int window = m.window_ms > 0 ? m.window_ms : 60000;
     b.limits = RateLimits{m.rpm, m.tpm, std::chrono::milliseconds(window + std::min(window / 20, 1000))};
     if (granted_.count(key) != 0) {
-      grant(b, m, 0);  // the grant was lost: the same permit again
-    } else if (queued_.insert(key).second) {
-      asked_at_[key] = RateClock::now();
+      grant(m, 0);  // the grant was lost: the same permit again
+    } else if (queued_.emplace(key, RateClock::now()).second) {
       b.queue.push_back(m);
     }
   } else if (m.action == "done") {
@@ -51,17 +50,15 @@ void Governor::tick() {
       const std::int64_t entry = next_entry_++;
       b.window.admit(entry, head.tokens, now);
       granted_[key] = entry;
-      queued_.erase(key);
-      const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(now - asked_at_[key]).count();
-      asked_at_.erase(key);
-      ++granted_total_;
-      grant(b, head, static_cast<int>(waited));
+      const auto asked = queued_.extract(key);
+      const auto waited = std::chrono::duration_cast<std::chrono::milliseconds>(now - asked.mapped()).count();
+      grant(head, static_cast<int>(waited));
       b.queue.pop_front();
     }
   }
 }
 
-void Governor::grant(Bucket& /*b*/, const mtg::rate_limit_t& request, int wait_ms) {
+void Governor::grant(const mtg::rate_limit_t& request, int wait_ms) {
   mtg::rate_limit_t g = request;
   g.header = stamp_.next(-1, 0, "rate");
   g.action = "grant";

@@ -8,7 +8,6 @@
 #include <chrono>
 #include <deque>
 #include <map>
-#include <set>
 #include <string>
 #include <utility>
 
@@ -25,7 +24,6 @@ class Governor {
   /// Grants what the windows allow now. Call often (the service loop's idle).
   void tick();
   int waiting() const;
-  std::int64_t granted() const { return granted_total_; }
 
  private:
   using RequestKey = std::pair<std::string, std::int64_t>;  // requester, request id
@@ -35,16 +33,14 @@ class Governor {
     std::deque<mtg::rate_limit_t> queue;
   };
   void on_message(const mtg::rate_limit_t& m);
-  void grant(Bucket& b, const mtg::rate_limit_t& request, int wait_ms);
+  void grant(const mtg::rate_limit_t& request, int wait_ms);
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
   std::map<std::string, Bucket> buckets_;
-  std::set<RequestKey> queued_;
-  std::map<RequestKey, std::int64_t> granted_;  // -> the window entry id it was admitted as
-  std::map<RequestKey, RateClock::time_point> asked_at_;
+  std::map<RequestKey, RateClock::time_point> queued_;  // -> when it was first asked for
+  std::map<RequestKey, std::int64_t> granted_;          // -> the window entry id it was admitted as
   std::int64_t next_entry_ = 0;
-  std::int64_t granted_total_ = 0;
 };
 
 }  // namespace mtg::services
