@@ -38,6 +38,13 @@ class Bus {
     }
   }
 
+  /// Publishes already encoded bytes (forwarding a message between buses unchanged).
+  void publish_raw(const std::string& channel, std::span<const std::uint8_t> data) {
+    if (lcm_->publish(channel, data.data(), static_cast<unsigned int>(data.size())) != 0) {
+      throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
+    }
+  }
+
   /// Calls `handler(channel, msg)` for every message on channels matching `channel_regex`.
   /// Messages that do not decode as Msg are skipped by LCM. An exception from a handler is
   /// rethrown by the handle_*() call that dispatched it (never through LCM's C frames).

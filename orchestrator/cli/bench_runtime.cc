@@ -117,7 +117,7 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
     const fs::path dir = work / plan.run_id;
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
-    const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false, .recorder = "mtg", .vlm_args = {}});
+    const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}});
     long steps = 0, succeeded = 0;
     for (const auto& row : orchestrator::read_results(dir / "results.sqlite")) {
       steps += row.steps;

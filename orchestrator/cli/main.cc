@@ -9,6 +9,7 @@
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/cli/bench_commands.h"
+#include "orchestrator/cli/cluster_commands.h"
 #include "orchestrator/cli/render_commands.h"
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
@@ -112,12 +113,36 @@ int main(int argc, char** argv) {
   run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
   run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
   run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
-  run->add_option("--url", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  run->add_option("--url,--bus", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  run->add_flag("--remote", run_opts.remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");
+  run->add_option("--min-workers", run_opts.remote_options.min_workers, "with --remote: workers to wait for (default 1)");
+  run->add_option("--worker-wait", run_opts.remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
+  run->add_option("--lease-ttl", run_opts.remote_options.lease_ttl_s,
+                  "with --remote: seconds without renewal before a lease is re-issued (default 5)");
   run->add_option("--episode-timeout", run_opts.episode_timeout_s, "seconds without news before a retry (default 60)");
   run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
   run->add_flag("!--no-progress", run_opts.progress, "no progress bar");
   run->add_option("--recorder", run_opts.recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
   mtg::vlm::add_vlm_options(*run, run_opts.vlm, true);
+  // mtg worker / mtg status
+  mtg::cli::WorkerCliOptions worker_opts;
+  CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
+  worker->add_option("--bus", worker_opts.worker.bus_url, "the shared LCM URL (udpm, ttl=1)")->required();
+  worker->add_option("--local-url", worker_opts.worker.local_url, "this host's own bus (default $MTG_LCM_URL or the loopback group)");
+  worker->add_option("--capacity", worker_opts.worker.capacity, "episodes at once (default 2)");
+  worker->add_option("--name", worker_opts.worker.name, "name shown by mtg status (default: the host name)");
+  worker->add_option("--dir", worker_opts.worker.dir, "folder for process logs and this host's recordings (default ./mtg-worker)");
+  worker->add_option("--data", worker_opts.worker.data_dir, "dataset root on this host (default: the coordinator's path)");
+  worker->add_option("--recorder", worker_opts.worker.recorder, "mtg (default) or lcm-logger");
+  worker->add_option("--chunk-bytes", worker_opts.worker.chunk_bytes, "recording chunk size (default 32768)");
+  worker->add_flag("--once", worker_opts.worker.once, "exit after one run");
+  mtg::vlm::add_vlm_options(*worker, worker_opts.vlm, false);
+  mtg::cli::StatusOptions status_opts;
+  CLI::App* status = app.add_subcommand("status", "Hosts, episodes in flight, rates and SR/IP of the runs on a bus");
+  status->add_option("--bus", status_opts.bus_url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  status->add_option("--listen", status_opts.listen_s, "seconds to listen (default 2.5)");
+  status->add_flag("--json", status_opts.json, "print one JSON object");
+
   // mtg vlm ask
   CLI::App* vlm = app.add_subcommand("vlm", "Talk to a model agent directly");
   vlm->require_subcommand(1);
@@ -194,6 +219,8 @@ int main(int argc, char** argv) {
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
     if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
     if (run->parsed()) return mtg::cli::run_run(run_opts);
+    if (worker->parsed()) return mtg::cli::run_worker(worker_opts);
+    if (status->parsed()) return mtg::cli::run_status(status_opts);
     if (render->parsed()) return mtg::cli::run_render(render_opts);
     if (images->parsed()) return mtg::cli::run_images(images_opts);
     if (report->parsed()) return mtg::cli::run_report(report_opts);

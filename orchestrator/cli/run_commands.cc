@@ -34,6 +34,17 @@ std::map<std::string, tasks::Task> load_tasks(const std::string& db) {
   return out;
 }
 
+// What every host's adapters must share (limits, cache policy); files and keys are host-local.
+vlm::VlmOptions run_wide(vlm::VlmOptions o) {
+  o.config_file.clear();
+  o.cache_file.clear();
+  o.key_file.clear();
+  o.prompts_dir.clear();
+  o.prices_file.clear();
+  o.base_url.clear();
+  return o;
+}
+
 void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const nlohmann::json& report) {
   std::printf("run %s: %lld episodes planned, %lld done now (%lld before), %lld given up, %lld retries, "
               "%d restarts, %.1f s\n",
@@ -60,6 +71,7 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
   }
   std::printf("  results     %s\n", (dir / "results.sqlite").c_str());
   std::printf("  recording   %s/bus-*.lcmlog\n", dir.c_str());
+  if (fs::exists(dir / "episodes")) std::printf("  episodes    %s/episodes/ (each attempt's recording from its worker)\n", dir.c_str());
   std::printf("  report      %s (+ report.png, report.json)\n", (dir / "report.html").c_str());
   std::printf("  logs        %s/logs/\n", dir.c_str());
 }
@@ -112,15 +124,17 @@ int run_run(const RunOptions& o) {
     plan.data_dir = o.data_dir;
     plan.profile = o.profile;
     plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
+    plan.remote = o.remote;
     const auto all = tasks::read_tasks(plan.tasks_db);
     plan = orchestrator::make_plan(std::move(plan), all);
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
   }
   // Model agents are checked here (spec, key, settings, prompts, prices, cache), so a missing key
-  // is one clear line now rather than adapters that never become ready.
+  // is one clear line now rather than adapters that never become ready. With workers the keys
+  // and files are on their hosts; each worker checks its own when it joins.
   for (const std::string& spec : plan.agents) {
-    if (vlm::is_model_spec(spec)) {
+    if (vlm::is_model_spec(spec) && !plan.remote) {
       (void)vlm::ModelSetup::make(spec, o.vlm.resolve());
     } else if (!agents::is_builtin_agent(spec)) {
       throw Error("mtg run: unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
@@ -131,7 +145,8 @@ int run_run(const RunOptions& o) {
   orchestrator::EngineOptions engine;
   engine.progress = o.progress;
   engine.recorder = o.recorder;
-  engine.vlm_args = o.vlm.to_args();
+  engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
+  engine.remote = o.remote_options;
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   const nlohmann::json report = orchestrator::write_reports(dir);
   print_summary(summary, dir, report);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "agents/vlm/options.h"
+#include "orchestrator/remote/remote_options.h"
 
 namespace mtg::cli {
 
@@ -30,6 +31,8 @@ struct RunOptions {
   bool progress = true;
   std::string recorder = "mtg";      // or lcm-logger
   vlm::VlmOptions vlm;               // for model agents (forwarded to every adapter)
+  bool remote = false;               // episodes run on `mtg worker`s of the bus, by lease
+  orchestrator::remote::RemoteOptions remote_options;
 };
 
 struct ReportOptions {

@@ -21,7 +21,8 @@ CREATE TABLE IF NOT EXISTS episodes (
   subtask_ip TEXT NOT NULL, detail TEXT NOT NULL, status TEXT NOT NULL,
   spent_usd REAL NOT NULL DEFAULT 0, images_sent INTEGER NOT NULL DEFAULT 0,
   model_calls INTEGER NOT NULL DEFAULT 0, cache_hits INTEGER NOT NULL DEFAULT 0,
-  prompt_version TEXT NOT NULL DEFAULT ''
+  prompt_version TEXT NOT NULL DEFAULT '',
+  worker TEXT NOT NULL DEFAULT ''
 );
 )sql";
 
@@ -30,12 +31,12 @@ CREATE TABLE IF NOT EXISTS episodes (
 constexpr const char* kAddedColumns[][2] = {
     {"spent_usd", "REAL NOT NULL DEFAULT 0"},     {"images_sent", "INTEGER NOT NULL DEFAULT 0"},
     {"model_calls", "INTEGER NOT NULL DEFAULT 0"}, {"cache_hits", "INTEGER NOT NULL DEFAULT 0"},
-    {"prompt_version", "TEXT NOT NULL DEFAULT ''"}};
+    {"prompt_version", "TEXT NOT NULL DEFAULT ''"}, {"worker", "TEXT NOT NULL DEFAULT ''"}};
 
 constexpr const char* kColumns =
     "episode_id, task_id, scene, level, task_type, agent, attempt, success, ip, stage, cause, steps, "
     "invalid_actions, input_tokens, output_tokens, cost_usd, latency_ms, wall_ms, subtask_ip, detail, status, "
-    "spent_usd, images_sent, model_calls, cache_hits, prompt_version";
+    "spent_usd, images_sent, model_calls, cache_hits, prompt_version, worker";
 
 std::vector<EpisodeRow> select_rows(store::Database& db) {
   store::Statement q(db, std::string("SELECT ") + kColumns + " FROM episodes ORDER BY episode_id");
@@ -68,6 +69,7 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
     r.model_calls = static_cast<int>(q.column_int(23));
     r.cache_hits = static_cast<int>(q.column_int(24));
     r.prompt_version = q.column_text(25);
+    r.worker = q.column_text(26);
     out.push_back(std::move(r));
   }
   return out;
@@ -126,14 +128,14 @@ ResultsDb::~ResultsDb() {
 
 bool ResultsDb::insert(const EpisodeRow& r) {
   store::Statement q(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
-                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   q.bind(1, r.episode_id).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
   q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
   q.bind(14, r.input_tokens).bind(15, r.output_tokens).bind(16, r.cost_usd).bind(17, r.latency_ms);
   q.bind(18, r.wall_ms).bind(19, r.subtask_ip).bind(20, r.detail).bind(21, r.status);
   q.bind(22, r.spent_usd).bind(23, std::int64_t{r.images_sent}).bind(24, std::int64_t{r.model_calls});
-  q.bind(25, std::int64_t{r.cache_hits}).bind(26, r.prompt_version);
+  q.bind(25, std::int64_t{r.cache_hits}).bind(26, r.prompt_version).bind(27, r.worker);
   q.run();
   return db_->changes() > 0;
 }

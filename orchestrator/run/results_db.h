@@ -31,6 +31,7 @@ struct EpisodeRow {
   std::string prompt_version;  // "" for built-in agents
   double latency_ms = 0.0;   // telemetry: summed agent call time
   double wall_ms = 0.0;      // telemetry: wall time of the attempt
+  std::string worker;        // telemetry: the worker that ran it (multi-host runs; "" = this machine)
   std::string subtask_ip;    // JSON list
   std::string detail;
   std::string status = "scored";  // "scored", or "error" (infrastructure gave up; excluded from SR/IP)

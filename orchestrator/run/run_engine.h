@@ -1,13 +1,14 @@
 #pragma once
-// Runs a plan: starts the recorder and the run's processes (scene-graph service, judge, renderer
-// when images are on, one process per agent, the rate governor for model agents), hands out episodes K at a time over the bus, writes each final result
-// once to results.sqlite, and keeps going through failures:
+// Runs a plan: hands out episodes K at a time to a launcher (launcher.h) -- the run's processes
+// on this machine, or with plan.remote the workers of other machines by lease -- writes each final
+// result once to results.sqlite, and keeps going through failures:
 //   - a result with cause transport_error (the judge saw a lost message) or provider_error (the
 //     model's API failed after the adapter's own retries), or no message about an episode for
 //     episode_timeout_s, retries the episode (a new attempt, fresh state everywhere);
 //   - a model agent that reports a fatal error (authentication, quota, billing) gets no more
 //     episodes; what it has not finished stays unfinished for a later resume;
-//   - a process that dies is restarted, and the episodes it held are retried once it is back;
+//   - a process that dies is restarted, and the episodes it held are retried once it is back; a
+//     worker that stops renewing its leases loses them, and its episodes run elsewhere;
 //   - after max_attempts an episode is recorded with status "error" (excluded from SR and IP).
 // A killed orchestrator loses nothing: finished episodes are on disk; the next run resumes.
 
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "core/tasks/task.h"
+#include "orchestrator/remote/remote_options.h"
 #include "orchestrator/run/run_plan.h"
 
 namespace mtg::orchestrator {
@@ -44,6 +46,8 @@ struct EngineOptions {
   std::string recorder = "mtg";
   /// Arguments for every model adapter process (agents/vlm/options.h, VlmOptions::to_args).
   std::vector<std::string> vlm_args;
+  /// With plan.remote: how the coordinator deals with workers.
+  remote::RemoteOptions remote;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

@@ -32,6 +32,7 @@ nlohmann::json RunPlan::to_json() const {
           {"data_dir", data_dir},
           {"profile", profile},
           {"bus_url", bus_url},
+          {"remote", remote},
           {"episodes", eps}};
 }
 
@@ -57,6 +58,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.data_dir = j.at("data_dir").get<std::string>();
     p.profile = j.at("profile").get<std::string>();
     p.bus_url = j.at("bus_url").get<std::string>();
+    p.remote = j.value("remote", false);  // absent in plans written before multi-host runs
     for (const auto& e : j.at("episodes")) {
       p.episodes.push_back({e.at("id").get<std::int64_t>(), e.at("task").get<std::string>(),
                             e.at("agent").get<std::string>(), e.at("seed").get<std::uint64_t>()});

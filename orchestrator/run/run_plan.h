@@ -40,6 +40,8 @@ struct RunPlan {
   std::string data_dir;
   std::string profile = "replica_cad";
   std::string bus_url;
+  /// Episodes run on workers (`mtg worker`) of the bus by lease, not on this machine.
+  bool remote = false;
   std::vector<PlannedEpisode> episodes;
 
   nlohmann::json to_json() const;

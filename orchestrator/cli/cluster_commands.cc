@@ -1,0 +1,84 @@
+#include "orchestrator/cli/cluster_commands.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "bus/bus.h"
+#include "bus/channels.h"
+#include "bus/url.h"
+#include "core/util/error.h"
+#include "mtg/heartbeat_t.hpp"
+#include "mtg/run_info_t.hpp"
+
+namespace mtg::cli {
+
+int run_worker(WorkerCliOptions o) {
+  auto& w = o.worker;
+  if (w.bus_url.empty()) throw Error("mtg worker: --bus <shared LCM URL> is required");
+  w.bus_url = bus::normalize_url(w.bus_url);
+  w.local_url = bus::normalize_url(w.local_url.empty() ? bus::default_url() : w.local_url);
+  if (w.local_url == w.bus_url) {
+    throw Error("mtg worker: the host bus (--local-url " + w.local_url + ") must differ from the shared bus");
+  }
+  if (w.dir.empty()) w.dir = (std::filesystem::current_path() / "mtg-worker").string();
+  w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
+  w.vlm_args = o.vlm.to_args();
+  return orchestrator::remote::run_worker(w);
+}
+
+int run_status(const StatusOptions& o) {
+  const std::string url = bus::normalize_url(o.bus_url.empty() ? bus::default_url() : o.bus_url);
+  bus::Bus bus(url);
+  std::map<std::string, mtg::heartbeat_t> workers;
+  std::map<std::string, mtg::run_info_t> runs;
+  bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
+    if (m.role == "worker") workers[m.header.sender] = m;
+  });
+  bus.subscribe<mtg::run_info_t>(bus::kRunInfo, [&](const std::string&, const mtg::run_info_t& m) {
+    runs[m.header.run_id] = m;
+  });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.listen_s);
+  while (std::chrono::steady_clock::now() < end) bus.handle_once(50);
+  if (workers.empty() && runs.empty()) {
+    throw Error("nothing heard on " + url + " in " + std::to_string(o.listen_s).substr(0, 3) +
+                " s: no coordinator or worker (same URL? multicast routed? docs/multihost.md)");
+  }
+  auto sr = [](const mtg::run_info_t& r) { return r.scored > 0 ? 100.0 * static_cast<double>(r.successes) / static_cast<double>(r.scored) : 0.0; };
+  auto ip = [](const mtg::run_info_t& r) { return r.scored > 0 ? r.ip_sum / static_cast<double>(r.scored) : 0.0; };
+  if (o.json) {
+    nlohmann::json j = {{"bus", url}, {"runs", nlohmann::json::array()}, {"workers", nlohmann::json::array()}};
+    for (const auto& [id, r] : runs) {
+      j["runs"].push_back({{"run", id}, {"coordinator", r.header.sender}, {"state", r.state}, {"planned", r.planned},
+                           {"finished", r.finished}, {"errors", r.errors}, {"in_flight", r.in_flight},
+                           {"workers", r.workers}, {"episodes_per_min", r.episodes_per_min}, {"sr", sr(r)},
+                           {"ip", ip(r)}, {"agents", r.agents}});
+    }
+    for (const auto& [id, w] : workers) {
+      j["workers"].push_back({{"worker", id}, {"host", w.host}, {"run", w.header.run_id}, {"status", w.status},
+                              {"capacity", w.capacity}, {"in_flight", w.in_flight}});
+    }
+    std::cout << j.dump() << '\n';
+    return 0;
+  }
+  std::printf("bus %s\n", url.c_str());
+  for (const auto& [id, r] : runs) {
+    std::printf("run %s (%s): %s, %lld/%lld finished (%lld errors), %d in flight on %d workers, %.0f episodes/min\n",
+                id.c_str(), r.header.sender.c_str(), r.state.c_str(), static_cast<long long>(r.finished),
+                static_cast<long long>(r.planned), static_cast<long long>(r.errors), r.in_flight, r.workers,
+                r.episodes_per_min);
+    std::printf("  SR %.1f %%  IP %.1f  over %lld scored episodes\n", sr(r), ip(r), static_cast<long long>(r.scored));
+  }
+  std::printf("%zu worker(s)\n", workers.size());
+  for (const auto& [id, w] : workers) {
+    std::printf("  %-16s %-9s %d/%d in flight  run %s  (%s)\n", w.host.c_str(), w.status.c_str(), w.in_flight,
+                w.capacity, w.header.run_id.empty() ? "-" : w.header.run_id.c_str(), id.c_str());
+  }
+  return 0;
+}
+
+}  // namespace mtg::cli

@@ -1,0 +1,344 @@
+#include "orchestrator/remote/lease_launcher.h"
+
+#include <signal.h>
+
+#include <fstream>
+#include <thread>
+
+#include "agents/vlm/model_spec.h"
+#include "bus/channels.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "mtg/episode_result_t.hpp"
+#include "mtg/error_event_t.hpp"
+#include "mtg/run_info_t.hpp"
+#include "orchestrator/remote/merge_recordings.h"
+#include "services/common/service_loop.h"
+
+namespace mtg::orchestrator::remote {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+// Written under a temporary name and renamed, so a killed coordinator never leaves half a file.
+void write_atomically(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
+  fs::create_directories(file.parent_path());
+  const fs::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw Error(tmp.string() + ": cannot write the episode recording (disk full?)");
+  }
+  fs::rename(tmp, file);
+}
+
+}  // namespace
+
+LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCounts& counts, RemoteOptions options)
+    : run_(std::move(run)), dir_(std::move(run_dir)), counts_(counts), options_(options), bus_(run_.bus_url),
+      stamp_(run_.run_id, services::sender_id("coordinator")), supervisor_(dir_ / "logs"),
+      book_(dir_ / "leases.sqlite") {
+  subscribe();
+}
+
+std::string LeaseLauncher::lease_id(std::int64_t episode_id, int attempt) const {
+  return run_.run_id + "/" + std::to_string(episode_id) + "/" + std::to_string(attempt);
+}
+
+void LeaseLauncher::subscribe() {
+  bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
+    if (m.role != "worker") return;
+    Worker& w = workers_[m.header.sender];
+    w.host = m.host;
+    // A worker of another run, or one still starting its services, takes no lease.
+    w.capacity = m.header.run_id == run_.run_id && m.status != "starting" && m.status != "draining" ? m.capacity : 0;
+    w.status = m.status;
+    w.last_seen = Clock::now();
+  });
+  bus_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
+    if (m.header.run_id == run_.run_id && m.action == "renew") on_renew(m);
+  });
+  bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
+    if (m.header.run_id != run_.run_id) return;
+    const AttemptKey key{m.header.episode_id, m.header.attempt};
+    if (delivered_.count(key) == 0) arrivals_[key].result = m;
+    arrived(key);
+  });
+  bus_.subscribe<mtg::record_chunk_t>(bus::kRecord, [this](const std::string&, const mtg::record_chunk_t& m) {
+    if (m.header.run_id != run_.run_id) return;
+    const AttemptKey key{m.header.episode_id, m.header.attempt};
+    if (delivered_.count(key) == 0) {
+      Arrival& a = arrivals_[key];
+      a.worker = m.header.sender;
+      try {
+        a.chunks.add(m);
+      } catch (const Error& e) {
+        // A resend of a rebuilt recording: start over with the new version.
+        log::warn(std::string(e.what()) + "; collecting it again");
+        a.chunks = ChunkAssembly();
+        a.chunks.add(m);
+      }
+    }
+    arrived(key);
+  });
+  bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
+    if (m.header.run_id != run_.run_id || sink_ == nullptr) return;
+    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) sink_->on_agent_stopped(m.source.substr(6), m.message);
+  });
+}
+
+std::vector<AdoptedAttempt> LeaseLauncher::open() {
+  last_attempt_ = book_.last_attempts();
+  std::vector<AdoptedAttempt> adopted;
+  const auto now = Clock::now();
+  for (const LeaseRecord& l : book_.open_leases()) {
+    // Still out when the last coordinator stopped: its worker renews it if it is running it.
+    Lease lease;
+    lease.attempt = l.attempt;
+    lease.worker = l.worker;
+    lease.acknowledged = true;
+    lease.last_renewal = lease.last_grant = now;
+    leases_[l.episode_id] = lease;
+    adopted.push_back({l.episode_id, l.attempt});
+  }
+  if (!adopted.empty()) log::info("adopting " + std::to_string(adopted.size()) + " leases still out");
+  const bool model_agents = std::any_of(run_.agents.begin(), run_.agents.end(), vlm::is_model_spec);
+  if (model_agents) {
+    supervisor_.start("governor", {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
+                                   run_.run_id});
+    governor_ = true;
+  }
+  // Wait for the workers (announcing the run so they join).
+  const auto deadline = now + std::chrono::duration<double>(options_.worker_wait_s);
+  next_announce_ = now;
+  log::info("waiting for " + std::to_string(options_.min_workers) + " worker(s) on " + run_.bus_url);
+  while (live_workers() < options_.min_workers) {
+    if (Clock::now() > deadline) {
+      throw Error("only " + std::to_string(live_workers()) + " of " + std::to_string(options_.min_workers) +
+                  " workers joined in " + std::to_string(static_cast<int>(options_.worker_wait_s)) + " s on " +
+                  run_.bus_url + " (start `mtg worker --bus <url>` on each host; docs/multihost.md)");
+    }
+    if (Clock::now() >= next_announce_) {
+      announce("running");
+      next_announce_ += std::chrono::seconds(1);
+    }
+    bus_.handle_once(50);
+  }
+  log::info(std::to_string(live_workers()) + " worker(s) joined");
+  return adopted;
+}
+
+int LeaseLauncher::live_workers() const {
+  int n = 0;
+  for (const auto& [id, w] : workers_) {
+    if (w.capacity > 0 && seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s) ++n;
+  }
+  return n;
+}
+
+int LeaseLauncher::held_by(const std::string& worker) const {
+  int n = 0;
+  for (const auto& [id, l] : leases_) n += l.worker == worker ? 1 : 0;
+  return n;
+}
+
+int LeaseLauncher::free_slots() const {
+  int free = 0;
+  for (const auto& [id, w] : workers_) {
+    if (seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s) free += std::max(0, w.capacity - held_by(id));
+  }
+  return free;
+}
+
+int LeaseLauncher::next_attempt(std::int64_t episode_id) const {
+  const auto it = last_attempt_.find(episode_id);
+  return it == last_attempt_.end() ? 0 : it->second + 1;
+}
+
+void LeaseLauncher::send_lease(const std::string& action, std::int64_t episode_id, int attempt,
+                               const std::string& worker, const mtg::episode_start_t* start) {
+  mtg::lease_t m{};
+  m.header = stamp_.next(episode_id, attempt, "lease");
+  m.lease_id = lease_id(episode_id, attempt);
+  m.worker = worker;
+  m.action = action;
+  m.ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
+  if (start != nullptr) {
+    m.task_id = start->task.task_id;
+    m.start = *start;
+  }
+  bus_.publish(bus::kLease, m);
+}
+
+void LeaseLauncher::launch(const mtg::episode_start_t& start) {
+  // The worker with the most free slots; ties go to the first by id.
+  std::string best;
+  int best_free = 0;
+  for (const auto& [id, w] : workers_) {
+    if (seconds_between(w.last_seen, Clock::now()) >= options_.lease_ttl_s) continue;
+    const int free = w.capacity - held_by(id);
+    if (free > best_free) {
+      best = id;
+      best_free = free;
+    }
+  }
+  if (best.empty()) throw Error("internal: launch() without a free worker slot");
+  const std::int64_t id = start.header.episode_id;
+  const int attempt = start.header.attempt;
+  book_.grant({id, attempt, best});  // on disk before it is out
+  last_attempt_[id] = std::max(last_attempt_[id], attempt);
+  Lease lease;
+  lease.attempt = attempt;
+  lease.worker = best;
+  lease.start = start;
+  lease.last_renewal = lease.last_grant = Clock::now();
+  leases_[id] = lease;
+  send_lease("grant", id, attempt, best, &start);
+}
+
+void LeaseLauncher::drop(std::int64_t episode_id, int attempt) {
+  const auto it = leases_.find(episode_id);
+  if (it == leases_.end() || it->second.attempt != attempt) return;
+  send_lease("revoke", episode_id, attempt, it->second.worker);
+  book_.close(episode_id, attempt, "revoked");
+  leases_.erase(it);
+}
+
+void LeaseLauncher::on_renew(const mtg::lease_t& m) {
+  const std::int64_t id = m.header.episode_id;
+  const auto it = leases_.find(id);
+  if (it != leases_.end() && it->second.attempt == m.header.attempt && it->second.worker == m.worker) {
+    it->second.acknowledged = true;
+    it->second.last_renewal = Clock::now();
+    return;
+  }
+  // A lease this coordinator no longer counts on (expired, revoked, or finished and the release
+  // was lost): the worker drops it. Its result, if one comes, is answered with a release.
+  if (delivered_.count({id, m.header.attempt}) != 0) {
+    send_lease("release", id, m.header.attempt, m.worker);
+  } else {
+    send_lease("revoke", id, m.header.attempt, m.worker);
+  }
+}
+
+void LeaseLauncher::arrived(const AttemptKey& key) {
+  const auto [id, attempt] = key;
+  if (delivered_.count(key) != 0) {
+    // Resent after the release was lost: release again.
+    const auto a = arrivals_.find(key);
+    if (a != arrivals_.end()) arrivals_.erase(a);
+    return;
+  }
+  Arrival& a = arrivals_[key];
+  if (!a.result || !a.chunks.complete() || sink_ == nullptr) return;
+  std::vector<std::uint8_t> bytes;
+  try {
+    bytes = a.chunks.bytes();
+    (void)decode_event_log(bytes, lease_id(id, attempt));
+  } catch (const Error& e) {
+    log::warn(std::string(e.what()) + "; waiting for the worker to resend it");
+    a.chunks = ChunkAssembly();
+    return;
+  }
+  write_atomically(episode_log_path(dir_, id, attempt), bytes);
+  const mtg::episode_result_t result = *a.result;
+  const std::string worker = a.worker;
+  arrivals_.erase(key);
+  delivered_.insert(key);
+  finish_times_.push_back(Clock::now());
+  const auto lease = leases_.find(id);
+  std::string host = worker;
+  const auto w = workers_.find(worker);
+  if (w != workers_.end()) host = w->second.host;
+  if (lease != leases_.end() && lease->second.attempt == attempt) {
+    leases_.erase(lease);
+    book_.close(id, attempt, "done");
+    sink_->on_result(result, host);
+  }
+  send_lease("release", id, attempt, worker);
+}
+
+void LeaseLauncher::expire_leases(LaunchSink& sink) {
+  const auto now = Clock::now();
+  std::vector<std::int64_t> expired;
+  for (auto& [id, l] : leases_) {
+    if (seconds_between(l.last_renewal, now) > options_.lease_ttl_s) {
+      expired.push_back(id);
+    } else if (!l.acknowledged && seconds_between(l.last_grant, now) >= 1.0) {
+      send_lease("grant", id, l.attempt, l.worker, &l.start);  // the grant may have been lost
+      l.last_grant = now;
+    }
+  }
+  for (const auto id : expired) {
+    const Lease l = leases_.at(id);
+    leases_.erase(id);
+    book_.close(id, l.attempt, "expired");
+    send_lease("revoke", id, l.attempt, l.worker);  // in case the worker is alive but was cut off
+    const auto w = workers_.find(l.worker);
+    const std::string host = w == workers_.end() ? l.worker : w->second.host;
+    log::warn("lease " + lease_id(id, l.attempt) + " of " + host + " not renewed for " +
+              std::to_string(static_cast<int>(options_.lease_ttl_s)) + " s");
+    sink.on_failure(id, l.attempt, "worker " + host + " stopped renewing its lease");
+  }
+}
+
+void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
+  sink_ = &sink;
+  if (bus_.handle_once(timeout_ms)) {
+    while (bus_.handle_once(0)) {
+    }
+  }
+  expire_leases(sink);
+  for (const auto& died : supervisor_.poll()) log::warn(died + " restarted");
+  if (Clock::now() >= next_announce_) {
+    announce("running");
+    next_announce_ = Clock::now() + std::chrono::seconds(1);
+  }
+  sink_ = nullptr;
+}
+
+void LeaseLauncher::announce(const std::string& state) {
+  mtg::run_info_t m{};
+  m.header = stamp_.next(-1, 0, "run_info");
+  m.state = state;
+  m.profile = run_.profile;
+  m.render = run_.render;
+  m.image_width = run_.image_width;
+  m.image_height = run_.image_height;
+  m.image_encoding = run_.image_encoding;
+  m.episode_timeout_s = run_.episode_timeout_s;
+  m.lease_ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
+  m.agents = run_.agents;
+  m.n_agents = static_cast<std::int16_t>(m.agents.size());
+  m.vlm_args = run_.vlm_args;
+  m.n_vlm_args = static_cast<std::int16_t>(m.vlm_args.size());
+  m.planned = counts_.planned;
+  m.finished = counts_.finished;
+  m.scored = counts_.scored;
+  m.successes = counts_.successes;
+  m.ip_sum = counts_.ip_sum;
+  m.errors = counts_.errors;
+  m.in_flight = counts_.in_flight;
+  m.workers = live_workers();
+  const auto now = Clock::now();
+  while (!finish_times_.empty() && seconds_between(finish_times_.front(), now) > 60.0) finish_times_.pop_front();
+  m.episodes_per_min = static_cast<double>(finish_times_.size());
+  bus_.publish(bus::kRunInfo, m);
+}
+
+void LeaseLauncher::close() {
+  // Workers leave the run when they hear it is done; say it a few times (UDP). With leases still
+  // out (interrupted) say nothing: the workers finish them, and a resumed coordinator adopts them.
+  for (int i = 0; i < 3 && leases_.empty(); ++i) {
+    announce("done");
+    bus_.handle_once(100);
+  }
+  if (governor_) supervisor_.stop("governor", SIGTERM, 3000);
+}
+
+}  // namespace mtg::orchestrator::remote

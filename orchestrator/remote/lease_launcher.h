@@ -1,0 +1,108 @@
+#pragma once
+// The coordinator's side of a multi-host run (`mtg run --remote`): episode attempts go to the
+// workers (`mtg worker`) on the shared bus as leases (lcmtypes/lease_t.lcm).
+//   - It announces the run once a second (run_info_t); workers join it, start their services
+//     and heartbeat their capacity. Leases go to the worker with the most free slots.
+//   - A grant is repeated until the worker renews it; workers renew each lease every second. A
+//     lease not renewed for lease_ttl_s (the worker died, or was cut off) is revoked and
+//     reported as a failure, so the engine re-runs the episode elsewhere as the next attempt.
+//   - A worker sends a finished attempt's result together with its recording in chunks; only
+//     when every chunk is there and the checksum holds is the recording written to the run
+//     folder and the result handed to the engine, which stores it once. Then the lease is
+//     released; until then the worker resends.
+//   - Every grant is written to leases.sqlite first: a restarted coordinator adopts the leases
+//     still out and numbers new attempts above the old ones.
+// The rate governor for model agents runs here, on the shared bus, so its limits hold for every
+// host together.
+
+#include <chrono>
+#include <deque>
+#include <optional>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "bus/bus.h"
+#include "bus/header.h"
+#include "mtg/heartbeat_t.hpp"
+#include "mtg/lease_t.hpp"
+#include "mtg/record_chunk_t.hpp"
+#include "orchestrator/remote/episode_log.h"
+#include "orchestrator/remote/lease_book.h"
+#include "orchestrator/remote/remote_options.h"
+#include "orchestrator/run/launcher.h"
+#include "orchestrator/run/local_runtime.h"
+#include "orchestrator/run/supervisor.h"
+
+namespace mtg::orchestrator::remote {
+
+class LeaseLauncher final : public Launcher {
+ public:
+  /// `run` describes the run to workers (its bus_url is the shared bus); `counts` is read for
+  /// the announcements.
+  LeaseLauncher(RuntimeConfig run, std::filesystem::path run_dir, const RunCounts& counts, RemoteOptions options);
+
+  std::vector<AdoptedAttempt> open() override;
+  int free_slots() const override;
+  int next_attempt(std::int64_t episode_id) const override;
+  void launch(const mtg::episode_start_t& start) override;
+  void drop(std::int64_t episode_id, int attempt) override;
+  void poll(int timeout_ms, LaunchSink& sink) override;
+  void close() override;
+  int restarts() const override { return supervisor_.restarts(); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct Worker {
+    std::string host;
+    int capacity = 0;
+    std::string status;
+    Clock::time_point last_seen;
+  };
+  struct Lease {
+    int attempt = 0;
+    std::string worker;
+    mtg::episode_start_t start{};  // empty for an adopted lease (its grant was sent before)
+    bool acknowledged = false;
+    Clock::time_point last_renewal, last_grant;
+  };
+  using AttemptKey = std::pair<std::int64_t, int>;
+  struct Arrival {
+    std::optional<mtg::episode_result_t> result;
+    ChunkAssembly chunks;
+    std::string worker;
+  };
+
+  void subscribe();
+  void announce(const std::string& state);
+  int live_workers() const;
+  int held_by(const std::string& worker) const;
+  void send_lease(const std::string& action, std::int64_t episode_id, int attempt, const std::string& worker,
+                  const mtg::episode_start_t* start = nullptr);
+  void on_renew(const mtg::lease_t& m);
+  void arrived(const AttemptKey& key);
+  void expire_leases(LaunchSink& sink);
+  std::string lease_id(std::int64_t episode_id, int attempt) const;
+
+  RuntimeConfig run_;
+  std::filesystem::path dir_;
+  const RunCounts& counts_;
+  RemoteOptions options_;
+  bus::Bus bus_;
+  bus::HeaderStamper stamp_;
+  Supervisor supervisor_;
+  LeaseBook book_;
+  std::map<std::int64_t, int> last_attempt_;
+  std::map<std::string, Worker> workers_;       // by sender id
+  std::map<std::int64_t, Lease> leases_;        // by episode id
+  std::map<AttemptKey, Arrival> arrivals_;
+  std::set<AttemptKey> delivered_;              // answered with "release" when resent
+  std::deque<Clock::time_point> finish_times_;  // for the announced rate
+  LaunchSink* sink_ = nullptr;                  // during poll()
+  Clock::time_point next_announce_;
+  bool governor_ = false;
+};
+
+}  // namespace mtg::orchestrator::remote

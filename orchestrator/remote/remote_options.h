@@ -1,0 +1,15 @@
+#pragma once
+// How a coordinator (`mtg run --remote`) deals with its workers (docs/multihost.md).
+
+namespace mtg::orchestrator::remote {
+
+struct RemoteOptions {
+  /// Workers that must have joined before the first lease (so a run spreads from the start).
+  int min_workers = 1;
+  /// How long to wait for them before giving up with an error.
+  double worker_wait_s = 600.0;
+  /// A lease not renewed for this long is re-issued elsewhere (workers renew every second).
+  double lease_ttl_s = 5.0;
+};
+
+}  // namespace mtg::orchestrator::remote

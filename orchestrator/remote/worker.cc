@@ -1,0 +1,344 @@
+#include "orchestrator/remote/worker.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "bus/bus.h"
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "core/util/error.h"
+#include "core/util/hash.h"
+#include "core/util/log.h"
+#include "mtg/error_event_t.hpp"
+#include "mtg/heartbeat_t.hpp"
+#include "mtg/lease_t.hpp"
+#include "mtg/run_info_t.hpp"
+#include "orchestrator/remote/episode_log.h"
+#include "orchestrator/run/local_runtime.h"
+#include "services/common/service_loop.h"
+
+namespace mtg::orchestrator::remote {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string host_name() {
+  char buf[256] = {0};
+  return gethostname(buf, sizeof(buf) - 1) == 0 ? std::string(buf) : std::string("unknown");
+}
+
+// Forwards one channel between two buses unchanged. Each bus echoes what is published on it
+// back to its own subscribers, so a forwarded message is remembered and not sent back.
+class Bridge {
+ public:
+  bool should_forward(std::span<const std::uint8_t> bytes) {
+    const std::uint64_t h = fnv1a64(bytes);
+    const auto it = echoes_.find(h);
+    if (it != echoes_.end()) {
+      echoes_.erase(it);
+      return false;
+    }
+    if (echoes_.size() > 10000) echoes_.clear();  // echoes lost for good
+    echoes_.insert(h);
+    return true;
+  }
+
+ private:
+  std::multiset<std::uint64_t> echoes_;
+};
+
+class Worker final : public LaunchSink {
+ public:
+  explicit Worker(WorkerOptions options)
+      : options_(std::move(options)), host_(options_.name.empty() ? host_name() : options_.name),
+        shared_(options_.bus_url), stamp_("", services::sender_id("worker")) {
+    if (options_.capacity < 1) throw Error("mtg worker: --capacity must be at least 1");
+    shared_.subscribe<mtg::run_info_t>(bus::kRunInfo, [this](const std::string&, const mtg::run_info_t& m) {
+      on_run_info(m);
+    });
+    shared_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
+      if (m.worker == stamp_.sender() && !run_id_.empty() && m.header.run_id == run_id_) on_lease(m);
+    });
+    shared_.subscribe_raw(bus::kRateLimit, [this](const std::string& channel, std::span<const std::uint8_t> bytes,
+                                                  std::int64_t) {
+      if (runtime_ && rate_bridge_.should_forward(bytes)) runtime_->bus().publish_raw(channel, bytes);
+    });
+  }
+
+  int run() {
+    services::install_stop_signals();
+    log::info(stamp_.sender() + " on " + options_.bus_url + " (host bus " + options_.local_url + "), capacity " +
+              std::to_string(options_.capacity));
+    auto next_beat = Clock::now();
+    auto next_renewal = Clock::now();
+    while (!services::stop_signal_received()) {
+      if (shared_.handle_once(runtime_ ? 0 : 20)) {
+        while (shared_.handle_once(0)) {
+        }
+      }
+      if (leave_) leave();
+      if (once_done_) break;
+      if (join_) join();
+      if (runtime_) {
+        runtime_->poll(10, *this);
+        finalize_finished();
+      }
+      send_outbox();
+      const auto now = Clock::now();
+      if (now >= next_beat) {
+        heartbeat();
+        next_beat = now + std::chrono::milliseconds(500);
+      }
+      if (now >= next_renewal) {
+        for (const auto& [id, h] : held_) send_lease("renew", id, h.attempt);
+        next_renewal = now + std::chrono::seconds(1);
+      }
+    }
+    status_ = "draining";
+    heartbeat();
+    if (runtime_) runtime_->close();
+    return 0;
+  }
+
+  // LaunchSink: what became of the attempts on this host. Finished attempts are shipped after
+  // poll() returns, so the recording also holds the message that finished them.
+  void on_result(const mtg::episode_result_t& m, const std::string&) override { finished_.push_back(m); }
+
+  void on_failure(std::int64_t episode_id, int attempt, const std::string& why) override {
+    const auto it = held_.find(episode_id);
+    if (it == held_.end() || it->second.attempt != attempt) return;
+    mtg::episode_result_t m{};
+    m.header = stamp_.next(episode_id, attempt, "result");
+    m.task_id = it->second.task_id;
+    m.agent = it->second.agent;
+    m.stage = "start";
+    m.cause = "transport_error";  // not the agent's failure: the coordinator tries again
+    m.detail = "on " + host_ + ": " + why;
+    finished_.push_back(m);
+  }
+
+  void on_agent_stopped(const std::string& agent, const std::string& why) override {
+    mtg::error_event_t m{};
+    m.header = stamp_.next(-1, 0, "error");
+    m.source = "agent:" + agent;
+    m.severity = "fatal";
+    m.message = why;
+    shared_.publish(bus::kError, m);
+  }
+
+ private:
+  struct Held {
+    int attempt = 0;
+    std::string task_id, agent;
+  };
+  struct Outgoing {
+    mtg::episode_result_t result{};
+    std::vector<mtg::record_chunk_t> chunks;
+    std::size_t next = 0;              // next chunk to send
+    Clock::time_point resend_at;       // after everything went out: send it all again unless released
+  };
+
+  std::string lease_id(std::int64_t episode_id, int attempt) const {
+    return run_id_ + "/" + std::to_string(episode_id) + "/" + std::to_string(attempt);
+  }
+
+  void on_run_info(const mtg::run_info_t& m) {
+    if (run_id_.empty() && m.state == "running" && !join_) {
+      join_ = m;
+    } else if (m.header.run_id == run_id_ && m.state == "done") {
+      leave_ = true;
+    }
+  }
+
+  void join() {
+    const mtg::run_info_t info = *join_;
+    join_.reset();
+    run_id_ = info.header.run_id;
+    stamp_.set_run_id(run_id_);
+    status_ = "starting";
+    heartbeat();
+    RuntimeConfig c;
+    c.run_id = run_id_;
+    c.bus_url = options_.local_url;
+    c.profile = info.profile;
+    c.render = info.render;
+    c.image_width = info.image_width;
+    c.image_height = info.image_height;
+    c.image_encoding = info.image_encoding;
+    c.agents = info.agents;
+    c.vlm_args = info.vlm_args;
+    c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
+    c.parallel = options_.capacity;
+    c.episode_timeout_s = info.episode_timeout_s;
+    c.recorder = options_.recorder;
+    c.governor = false;  // the coordinator's governor serves every host
+    log::info("joining run " + run_id_ + " of " + info.header.sender);
+    try {
+      runtime_ = std::make_unique<LocalRuntime>(c, fs::path(options_.dir) / run_id_);
+      runtime_->bus().subscribe_raw(".*", [this](const std::string& channel, std::span<const std::uint8_t> bytes,
+                                                 std::int64_t utime) { capture(channel, bytes, utime); });
+      runtime_->bus().subscribe_raw(bus::kRateLimit, [this](const std::string& channel,
+                                                            std::span<const std::uint8_t> bytes, std::int64_t) {
+        if (rate_bridge_.should_forward(bytes)) shared_.publish_raw(channel, bytes);
+      });
+      runtime_->open();
+      status_ = "ready";
+    } catch (const Error& e) {
+      log::error("cannot run " + run_id_ + ": " + e.what());
+      runtime_.reset();
+      run_id_.clear();
+      stamp_.set_run_id("");
+      status_ = "idle";
+    }
+  }
+
+  void leave() {
+    leave_ = false;
+    if (runtime_) runtime_->close();
+    runtime_.reset();
+    log::info("run " + run_id_ + " is done");
+    held_.clear();
+    outbox_.clear();
+    captured_.clear();
+    run_id_.clear();
+    stamp_.set_run_id("");
+    status_ = "idle";
+    once_done_ = options_.once;
+  }
+
+  void heartbeat() {
+    mtg::heartbeat_t hb{};
+    hb.header = stamp_.next(-1, 0, "heartbeat");
+    hb.role = "worker";
+    hb.host = host_;
+    hb.pid = static_cast<std::int32_t>(::getpid());
+    hb.capacity = options_.capacity;
+    hb.in_flight = static_cast<std::int32_t>(held_.size());
+    hb.tick = tick_++;
+    hb.status = status_ == "ready" && !held_.empty() ? "busy" : status_;
+    shared_.publish(bus::kHeartbeat, hb);
+  }
+
+  void send_lease(const std::string& action, std::int64_t episode_id, int attempt) {
+    mtg::lease_t m{};
+    m.header = stamp_.next(episode_id, attempt, "lease");
+    m.lease_id = lease_id(episode_id, attempt);
+    m.worker = stamp_.sender();
+    m.action = action;
+    shared_.publish(bus::kLease, m);
+  }
+
+  void forget(std::int64_t episode_id, int attempt) {
+    const auto it = held_.find(episode_id);
+    if (it != held_.end() && it->second.attempt == attempt) {
+      if (runtime_) runtime_->drop(episode_id, attempt);
+      held_.erase(it);
+    }
+    captured_.erase({episode_id, attempt});
+    outbox_.erase(lease_id(episode_id, attempt));
+  }
+
+  void on_lease(const mtg::lease_t& m) {
+    const std::int64_t id = m.header.episode_id;
+    const int attempt = m.header.attempt;
+    if (m.action == "release" || m.action == "revoke") {
+      forget(id, attempt);
+      return;
+    }
+    if (m.action != "grant" || !runtime_ || status_ == "starting") return;
+    const auto it = held_.find(id);
+    if (it != held_.end() && it->second.attempt == attempt) {
+      send_lease("renew", id, attempt);  // a repeated grant: our renewal was lost
+      return;
+    }
+    if (it != held_.end()) forget(id, it->second.attempt);  // superseded by a newer attempt
+    mtg::episode_start_t start = m.start;
+    if (!options_.data_dir.empty()) start.data_dir = options_.data_dir;
+    held_[id] = Held{attempt, start.task.task_id, start.agent};
+    runtime_->launch(start);
+    send_lease("renew", id, attempt);
+  }
+
+  void capture(const std::string& channel, std::span<const std::uint8_t> bytes, std::int64_t utime) {
+    const auto h = peek_header(bytes);
+    if (!h || h->run_id != run_id_ || h->episode_id < 0) return;
+    const auto held = held_.find(h->episode_id);
+    if (held == held_.end() || held->second.attempt != h->attempt) return;
+    captured_[{h->episode_id, h->attempt}].push_back(LoggedEvent{channel, utime, {bytes.begin(), bytes.end()}});
+  }
+
+  void finalize_finished() {
+    for (const mtg::episode_result_t& result : finished_) {
+      const std::int64_t id = result.header.episode_id;
+      const int attempt = result.header.attempt;
+      const auto held = held_.find(id);
+      if (held == held_.end() || held->second.attempt != attempt) continue;  // revoked meanwhile
+      const std::string lid = lease_id(id, attempt);
+      std::vector<LoggedEvent> events;
+      const auto c = captured_.find({id, attempt});
+      if (c != captured_.end()) {
+        events = std::move(c->second);
+        captured_.erase(c);
+      }
+      const std::vector<std::uint8_t> log = encode_event_log(events);
+      Outgoing out;
+      out.result = result;
+      out.chunks = make_chunks(stamp_.next(id, attempt, "record"), lid, log, options_.chunk_bytes);
+      shared_.publish(bus::kEpisodeResult, out.result);
+      outbox_[lid] = std::move(out);
+    }
+    finished_.clear();
+  }
+
+  // Chunks go out paced (a burst larger than the receiver's socket buffer would be lost), and
+  // everything goes out again every 3 s until the coordinator releases it.
+  void send_outbox() {
+    int budget = options_.chunks_per_round;
+    const auto now = Clock::now();
+    for (auto& [lid, out] : outbox_) {
+      if (out.next >= out.chunks.size()) {
+        if (now < out.resend_at) continue;
+        shared_.publish(bus::kEpisodeResult, out.result);
+        out.next = 0;
+      }
+      while (budget > 0 && out.next < out.chunks.size()) {
+        shared_.publish(bus::kRecord, out.chunks[out.next++]);
+        --budget;
+      }
+      if (out.next >= out.chunks.size()) out.resend_at = now + std::chrono::seconds(3);
+      if (budget == 0) break;
+    }
+  }
+
+  WorkerOptions options_;
+  std::string host_;
+  bus::Bus shared_;
+  bus::HeaderStamper stamp_;
+  std::unique_ptr<LocalRuntime> runtime_;
+  std::string run_id_;
+  std::string status_ = "idle";
+  std::optional<mtg::run_info_t> join_;
+  bool leave_ = false;
+  bool once_done_ = false;
+  long tick_ = 0;
+  std::map<std::int64_t, Held> held_;
+  std::map<std::string, Outgoing> outbox_;
+  std::map<std::pair<std::int64_t, int>, std::vector<LoggedEvent>> captured_;
+  std::vector<mtg::episode_result_t> finished_;
+  Bridge rate_bridge_;
+};
+
+}  // namespace
+
+int run_worker(const WorkerOptions& options) {
+  Worker worker(options);
+  return worker.run();
+}
+
+}  // namespace mtg::orchestrator::remote

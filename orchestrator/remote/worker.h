@@ -1,0 +1,36 @@
+#pragma once
+// `mtg worker`: one per host of a multi-host run (docs/multihost.md). It waits on the shared bus
+// for a coordinator's run, starts that run's processes on this host (LocalRuntime, on a bus of
+// its own that never leaves the host), heartbeats its capacity, runs the episode attempts it is
+// leased and renews those leases every second. A finished attempt goes back as its result plus
+// its recording -- the attempt's messages on this host's bus, cut into chunks -- resent until the
+// coordinator releases it. So images never cross hosts as single multicast messages, and a
+// recording is stored only complete.
+//
+// Between hosts only small messages travel, plus the recordings (paced chunks). The rate
+// governor's messages (MTG_RATE) are bridged both ways, so model adapters on every host share
+// the coordinator's governor.
+
+#include <string>
+#include <vector>
+
+namespace mtg::orchestrator::remote {
+
+struct WorkerOptions {
+  std::string bus_url;            // the shared bus (udpm, ttl=1 across hosts)
+  std::string local_url;          // this host's bus for the run's processes (ttl=0)
+  std::string name;               // shown by `mtg status` ("" = host name)
+  int capacity = 2;               // episodes at once
+  std::string dir;                // per-run process logs and this host's recordings
+  std::string data_dir;           // dataset root here ("" = the path the coordinator uses)
+  std::string recorder = "mtg";
+  std::vector<std::string> vlm_args;  // host-local adapter options: key file, cache, settings, prompts
+  int chunk_bytes = 32 * 1024;    // one datagram each
+  int chunks_per_round = 16;      // paced: at most this many chunks per 10 ms round
+  bool once = false;              // leave after one run (tests, batch jobs)
+};
+
+/// Runs until SIGINT/SIGTERM (or after one run with `once`). @throws mtg::Error.
+int run_worker(const WorkerOptions& options);
+
+}  // namespace mtg::orchestrator::remote

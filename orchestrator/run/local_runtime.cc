@@ -1,0 +1,231 @@
+#include "orchestrator/run/local_runtime.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <thread>
+
+#include "agents/builtin/policies.h"
+#include "agents/vlm/model_spec.h"
+#include "bus/channels.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "mtg/error_event_t.hpp"
+#include "mtg/heartbeat_t.hpp"
+#include "mtg/run_control_t.hpp"
+#include "mtg/state_update_t.hpp"
+
+namespace mtg::orchestrator {
+
+namespace fs = std::filesystem;
+
+LocalRuntime::LocalRuntime(RuntimeConfig config, fs::path dir)
+    : config_(std::move(config)), dir_(std::move(dir)), bus_(config_.bus_url),
+      stamp_(config_.run_id, "orchestrator:" + std::to_string(::getpid())), supervisor_(dir_ / "logs") {
+  subscribe();
+}
+
+void LocalRuntime::subscribe() {
+  bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
+    if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
+    const auto it = in_flight_.find(m.header.episode_id);
+    if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
+    in_flight_.erase(it);
+    sink_->on_result(m, "");
+  });
+  bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
+    ready_pids_.insert(m.pid);
+  });
+  // Liveness for the episode time-out: one state update per step suffices, and every stream
+  // subscribed to costs this process a wake-up per message.
+  bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
+                                      [this](const std::string&, const mtg::state_update_t& m) { touch(m.header); });
+  bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
+    if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
+    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) {
+      const std::string agent = m.source.substr(6);
+      for (auto it = in_flight_.begin(); it != in_flight_.end();) {
+        it = it->second.agent == agent ? in_flight_.erase(it) : std::next(it);
+      }
+      sink_->on_agent_stopped(agent, m.message);
+      return;
+    }
+    log::warn("error from " + m.source + ": " + m.message);
+    const auto it = in_flight_.find(m.header.episode_id);
+    if (it != in_flight_.end() && it->second.attempt == m.header.attempt) fail(m.header.episode_id, m.message, *sink_);
+  });
+}
+
+std::vector<AdoptedAttempt> LocalRuntime::open() {
+  const fs::path bin = executable_dir();
+  fs::create_directories(dir_);
+  // The recording first, so it sees every message of the run; one file per invocation.
+  int k = 0;
+  while (fs::exists(dir_ / ("bus-" + std::to_string(k) + ".lcmlog"))) ++k;
+  const fs::path log = dir_ / ("bus-" + std::to_string(k) + ".lcmlog");
+  // Both append, so a restarted recorder continues the file.
+  if (config_.recorder == "lcm-logger") {
+    supervisor_.start("recorder", {"/usr/bin/lcm-logger", "--lcm-url=" + config_.bus_url, "--append", log.string()});
+  } else if (config_.recorder == "mtg") {
+    supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", config_.bus_url, log.string()});
+  } else {
+    throw Error("unknown recorder '" + config_.recorder + "' (mtg or lcm-logger)");
+  }
+  open_ = true;
+  if (recorder_beats()) {
+    wait_ready({"recorder"}, 60.0);  // subscribed before its first heartbeat
+  } else {
+    for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!fs::exists(log)) throw Error("lcm-logger did not start (see " + (dir_ / "logs/recorder.log").string() + ")");
+  }
+
+  const std::vector<std::string> common = {"--url", config_.bus_url, "--run", config_.run_id};
+  auto with = [&](std::vector<std::string> argv) {
+    argv.insert(argv.end(), common.begin(), common.end());
+    return argv;
+  };
+  supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--profile", config_.profile,
+                                         "--image-width", std::to_string(config_.image_width), "--image-height",
+                                         std::to_string(config_.image_height), "--image-encoding",
+                                         config_.image_encoding}));
+  if (config_.render) {
+    supervisor_.start("renderer", with({(bin / "mtg_renderer").string(), "--profile", config_.profile}));
+    names_.push_back("renderer");
+  }
+  supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--profile", config_.profile}));
+  names_.push_back("scene_graph");
+  names_.push_back("judge");
+  bool model_agents = false;
+  for (std::size_t i = 0; i < config_.agents.size(); ++i) {
+    const std::string& spec = config_.agents[i];
+    const std::string name = "agent-" + std::to_string(i);
+    if (agents::is_builtin_agent(spec)) {
+      supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
+    } else if (vlm::is_model_spec(spec)) {
+      // As many calls in flight as episodes, unless the settings say otherwise.
+      std::vector<std::string> argv = {(bin / "mtg_vlm_agent").string(), "--agent", spec, "--workers",
+                                       std::to_string(config_.parallel)};
+      argv.insert(argv.end(), config_.vlm_args.begin(), config_.vlm_args.end());
+      supervisor_.start(name, with(argv));
+      model_agents = true;
+    } else {
+      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, openai:<model>, "
+                  "anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
+    }
+    agent_process_[spec] = name;
+    names_.push_back(name);
+  }
+  if (model_agents && config_.governor) {
+    supervisor_.start("governor", with({(bin / "mtg_governor").string()}));
+    names_.push_back("governor");
+  }
+  wait_ready(names_, 60.0);
+  return {};
+}
+
+void LocalRuntime::wait_ready(const std::vector<std::string>& names, double timeout_s) {
+  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+  while (Clock::now() < deadline) {
+    bool all = true;
+    for (const auto& n : names) all = all && ready_pids_.count(supervisor_.pid(n)) != 0;
+    if (all) return;
+    bus_.handle_once(50);
+    for (const auto& died : supervisor_.poll()) log::warn(died + " died while starting");
+  }
+  std::string missing;
+  for (const auto& n : names) {
+    if (ready_pids_.count(supervisor_.pid(n)) == 0) missing += " " + n;
+  }
+  throw Error("processes not ready after " + std::to_string(static_cast<int>(timeout_s)) + " s:" + missing +
+              " (their logs are in " + (dir_ / "logs").string() + ")");
+}
+
+int LocalRuntime::free_slots() const { return config_.parallel - static_cast<int>(in_flight_.size()); }
+
+void LocalRuntime::launch(const mtg::episode_start_t& start) {
+  Flight f;
+  f.attempt = start.header.attempt;
+  f.agent = start.agent;
+  f.last_activity = Clock::now();
+  in_flight_[start.header.episode_id] = f;
+  bus_.publish(bus::kEpisodeStart, start);
+}
+
+void LocalRuntime::drop(std::int64_t episode_id, int attempt) {
+  const auto it = in_flight_.find(episode_id);
+  if (it != in_flight_.end() && it->second.attempt == attempt) in_flight_.erase(it);
+}
+
+void LocalRuntime::poll(int timeout_ms, LaunchSink& sink) {
+  sink_ = &sink;
+  handle_deaths(sink);
+  if (bus_.handle_once(timeout_ms)) {
+    while (bus_.handle_once(0)) {
+    }
+  }
+  check_timeouts(sink);
+  sink_ = nullptr;
+}
+
+void LocalRuntime::fail(std::int64_t episode_id, const std::string& why, LaunchSink& sink) {
+  const auto it = in_flight_.find(episode_id);
+  if (it == in_flight_.end()) return;
+  const int attempt = it->second.attempt;
+  in_flight_.erase(it);
+  sink.on_failure(episode_id, attempt, why);
+}
+
+void LocalRuntime::touch(const mtg::header_t& h) {
+  if (h.run_id != config_.run_id) return;
+  const auto it = in_flight_.find(h.episode_id);
+  if (it != in_flight_.end() && it->second.attempt == h.attempt) it->second.last_activity = Clock::now();
+}
+
+void LocalRuntime::check_timeouts(LaunchSink& sink) {
+  std::vector<std::int64_t> stuck;
+  for (const auto& [id, f] : in_flight_) {
+    if (std::chrono::duration<double>(Clock::now() - f.last_activity).count() > config_.episode_timeout_s) {
+      stuck.push_back(id);
+    }
+  }
+  for (const auto id : stuck) {
+    fail(id, "no message for " + std::to_string(static_cast<int>(config_.episode_timeout_s)) + " s", sink);
+  }
+}
+
+void LocalRuntime::handle_deaths(LaunchSink& sink) {
+  const auto died = supervisor_.poll();
+  if (died.empty()) return;
+  std::set<std::string> affected_agents;
+  bool all = false;
+  for (const auto& name : died) {
+    // The governor holds no episode: its restart only delays calls.
+    if (name == "scene_graph" || name == "judge" || name == "recorder" || name == "renderer") all = true;
+    for (const auto& [spec, process] : agent_process_) {
+      if (process == name) affected_agents.insert(spec);
+    }
+  }
+  std::vector<std::int64_t> failed;
+  for (const auto& [id, f] : in_flight_) {
+    if (all || affected_agents.count(f.agent)) failed.push_back(id);
+  }
+  std::vector<std::string> restarted;
+  for (const auto& name : died) {
+    if (name != "recorder" || recorder_beats()) restarted.push_back(name);  // lcm-logger sends no heartbeat
+  }
+  wait_ready(restarted, 60.0);
+  for (const auto id : failed) fail(id, "a process it depended on was restarted", sink);
+}
+
+void LocalRuntime::close() {
+  if (!open_) return;
+  open_ = false;
+  mtg::run_control_t stop{};
+  stop.header = stamp_.next(-1, 0, "control");
+  stop.command = "shutdown";
+  bus_.publish(bus::kControl, stop);
+  for (const auto& name : names_) supervisor_.stop(name, SIGTERM, 3000);
+  supervisor_.stop("recorder", SIGINT, 3000);  // it records what is queued, then closes
+}
+
+}  // namespace mtg::orchestrator

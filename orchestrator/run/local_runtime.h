@@ -1,0 +1,92 @@
+#pragma once
+// The run's processes on this machine, on one bus: the recorder, the scene-graph service, the
+// judge, the renderer when images are on, one process per agent, and the rate governor for model
+// agents. It starts episode attempts, watches them, and reports what became of each:
+//   - a result from the judge (any cause);
+//   - a failure when no message about the attempt came for episode_timeout_s, when a service
+//     reported an error about it, or when a process it depended on died (that process is
+//     restarted first);
+//   - a stopped agent when a model agent reports a fatal error (authentication, quota, billing).
+// `mtg run` uses it directly; `mtg worker` uses one per run it joins.
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bus/bus.h"
+#include "bus/header.h"
+#include "orchestrator/run/launcher.h"
+#include "orchestrator/run/supervisor.h"
+
+namespace mtg::orchestrator {
+
+struct RuntimeConfig {
+  std::string run_id;
+  std::string bus_url;
+  std::string profile = "replica_cad";
+  bool render = false;
+  int image_width = 640;
+  int image_height = 480;
+  std::string image_encoding = "png";
+  std::vector<std::string> agents;    // agent specs; one process each
+  std::vector<std::string> vlm_args;  // for every model adapter (agents/vlm/options.h)
+  int parallel = 4;                   // attempts at once
+  double episode_timeout_s = 60.0;
+  /// "mtg" (mtg_recorder) or "lcm-logger" (the stock tool; drops bursts on a busy machine).
+  std::string recorder = "mtg";
+  /// Start the rate governor when a model agent runs. A worker does not: the coordinator's
+  /// governor serves every host, so the limits hold for the whole run.
+  bool governor = true;
+};
+
+class LocalRuntime final : public Launcher {
+ public:
+  /// Recordings (bus-<k>.lcmlog) and process logs (logs/) go to `dir`.
+  LocalRuntime(RuntimeConfig config, std::filesystem::path dir);
+
+  std::vector<AdoptedAttempt> open() override;
+  int free_slots() const override;
+  int next_attempt(std::int64_t) const override { return 0; }
+  void launch(const mtg::episode_start_t& start) override;
+  void drop(std::int64_t episode_id, int attempt) override;
+  void poll(int timeout_ms, LaunchSink& sink) override;
+  void close() override;
+  int restarts() const override { return supervisor_.restarts(); }
+
+  int in_flight() const { return static_cast<int>(in_flight_.size()); }
+  /// The bus the run's processes share (a worker records and bridges from it).
+  bus::Bus& bus() { return bus_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct Flight {
+    int attempt = 0;
+    std::string agent;
+    Clock::time_point last_activity;
+  };
+
+  void subscribe();
+  void wait_ready(const std::vector<std::string>& names, double timeout_s);
+  void handle_deaths(LaunchSink& sink);
+  void check_timeouts(LaunchSink& sink);
+  void fail(std::int64_t episode_id, const std::string& why, LaunchSink& sink);
+  void touch(const mtg::header_t& h);
+  bool recorder_beats() const { return config_.recorder != "lcm-logger"; }
+
+  RuntimeConfig config_;
+  std::filesystem::path dir_;
+  bus::Bus bus_;
+  bus::HeaderStamper stamp_;
+  Supervisor supervisor_;
+  std::vector<std::string> names_;                   // processes that heartbeat, but the recorder
+  std::map<std::string, std::string> agent_process_; // agent spec -> process name
+  std::set<int> ready_pids_;
+  std::map<std::int64_t, Flight> in_flight_;
+  LaunchSink* sink_ = nullptr;  // during poll()
+  bool open_ = false;
+};
+
+}  // namespace mtg::orchestrator

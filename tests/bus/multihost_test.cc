@@ -1,0 +1,272 @@
+// Multi-host runs with real processes on simulated hosts: network namespaces joined by veth
+// pairs to a bridge (scripts/netns-hosts), each running `mtg worker`; the coordinator
+// (`mtg run --remote`) runs in this test's own namespace. The hosts are made and removed here.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <thread>
+
+#include "bus/channels.h"
+#include "bus/recording.h"
+#include "core/store/sqlite.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
+#include "mtg/episode_start_t.hpp"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/process.h"
+
+namespace mtg {
+namespace {
+
+namespace fs = std::filesystem;
+using orchestrator::EpisodeRow;
+
+constexpr const char* kSharedUrl = "udpm://239.255.77.1:7701?ttl=1";
+
+std::string script(const std::string& name) { return (fs::path(MTG_SOURCE_DIR) / "scripts" / name).string(); }
+
+class MultiHostTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    built_ = testing::two_tables(fx_);
+    tasks::TaskOptions options;
+    options.level3_count = 40;
+    options.levels = {1, 2, 3};
+    const auto generated = tasks::generate_tasks(built_.graph, options);
+    tasks_db_ = (fx_.root() / "tasks.sqlite").string();
+    tasks::write_task_db(tasks_db_, {generated.set}, generated.votes, options);
+    prefix_ = "h" + std::to_string(::getpid() % 100000);
+  }
+
+  void TearDown() override {
+    workers_.clear();
+    if (hosts_ > 0) sh({script("netns-hosts"), "down", prefix_, std::to_string(hosts_)});
+  }
+
+  int sh(const std::vector<std::string>& argv) {
+    testing::ChildProcess p(argv, log());
+    return p.wait(60000);
+  }
+
+  void make_hosts(int n) {
+    ASSERT_EQ(sh({script("netns-hosts"), "up", prefix_, std::to_string(n)}), 0) << log_text();
+    hosts_ = n;
+  }
+
+  std::string host(int i) const { return prefix_ + std::to_string(i); }
+
+  void start_worker(int i, int capacity = 2) {
+    workers_[i] = std::make_unique<testing::ChildProcess>(
+        std::vector<std::string>{script("netns-hosts"), "exec", host(i), testing::bin("mtg"), "worker", "--bus",
+                                 kSharedUrl, "--name", "host" + std::to_string(i), "--capacity",
+                                 std::to_string(capacity), "--dir", (fx_.root() / ("worker" + std::to_string(i))).string()},
+        (fx_.root() / ("worker" + std::to_string(i) + ".log")).string());
+  }
+
+  // Kills every process of host i at once, as a power cut would.
+  void kill_host(int i) {
+    sh({"sh", "-c", "kill -9 $(ip netns pids " + host(i) + ")"});
+    workers_.erase(i);
+  }
+
+  std::vector<std::string> run_args(const std::string& out, int limit, int parallel, int min_workers) {
+    std::vector<std::string> args = {testing::bin("mtg"), "run", "--tasks", tasks_db_, "--levels", "1,2,3", "--limit",
+                                     std::to_string(limit), "--parallel", std::to_string(parallel), "--out",
+                                     (fx_.root() / out).string(), "--data", fx_.root().string(), "--profile", "none",
+                                     "--episode-timeout", "10", "--no-progress", "--agent", "oracle", "--agent",
+                                     "random", "--seed", "7"};
+    if (min_workers > 0) {
+      for (const std::string a : {"--remote", "--bus", kSharedUrl, "--lease-ttl", "2", "--min-workers"}) args.push_back(a);
+      args.push_back(std::to_string(min_workers));
+    }
+    return args;
+  }
+
+  int mtg(const std::vector<std::string>& args, int timeout_ms = 180000) {
+    testing::ChildProcess p(args, log());
+    return p.wait(timeout_ms);
+  }
+
+  std::string log() const { return (fx_.root() / "mtg.log").string(); }
+  std::string log_text() const {
+    std::string all;
+    for (const auto& entry : fs::directory_iterator(fx_.root())) {
+      if (entry.path().extension() != ".log") continue;
+      std::ifstream in(entry.path());
+      all += "== " + entry.path().filename().string() + "\n" + std::string(std::istreambuf_iterator<char>(in), {});
+    }
+    return all;
+  }
+
+  std::vector<EpisodeRow> results(const std::string& out) {
+    return orchestrator::read_results(fx_.root() / out / "results.sqlite");
+  }
+
+  std::size_t planned(const std::string& out) {
+    std::ifstream in(fx_.root() / out / "plan.json");
+    return nlohmann::json::parse(in)["episodes"].size();
+  }
+
+  bool wait_for(const std::function<bool()>& done, int timeout_ms) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < deadline) {
+      try {
+        if (done()) return true;
+      } catch (const std::exception&) {
+        // a database still being created
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  // Leases the coordinator has out, per worker sender id (leases.sqlite).
+  std::map<std::string, int> open_leases(const std::string& out) {
+    store::Database db(fx_.root() / out / "leases.sqlite", store::Database::Mode::kReadOnly);
+    store::Statement q(db, "SELECT worker, COUNT(*) FROM leases WHERE state = 'granted' GROUP BY worker");
+    std::map<std::string, int> n;
+    while (q.step()) n[q.column_text(0)] = static_cast<int>(q.column_int(1));
+    return n;
+  }
+
+  static std::map<std::int64_t, std::string> fingerprints(const std::vector<EpisodeRow>& rows) {
+    std::map<std::int64_t, std::string> out;
+    for (const auto& r : rows) out[r.episode_id] = orchestrator::verdict_fingerprint(r);
+    return out;
+  }
+
+  // The merged recording holds each stored attempt once: one start per episode, of that attempt.
+  void expect_one_start_per_episode(const std::string& out) {
+    std::map<std::int64_t, std::vector<int>> starts;
+    bus::for_each_recorded_event(fx_.root() / out, [&](const lcm::LogEvent& ev) {
+      if (ev.channel != bus::kEpisodeStart) return;
+      mtg::episode_start_t m{};
+      ASSERT_GE(m.decode(ev.data, 0, ev.datalen), 0);
+      starts[m.header.episode_id].push_back(m.header.attempt);
+    });
+    const auto rows = results(out);
+    EXPECT_EQ(starts.size(), rows.size());
+    for (const auto& r : rows) {
+      ASSERT_EQ(starts[r.episode_id].size(), 1u) << "episode " << r.episode_id;
+      EXPECT_EQ(starts[r.episode_id][0], r.attempt) << "episode " << r.episode_id;
+    }
+  }
+
+  testing::FixtureDataset fx_;
+  testing::BuiltScene built_;
+  std::string tasks_db_;
+  std::string prefix_;
+  int hosts_ = 0;
+  std::map<int, std::unique_ptr<testing::ChildProcess>> workers_;
+};
+
+TEST_F(MultiHostTest, TwoAndThreeHostsGiveTheResultsOfOneHostAndTheRecordingRejudgesTheSame) {
+  ASSERT_EQ(mtg(run_args("one", 3, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  ASSERT_EQ(single.size(), planned("one"));
+
+  make_hosts(3);
+  for (const int n : {2, 3}) {
+    const std::string out = "hosts" + std::to_string(n);
+    for (int i = 0; i < n; ++i) start_worker(i);
+    ASSERT_EQ(mtg(run_args(out, 3, 4, n)), 0) << log_text();
+    const auto rows = results(out);
+    EXPECT_EQ(fingerprints(rows), single) << n << " hosts";
+    std::set<std::string> used;
+    for (const auto& r : rows) used.insert(r.worker);
+    EXPECT_EQ(used.size(), static_cast<std::size_t>(n)) << "the run spread over every host";
+    expect_one_start_per_episode(out);
+    testing::ChildProcess rejudge({testing::bin("mtg"), "rejudge", (fx_.root() / out).string()}, log());
+    EXPECT_EQ(rejudge.wait(60000), 0) << log_text();
+    EXPECT_NE(log_text().find(std::to_string(rows.size()) + " identical, 0 differ"), std::string::npos) << log_text();
+    workers_.clear();  // next round: fresh workers
+  }
+}
+
+TEST_F(MultiHostTest, AKilledHostsEpisodesRunElsewhereNothingLostNothingTwice) {
+  ASSERT_EQ(mtg(run_args("one", 8, 6, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+
+  make_hosts(3);
+  for (int i = 0; i < 3; ++i) start_worker(i);
+  const pid_t victim = workers_.at(1)->pid();
+  testing::ChildProcess run(run_args("killed", 8, 6, 3), log());
+  // Kill host 1 while it holds leases, early in the run.
+  ASSERT_TRUE(wait_for([&] {
+    for (const auto& [worker, n] : open_leases("killed")) {
+      if (n > 0 && worker.size() > std::to_string(victim).size() &&
+          worker.substr(worker.size() - std::to_string(victim).size() - 1) == ":" + std::to_string(victim)) {
+        return results("killed").size() >= 2;
+      }
+    }
+    return false;
+  }, 60000)) << log_text();
+  kill_host(1);
+  ASSERT_EQ(run.wait(180000), 0) << log_text();
+
+  const auto rows = results("killed");
+  EXPECT_EQ(rows.size(), planned("killed"));
+  EXPECT_EQ(fingerprints(rows), single);
+  int retried = 0;
+  for (const auto& r : rows) retried += r.attempt > 0 ? 1 : 0;
+  EXPECT_GT(retried, 0) << "the dead host's leases were re-issued";
+  expect_one_start_per_episode("killed");
+}
+
+TEST_F(MultiHostTest, AKilledCoordinatorRestartedAdoptsTheLeasesStillOut) {
+  ASSERT_EQ(mtg(run_args("one", 8, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  const auto args = run_args("restart", 8, 4, 2);
+  {
+    testing::ChildProcess run(args, log());
+    ASSERT_TRUE(wait_for([&] {
+      int out = 0;
+      for (const auto& [worker, n] : open_leases("restart")) out += n;
+      return out > 0 && results("restart").size() >= 3;
+    }, 60000)) << log_text();
+    run.kill(SIGKILL);
+  }
+  const auto before = results("restart");
+  ASSERT_LT(before.size(), planned("restart"));
+  int out_at_kill = 0;
+  for (const auto& [worker, n] : open_leases("restart")) out_at_kill += n;
+  ASSERT_GT(out_at_kill, 0);
+
+  // Meanwhile the workers hold their leases (finished ones wait for a release): mtg status.
+  const std::string status_file = (fx_.root() / "status.json").string();
+  {
+    testing::ChildProcess status({testing::bin("mtg"), "status", "--bus", kSharedUrl, "--json"}, status_file);
+    ASSERT_EQ(status.wait(30000), 0) << log_text();
+  }
+  std::ifstream in(status_file);
+  const auto status = nlohmann::json::parse(in);
+  ASSERT_EQ(status["workers"].size(), 2u) << status.dump();
+  int held = 0;
+  for (const auto& w : status["workers"]) {
+    EXPECT_EQ(w["run"], "restart");
+    held += w["in_flight"].get<int>();
+  }
+  EXPECT_GE(held, 1);
+  EXPECT_LE(held, out_at_kill);
+
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto rows = results("restart");
+  EXPECT_EQ(rows.size(), planned("restart"));
+  EXPECT_EQ(fingerprints(rows), single);
+  expect_one_start_per_episode("restart");
+  EXPECT_NE(log_text().find("adopting"), std::string::npos) << log_text();
+}
+
+}  // namespace
+}  // namespace mtg
