@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -28,6 +29,11 @@ int run_worker(WorkerCliOptions o) {
   if (w.dir.empty()) w.dir = (std::filesystem::current_path() / "mtg-worker").string();
   w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
   w.vlm_args = o.vlm.to_args();
+  if (const char* faults = std::getenv("MTG_FAULTS")) {
+    const std::string f(faults);
+    const auto at = f.find("drop_chunk:");
+    if (at != std::string::npos) w.drop_chunk_every = std::atoi(f.c_str() + at + 11);
+  }
   return orchestrator::remote::run_worker(w);
 }
 

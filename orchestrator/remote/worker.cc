@@ -141,6 +141,7 @@ class Worker final : public LaunchSink {
     mtg::episode_result_t result{};
     std::vector<mtg::record_chunk_t> chunks;
     std::size_t next = 0;              // next chunk to send
+    bool resent = false;
     Clock::time_point resend_at;       // after everything went out: send it all again unless released
   };
 
@@ -306,9 +307,13 @@ class Worker final : public LaunchSink {
         if (now < out.resend_at) continue;
         shared_.publish(bus::kEpisodeResult, out.result);
         out.next = 0;
+        out.resent = true;
       }
       while (budget > 0 && out.next < out.chunks.size()) {
-        shared_.publish(bus::kRecord, out.chunks[out.next++]);
+        const std::size_t i = out.next++;
+        const int n = options_.drop_chunk_every;
+        if (!out.resent && n > 0 && i % static_cast<std::size_t>(n) == static_cast<std::size_t>(n - 1)) continue;
+        shared_.publish(bus::kRecord, out.chunks[i]);
         --budget;
       }
       if (out.next >= out.chunks.size()) out.resend_at = now + std::chrono::seconds(3);

@@ -28,6 +28,9 @@ struct WorkerOptions {
   int chunk_bytes = 32 * 1024;    // one datagram each
   int chunks_per_round = 16;      // paced: at most this many chunks per 10 ms round
   bool once = false;              // leave after one run (tests, batch jobs)
+  /// Test hook (MTG_FAULTS="drop_chunk:<n>"): the first sending of a recording skips every n-th
+  /// chunk, as a lossy network would, so the coordinator must wait for the resend.
+  int drop_chunk_every = 0;
 };
 
 /// Runs until SIGINT/SIGTERM (or after one run with `once`). @throws mtg::Error.

@@ -19,6 +19,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/observation_t.hpp"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
@@ -63,12 +64,13 @@ class MultiHostTest : public ::testing::Test {
 
   std::string host(int i) const { return prefix_ + std::to_string(i); }
 
-  void start_worker(int i, int capacity = 2) {
-    workers_[i] = std::make_unique<testing::ChildProcess>(
-        std::vector<std::string>{script("netns-hosts"), "exec", host(i), testing::bin("mtg"), "worker", "--bus",
-                                 kSharedUrl, "--name", "host" + std::to_string(i), "--capacity",
-                                 std::to_string(capacity), "--dir", (fx_.root() / ("worker" + std::to_string(i))).string()},
-        (fx_.root() / ("worker" + std::to_string(i) + ".log")).string());
+  void start_worker(int i, int capacity = 2, const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> argv = {script("netns-hosts"), "exec", host(i), testing::bin("mtg"), "worker", "--bus",
+                                     kSharedUrl, "--name", "host" + std::to_string(i), "--capacity",
+                                     std::to_string(capacity), "--dir",
+                                     (fx_.root() / ("worker" + std::to_string(i))).string()};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    workers_[i] = std::make_unique<testing::ChildProcess>(argv, (fx_.root() / ("worker" + std::to_string(i) + ".log")).string());
   }
 
   // Kills every process of host i at once, as a power cut would.
@@ -266,6 +268,51 @@ TEST_F(MultiHostTest, AKilledCoordinatorRestartedAdoptsTheLeasesStillOut) {
   EXPECT_EQ(fingerprints(rows), single);
   expect_one_start_per_episode("restart");
   EXPECT_NE(log_text().find("adopting"), std::string::npos) << log_text();
+}
+
+TEST_F(MultiHostTest, ImagesCrossHostsOnlyInVerifiedRecordingsEvenWhenChunksAreLost) {
+  make_hosts(2);
+  ::setenv("MTG_FAULTS", "drop_chunk:5", 1);  // every 5th chunk lost on the first sending
+  for (int i = 0; i < 2; ++i) start_worker(i, 2, {"--chunk-bytes", "16384"});
+  ::unsetenv("MTG_FAULTS");
+  auto args = run_args("images", 1, 4, 2);
+  args.push_back("--render");
+  args.push_back("--image-size");
+  args.push_back("160x120");
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto rows = results("images");
+  ASSERT_EQ(rows.size(), planned("images"));
+  std::set<std::string> used;
+  for (const auto& r : rows) used.insert(r.worker);
+  EXPECT_EQ(used.size(), 2u);
+  expect_one_start_per_episode("images");
+  // Every observation of every stored attempt is in the merged recording with its images, and
+  // each episode's observations are numbered 0, 1, 2, ... without a gap.
+  std::map<std::int64_t, std::vector<std::int64_t>> seqs;
+  int observations = 0, with_images = 0;
+  bus::for_each_recorded_event(fx_.root() / "images", [&](const lcm::LogEvent& ev) {
+    if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+    mtg::observation_t m{};
+    ASSERT_GE(m.decode(ev.data, 0, ev.datalen), 0);
+    if (!m.done) {  // the closing observation (the episode is over) has nothing to look at
+      ++observations;
+      with_images += m.n_images > 0 ? 1 : 0;
+    }
+    seqs[m.header.episode_id].push_back(m.header.seq);
+  });
+  EXPECT_GT(observations, static_cast<int>(rows.size()));
+  EXPECT_EQ(with_images, observations);
+  for (const auto& [id, s] : seqs) {
+    for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(s[i], static_cast<std::int64_t>(i)) << "episode " << id;
+  }
+  for (const auto& r : rows) {
+    if (r.agent == "oracle") EXPECT_TRUE(r.success) << r.task_id;
+  }
+  std::uintmax_t largest = 0;
+  for (const auto& f : fs::directory_iterator(fx_.root() / "images" / "episodes")) {
+    largest = std::max(largest, fs::file_size(f.path()));
+  }
+  EXPECT_GT(largest, 5u * 16384u) << "a recording of more than 5 chunks: one was lost and resent";
 }
 
 }  // namespace
