@@ -75,7 +75,7 @@ class MultiHostTest : public ::testing::Test {
 
   // Kills every process of host i at once, as a power cut would.
   void kill_host(int i) {
-    sh({"sh", "-c", "kill -9 $(ip netns pids " + host(i) + ")"});
+    ASSERT_EQ(sh({"/bin/sh", "-c", "kill -9 $(ip netns pids " + host(i) + ")"}), 0) << log_text();
     workers_.erase(i);
   }
 
@@ -212,7 +212,9 @@ TEST_F(MultiHostTest, AKilledHostsEpisodesRunElsewhereNothingLostNothingTwice) {
     return false;
   }, 60000)) << log_text();
   kill_host(1);
+  EXPECT_EQ(workers_.count(1), 0u);
   ASSERT_EQ(run.wait(180000), 0) << log_text();
+  EXPECT_NE(log_text().find("not renewed"), std::string::npos) << log_text();
 
   const auto rows = results("killed");
   EXPECT_EQ(rows.size(), planned("killed"));

@@ -1,0 +1,267 @@
+// mtg_bench_cluster (scripts/bench cluster): multi-host figures on simulated hosts (network
+// namespaces joined by a bridge, scripts/netns-hosts; run it inside `unshare -n -m` as root).
+//   1. throughput of the same oracle run on this machine alone and on 1, 2 and 3 hosts (the
+//      same cores, so the ratio to the one-machine run is the per-core efficiency), with the
+//      coordinator's and workers' own CPU time per episode and the shared bus's bytes per episode;
+//   2. a host killed mid-run: time until its leases expire (detection) and until its episodes
+//      are stored from other hosts (recovery);
+//   3. bytes on the shared bus per episode with and without images, by channel.
+
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "core/store/sqlite.h"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using mtg::testing::ChildProcess;
+
+constexpr const char* kShared = "udpm://239.255.77.1:7701?ttl=1";
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// User + system CPU seconds of one live process (its children not included).
+double cpu_seconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), {});
+  const auto close = stat.rfind(')');
+  if (close == std::string::npos) return 0.0;
+  std::istringstream rest(stat.substr(close + 2));
+  std::string field;
+  double ticks = 0.0;
+  for (int i = 3; i <= 15 && rest >> field; ++i) {
+    if (i == 14 || i == 15) ticks += std::stod(field);
+  }
+  return ticks / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+class Bench {
+ public:
+  Bench(std::string root, fs::path work, std::string tasks) : root_(std::move(root)), work_(std::move(work)), tasks_(std::move(tasks)) {}
+  ~Bench() { down(); }
+
+  std::string script() const { return root_ + "/scripts/netns-hosts"; }
+  std::string mtg() const { return root_ + "/build/bin/mtg"; }
+
+  void up(int n) {
+    down();
+    ChildProcess clean({script(), "down", "bh", "3"}, (work_ / "netns.log").string());  // left by an aborted bench
+    clean.wait(60000);
+    ChildProcess p({script(), "up", "bh", std::to_string(n)}, (work_ / "netns.log").string());
+    if (p.wait(60000) != 0) throw std::runtime_error("netns-hosts up failed (root? see " + (work_ / "netns.log").string() + ")");
+    hosts_ = n;
+    for (int i = 0; i < n; ++i) {
+      workers_.push_back(std::make_unique<ChildProcess>(
+          std::vector<std::string>{script(), "exec", "bh" + std::to_string(i), mtg(), "--log-level", "warn", "worker",
+                                   "--bus", kShared, "--name", "host" + std::to_string(i), "--capacity", "4", "--dir",
+                                   (work_ / ("worker" + std::to_string(i))).string()},
+          (work_ / ("worker" + std::to_string(i) + ".log")).string()));
+    }
+  }
+
+  void down() {
+    workers_.clear();
+    if (hosts_ > 0) {
+      ChildProcess p({script(), "down", "bh", std::to_string(hosts_)}, (work_ / "netns.log").string());
+      p.wait(60000);
+    }
+    hosts_ = 0;
+  }
+
+  std::vector<std::string> run_args(const std::string& out, int limit, bool remote, bool render) const {
+    std::vector<std::string> a = {mtg(), "--log-level", "warn", "run", "--tasks", tasks_, "--agent", "oracle",
+                                  "--levels", "1,2,3", "--limit", std::to_string(limit), "--parallel", "4",
+                                  "--out", (work_ / out).string(), "--no-progress"};
+    if (remote) {
+      for (const char* s : {"--remote", "--bus", kShared, "--min-workers"}) a.emplace_back(s);
+      a.push_back(std::to_string(hosts_));
+    }
+    if (render) {
+      for (const char* s : {"--render", "--image-size", "640x480"}) a.emplace_back(s);
+    }
+    return a;
+  }
+
+  struct RunFigures {
+    double seconds = 0, episodes = 0, coordinator_cpu = 0, worker_cpu = 0;
+    std::map<std::string, std::pair<std::int64_t, std::int64_t>> shared_bytes;  // channel -> (messages, bytes)
+  };
+
+  // One run; with `record_shared`, a recorder on the shared bus counts its traffic.
+  RunFigures run(const std::string& out, int limit, bool remote, bool render) {
+    fs::remove_all(work_ / out);
+    const fs::path shared_log = work_ / (out + "-shared.lcmlog");
+    fs::remove(shared_log);
+    std::unique_ptr<ChildProcess> recorder;
+    if (remote) {
+      recorder = std::make_unique<ChildProcess>(
+          std::vector<std::string>{root_ + "/build/bin/mtg_recorder", "--url", kShared, shared_log.string()},
+          (work_ / "shared-recorder.log").string());
+      while (!fs::exists(shared_log)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    std::vector<double> worker_cpu_before;
+    for (const auto& w : workers_) worker_cpu_before.push_back(cpu_seconds(w->pid()));
+    const auto start = Clock::now();
+    ChildProcess p(run_args(out, limit, remote, render), (work_ / (out + ".log")).string());
+    double coordinator_cpu = 0.0;
+    while (p.running()) {
+      coordinator_cpu = std::max(coordinator_cpu, cpu_seconds(p.pid()));
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (p.wait(1000) != 0) throw std::runtime_error("mtg run failed: see " + (work_ / (out + ".log")).string());
+    RunFigures f;
+    f.seconds = seconds_since(start);
+    f.episodes = static_cast<double>(mtg::orchestrator::read_results(work_ / out / "results.sqlite").size());
+    f.coordinator_cpu = coordinator_cpu;
+    for (std::size_t i = 0; i < workers_.size(); ++i) f.worker_cpu += cpu_seconds(workers_[i]->pid()) - worker_cpu_before[i];
+    if (recorder) {
+      recorder->kill(SIGINT);
+      lcm::LogFile log(shared_log.string(), "r");
+      for (const lcm::LogEvent* ev = log.readNextEvent(); ev != nullptr; ev = log.readNextEvent()) {
+        auto& [n, bytes] = f.shared_bytes[ev->channel];
+        ++n;
+        bytes += ev->datalen;
+      }
+    }
+    return f;
+  }
+
+  // Kills host `victim` while it holds leases; returns (detect s, recover s, episodes it lost).
+  std::tuple<double, double, int> kill_host(int limit, int victim) {
+    const std::string out = "kill";
+    fs::remove_all(work_ / out);
+    ChildProcess p(run_args(out, limit, true, false), (work_ / "kill.log").string());
+    const pid_t worker_pid = workers_[static_cast<std::size_t>(victim)]->pid();
+    const std::string suffix = ":" + std::to_string(worker_pid);
+    auto victim_leases = [&](const char* state) {
+      std::set<std::int64_t> ids;
+      try {
+        mtg::store::Database db(work_ / out / "leases.sqlite", mtg::store::Database::Mode::kReadOnly);
+        mtg::store::Statement q(db, std::string("SELECT episode_id, worker FROM leases WHERE state = '") + state + "'");
+        while (q.step()) {
+          const std::string w = q.column_text(1);
+          if (w.size() > suffix.size() && w.compare(w.size() - suffix.size(), suffix.size(), suffix) == 0) {
+            ids.insert(q.column_int(0));
+          }
+        }
+      } catch (const std::exception&) {
+      }
+      return ids;
+    };
+    auto stored = [&] {
+      std::set<std::int64_t> done;
+      try {
+        for (const auto& r : mtg::orchestrator::read_results(work_ / out / "results.sqlite")) done.insert(r.episode_id);
+      } catch (const std::exception&) {
+      }
+      return done;
+    };
+    // Mid-run: a tenth of the episodes done and the victim holding leases.
+    while (p.running() && (stored().size() < static_cast<std::size_t>(3 * limit / 10) || victim_leases("granted").empty())) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    const auto killed = Clock::now();
+    ChildProcess k({"/bin/sh", "-c", "kill -9 $(ip netns pids bh" + std::to_string(victim) + ")"}, "");
+    k.wait(10000);
+    double detect = -1, recover = -1;
+    std::set<std::int64_t> lost;
+    for (bool last = false; !last;) {
+      last = !p.running();
+      if (detect < 0 && !(lost = victim_leases("expired")).empty()) detect = seconds_since(killed);
+      if (detect >= 0 && recover < 0) {
+        const auto done = stored();
+        bool all = true;
+        for (const auto id : lost) all = all && done.count(id) != 0;
+        if (all) recover = seconds_since(killed);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (p.wait(60000) != 0) throw std::runtime_error("mtg run failed after the kill: see " + (work_ / "kill.log").string());
+    return {detect, recover, static_cast<int>(lost.size())};
+  }
+
+ private:
+  std::string root_;
+  fs::path work_;
+  std::string tasks_;
+  int hosts_ = 0;
+  std::vector<std::unique_ptr<ChildProcess>> workers_;
+};
+
+void print_bytes(const char* what, const Bench::RunFigures& f) {
+  std::int64_t total = 0;
+  for (const auto& [ch, nb] : f.shared_bytes) total += nb.second;
+  std::printf("  %s: %.0f bytes per episode on the shared bus\n", what, static_cast<double>(total) / f.episodes);
+  for (const auto& [ch, nb] : f.shared_bytes) {
+    std::printf("    %-18s %8.1f messages  %10.0f bytes per episode\n", ch.c_str(),
+                static_cast<double>(nb.first) / f.episodes, static_cast<double>(nb.second) / f.episodes);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"multi-host figures on simulated hosts (scripts/bench cluster)"};
+  std::string root, tasks, work = "/tmp/mtg_bench_cluster";
+  int limit = 100;
+  app.add_option("--root", root, "repository root")->required();
+  app.add_option("--tasks", tasks, "task database (apt_0, Levels 1-3)")->required();
+  app.add_option("--work", work, "scratch folder");
+  app.add_option("--limit", limit, "tasks per level (default 100)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    fs::remove_all(work);
+    fs::create_directories(work);
+    Bench bench(root, work, tasks);
+    std::printf("oracle on apt_0, Levels 1-3, %d tasks each, 4 episodes in flight; every host is a network\n"
+                "namespace on this machine's %ld cores\n", limit, sysconf(_SC_NPROCESSORS_ONLN));
+    const auto local = bench.run("local", limit, false, false);
+    const double base = local.episodes / local.seconds;
+    std::printf("  this machine alone (mtg run):  %5.0f episodes in %5.2f s = %6.1f episodes/s\n", local.episodes,
+                local.seconds, base);
+    Bench::RunFigures two;
+    for (int hosts = 1; hosts <= 3; ++hosts) {
+      bench.up(hosts);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      const auto f = bench.run("hosts" + std::to_string(hosts), limit, true, false);
+      std::int64_t shared = 0;
+      for (const auto& [ch, nb] : f.shared_bytes) shared += nb.second;
+      const double rate = f.episodes / f.seconds;
+      std::printf("  %d host%s (mtg run --remote):     %5.0f episodes in %5.2f s = %6.1f episodes/s, per-core "
+                  "efficiency %.2f; coordinator %.2f ms CPU/episode, workers %.2f ms, shared bus %.0f B/episode\n",
+                  hosts, hosts == 1 ? " " : "s", f.episodes, f.seconds, rate, rate / base,
+                  1000.0 * f.coordinator_cpu / f.episodes, 1000.0 * f.worker_cpu / f.episodes,
+                  static_cast<double>(shared) / f.episodes);
+      if (hosts == 2) two = f;
+    }
+    bench.up(3);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const auto [detect, recover, lost] = bench.kill_host(limit, 1);
+    std::printf("  host killed mid-run (3 hosts, lease ttl 5 s): %d leases lost, expired after %.2f s, their "
+                "episodes stored from other hosts %.2f s after the kill\n", lost, detect, recover);
+    bench.up(2);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    print_bytes("without images (2 hosts)", two);
+    const auto images = bench.run("images", 4, true, true);
+    print_bytes("with 640x480 PNG images (2 hosts)", images);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mtg_bench_cluster: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
