@@ -81,7 +81,10 @@ void check_multicast_route(const std::string& url) {
   const std::string fix =
       "run `ip route replace 224.0.0.0/4 dev lo` as root (scripts do this when run as root)";
   if (iface.empty()) {
-    throw Error("no multicast route for " + udpm->group + ": " + fix);
+    throw Error("no multicast route for " + udpm->group + ": " +
+                (udpm->ttl == 0 ? fix
+                                : "route it through the interface that faces the other hosts, e.g. `ip route add " +
+                                      udpm->group + "/32 dev eth0` (docs/multihost.md)"));
   }
   if (udpm->ttl == 0 && iface != "lo") {
     throw Error("multicast group " + udpm->group + " is routed through " + iface +

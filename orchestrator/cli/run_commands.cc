@@ -134,8 +134,8 @@ int run_run(const RunOptions& o) {
   // is one clear line now rather than adapters that never become ready. With workers the keys
   // and files are on their hosts; each worker checks its own when it joins.
   for (const std::string& spec : plan.agents) {
-    if (vlm::is_model_spec(spec) && !plan.remote) {
-      (void)vlm::ModelSetup::make(spec, o.vlm.resolve());
+    if (vlm::is_model_spec(spec)) {
+      if (!plan.remote) (void)vlm::ModelSetup::make(spec, o.vlm.resolve());
     } else if (!agents::is_builtin_agent(spec)) {
       throw Error("mtg run: unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
                   "openai:<model>, anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");

@@ -1,5 +1,6 @@
 #include "orchestrator/remote/worker.h"
 
+#include <poll.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -78,15 +79,14 @@ class Worker final : public LaunchSink {
     auto next_beat = Clock::now();
     auto next_renewal = Clock::now();
     while (!services::stop_signal_received()) {
-      if (shared_.handle_once(runtime_ ? 0 : 20)) {
-        while (shared_.handle_once(0)) {
-        }
+      wait_for_messages(20);
+      while (shared_.handle_once(0)) {
       }
       if (leave_) leave();
       if (once_done_) break;
       if (join_) join();
       if (runtime_) {
-        runtime_->poll(10, *this);
+        runtime_->poll(0, *this);
         finalize_finished();
       }
       send_outbox();
@@ -144,6 +144,13 @@ class Worker final : public LaunchSink {
     bool resent = false;
     Clock::time_point resend_at;       // after everything went out: send it all again unless released
   };
+
+  // Sleeps until either bus has a message (or `timeout_ms`): a grant must not wait for the
+  // host bus to go quiet, nor a result for the shared one.
+  void wait_for_messages(int timeout_ms) {
+    pollfd fds[2] = {{shared_.fileno(), POLLIN, 0}, {runtime_ ? runtime_->bus().fileno() : -1, POLLIN, 0}};
+    ::poll(fds, runtime_ ? 2 : 1, timeout_ms);
+  }
 
   std::string lease_id(std::int64_t episode_id, int attempt) const {
     return run_id_ + "/" + std::to_string(episode_id) + "/" + std::to_string(attempt);

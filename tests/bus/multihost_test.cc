@@ -21,6 +21,7 @@
 #include "mtg/episode_start_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "orchestrator/run/results_db.h"
+#include "tests/support/fake_model_server.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
 
@@ -37,6 +38,11 @@ std::string script(const std::string& name) { return (fs::path(MTG_SOURCE_DIR) /
 class MultiHostTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    // `ip netns add` needs real root; scripts/with-bus runs non-root users in a user namespace.
+    std::ifstream map("/proc/self/uid_map");
+    std::string inside, outside;
+    map >> inside >> outside;
+    if (outside != "0") GTEST_SKIP() << "simulated hosts need root (ip netns); CI runs as root";
     built_ = testing::two_tables(fx_);
     tasks::TaskOptions options;
     options.level3_count = 40;
@@ -315,6 +321,44 @@ TEST_F(MultiHostTest, ImagesCrossHostsOnlyInVerifiedRecordingsEvenWhenChunksAreL
     largest = std::max(largest, fs::file_size(f.path()));
   }
   EXPECT_GT(largest, 5u * 16384u) << "a recording of more than 5 chunks: one was lost and resent";
+}
+
+TEST_F(MultiHostTest, ModelAgentsOnTwoHostsShareTheCoordinatorsRateGovernor) {
+  make_hosts(2);
+  // The model server listens on the bridge, where both hosts reach it; it answers 429 beyond
+  // 8 requests per 2 s, and the run is told the same limit.
+  testing::FakeModelServer server("10.77.0.254");
+  std::map<std::string, std::vector<std::string>> plans;
+  for (const auto& t : tasks::read_tasks(tasks_db_)) plans.emplace(t.text, t.oracle);
+  server.set_model(testing::oracle_model(plans));
+  server.enforce_limit(8, std::chrono::milliseconds(2000));
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  const std::string spec = "openai-compatible:http://10.77.0.254:" + std::to_string(server.port()) + "/v1:oracle";
+  const std::vector<std::string> args = {
+      testing::bin("mtg"), "run", "--tasks", tasks_db_, "--levels", "1,3", "--limit", "2", "--parallel", "4", "--out",
+      (fx_.root() / "model").string(), "--data", fx_.root().string(), "--profile", "none", "--no-progress",
+      "--agent", spec, "--image-size", "160x120", "--no-cache", "--rpm", "8", "--rate-window", "2", "--remote",
+      "--bus", kSharedUrl, "--min-workers", "2"};
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto rows = results("model");
+  ASSERT_EQ(rows.size(), planned("model"));
+  std::set<std::string> used;
+  for (const auto& r : rows) {
+    EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+    EXPECT_GT(r.images_sent, 0);
+    used.insert(r.worker);
+  }
+  EXPECT_EQ(used.size(), 2u);
+  const auto seen = server.requests();
+  EXPECT_EQ(server.answered_429(), 0) << "the governor let too many through";
+  int busiest = 0;
+  for (const auto& a : seen) {
+    int n = 0;
+    for (const auto& b : seen) n += b.at_ms >= a.at_ms && b.at_ms < a.at_ms + 2000.0 ? 1 : 0;
+    busiest = std::max(busiest, n);
+  }
+  EXPECT_LE(busiest, 8);
+  EXPECT_GE(seen.size(), 16u);
 }
 
 }  // namespace

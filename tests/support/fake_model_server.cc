@@ -187,7 +187,7 @@ struct FakeModelServer::Impl {
   }
 };
 
-FakeModelServer::FakeModelServer() : impl_(std::make_unique<Impl>()) {
+FakeModelServer::FakeModelServer(const std::string& address) : impl_(std::make_unique<Impl>()) {
   auto handler = [this](const httplib::Request& req, httplib::Response& res) { impl_->handle(req, res); };
   impl_->server.Post(R"(/.*)", handler);
   // Enough threads for 8+ parallel episodes plus stalled requests (the default follows the cores).
@@ -197,8 +197,8 @@ FakeModelServer::FakeModelServer() : impl_(std::make_unique<Impl>()) {
   // Headers and body go out in separate writes: with Nagle on, the body waits for the client's
   // delayed ACK (40 ms per call on Linux), which would be charged to the adapter.
   impl_->server.set_tcp_nodelay(true);
-  port_ = impl_->server.bind_to_any_port("127.0.0.1");
-  if (port_ <= 0) throw std::runtime_error("fake model server: cannot bind 127.0.0.1");
+  port_ = impl_->server.bind_to_any_port(address);
+  if (port_ <= 0) throw std::runtime_error("fake model server: cannot bind " + address);
   impl_->thread = std::thread([this] { impl_->server.listen_after_bind(); });
   while (!impl_->server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }

@@ -52,7 +52,8 @@ class FakeModelServer {
   /// The model: the reply text for a request (default: "l1").
   using Model = std::function<std::string(const SeenChat&)>;
 
-  FakeModelServer();
+  /// Listens on `address` (another host of a multi-host test reaches it on the bridge's address).
+  explicit FakeModelServer(const std::string& address = "127.0.0.1");
   ~FakeModelServer();
   FakeModelServer(const FakeModelServer&) = delete;
   FakeModelServer& operator=(const FakeModelServer&) = delete;

@@ -20,18 +20,19 @@ void on_signal(int) { g_stop = 1; }
 
 int main(int argc, char** argv) {
   CLI::App app{"local model server speaking the OpenAI, Anthropic and Gemini wire formats"};
-  std::string tasks_db, log_file;
+  std::string tasks_db, log_file, address = "127.0.0.1";
   int rpm = 0, window_ms = 60000, latency_ms = 0;
   app.add_option("--tasks", tasks_db, "task database: answer with each task's oracle plan");
   app.add_option("--rpm", rpm, "answer 429 beyond this many requests per window (0 = no limit)");
   app.add_option("--window-ms", window_ms, "the limit's window (default 60000)");
   app.add_option("--latency-ms", latency_ms, "time each answer takes");
+  app.add_option("--address", address, "address to listen on (default 127.0.0.1)");
   app.add_option("--log", log_file, "write the requests seen here (JSON lines) on exit");
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   try {
-    mtg::testing::FakeModelServer server;
+    mtg::testing::FakeModelServer server(address);
     if (!tasks_db.empty()) {
       std::map<std::string, std::vector<std::string>> plans;
       for (const auto& t : mtg::tasks::read_tasks(tasks_db)) plans.emplace(t.text, t.oracle);
