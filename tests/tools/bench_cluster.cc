@@ -189,13 +189,26 @@ class Bench {
       }
       return done;
     };
-    // Mid-run: a tenth of the episodes done and the victim holding leases.
-    while (p.running() && (stored().size() < static_cast<std::size_t>(3 * limit / 10) || victim_leases("granted").empty())) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    auto signal_host = [&](const std::string& signal) {
+      ChildProcess k({"/bin/sh", "-c", "kill -" + signal + " $(ip netns pids bh" + std::to_string(victim) + ")"}, "");
+      k.wait(10000);
+    };
+    // Mid-run (a tenth of the episodes done), while the victim holds leases it cannot finish:
+    // freeze it, let what it already sent arrive, and kill it if leases are still out on it.
+    Clock::time_point stopped_at;
+    for (;;) {
+      while (p.running() && (stored().size() < static_cast<std::size_t>(3 * limit / 10) || victim_leases("granted").empty())) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      if (!p.running()) throw std::runtime_error("the run ended before a host could be killed");
+      signal_host("STOP");
+      stopped_at = Clock::now();
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      if (!victim_leases("granted").empty()) break;
+      signal_host("CONT");
     }
-    const auto killed = Clock::now();
-    ChildProcess k({"/bin/sh", "-c", "kill -9 $(ip netns pids bh" + std::to_string(victim) + ")"}, "");
-    k.wait(10000);
+    const auto killed = stopped_at;  // the host has been silent since then
+    signal_host("9");
     double detect = -1, recover = -1;
     std::set<std::int64_t> lost;
     for (bool last = false; !last;) {
