@@ -103,7 +103,8 @@ int main(int argc, char** argv) {
   run->add_option("--scene", run_opts.scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts.levels, "levels to run (default 1,2,3)");
   run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
-  run->add_option("--parallel", run_opts.parallel, "episodes at once (default 4)");
+  run->add_option("--parallel", run_opts.parallel,
+                  "episodes at once (default 4; with --remote: what the workers' capacities allow)");
   run->add_option("--seed", run_opts.seed, "run seed (default 0)");
   run->add_flag("--render", run_opts.render, "observations carry images (default: only for model agents)");
   run->add_flag("--no-render", run_opts.no_render, "text-only observations, for any agent");

@@ -100,7 +100,8 @@ int run_run(const RunOptions& o) {
     plan.levels = tasks::parse_levels(o.levels);
     plan.limit = o.limit;
     plan.seed = o.seed;
-    plan.parallel = std::max(1, o.parallel);
+    // With workers their capacities decide, unless --parallel caps the whole run.
+    plan.parallel = o.parallel > 0 ? o.parallel : (o.remote ? 0 : 4);
     plan.step_limit = o.step_limit;
     if (o.render && o.no_render) throw Error("mtg run: --render and --no-render contradict each other");
     // Built-in agents read only the text; images are for model agents unless asked for.

@@ -16,7 +16,7 @@ struct RunOptions {
   std::vector<std::string> scenes;   // empty = all
   std::string levels = "1,2,3";
   int limit = 0;                     // tasks per (scene, level); 0 = all
-  int parallel = 4;
+  int parallel = 0;                  // 0 = 4, or with --remote as many as the workers take
   std::uint64_t seed = 0;
   bool render = false;               // --render: images even for built-in agents
   bool no_render = false;            // --no-render: text only even for model agents

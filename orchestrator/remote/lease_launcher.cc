@@ -13,6 +13,7 @@
 #include "mtg/error_event_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/merge_recordings.h"
+#include "orchestrator/remote/run_announcement.h"
 #include "services/common/service_loop.h"
 
 namespace mtg::orchestrator::remote {
@@ -229,7 +230,8 @@ void LeaseLauncher::on_renew(const mtg::lease_t& m) {
 void LeaseLauncher::arrived(const AttemptKey& key) {
   const auto [id, attempt] = key;
   if (delivered_.count(key) != 0) {
-    // Resent after the release was lost: release again.
+    // Resent after the release was lost: nothing to collect. The worker keeps renewing the
+    // lease meanwhile, and on_renew() answers that with another release.
     const auto a = arrivals_.find(key);
     if (a != arrivals_.end()) arrivals_.erase(a);
     return;
@@ -303,27 +305,10 @@ void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
 }
 
 void LeaseLauncher::announce(const std::string& state) {
-  mtg::run_info_t m{};
+  mtg::run_info_t m = announcement(run_, counts_);
   m.header = stamp_.next(-1, 0, "run_info");
   m.state = state;
-  m.profile = run_.profile;
-  m.render = run_.render;
-  m.image_width = run_.image_width;
-  m.image_height = run_.image_height;
-  m.image_encoding = run_.image_encoding;
-  m.episode_timeout_s = run_.episode_timeout_s;
   m.lease_ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
-  m.agents = run_.agents;
-  m.n_agents = static_cast<std::int16_t>(m.agents.size());
-  m.vlm_args = run_.vlm_args;
-  m.n_vlm_args = static_cast<std::int16_t>(m.vlm_args.size());
-  m.planned = counts_.planned;
-  m.finished = counts_.finished;
-  m.scored = counts_.scored;
-  m.successes = counts_.successes;
-  m.ip_sum = counts_.ip_sum;
-  m.errors = counts_.errors;
-  m.in_flight = counts_.in_flight;
   m.workers = live_workers();
   const auto now = Clock::now();
   while (!finish_times_.empty() && seconds_between(finish_times_.front(), now) > 60.0) finish_times_.pop_front();

@@ -20,6 +20,7 @@
 #include "mtg/lease_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/episode_log.h"
+#include "orchestrator/remote/run_announcement.h"
 #include "orchestrator/run/local_runtime.h"
 #include "services/common/service_loop.h"
 
@@ -171,19 +172,10 @@ class Worker final : public LaunchSink {
     stamp_.set_run_id(run_id_);
     status_ = "starting";
     heartbeat();
-    RuntimeConfig c;
-    c.run_id = run_id_;
+    RuntimeConfig c = announced_config(info);
     c.bus_url = options_.local_url;
-    c.profile = info.profile;
-    c.render = info.render;
-    c.image_width = info.image_width;
-    c.image_height = info.image_height;
-    c.image_encoding = info.image_encoding;
-    c.agents = info.agents;
-    c.vlm_args = info.vlm_args;
     c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
     c.parallel = options_.capacity;
-    c.episode_timeout_s = info.episode_timeout_s;
     c.recorder = options_.recorder;
     c.governor = false;  // the coordinator's governor serves every host
     log::info("joining run " + run_id_ + " of " + info.header.sender);

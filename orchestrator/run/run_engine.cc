@@ -145,7 +145,7 @@ class Engine final : public LaunchSink {
 
   void dispatch() {
     while (!pending_.empty() && launcher_.free_slots() > 0 &&
-           static_cast<int>(in_flight_.size()) < plan_.parallel) {
+           (plan_.parallel <= 0 || static_cast<int>(in_flight_.size()) < plan_.parallel)) {
       const std::int64_t id = pending_.front();
       pending_.pop_front();
       send_start(id, launcher_.next_attempt(id));  // retries do not queue: retry() sends the next attempt itself

@@ -328,7 +328,9 @@ TEST_F(MultiHostTest, ImagesCrossHostsOnlyInVerifiedRecordingsEvenWhenChunksAreL
     for (std::size_t i = 0; i < s.size(); ++i) EXPECT_EQ(s[i], static_cast<std::int64_t>(i)) << "episode " << id;
   }
   for (const auto& r : rows) {
-    if (r.agent == "oracle") EXPECT_TRUE(r.success) << r.task_id;
+    if (r.agent == "oracle") {
+      EXPECT_TRUE(r.success) << r.task_id;
+    }
   }
   std::uintmax_t largest = 0;
   for (const auto& f : fs::directory_iterator(fx_.root() / "images" / "episodes")) {

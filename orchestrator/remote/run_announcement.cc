@@ -1,0 +1,41 @@
+#include "orchestrator/remote/run_announcement.h"
+
+namespace mtg::orchestrator::remote {
+
+mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) {
+  mtg::run_info_t m{};
+  m.profile = run.profile;
+  m.render = run.render;
+  m.image_width = run.image_width;
+  m.image_height = run.image_height;
+  m.image_encoding = run.image_encoding;
+  m.episode_timeout_s = run.episode_timeout_s;
+  m.agents = run.agents;
+  m.n_agents = static_cast<std::int16_t>(m.agents.size());
+  m.vlm_args = run.vlm_args;
+  m.n_vlm_args = static_cast<std::int16_t>(m.vlm_args.size());
+  m.planned = counts.planned;
+  m.finished = counts.finished;
+  m.scored = counts.scored;
+  m.successes = counts.successes;
+  m.ip_sum = counts.ip_sum;
+  m.errors = counts.errors;
+  m.in_flight = counts.in_flight;
+  return m;
+}
+
+RuntimeConfig announced_config(const mtg::run_info_t& info) {
+  RuntimeConfig c;
+  c.run_id = info.header.run_id;
+  c.profile = info.profile;
+  c.render = info.render;
+  c.image_width = info.image_width;
+  c.image_height = info.image_height;
+  c.image_encoding = info.image_encoding;
+  c.episode_timeout_s = info.episode_timeout_s;
+  c.agents = info.agents;
+  c.vlm_args = info.vlm_args;
+  return c;
+}
+
+}  // namespace mtg::orchestrator::remote
