@@ -83,6 +83,10 @@ class Worker final : public LaunchSink {
       wait_for_messages(sending() ? 10 : 20);  // a paced recording goes on after at most 10 ms
       while (shared_.handle_once(0)) {
       }
+      if (abandoned()) {
+        log::warn("no announcement of run " + run_id_ + " for 2 minutes; leaving it");
+        leave_ = true;
+      }
       if (leave_) leave();
       if (once_done_) break;
       if (join_) join();
@@ -159,10 +163,19 @@ class Worker final : public LaunchSink {
 
   void on_run_info(const mtg::run_info_t& m) {
     if (run_id_.empty() && m.state == "running" && !join_) {
+      // A run this host could not start is tried again after a while, not on every announcement.
+      if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
       join_ = m;
-    } else if (m.header.run_id == run_id_ && m.state == "done") {
-      leave_ = true;
+    } else if (m.header.run_id == run_id_) {
+      last_announcement_ = Clock::now();
+      if (m.state == "done") leave_ = true;
     }
+  }
+
+  // A run whose coordinator is gone for good: nothing held, nothing to deliver, no announcement
+  // for a long time. (A coordinator that comes back finds its results in the outbox meanwhile.)
+  bool abandoned() const {
+    return runtime_ && held_.empty() && outbox_.empty() && Clock::now() - last_announcement_ > std::chrono::minutes(2);
   }
 
   void join() {
@@ -170,6 +183,7 @@ class Worker final : public LaunchSink {
     join_.reset();
     run_id_ = info.header.run_id;
     stamp_.set_run_id(run_id_);
+    last_announcement_ = Clock::now();
     status_ = "starting";
     heartbeat();
     RuntimeConfig c = announced_config(info);
@@ -190,7 +204,9 @@ class Worker final : public LaunchSink {
       runtime_->open();
       status_ = "ready";
     } catch (const Error& e) {
-      log::error("cannot run " + run_id_ + ": " + e.what());
+      log::error("cannot run " + run_id_ + ": " + e.what() + " (trying again in 30 s)");
+      failed_run_ = run_id_;
+      retry_join_at_ = Clock::now() + std::chrono::seconds(30);
       runtime_.reset();
       run_id_.clear();
       stamp_.set_run_id("");
@@ -337,6 +353,9 @@ class Worker final : public LaunchSink {
   std::optional<mtg::run_info_t> join_;
   bool leave_ = false;
   bool once_done_ = false;
+  Clock::time_point last_announcement_;
+  std::string failed_run_;
+  Clock::time_point retry_join_at_;
   long tick_ = 0;
   std::map<std::int64_t, Held> held_;
   std::map<std::string, Outgoing> outbox_;

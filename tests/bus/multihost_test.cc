@@ -22,6 +22,7 @@
 #include "mtg/observation_t.hpp"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/fake_model_server.h"
+#include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
 
@@ -375,6 +376,45 @@ TEST_F(MultiHostTest, ModelAgentsOnTwoHostsShareTheCoordinatorsRateGovernor) {
   }
   EXPECT_LE(busiest, 8);
   EXPECT_GE(seen.size(), 16u);
+}
+
+// Bad input and missing peers: one line on stderr naming what is wrong, exit 1, no hang.
+TEST(MultiHostErrors, NoWorkersNoOneOnTheBusAndAWorkerWithoutABusFailWithOneLine) {
+  testing::FixtureDataset fx;
+  const auto built = testing::two_tables(fx);
+  tasks::TaskOptions options;
+  options.levels = {1, 2, 3};
+  options.level3_count = 10;
+  const auto generated = tasks::generate_tasks(built.graph, options);
+  const std::string db = (fx.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  auto run = [&](const std::vector<std::string>& args) {
+    const std::string log = (fx.root() / "out.log").string();
+    testing::ChildProcess p(args, log);
+    const int status = p.wait(60000);
+    std::ifstream in(log);
+    return std::make_pair(status, std::string(std::istreambuf_iterator<char>(in), {}));
+  };
+  const std::string url = "udpm://239.255.76.67:7667?ttl=0";  // this test's own loopback bus
+
+  const auto [no_workers, why] = run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--out",
+                                      (fx.root() / "r").string(), "--data", fx.root().string(), "--profile", "none",
+                                      "--remote", "--bus", url, "--worker-wait", "1", "--no-progress"});
+  EXPECT_EQ(no_workers, 1);
+  EXPECT_NE(why.find("only 0 of 1 workers joined in 1 s"), std::string::npos) << why;
+  EXPECT_NE(why.find("mtg worker --bus"), std::string::npos) << why;
+
+  const auto [nobody, said] = run({testing::bin("mtg"), "status", "--bus", url, "--listen", "0.5"});
+  EXPECT_EQ(nobody, 1);
+  EXPECT_NE(said.find("nothing heard on udpm://239.255.76.67:7667"), std::string::npos) << said;
+
+  const auto [same_bus, told] = run({testing::bin("mtg"), "worker", "--bus", url, "--local-url", url});
+  EXPECT_EQ(same_bus, 1);
+  EXPECT_NE(told.find("must differ from the shared bus"), std::string::npos) << told;
+
+  const auto [bad_url, error] = run({testing::bin("mtg"), "worker", "--bus", "udpm://not-an-address:1?ttl=1"});
+  EXPECT_EQ(bad_url, 1);
+  EXPECT_NE(error.find("not-an-address"), std::string::npos) << error;
 }
 
 }  // namespace
