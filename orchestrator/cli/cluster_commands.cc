@@ -3,8 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -15,6 +15,7 @@
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/run_info_t.hpp"
+#include "services/common/faults.h"
 
 namespace mtg::cli {
 
@@ -29,11 +30,7 @@ int run_worker(WorkerCliOptions o) {
   if (w.dir.empty()) w.dir = (std::filesystem::current_path() / "mtg-worker").string();
   w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
   w.vlm_args = o.vlm.to_args();
-  if (const char* faults = std::getenv("MTG_FAULTS")) {
-    const std::string f(faults);
-    const auto at = f.find("drop_chunk:");
-    if (at != std::string::npos) w.drop_chunk_every = std::atoi(f.c_str() + at + 11);
-  }
+  w.drop_chunk_every = std::max(0, services::fault_setting("drop_chunk"));
   return orchestrator::remote::run_worker(w);
 }
 

@@ -2,10 +2,10 @@
 
 #include <signal.h>
 
-#include <fstream>
 #include <thread>
 
 #include "agents/vlm/model_spec.h"
+#include "core/util/atomic_file.h"
 #include "bus/channels.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
@@ -26,16 +26,12 @@ double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::ste
   return std::chrono::duration<double>(b - a).count();
 }
 
-// Written under a temporary name and renamed, so a killed coordinator never leaves half a file.
-void write_atomically(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
+// The bytes as they are, written whole or not at all (a killed coordinator leaves no half file).
+void write_bytes(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
   fs::create_directories(file.parent_path());
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  write_file_atomically(file, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw Error(tmp.string() + ": cannot write the episode recording (disk full?)");
-  }
-  fs::rename(tmp, file);
+  });
 }
 
 }  // namespace
@@ -134,10 +130,14 @@ std::vector<AdoptedAttempt> LeaseLauncher::open() {
   return adopted;
 }
 
+bool LeaseLauncher::heard_lately(const Worker& w) const {
+  return seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s;
+}
+
 int LeaseLauncher::live_workers() const {
   int n = 0;
   for (const auto& [id, w] : workers_) {
-    if (w.capacity > 0 && seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s) ++n;
+    if (w.capacity > 0 && heard_lately(w)) ++n;
   }
   return n;
 }
@@ -151,7 +151,7 @@ int LeaseLauncher::held_by(const std::string& worker) const {
 int LeaseLauncher::free_slots() const {
   int free = 0;
   for (const auto& [id, w] : workers_) {
-    if (seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s) free += std::max(0, w.capacity - held_by(id));
+    if (heard_lately(w)) free += std::max(0, w.capacity - held_by(id));
   }
   return free;
 }
@@ -181,7 +181,7 @@ void LeaseLauncher::launch(const mtg::episode_start_t& start) {
   std::string best;
   int best_free = 0;
   for (const auto& [id, w] : workers_) {
-    if (seconds_between(w.last_seen, Clock::now()) >= options_.lease_ttl_s) continue;
+    if (!heard_lately(w)) continue;
     const int free = w.capacity - held_by(id);
     if (free > best_free) {
       best = id;
@@ -247,7 +247,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
     a.chunks = ChunkAssembly();
     return;
   }
-  write_atomically(episode_log_path(dir_, id, attempt), bytes);
+  write_bytes(episode_log_path(dir_, id, attempt), bytes);
   const mtg::episode_result_t result = *a.result;
   const std::string worker = a.worker;
   arrivals_.erase(key);

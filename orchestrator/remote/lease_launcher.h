@@ -77,6 +77,8 @@ class LeaseLauncher final : public Launcher {
 
   void subscribe();
   void announce(const std::string& state);
+  /// A worker heard from within the lease ttl.
+  bool heard_lately(const Worker& w) const;
   int live_workers() const;
   int held_by(const std::string& worker) const;
   void send_lease(const std::string& action, std::int64_t episode_id, int attempt, const std::string& worker,

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <vector>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "orchestrator/remote/episode_log.h"
 #include "orchestrator/run/results_db.h"
@@ -27,15 +28,11 @@ std::int64_t merge_recordings(const fs::path& run_dir) {
     auto events = decode_event_log(bytes, file.string());
     merged.insert(merged.end(), std::make_move_iterator(events.begin()), std::make_move_iterator(events.end()));
   }
-  const fs::path out = run_dir / "bus-merged.lcmlog";
-  const fs::path tmp = run_dir / "bus-merged.lcmlog.tmp";  // not *.lcmlog: readers never see it half written
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    const auto bytes = encode_event_log(merged);
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!f) throw Error(tmp.string() + ": cannot write the merged recording");
-  }
-  fs::rename(tmp, out);
+  // Built as bus-merged.lcmlog.partial, which readers of *.lcmlog never pick up half written.
+  const auto bytes = encode_event_log(merged);
+  write_file_atomically(run_dir / "bus-merged.lcmlog", [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  });
   return static_cast<std::int64_t>(merged.size());
 }
 

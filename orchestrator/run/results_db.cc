@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <set>
 
 #include "core/util/error.h"
 
@@ -138,13 +139,6 @@ bool ResultsDb::insert(const EpisodeRow& r) {
   q.bind(25, std::int64_t{r.cache_hits}).bind(26, r.prompt_version).bind(27, r.worker);
   q.run();
   return db_->changes() > 0;
-}
-
-std::set<std::int64_t> ResultsDb::finished() const {
-  store::Statement q(*db_, "SELECT episode_id FROM episodes");
-  std::set<std::int64_t> out;
-  while (q.step()) out.insert(q.column_int(0));
-  return out;
 }
 
 std::vector<EpisodeRow> ResultsDb::rows() const { return select_rows(*db_); }

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -53,7 +52,6 @@ class ResultsDb {
   ~ResultsDb();
   /// Inserts unless the episode already has a row; returns whether it did.
   bool insert(const EpisodeRow& row);
-  std::set<std::int64_t> finished() const;
   std::vector<EpisodeRow> rows() const;
   const std::filesystem::path& file() const { return file_; }
 

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <deque>
 #include <set>
-#include <thread>
 
 #include "bus/convert.h"
 #include "bus/header.h"
@@ -43,14 +42,18 @@ class Engine final : public LaunchSink {
     const auto started = Clock::now();
     RunSummary summary;
     summary.planned = static_cast<std::int64_t>(plan_.episodes.size());
-    const std::set<std::int64_t> finished = results_.finished();
+    // One read of what earlier invocations finished: what to skip, and the counts so far.
+    std::set<std::int64_t> finished;
+    for (const auto& row : results_.rows()) {
+      finished.insert(row.episode_id);
+      count(row);
+    }
     summary.already_done = static_cast<std::int64_t>(finished.size());
     for (const auto& e : plan_.episodes) {
       if (finished.count(e.id) == 0) pending_.push_back(e.id);
       by_id_[e.id] = &e;
     }
     counts_.planned = summary.planned;
-    for (const auto& row : results_.rows()) count(row);
     if (pending_.empty()) {
       summary.seconds = seconds_since(started);
       return summary;

@@ -18,13 +18,13 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 
 void on_signal(int) { g_stop_signal = 1; }
 
+}  // namespace
+
 std::string host_name() {
   char buf[256] = {0};
   if (gethostname(buf, sizeof(buf) - 1) != 0) return "unknown";
   return buf;
 }
-
-}  // namespace
 
 void install_stop_signals() {
   std::signal(SIGINT, on_signal);

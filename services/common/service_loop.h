@@ -43,6 +43,9 @@ void install_stop_signals();
 /// Whether SIGINT/SIGTERM arrived since install_stop_signals().
 bool stop_signal_received();
 
+/// This machine's host name ("unknown" if it has none).
+std::string host_name();
+
 /// "<role>:<host>:<pid>", unique per process.
 std::string sender_id(const std::string& role);
 

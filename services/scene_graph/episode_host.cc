@@ -1,8 +1,5 @@
 #include "services/scene_graph/episode_host.h"
 
-#include <cstdlib>
-#include <sstream>
-
 #include "bus/channels.h"
 #include "bus/convert.h"
 #include "core/episode/state_json.h"
@@ -13,22 +10,14 @@
 #include "mtg/error_event_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/state_update_t.hpp"
+#include "services/common/faults.h"
 
 namespace mtg::services {
 
 FaultInjection FaultInjection::from_env() {
   FaultInjection f;
-  const char* env = std::getenv("MTG_FAULTS");
-  if (env == nullptr) return f;
-  std::stringstream in(env);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const auto colon = item.find(':');
-    if (colon == std::string::npos) continue;
-    const int step = std::atoi(item.c_str() + colon + 1);
-    if (item.compare(0, colon, "drop_state") == 0) f.drop_state_step = step;
-    if (item.compare(0, colon, "dup_state") == 0) f.duplicate_state_step = step;
-  }
+  f.drop_state_step = fault_setting("drop_state");
+  f.duplicate_state_step = fault_setting("dup_state");
   return f;
 }
 

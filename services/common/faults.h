@@ -1,0 +1,12 @@
+#pragma once
+// Test hooks: MTG_FAULTS="<name>:<n>,<name>:<n>,..." asks a process to misbehave on purpose
+// (drop or duplicate a message, lose a chunk) so the tests can see recovery end to end.
+
+#include <string_view>
+
+namespace mtg::services {
+
+/// The number given for `name` in $MTG_FAULTS, or -1 when it is not named.
+int fault_setting(std::string_view name);
+
+}  // namespace mtg::services
