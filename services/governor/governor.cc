@@ -22,11 +22,9 @@ void Governor::on_message(const mtg::rate_limit_t& m) {
   Bucket& b = buckets_[m.bucket];
   if (m.action == "request") {
     // The window is kept a little longer than the provider's: a grant reaches the provider some
-    // milliseconds later, and not every grant equally late -- on a loaded machine, or from
-    // another host, a few hundred ms (5 %, at least 250 ms, at most 1 s).
+    // milliseconds later, and not every grant equally late (5 %, at most 1 s).
     const int window = m.window_ms > 0 ? m.window_ms : 60000;
-    const int margin = std::clamp(window / 20, 250, 1000);
-    b.limits = RateLimits{m.rpm, m.tpm, std::chrono::milliseconds(window + margin)};
+    b.limits = RateLimits{m.rpm, m.tpm, std::chrono::milliseconds(window + std::min(window / 20, 1000))};
     if (granted_.count(key) != 0) {
       grant(m, 0);  // the grant was lost: the same permit again
     } else if (queued_.emplace(key, RateClock::now()).second) {

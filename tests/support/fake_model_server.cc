@@ -1,5 +1,7 @@
 #include "tests/support/fake_model_server.h"
 
+#include <sys/socket.h>
+
 #include <httplib.h>
 
 #include <algorithm>
@@ -197,8 +199,17 @@ FakeModelServer::FakeModelServer(const std::string& address) : impl_(std::make_u
   // Headers and body go out in separate writes: with Nagle on, the body waits for the client's
   // delayed ACK (40 ms per call on Linux), which would be charged to the adapter.
   impl_->server.set_tcp_nodelay(true);
+  // cpp-httplib listens with a backlog of 5: eight adapters connecting at once overflow it, and
+  // the kernel answers the overflow with a SYN-ACK retransmit one second later, so a granted
+  // call reaches the server a second late. The socket is kept to listen again with room.
+  int listening = -1;
+  impl_->server.set_socket_options([&listening](socket_t sock) {
+    httplib::default_socket_options(sock);
+    listening = sock;
+  });
   port_ = impl_->server.bind_to_any_port(address);
   if (port_ <= 0) throw std::runtime_error("fake model server: cannot bind " + address);
+  if (::listen(listening, SOMAXCONN) != 0) throw std::runtime_error("fake model server: cannot listen on " + address);
   impl_->thread = std::thread([this] { impl_->server.listen_after_bind(); });
   while (!impl_->server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
