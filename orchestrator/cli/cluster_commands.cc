@@ -31,6 +31,7 @@ int run_worker(WorkerCliOptions o) {
   w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
   w.vlm_args = o.vlm.to_args();
   w.drop_chunk_every = std::max(0, services::fault_setting("drop_chunk"));
+  w.hold_results = services::fault_setting("hold_results") > 0;
   return orchestrator::remote::run_worker(w);
 }
 

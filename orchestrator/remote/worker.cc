@@ -30,11 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string host_name() {
-  char buf[256] = {0};
-  return gethostname(buf, sizeof(buf) - 1) == 0 ? std::string(buf) : std::string("unknown");
-}
-
 // Forwards one channel between two buses unchanged. Each bus echoes what is published on it
 // back to its own subscribers, so a forwarded message is remembered and not sent back.
 class Bridge {
@@ -58,7 +53,7 @@ class Bridge {
 class Worker final : public LaunchSink {
  public:
   explicit Worker(WorkerOptions options)
-      : options_(std::move(options)), host_(options_.name.empty() ? host_name() : options_.name),
+      : options_(std::move(options)), host_(options_.name.empty() ? services::host_name() : options_.name),
         shared_(options_.bus_url), stamp_("", services::sender_id("worker")) {
     if (options_.capacity < 1) throw Error("mtg worker: --capacity must be at least 1");
     shared_.subscribe<mtg::run_info_t>(bus::kRunInfo, [this](const std::string&, const mtg::run_info_t& m) {
@@ -290,6 +285,7 @@ class Worker final : public LaunchSink {
   }
 
   void finalize_finished() {
+    if (options_.hold_results) finished_.clear();
     for (const mtg::episode_result_t& result : finished_) {
       const std::int64_t id = result.header.episode_id;
       const int attempt = result.header.attempt;

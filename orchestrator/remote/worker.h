@@ -31,6 +31,9 @@ struct WorkerOptions {
   /// Test hook (MTG_FAULTS="drop_chunk:<n>"): the first sending of a recording skips every n-th
   /// chunk, as a lossy network would, so the coordinator must wait for the resend.
   int drop_chunk_every = 0;
+  /// Test hook (MTG_FAULTS="hold_results:1"): finished attempts are never sent back, so the
+  /// leases stay held until the host dies -- a host that crashes before delivering.
+  bool hold_results = false;
 };
 
 /// Runs until SIGINT/SIGTERM (or after one run with `once`). @throws mtg::Error.
