@@ -11,6 +11,7 @@ namespace mtg::episode {
 namespace {
 
 constexpr double kEps = 1e-9;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double segment_distance(const geom::Point2& p, const geom::Point2& a, const geom::Point2& b) {
   return (geom::closest_on_segment(a, b, p) - p).norm();
@@ -29,34 +30,90 @@ Eigen::AlignedBox2d box_in(const geom::Ring& ring_W, const Eigen::Isometry2d& X_
   return geom::bounds(geom::transform(ring_W, X_PW));
 }
 
-// Centre c (in P) lies in direction `dir` of box a, up to the limit box.
-bool in_direction(const Eigen::AlignedBox2d& a, int dir, const geom::Point2& c) {
-  const bool across_x = c.x() > a.min().x() && c.x() < a.max().x();
-  const bool across_y = c.y() > a.min().y() && c.y() < a.max().y();
-  const bool below_y = c.y() < a.min().y(), above_y = c.y() > a.max().y();
-  const bool below_x = c.x() < a.min().x(), above_x = c.x() > a.max().x();
-  switch (dir) {
-    case 0: return across_x && below_y;
-    case 1: return below_x && below_y;
-    case 2: return below_x && across_y;
-    case 3: return below_x && above_y;
-    case 4: return across_x && above_y;
-    case 5: return above_x && above_y;
-    case 6: return above_x && across_y;
-    default: return above_x && below_y;
-  }
+// The footprint-centre positions (in P) of a direction of box a: beyond its edge and within its
+// extent across (sides), or beyond both edges (corners). Unbounded away from the anchor.
+Eigen::AlignedBox2d direction_box(const Eigen::AlignedBox2d& a, int dir) {
+  // Per direction, the interval along x and along y: -1 below the box, 0 across it, +1 above it.
+  static constexpr int kSpan[8][2] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
+  auto interval = [](double lo, double hi, int span) {
+    return span < 0 ? Eigen::Vector2d(-kInf, lo) : span > 0 ? Eigen::Vector2d(hi, kInf) : Eigen::Vector2d(lo, hi);
+  };
+  const Eigen::Vector2d x = interval(a.min().x(), a.max().x(), kSpan[dir][0]);
+  const Eigen::Vector2d y = interval(a.min().y(), a.max().y(), kSpan[dir][1]);
+  return {Eigen::Vector2d(x[0], y[0]), Eigen::Vector2d(x[1], y[1])};
 }
 
-bool in_corridor(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b, const geom::Point2& c) {
-  // Separated along x, overlapping across y.
+// The corridor between two boxes: between their facing edges and within the overlap of their
+// extents across. Empty when they overlap or their extents across do not.
+Eigen::AlignedBox2d corridor_box(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b) {
   const double lo_y = std::max(a.min().y(), b.min().y()), hi_y = std::min(a.max().y(), b.max().y());
   const double lo_x = std::max(a.min().x(), b.min().x()), hi_x = std::min(a.max().x(), b.max().x());
   const double gap_x0 = std::min(a.max().x(), b.max().x()), gap_x1 = std::max(a.min().x(), b.min().x());
-  if (gap_x1 > gap_x0 && hi_y > lo_y && c.x() > gap_x0 && c.x() < gap_x1 && c.y() > lo_y && c.y() < hi_y) {
-    return true;
-  }
+  if (gap_x1 > gap_x0 && hi_y > lo_y) return {Eigen::Vector2d(gap_x0, lo_y), Eigen::Vector2d(gap_x1, hi_y)};
   const double gap_y0 = std::min(a.max().y(), b.max().y()), gap_y1 = std::max(a.min().y(), b.min().y());
-  return gap_y1 > gap_y0 && hi_x > lo_x && c.y() > gap_y0 && c.y() < gap_y1 && c.x() > lo_x && c.x() < hi_x;
+  if (gap_y1 > gap_y0 && hi_x > lo_x) return {Eigen::Vector2d(lo_x, gap_y0), Eigen::Vector2d(hi_x, gap_y1)};
+  return {};
+}
+
+// How far c lies inside the open box (<= 0 when outside or the box is empty).
+double inside_by(const Eigen::AlignedBox2d& box, const geom::Point2& c) {
+  if (box.isEmpty()) return 0.0;
+  return std::min({c.x() - box.min().x(), box.max().x() - c.x(), c.y() - box.min().y(), box.max().y() - c.y()});
+}
+
+bool side_dependent(GoalType type) { return type == GoalType::kSurfacePart || type == GoalType::kDirection; }
+
+bool on_destination(const WorldState& s, const AtomicGoal& goal) {
+  return goal.item >= 0 && s.held != goal.item && s.objects[static_cast<std::size_t>(goal.item)].parent == goal.platform;
+}
+
+// What a goal asks of the item's footprint centre, as a box in the destination frame P, for the
+// box goals (part, direction, between). `applies` is false when a named anchor is not there.
+struct CentreBox {
+  bool applies = false;
+  Eigen::AlignedBox2d box_P;
+};
+
+CentreBox centre_box(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal, graph::Side side) {
+  auto anchor_here = [&](int a) { return a >= 0 && s.objects[static_cast<std::size_t>(a)].parent == goal.platform; };
+  const Eigen::Isometry2d X_PW = platform_frame(g, s, goal.platform).inverse();
+  auto anchor_box = [&](int a) { return box_in(s.objects[static_cast<std::size_t>(a)].footprint, X_PW); };
+  switch (goal.type) {
+    case GoalType::kSurfacePart:
+      return {true, graph::grid_cell_rect(g.platforms[static_cast<std::size_t>(goal.platform)],
+                                          graph::platform_direction(goal.direction, side))};
+    case GoalType::kDirection:
+      if (!anchor_here(goal.anchor)) return {};
+      return {true, direction_box(anchor_box(goal.anchor), graph::platform_direction(goal.direction, side))};
+    case GoalType::kBetween:
+      if (!anchor_here(goal.anchor) || !anchor_here(goal.anchor2)) return {};
+      return {true, corridor_box(anchor_box(goal.anchor), anchor_box(goal.anchor2))};
+    case GoalType::kSurface:
+    case GoalType::kAround:
+      break;
+  }
+  MTG_DEMAND(false, std::string("centre_box of a ") + to_string(goal.type) + " goal");
+  return {};
+}
+
+// The goal's margin for the item standing on the destination, named from `side`.
+double margin_from(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal, graph::Side side,
+                   const GoalOptions& options) {
+  const ObjectState& item = s.objects[static_cast<std::size_t>(goal.item)];
+  switch (goal.type) {
+    case GoalType::kSurface:
+      return kInf;
+    case GoalType::kAround: {
+      const ObjectState& anchor = s.objects[static_cast<std::size_t>(goal.anchor)];
+      if (anchor.parent != goal.platform) return 0.0;
+      return options.around_distance - footprint_gap(item.footprint, anchor.footprint);
+    }
+    default: {
+      const CentreBox box = centre_box(g, s, goal, side);
+      if (!box.applies) return 0.0;
+      return inside_by(box.box_P, platform_frame(g, s, goal.platform).inverse() * footprint_centre(item));
+    }
+  }
 }
 
 int find_or_throw(const graph::SceneGraph& g, const nlohmann::json& j, const char* key, bool platform) {
@@ -66,6 +123,19 @@ int find_or_throw(const graph::SceneGraph& g, const nlohmann::json& j, const cha
   if (idx < 0) throw Error(std::string("goal: ") + key + " '" + name + "' is not in scene " + g.scene);
   return idx;
 }
+
+std::vector<int> objects_from_json(const graph::SceneGraph& g, const nlohmann::json& jp, const char* key) {
+  std::vector<int> out;
+  for (const auto& name : jp.value(key, std::vector<std::string>{})) {
+    const int o = g.find_object(name);
+    if (o < 0) throw Error("outcome goal: object '" + name + "' is not in scene " + g.scene);
+    out.push_back(o);
+  }
+  return out;
+}
+
+constexpr SetPredicate::Op kAllOps[] = {SetPredicate::Op::kAllOn, SetPredicate::Op::kNoneOn, SetPredicate::Op::kNear,
+                                        SetPredicate::Op::kTogether, SetPredicate::Op::kAnyPairNear};
 
 }  // namespace
 
@@ -94,6 +164,7 @@ const char* to_string(SetPredicate::Op op) {
     case SetPredicate::Op::kNoneOn: return "none_on";
     case SetPredicate::Op::kNear: return "near";
     case SetPredicate::Op::kTogether: return "together";
+    case SetPredicate::Op::kAnyPairNear: return "any_pair_near";
   }
   return "?";
 }
@@ -117,63 +188,82 @@ double footprint_gap(const geom::Ring& a, const geom::Ring& b) {
 
 bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
                     const GoalOptions& options) {
-  if (goal.item < 0 || s.held == goal.item) return false;
-  const ObjectState& item = s.objects[static_cast<std::size_t>(goal.item)];
-  if (item.parent != goal.platform) return false;
-  const Eigen::Isometry2d X_PW = platform_frame(g, s, goal.platform).inverse();
-  const geom::Point2 c_P = X_PW * footprint_centre(item);
-  const auto side = static_cast<graph::Side>(std::max(0, item.placed_side));
-  auto anchor_here = [&](int a) {
-    return a >= 0 && s.objects[static_cast<std::size_t>(a)].parent == goal.platform;
-  };
-  switch (goal.type) {
-    case GoalType::kSurface:
-      return true;
-    case GoalType::kSurfacePart: {
-      const int dir = graph::platform_direction(goal.direction, side);
-      return graph::grid_cell_rect(g.platforms[static_cast<std::size_t>(goal.platform)], dir).contains(c_P);
-    }
-    case GoalType::kAround:
-      return anchor_here(goal.anchor) &&
-             footprint_gap(item.footprint, s.objects[static_cast<std::size_t>(goal.anchor)].footprint) <=
-                 options.around_distance;
-    case GoalType::kDirection: {
-      if (!anchor_here(goal.anchor)) return false;
-      const int dir = graph::platform_direction(goal.direction, side);
-      return in_direction(box_in(s.objects[static_cast<std::size_t>(goal.anchor)].footprint, X_PW), dir, c_P);
-    }
-    case GoalType::kBetween:
-      return anchor_here(goal.anchor) && anchor_here(goal.anchor2) &&
-             in_corridor(box_in(s.objects[static_cast<std::size_t>(goal.anchor)].footprint, X_PW),
-                         box_in(s.objects[static_cast<std::size_t>(goal.anchor2)].footprint, X_PW), c_P);
+  return goal_margin(g, s, goal, options) > 0.0;
+}
+
+double goal_margin(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                   const GoalOptions& options) {
+  if (!on_destination(s, goal)) return 0.0;
+  const int placed_side = s.objects[static_cast<std::size_t>(goal.item)].placed_side;
+  if (side_dependent(goal.type) && placed_side < 0) return 0.0;  // never placed: no side to name from
+  return std::max(0.0, margin_from(g, s, goal, static_cast<graph::Side>(std::max(0, placed_side)), options));
+}
+
+bool goal_met_from_any_side(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                            const GoalOptions& options) {
+  if (!on_destination(s, goal)) return false;
+  if (!side_dependent(goal.type)) return margin_from(g, s, goal, graph::Side::kRear, options) > 0.0;
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(goal.platform)];
+  for (const graph::Side side : graph::kSides) {
+    // Only where the robot can stand: no one names directions from elsewhere.
+    const bool usable = p.sides[static_cast<std::size_t>(side)].usable() || static_cast<int>(side) == p.default_side;
+    if (usable && margin_from(g, s, goal, side, options) > 0.0) return true;
   }
   return false;
+}
+
+geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                           graph::Side side, const geom::Ring& item_rel_P, const GoalOptions& options) {
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(goal.platform)];
+  const geom::Region bounds = geom::rectangle(p.box_P.min(), p.box_P.max());
+  switch (goal.type) {
+    case GoalType::kSurface:
+      return bounds;
+    case GoalType::kAround: {
+      const ObjectState& anchor = s.objects[static_cast<std::size_t>(goal.anchor)];
+      if (anchor.parent != goal.platform) return {};
+      const Eigen::Isometry2d X_PW = platform_frame(g, s, goal.platform).inverse();
+      const geom::Region anchor_P = geom::from_ring(geom::transform(anchor.footprint, X_PW));
+      return geom::intersect(
+          geom::dilate(geom::offset(anchor_P, options.around_distance), geom::mirrored(item_rel_P)), bounds);
+    }
+    default: {
+      const CentreBox box = centre_box(g, s, goal, side);
+      if (!box.applies) return {};
+      const Eigen::AlignedBox2d clipped = box.box_P.intersection(p.box_P);
+      if (clipped.isEmpty() || (clipped.sizes().array() <= 0.0).any()) return {};
+      return geom::rectangle(clipped.min(), clipped.max());
+    }
+  }
 }
 
 bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const SetPredicate& p,
                          const GoalOptions& options) {
   auto on = [&](int o) { return s.held == o ? -1 : furniture_platform_of(g, s, o); };
+  auto near = [&](int a, int b) {
+    return a != b && on(a) >= 0 && on(a) == on(b) &&
+           footprint_gap(s.objects[static_cast<std::size_t>(a)].footprint,
+                         s.objects[static_cast<std::size_t>(b)].footprint) <= options.around_distance;
+  };
+  auto listed = [](const std::vector<int>& list, int v) { return std::find(list.begin(), list.end(), v) != list.end(); };
   switch (p.op) {
     case SetPredicate::Op::kAllOn:
-      return std::all_of(p.objects.begin(), p.objects.end(), [&](int o) {
-        return std::find(p.platforms.begin(), p.platforms.end(), on(o)) != p.platforms.end();
-      });
+      return std::all_of(p.objects.begin(), p.objects.end(), [&](int o) { return listed(p.platforms, on(o)); });
     case SetPredicate::Op::kNoneOn:
-      return std::none_of(p.objects.begin(), p.objects.end(), [&](int o) {
-        return s.held == o || std::find(p.platforms.begin(), p.platforms.end(), on(o)) != p.platforms.end();
-      });
-    case SetPredicate::Op::kNear: {
-      if (p.objects.size() != 2) return false;
-      const int a = p.objects[0], b = p.objects[1];
-      return on(a) >= 0 && on(a) == on(b) &&
-             footprint_gap(s.objects[static_cast<std::size_t>(a)].footprint,
-                           s.objects[static_cast<std::size_t>(b)].footprint) <= options.around_distance;
-    }
+      return std::none_of(p.objects.begin(), p.objects.end(),
+                          [&](int o) { return s.held == o || listed(p.platforms, on(o)); });
+    case SetPredicate::Op::kNear:
+      return p.objects.size() == 2 && near(p.objects[0], p.objects[1]);
     case SetPredicate::Op::kTogether: {
       if (p.objects.empty()) return true;
       const int first = on(p.objects.front());
       return first >= 0 && std::all_of(p.objects.begin(), p.objects.end(), [&](int o) { return on(o) == first; });
     }
+    case SetPredicate::Op::kAnyPairNear:
+      return std::any_of(p.objects.begin(), p.objects.end(), [&](int a) {
+        return listed(p.platforms, on(a)) &&
+               std::any_of(p.objects2.begin(), p.objects2.end(), [&](int b) { return near(a, b); });
+      });
   }
   return false;
 }
@@ -213,16 +303,29 @@ AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::jso
     }
     if (goal.direction < 0) throw Error("goal: unknown direction '" + d + "'");
   }
+  const bool needs_anchor = goal.type == GoalType::kAround || goal.type == GoalType::kDirection ||
+                            goal.type == GoalType::kBetween;
+  if (needs_anchor && goal.anchor < 0) throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'anchor'");
+  if (goal.type == GoalType::kBetween && goal.anchor2 < 0) throw Error("goal: a between goal needs 'anchor2'");
+  if (side_dependent(goal.type) && goal.direction < 0) {
+    throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'direction'");
+  }
   return goal;
 }
 
 nlohmann::json to_json(const graph::SceneGraph& g, const OutcomeGoal& goal) {
+  auto names = [&](const std::vector<int>& objects) {
+    std::vector<std::string> out;
+    for (const int o : objects) out.push_back(g.objects[static_cast<std::size_t>(o)].name);
+    return out;
+  };
   nlohmann::json all = nlohmann::json::array();
   for (const SetPredicate& p : goal.all) {
-    std::vector<std::string> objects, platforms;
-    for (const int o : p.objects) objects.push_back(g.objects[static_cast<std::size_t>(o)].name);
+    std::vector<std::string> platforms;
     for (const int q : p.platforms) platforms.push_back(g.platforms[static_cast<std::size_t>(q)].name);
-    all.push_back({{"op", to_string(p.op)}, {"objects", objects}, {"platforms", platforms}});
+    nlohmann::json jp = {{"op", to_string(p.op)}, {"objects", names(p.objects)}, {"platforms", platforms}};
+    if (!p.objects2.empty()) jp["objects2"] = names(p.objects2);
+    all.push_back(std::move(jp));
   }
   return {{"all", all}};
 }
@@ -233,20 +336,12 @@ OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::j
   for (const auto& jp : j["all"]) {
     SetPredicate p;
     const std::string op = jp.value("op", "");
-    bool known = false;
-    for (const auto candidate : {SetPredicate::Op::kAllOn, SetPredicate::Op::kNoneOn,
-                                 SetPredicate::Op::kNear, SetPredicate::Op::kTogether}) {
-      if (op == to_string(candidate)) {
-        p.op = candidate;
-        known = true;
-      }
-    }
-    if (!known) throw Error("outcome goal: unknown op '" + op + "'");
-    for (const auto& name : jp.value("objects", std::vector<std::string>{})) {
-      const int o = g.find_object(name);
-      if (o < 0) throw Error("outcome goal: object '" + name + "' is not in scene " + g.scene);
-      p.objects.push_back(o);
-    }
+    const auto* known = std::find_if(std::begin(kAllOps), std::end(kAllOps),
+                                     [&](SetPredicate::Op candidate) { return op == to_string(candidate); });
+    if (known == std::end(kAllOps)) throw Error("outcome goal: unknown op '" + op + "'");
+    p.op = *known;
+    p.objects = objects_from_json(g, jp, "objects");
+    p.objects2 = objects_from_json(g, jp, "objects2");
     for (const auto& name : jp.value("platforms", std::vector<std::string>{})) {
       const int q = g.find_platform(name);
       if (q < 0) throw Error("outcome goal: platform '" + name + "' is not in scene " + g.scene);

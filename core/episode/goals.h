@@ -5,15 +5,20 @@
 //
 // Atomic goals (Levels 1-3), with the item standing on `platform`, not held:
 //   surface       anywhere on the platform
-//   surface_part  footprint centre in the named 3x3 cell (named from where the robot stood when
-//                 it placed the item: "front" is the part farthest from it)
+//   surface_part  footprint centre strictly inside the named 3x3 cell
 //   around        footprint within around_distance of the anchor's footprint
-//   direction     footprint centre in the anchor's named direction: beyond the anchor's edge and
-//                 within its extent across (sides), or beyond both edges (corners), up to the
-//                 platform's bounds; named from where the robot stood
-//   between       footprint centre in the corridor between the two anchors: between their facing
-//                 edges and within the overlap of their extents across
-// Outcome goals (Level 4) are conjunctions of set predicates (all_on, none_on, near, together).
+//   direction     footprint centre strictly in the anchor's named direction: beyond the anchor's
+//                 edge and within its extent across (sides), or beyond both edges (corners)
+//   between       footprint centre strictly in the corridor between the two anchors: between
+//                 their facing edges and within the overlap of their extents across
+//
+// Direction convention (docs/episode.md): parts and directions are egocentric at placement,
+// named from the side the robot stood at when it put the item down ("front" is the part
+// farthest from it, "left" its left). An item the episode never placed has no such side, so a
+// surface_part or direction goal about it does not hold: no task is won without acting.
+//
+// Outcome goals (Level 4) are conjunctions of set predicates (all_on, none_on, near, together,
+// any_pair_near).
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -48,12 +53,38 @@ struct AtomicGoal {
 bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
                     const GoalOptions& options = {});
 
+/// Whether the goal would hold as the item stands now, named from any side of its platform where
+/// the robot can stand: the agent could then meet it by putting the item back where it was, so
+/// the generator never asks for it (the triviality test).
+bool goal_met_from_any_side(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                            const GoalOptions& options = {});
+
+/// How far (m) the item's footprint centre could move in any direction, in the plane of its
+/// platform, before the goal stops holding: 0 when it does not hold, +inf for a surface goal.
+/// Robust tasks place the item well inside their goal (docs/tasks.md, "Robust placements").
+double goal_margin(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                   const GoalOptions& options = {});
+
+/// The footprint-centre positions (destination platform frame) where the goal would hold for an
+/// item of footprint `item_rel_P` (relative to its footprint centre, in platform axes) placed
+/// from `side`; clipped to the platform's bounding box. "around" is approximated with a mitred
+/// offset. Used for the feasible-area rule of task generation.
+geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
+                           graph::Side side, const geom::Ring& item_rel_P, const GoalOptions& options = {});
+
 /// Level 4: a set predicate over objects and platforms.
+///   all_on         every object stands on one of `platforms` (at any depth)
+///   none_on        no object stands on (or is held above) any of `platforms`
+///   near           the two objects stand on one platform within around_distance
+///   together       all objects stand on one platform
+///   any_pair_near  some object of `objects` and some of `objects2` stand side by side (within
+///                  around_distance) on one of `platforms`: "one cup next to one plate"
 struct SetPredicate {
-  enum class Op { kAllOn, kNoneOn, kNear, kTogether };
+  enum class Op { kAllOn, kNoneOn, kNear, kTogether, kAnyPairNear };
   Op op = Op::kAllOn;
   std::vector<int> objects;
   std::vector<int> platforms;  // all_on: any of these; none_on: none of these
+  std::vector<int> objects2;   // any_pair_near: the second group
 };
 const char* to_string(SetPredicate::Op op);
 

@@ -95,8 +95,10 @@ Verdict EpisodeJudge::verdict() const {
   const bool goal_met = task_goal_satisfied(g_, replica_, goal_, options_);
   const bool ended_by_agent = end_reason_ == "call_end";
   v.success = done_ && ended_by_agent && goal_met;
+  // A part is done when the agent carried its item to the destination (milestone 3) and the
+  // goal holds there now; only then may the stage say "placed".
   for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
-    const bool ok = goal_satisfied(g_, replica_, goal_.parts[k], options_);  // false while held
+    const bool ok = reached_[k] == 3 && goal_satisfied(g_, replica_, goal_.parts[k], options_);  // false while held
     v.part_success.push_back(ok);
     v.part_ip.push_back(part_points(k, ok));
   }
@@ -105,12 +107,13 @@ Verdict EpisodeJudge::verdict() const {
     v.detail = "goal reached and call_end";
     return v;
   }
-  // Stage: the first part that is not complete decides (Level 3 fails at its first failing part).
+  // Stage: the first part that is not done decides (Level 3 fails at its first failing part).
   std::size_t failing = 0;
   while (failing < goal_.parts.size() && v.part_success[failing]) ++failing;
+  const bool all_parts_done = failing == goal_.parts.size();
   if (goal_.is_outcome) {
     v.stage = goal_met ? "placed" : (v.ip > 0 ? "destination" : "start");
-  } else if (failing == goal_.parts.size()) {
+  } else if (all_parts_done) {
     v.stage = "placed";
   } else {
     v.stage = kStages[reached_[failing]];
@@ -127,6 +130,9 @@ Verdict EpisodeJudge::verdict() const {
     v.cause = "no_call_end";  // the goal held but the agent never called call_end
   } else if (goal_.is_outcome) {
     v.cause = step_limit ? "step_limit" : "outcome_unmet";
+  } else if (all_parts_done) {
+    // Every item is where it belongs, but the episode ended with something in hand.
+    v.cause = step_limit ? "step_limit" : "early_end";
   } else {
     const std::size_t k = failing;
     const int r = reached_[k];

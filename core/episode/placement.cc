@@ -46,8 +46,6 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
       t.platform_dir = dir;
       t.region_P = cells[static_cast<std::size_t>(dir)].region_P;
       t.aim_P = cells[static_cast<std::size_t>(dir)].rect_P.center();
-      t.description = std::string("place it in the ") + graph::direction_name(rel) +
-                      " part of the platform (grid cell " + t.key + ")";
       out.push_back(std::move(t));
     }
   } else {
@@ -66,10 +64,7 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
         t.platform_dir = dir;
         t.anchor = obstacles[k].object;
         t.region_P = r.region_P;
-        t.aim_P = aim_on_box(obstacles[k].box_P, dir);
-        t.description = std::string("place it in free space ") + t.key + ": " +
-                        graph::direction_name(rel) + " of the " +
-                        display_name(g.objects[static_cast<std::size_t>(t.anchor)]);
+          t.aim_P = aim_on_box(obstacles[k].box_P, dir);
         out.push_back(std::move(t));
       }
     }
@@ -78,9 +73,12 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
   any.key = kAnywhereKey;
   any.region_P = p.polygon_P;
   any.aim_P = geom::centroid(p.polygon_P);
-  any.description = "place it anywhere on the platform where it fits";
   out.push_back(std::move(any));
   return out;
+}
+
+void with_insets(std::vector<PlaceTarget>& targets) {
+  for (PlaceTarget& t : targets) t.region_inset_P = geom::offset(t.region_P, -kPlacementInset);
 }
 
 geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform) {
@@ -92,18 +90,29 @@ geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int
   return out;
 }
 
-geom::Region held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform) {
+FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform) {
   const graph::Platform& p = g.platforms.at(static_cast<std::size_t>(platform));
   const geom::Region free =
       graph::feasible_positions(p, obstacles_on(g, s, platform), held_footprint_P(g, s, platform));
-  return free.empty() ? free : geom::offset(free, -kMargin);
+  FeasibleCentres out;
+  if (free.empty()) return out;
+  out.all = geom::offset(free, -kMargin);
+  if (!out.all.empty()) out.inset = geom::offset(out.all, -kPlacementInset);
+  return out;
 }
 
 std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
                                               int platform, const PlaceTarget& target,
-                                              const geom::Region& feasible_centres) {
-  const geom::Region candidates = geom::intersect(feasible_centres, target.region_P);
-  if (candidates.empty() || geom::area(candidates) < 1e-10) return std::nullopt;
+                                              const FeasibleCentres& feasible_centres) {
+  // Erosion distributes over intersection: the inset candidates are the inset pieces' overlap.
+  const auto usable = [](const geom::Region& r) { return !r.empty() && geom::area(r) >= 1e-10; };
+  geom::Region candidates = geom::intersect(
+      feasible_centres.inset,
+      target.region_inset_P ? *target.region_inset_P : geom::offset(target.region_P, -kPlacementInset));
+  if (!usable(candidates)) {
+    candidates = geom::intersect(feasible_centres.all, target.region_P);
+    if (!usable(candidates)) return std::nullopt;
+  }
   const geom::Point2 centre_P = geom::closest_point(candidates, target.aim_P);
   const Eigen::Vector2d centre_W = platform_frame(g, s, platform) * centre_P;
   // Reference point = centre minus the centre's offset from the object's origin.

@@ -12,7 +12,9 @@
 // A target resolves to the position nearest its aim point (the cell's centre; the middle of the
 // anchor's edge or its corner, so the object ends up next to the anchor; the platform's centre)
 // where the object's footprint centre lies in the target region, the footprint inside the
-// platform and clear of every other object (1 mm margin).
+// platform and clear of every other object (1 mm margin); of those positions, only ones at least
+// kPlacementInset inside the region are used when there are any, so a placement never grazes an
+// edge.
 
 #include <optional>
 #include <string>
@@ -24,6 +26,10 @@
 namespace mtg::episode {
 
 inline constexpr const char* kAnywhereKey = "999";
+/// A target puts the footprint centre at least this far (m) inside its free region when the
+/// region allows, so a placement never sits on the edge of the goal it was meant for (a
+/// sub-millimetre difference must not change a verdict: docs/tasks.md, "Robust placements").
+inline constexpr double kPlacementInset = 0.012;
 
 struct PlaceTarget {
   enum class Kind { kGridCell, kObjectRegion, kAnywhere };
@@ -33,25 +39,36 @@ struct PlaceTarget {
   int platform_dir = -1;   // in the platform frame
   int anchor = -1;         // object of an object region
   geom::Region region_P;   // where the footprint centre must land (platform frame)
+  /// region_P kPlacementInset smaller on every side; computed by resolve_target when absent
+  /// (callers that resolve one target many times fill it once: with_insets()).
+  std::optional<geom::Region> region_inset_P;
   geom::Point2 aim_P = geom::Point2::Zero();
-  std::string description; // for the action space
 };
 
 /// Targets offered on `platform` for a robot standing at `side`.
 std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, int platform,
                                        graph::Side side, double min_region_size);
 
+/// Fills every target's region_inset_P.
+void with_insets(std::vector<PlaceTarget>& targets);
+
 /// The held object's footprint relative to its footprint centre, in the platform's axes.
 geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform);
 
-/// Footprint-centre positions (platform frame) where the held object fits on `platform`.
-geom::Region held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform);
+/// Footprint-centre positions (platform frame) where the held object fits on `platform`, and
+/// those at least kPlacementInset inside them.
+struct FeasibleCentres {
+  geom::Region all;
+  geom::Region inset;
+  bool empty() const { return all.empty(); }
+};
+FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform);
 
 /// The world position of the held object's reference point if `target` can take it, using the
 /// precomputed feasible centres (held_feasible_centres); nullopt when the region is too small.
 std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
                                               int platform, const PlaceTarget& target,
-                                              const geom::Region& feasible_centres);
+                                              const FeasibleCentres& feasible_centres);
 
 /// Short display name of an object for the agent: template without instance id, spaced
 /// ("kitchen utensil 09"), so identical objects read the same (the Level 2 ambiguity).

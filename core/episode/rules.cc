@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 namespace mtg::episode {
 namespace {
@@ -17,6 +18,47 @@ const graph::Platform& current(const graph::SceneGraph& g, const WorldState& s) 
 std::string platform_title(const graph::SceneGraph& g, int platform) {
   const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
   return p.name + " (" + graph::navigation_key(p.label) + ")";
+}
+
+// What a placement target offers, in the words of the action space.
+std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t, const RuleOptions& options) {
+  switch (t.kind) {
+    case PlaceTarget::Kind::kGridCell:
+      return std::string("place it in the ") + graph::direction_name(t.relative_dir) + " part of the platform (grid cell " +
+             t.key + ")";
+    case PlaceTarget::Kind::kObjectRegion:
+      return std::string("place it in free space ") + t.key + ": " + graph::direction_name(t.relative_dir) + " of " +
+             (options.object_names ? "the " + display_name(g.objects[static_cast<std::size_t>(t.anchor)])
+                                   : std::string("the object it is drawn next to"));
+    case PlaceTarget::Kind::kAnywhere:
+      break;
+  }
+  return "place it anywhere on the platform where it fits";
+}
+
+// Where an object stands on the platform the robot is at, as the robot sees it: centimetres
+// left/right of and near/far from the platform's centre, or what it rests on.
+std::string object_place(const graph::SceneGraph& g, const WorldState& s, int object,
+                         const std::vector<int>& numbering) {
+  const ObjectState& o = s.objects[static_cast<std::size_t>(object)];
+  const auto& siblings = objects_on(s, s.at_platform);
+  if (std::find(siblings.begin(), siblings.end(), object) == siblings.end()) {
+    for (std::size_t k = 0; k < numbering.size(); ++k) {
+      for (const int p : g.objects[static_cast<std::size_t>(numbering[k])].platforms) {
+        if (p == o.parent) return "on object " + std::to_string(k + 1);
+      }
+    }
+    return "on another object";
+  }
+  const geom::Point2 c_P = platform_frame(g, s, s.at_platform).inverse() * footprint_centre(o);
+  const auto side = static_cast<graph::Side>(s.side);
+  auto along = [&](int relative_dir) {  // unit vector of a robot-relative direction, in P
+    static const Eigen::Vector2d kDir[8] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
+    return kDir[graph::platform_direction(relative_dir, side)];
+  };
+  const double right = c_P.dot(along(6)), far = c_P.dot(along(4));
+  auto cm = [](double m) { return std::to_string(static_cast<long>(std::lround(std::abs(m) * 100.0))) + " cm "; };
+  return cm(right) + (right < 0 ? "left" : "right") + ", " + cm(far) + (far < 0 ? "near" : "far");
 }
 
 void end(WorldState& s, StepOutcome& out, const char* reason) {
@@ -48,7 +90,7 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
     out.push_back({"0", "call_end: finish the task now"});
     for (const PlaceTarget& t : place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
                                               options.min_region_size)) {
-      out.push_back({t.key, t.description});
+      out.push_back({t.key, target_description(g, t, options)});
     }
     return out;
   }
@@ -60,9 +102,9 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
   if (s.phase == Phase::kAtPlatform && s.held < 0) {
     const auto objects = pickable_on(g, s, s.at_platform);
     for (std::size_t k = 0; k < objects.size(); ++k) {
-      out.push_back({"o" + std::to_string(k + 1),
-                     "pick up object " + std::to_string(k + 1) + " (" +
-                         display_name(g.objects[static_cast<std::size_t>(objects[k])]) + ")"});
+      std::string what = "pick up object " + std::to_string(k + 1);
+      if (options.object_names) what += " (" + display_name(g.objects[static_cast<std::size_t>(objects[k])]) + ")";
+      out.push_back({"o" + std::to_string(k + 1), std::move(what)});
     }
   }
   for (std::size_t k = 0; k < g.navigable.size(); ++k) {
@@ -129,11 +171,19 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
       out.applied = true;
     }
   } else if (key == "startplace") {
-    s.phase = Phase::kPlacing;
-    out.applied = true;
+    const double height = stack_height(g, s, s.held);
+    const double clearance = current(g, s).clearance;
+    if (height > clearance) {
+      auto cm = [](double m) { return std::to_string(static_cast<long>(std::lround(m * 100.0))) + " cm"; };
+      out.hint = "what you hold is " + cm(height) + " tall with what stands on it, and this platform has " +
+                 cm(clearance) + " of free height; choose another platform";
+    } else {
+      s.phase = Phase::kPlacing;
+      out.applied = true;
+    }
   } else {  // a placement target
     const auto it = std::find_if(targets.begin(), targets.end(), [&](const PlaceTarget& t) { return t.key == key; });
-    const geom::Region feasible = held_feasible_centres(g, s, s.at_platform);
+    const FeasibleCentres feasible = held_feasible_centres(g, s, s.at_platform);
     const auto xy = resolve_target(g, s, s.at_platform, *it, feasible);
     if (!xy) {
       out.hint = "the object does not fit in " + std::string(key == kAnywhereKey ? "any free space of this platform"
@@ -150,7 +200,12 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
   return out;
 }
 
-std::string situation_text(const graph::SceneGraph& g, const WorldState& s) {
+const char* direction_convention() {
+  return "Directions and parts are named from where you stand when you place the object: front is the part "
+         "farthest from you, rear the part nearest you, left and right are your left and right.";
+}
+
+std::string situation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options) {
   std::string text;
   if (s.at_platform < 0) {
     text = "You are at the start position and have not gone to any platform yet.";
@@ -159,7 +214,8 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s) {
            " side of platform " + platform_title(g, s.at_platform) + ".";
   }
   if (s.held >= 0) {
-    text += " You hold the " + display_name(g.objects[static_cast<std::size_t>(s.held)]) + ".";
+    text += options.object_names ? " You hold the " + display_name(g.objects[static_cast<std::size_t>(s.held)]) + "."
+                                 : " You hold an object (shown in the close-up image).";
   } else {
     text += " Your hand is empty.";
   }
@@ -167,19 +223,25 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s) {
     const auto objects = pickable_on(g, s, s.at_platform);
     if (objects.empty()) {
       text += " There is nothing you can pick up on this platform.";
+    } else if (!options.object_names) {
+      text += objects.size() == 1 ? " One object here can be picked up: object 1 (numbered in the image)."
+                                  : " Objects 1 to " + std::to_string(objects.size()) +
+                                        " here can be picked up (numbered in the image).";
     } else {
-      text += " On this platform:";
+      text += " On this platform (where each stands from its centre, as you face it):";
       for (std::size_t k = 0; k < objects.size(); ++k) {
         text += std::string(k ? "," : "") + " object " + std::to_string(k + 1) + " " +
-                display_name(g.objects[static_cast<std::size_t>(objects[k])]);
+                display_name(g.objects[static_cast<std::size_t>(objects[k])]) + " [" +
+                object_place(g, s, objects[k], objects) + "]";
       }
       text += ".";
     }
   }
   if (s.phase == Phase::kPlacing) {
     text += objects_on(s, s.at_platform).empty()
-                ? " The platform is empty: choose one of its nine parts, named from where you stand."
-                : " Choose a numbered free space next to an object (directions named from where you stand).";
+                ? " The platform is empty: choose one of its nine parts."
+                : " Choose a numbered free space next to an object.";
+    text += std::string(" ") + direction_convention();
   }
   return text;
 }

@@ -7,7 +7,8 @@
 //                    o1..oM pick object M (hand empty), startplace (holding)
 //   placing          0, 1..K the numbered targets (placement.h), 999 anywhere it fits
 // An invalid or unavailable key consumes the step and returns a hint; so does a target too
-// small for the object (the robot keeps holding it and stays in placing). The episode ends on
+// small for the object (the robot keeps holding it and stays in placing) and `startplace` under
+// a clearance lower than the held object together with what rests on it. The episode ends on
 // call_end or when the step limit is used up.
 
 #include <string>
@@ -22,6 +23,11 @@ namespace mtg::episode {
 struct RuleOptions {
   int step_limit = 15;
   double min_region_size = 0.03;
+  /// Name objects in the action space and the situation text ("pick up object 3 (cup 01)") and
+  /// say where each stands. Off, keys are the paper's ("pick up object 3") and an object is known
+  /// by its number in the image only. On is for agents that get no images (docs/episode.md,
+  /// "What the agent is told").
+  bool object_names = false;
 };
 
 struct ActionOption {
@@ -54,7 +60,11 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
                          const TaskConstraints& constraints, const RuleOptions& options);
 
 /// Where the robot stands and what it holds and sees, in plain English.
-std::string situation_text(const graph::SceneGraph& g, const WorldState& s);
+std::string situation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options);
+
+/// The direction convention as the agent is told it (system prompt, placing text): one sentence,
+/// the same rule the judge applies (goals.h) and the placement targets number (placement.h).
+const char* direction_convention();
 
 /// True when `key` belongs to the vocabulary at all (l<N>, o<N>, digits, -1, startplace).
 bool is_action_key(std::string_view key);

@@ -51,6 +51,23 @@ const std::vector<int>& objects_on(const WorldState& s, int platform) {
   return s.children.at(static_cast<std::size_t>(platform));
 }
 
+std::vector<int> everything_on(const graph::SceneGraph& g, const WorldState& s, int platform) {
+  std::vector<int> out;
+  std::vector<int> stack(s.children.at(static_cast<std::size_t>(platform)).rbegin(),
+                         s.children.at(static_cast<std::size_t>(platform)).rend());
+  while (!stack.empty()) {
+    const int o = stack.back();
+    stack.pop_back();
+    out.push_back(o);
+    const auto& owned = g.objects[static_cast<std::size_t>(o)].platforms;
+    for (auto p = owned.rbegin(); p != owned.rend(); ++p) {
+      const auto& on = s.children[static_cast<std::size_t>(*p)];
+      stack.insert(stack.end(), on.rbegin(), on.rend());
+    }
+  }
+  return out;
+}
+
 Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, int platform) {
   const Eigen::Vector3d& t = s.platform_offset[static_cast<std::size_t>(platform)];
   return Eigen::Translation2d(t.head<2>()) * g.platforms[static_cast<std::size_t>(platform)].X_WP;
@@ -97,6 +114,22 @@ void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const E
   placed.placed_side = s.side;
   s.children[static_cast<std::size_t>(platform)].push_back(object);  // appended: numbers shift
   s.held = -1;
+}
+
+double stack_height(const graph::SceneGraph& g, const WorldState& s, int object) {
+  const double bottom = s.objects.at(static_cast<std::size_t>(object)).bottom;
+  double top = s.objects[static_cast<std::size_t>(object)].top;
+  std::vector<int> stack = {object};
+  while (!stack.empty()) {
+    const int o = stack.back();
+    stack.pop_back();
+    top = std::max(top, s.objects[static_cast<std::size_t>(o)].top);
+    for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
+      const auto& on = s.children[static_cast<std::size_t>(p)];
+      stack.insert(stack.end(), on.begin(), on.end());
+    }
+  }
+  return top - bottom;
 }
 
 int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object) {

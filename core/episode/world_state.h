@@ -48,6 +48,10 @@ geom::Point2 footprint_centre(const ObjectState& o);
 /// Objects directly on `platform` (items and scenery): the obstacles for placing there.
 const std::vector<int>& objects_on(const WorldState& s, int platform);
 
+/// Everything resting on `platform`, directly or on other objects (depth first, direct children
+/// in order).
+std::vector<int> everything_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+
 /// Obstacles of `platform` in its frame, in the current state.
 std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, int platform);
 
@@ -62,6 +66,11 @@ void pick(const graph::SceneGraph& g, WorldState& s, int object);
 /// Puts the held object on `platform` with its reference point (the object-frame origin) at
 /// `xy` (world), its bottom on the surface; records the side used. Descendants move along.
 void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const Eigen::Vector2d& xy);
+
+/// Height of `object` together with everything resting on it (what is carried along when it is
+/// picked): the highest top in its subtree minus its own bottom. This is what must fit under a
+/// destination's clearance.
+double stack_height(const graph::SceneGraph& g, const WorldState& s, int object);
 
 /// The platform an object is (transitively) on that is owned by furniture, or -1.
 int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object);

@@ -255,6 +255,16 @@ Point2 closest_point(const Region& region, const Point2& p) {
   return best;
 }
 
+double distance_to_boundary(const Region& region, const Point2& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& ring : region.rings) {
+    for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+      best = std::min(best, (closest_on_segment(ring[i], ring[(i + 1) % n], p) - p).norm());
+    }
+  }
+  return best;
+}
+
 Point2 centroid(const Region& region) {
   double a = 0.0;
   Point2 c = Point2::Zero();

@@ -55,6 +55,8 @@ std::vector<Region> components(const Region& region);
 Point2 closest_on_segment(const Point2& a, const Point2& b, const Point2& p);
 /// The point of the region nearest to p (p itself when inside). Requires a non-empty region.
 Point2 closest_point(const Region& region, const Point2& p);
+/// Distance from p to the nearest edge of the region (+inf for an empty region).
+double distance_to_boundary(const Region& region, const Point2& p);
 /// Area centroid of the region.
 Point2 centroid(const Region& region);
 

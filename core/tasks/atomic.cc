@@ -1,17 +1,21 @@
 #include "core/tasks/atomic.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
 #include "core/episode/placement.h"
 #include "core/graph/free_space.h"
+#include "core/tasks/identify.h"
 
 namespace mtg::tasks {
 namespace {
 
 using episode::AtomicGoal;
 using episode::GoalType;
+
+constexpr double kPi = 3.14159265358979323846;
 
 struct AnchorInfo {
   int object;
@@ -28,21 +32,6 @@ std::string goal_key(const AtomicGoal& goal) {
     key += '|';
   }
   return key;
-}
-
-std::vector<int> all_on(const graph::SceneGraph& g, const episode::WorldState& s, int platform) {
-  std::vector<int> out;
-  std::vector<int> stack = episode::objects_on(s, platform);
-  while (!stack.empty()) {
-    const int o = stack.back();
-    stack.pop_back();
-    out.push_back(o);
-    for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
-      const auto& on = episode::objects_on(s, p);
-      stack.insert(stack.end(), on.begin(), on.end());
-    }
-  }
-  return out;
 }
 
 // Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
@@ -100,20 +89,8 @@ void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2&
 
 }  // namespace
 
-bool ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, int object, int platform,
-               Ambiguity rule, int ignore) {
-  auto key = [&](int o) {
-    const graph::GraphObject& obj = g.objects[static_cast<std::size_t>(o)];
-    return rule == Ambiguity::kCategory && !obj.category.empty() ? obj.category : obj.short_name;
-  };
-  const std::string mine = key(object);
-  int same = 0;
-  for (const int o : all_on(g, s, platform)) same += o != object && o != ignore && key(o) == mine ? 1 : 0;
-  return same > 0;
-}
-
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
-                                         const TaskOptions& options, const AtomicFilter& filter) {
+                                         const TaskOptions& options, const AtomicFilter& filter, DropCounts* dropped) {
   std::vector<AtomicTask> out;
   auto wanted = [](const std::vector<int>& list, int v) {
     return list.empty() || std::find(list.begin(), list.end(), v) != list.end();
@@ -122,6 +99,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
     std::vector<episode::PlaceTarget> t = episode::place_targets(g, placing, pd, side, options.rules.min_region_size);
     std::stable_partition(t.begin(), t.end(),
                           [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
+    episode::with_insets(t);
     return t;
   };
   // Placement targets of each destination as the initial state offers them; shared (not copied)
@@ -144,26 +122,41 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
       held.side = g.platforms[static_cast<std::size_t>(ps)].default_side;
       held.phase = episode::Phase::kAtPlatform;
       episode::pick(g, held, item);
-      const double item_height = held.objects[static_cast<std::size_t>(item)].top -
-                                 held.objects[static_cast<std::size_t>(item)].bottom;
+      const double own_height = held.objects[static_cast<std::size_t>(item)].top -
+                                held.objects[static_cast<std::size_t>(item)].bottom;
+      const double carried_height = episode::stack_height(g, held, item);
       std::set<std::string> seen;
+      std::map<std::string, std::pair<AtomicGoal, const char*>> rejected;  // goal key -> why
       for (std::size_t dst_label = 0; dst_label < g.navigable.size(); ++dst_label) {
         const int pd = g.navigable[dst_label];
         if (!wanted(filter.destinations, pd)) continue;
         const graph::Platform& dest = g.platforms[static_cast<std::size_t>(pd)];
-        if (item_height > dest.clearance) continue;
+        if (own_height > dest.clearance) continue;
+        // Taller with what rests on it: the goals are counted, never offered.
+        const bool too_tall = carried_height > dest.clearance;
         episode::WorldState placing = held;
         placing.at_platform = pd;
         placing.side = dest.default_side;
         placing.phase = episode::Phase::kPlacing;
         const auto side = static_cast<graph::Side>(dest.default_side);
-        const geom::Region feasible = episode::held_feasible_centres(g, placing, pd);
+        const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, placing, pd);
         if (feasible.empty()) continue;
         const bool from_here = episode::objects_on(placing, pd) != episode::objects_on(s, pd);
         std::vector<episode::PlaceTarget> own_targets;
         if (from_here) own_targets = build_targets(placing, pd, side);
         const std::vector<episode::PlaceTarget>& targets =
             from_here ? own_targets : cached_targets_for(placing, pd, side);
+        const geom::Ring item_rel_P = episode::held_footprint_P(g, placing, pd);
+        // At least min_goal_area of centre positions meet the goal and fit. A disk of that area
+        // around the placement, inside both, settles it without clipping polygons.
+        const auto roomy = [&](const AtomicGoal& goal, double margin, const geom::Point2& c_P) {
+          const double r = std::sqrt(options.min_goal_area / kPi);
+          if (margin >= r && geom::contains(feasible.all, c_P) && geom::distance_to_boundary(feasible.all, c_P) >= r) {
+            return true;
+          }
+          const geom::Region goal_P = episode::goal_region_P(g, placing, goal, side, item_rel_P, options.goals);
+          return geom::area(geom::intersect(goal_P, feasible.all)) >= options.min_goal_area;
+        };
         // Anchors: everything on the destination now, in the frame of the platform.
         const Eigen::Isometry2d X_PW = episode::platform_frame(g, placing, pd).inverse();
         std::vector<AnchorInfo> anchors;
@@ -200,20 +193,54 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
           for (const AtomicGoal& goal : goals) {
             std::string key = goal_key(goal);
             if (seen.count(key) != 0) continue;
-            if (!episode::goal_satisfied(g, placed, goal, options.goals)) continue;  // the judge decides
+            const double margin = episode::goal_margin(g, placed, goal, options.goals);
+            if (margin <= 0.0) continue;  // not a goal of this placement: the judge decides
+            const char* why = nullptr;
+            if (too_tall) {
+              why = "stack";
+            } else if (episode::goal_met_from_any_side(g, s, goal, options.goals)) {
+              why = "trivial";
+            } else if (margin < options.min_margin) {
+              why = "fragile";
+            } else if (!roomy(goal, margin, c_P)) {
+              why = "small_area";
+            }
+            if (why != nullptr) {
+              rejected.emplace(key, std::make_pair(goal, why));  // another key may still achieve it
+              continue;
+            }
             seen.insert(key);
             AtomicTask task;
             task.goal = goal;
             task.key = std::move(key);
             task.oracle = {graph::navigation_key(static_cast<int>(src_label) + 1), "o" + std::to_string(k + 1),
                            graph::navigation_key(static_cast<int>(dst_label) + 1), "startplace", t.key};
+            task.place_xy = *xy;
+            task.placed_at = moved.position;
+            task.margin = margin;
             out.push_back(std::move(task));
           }
+        }
+      }
+      if (dropped == nullptr) continue;
+      for (const auto& [key, why] : rejected) {
+        if (seen.count(key) == 0) {
+          dropped->add(why.second, has_lookalikes(g, s, why.first, options.ambiguity) ? 2 : 1);
         }
       }
     }
   }
   return out;
+}
+
+void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task) {
+  const graph::Platform& dest = g.platforms[static_cast<std::size_t>(task.goal.platform)];
+  episode::pick(g, s, task.goal.item);
+  s.at_platform = task.goal.platform;
+  s.side = dest.default_side;
+  episode::place_held(g, s, task.goal.platform, task.place_xy);
+  s.phase = episode::Phase::kAtPlatform;
+  s.steps += static_cast<int>(task.oracle.size());
 }
 
 bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task,

@@ -6,6 +6,10 @@
 // moves (go to the source, pick, go to the destination, startplace) and resolves every offered
 // placement key with the same code the runtime uses; a goal becomes a task only when the judge's
 // predicate accepts the resulting state, and the keys that got there are its oracle plan.
+// It must also be worth asking and robust (docs/tasks.md): the goal does not hold already, seen
+// from any side; the placement lies at least options.min_margin inside the goal; the item's
+// centre has at least options.min_goal_area of positions that meet the goal and fit; the item
+// with everything resting on it fits under the destination's clearance.
 
 #include <string>
 #include <vector>
@@ -20,6 +24,9 @@ struct AtomicTask {
   episode::AtomicGoal goal;
   std::vector<std::string> oracle;  // l<src>, o<k>, l<dst>, startplace, <target> (no call_end)
   std::string key;                  // canonical identity: item + goal (no duplicates per set)
+  Eigen::Vector2d place_xy = Eigen::Vector2d::Zero();   // where the plan's target resolved (world xy)
+  Eigen::Vector3d placed_at = Eigen::Vector3d::Zero();  // world position the oracle puts the item at
+  double margin = 0.0;              // m its footprint centre lies inside the goal there
 };
 
 struct AtomicFilter {
@@ -29,17 +36,21 @@ struct AtomicFilter {
 
 /// All atomic tasks of state `s` (nothing held), in a deterministic order: source platforms by
 /// label, items in o-order, destinations by label, placement keys in order.
+/// `dropped`, when given, counts the goals left out by the rules above (per level, by look-alikes).
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
-                                         const TaskOptions& options, const AtomicFilter& filter = {});
+                                         const TaskOptions& options, const AtomicFilter& filter = {},
+                                         DropCounts* dropped = nullptr);
+
+/// Leaves `s` as the task's oracle plan would, without replaying its keys: the item picked and
+/// put down where the plan's target resolved when the task was enumerated, the robot at the
+/// destination. Exact when `s` offers the same targets as the state the task was enumerated in
+/// (its source and destination unchanged since), which Level 3 guarantees.
+void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task);
 
 /// Plays an atomic task's oracle plan on `s` (which must be the state it was generated for or
 /// one where its keys still apply) with the episode rules; true when the goal then holds.
 bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task,
                  const TaskOptions& options);
 
-/// Whether `object` is not unique on furniture platform `platform` under the rule (objects on
-/// the platform and on things standing on it count; `ignore` is left out, e.g. the moved item).
-bool ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, int object, int platform,
-               Ambiguity rule, int ignore = -1);
 
 }  // namespace mtg::tasks

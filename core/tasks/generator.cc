@@ -7,6 +7,7 @@
 #include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 #include "core/tasks/atomic.h"
+#include "core/tasks/identify.h"
 #include "core/tasks/outcome.h"
 #include "core/tasks/phrasing.h"
 #include "core/tasks/sequential.h"
@@ -30,13 +31,15 @@ void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, T
   if (goal.direction >= 0) t.direction = graph::direction_name(goal.direction);
 }
 
-bool is_ambiguous(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& goal,
-                  Ambiguity rule) {
-  if (ambiguous(g, s, goal.item, goal.source, rule)) return true;
-  for (const int a : goal.anchors()) {
-    if (ambiguous(g, s, a, goal.platform, rule, goal.item)) return true;
-  }
-  return false;
+// Where the oracle puts an atomic part's item (Task::placements).
+nlohmann::json placement_json(const graph::SceneGraph& g, int part, const AtomicTask& a) {
+  return {{"part", part},
+          {"object", g.objects[static_cast<std::size_t>(a.goal.item)].name},
+          {"platform", g.platforms[static_cast<std::size_t>(a.goal.platform)].name},
+          {"x", a.placed_at.x()},
+          {"y", a.placed_at.y()},
+          {"z", a.placed_at.z()},
+          {"margin", a.margin}};
 }
 
 }  // namespace
@@ -92,34 +95,49 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
 
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
-  if (want_atomic) atomic = enumerate_atomic(g, initial, options);
+  const bool want_levels_1_2 = options.levels.count(1) || options.levels.count(2);
+  if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr);
 
-  for (const AtomicTask& a : atomic) {
-    const int level = is_ambiguous(g, initial, a.goal, options.ambiguity) ? 2 : 1;
-    if (options.levels.count(level) == 0) continue;
-    Task t;
-    t.level = level;
-    t.type = episode::to_string(a.goal.type);
-    t.text = atomic_text(g, a.goal, options.seed);
-    fill_columns(g, a.goal, t);
-    t.goal = {{"atomic", to_json(g, a.goal)}};
-    t.oracle = a.oracle;
-    t.oracle.push_back("0");
-    t.step_limit = options.rules.step_limit;
-    add(std::move(t));
+  if (want_levels_1_2) {
+    ReferenceMemo memo;  // every atomic task is named in the initial state
+    for (const AtomicTask& a : atomic) {
+      const auto words = identify(g, initial, a.goal, options.ambiguity, 0, &memo);
+      if (!words) {
+        set.dropped.add("unidentifiable", 2);
+        continue;
+      }
+      const int level = words->lookalikes.empty() ? 1 : 2;
+      if (options.levels.count(level) == 0) continue;
+      Task t;
+      t.level = level;
+      t.type = episode::to_string(a.goal.type);
+      t.text = atomic_text(g, a.goal, words->wording, options.seed);
+      fill_columns(g, a.goal, t);
+      t.goal = {{"atomic", to_json(g, a.goal)}};
+      t.identify = words->lookalikes;
+      t.placements.push_back(placement_json(g, 0, a));
+      t.oracle = a.oracle;
+      t.oracle.push_back("0");
+      t.step_limit = options.rules.step_limit;
+      add(std::move(t));
+    }
   }
 
   if (options.levels.count(3)) {
-    const auto sequences = generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings);
+    const auto sequences =
+        generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped);
     for (const Sequence& seq : sequences) {
       Task t;
       t.level = 3;
       t.type = "sequence";
       std::vector<std::string> texts;
       nlohmann::json parts = nlohmann::json::array();
-      for (const AtomicTask& p : seq.parts) {
-        texts.push_back(atomic_text(g, p.goal, options.seed));
+      for (std::size_t k = 0; k < seq.parts.size(); ++k) {
+        const AtomicTask& p = seq.parts[k];
+        texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
         parts.push_back(to_json(g, p.goal));
+        t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
+        t.placements.push_back(placement_json(g, static_cast<int>(k), p));
         t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
       }
       t.text = sequence_text(texts);
@@ -135,7 +153,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
     const auto templates = load_templates(options.level4_templates);
     // Candidates first (ids are fixed by their order), then every voter on all of them at once.
     std::vector<std::pair<std::string, Task>> candidates;
-    for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, set.warnings)) {
+    for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, set.warnings, set.dropped)) {
       Task t;
       t.level = 4;
       t.scene = g.scene;
@@ -143,6 +161,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
       t.template_id = o.tmpl->id;
       t.text = o.text;
       t.goal = {{"outcome", to_json(g, o.goal)}};
+      t.identify = std::move(o.identify);
       t.oracle = o.oracle;
       t.oracle.push_back("0");
       t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);

@@ -7,8 +7,10 @@
 
 #include "core/episode/placement.h"
 #include "core/episode/rules.h"
+#include "core/tasks/identify.h"
 #include "core/tasks/outcome_templates_embedded.h"
 #include "core/tasks/phrasing.h"
+#include "core/tasks/referring.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/json_file.h"
@@ -122,8 +124,7 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
     for (const int to : m.platforms) {
       const graph::Platform& dest = g.platforms[static_cast<std::size_t>(to)];
       if (dest.label == 0) continue;
-      const double h = s.objects[static_cast<std::size_t>(m.object)].top - s.objects[static_cast<std::size_t>(m.object)].bottom;
-      if (h > dest.clearance) continue;
+      if (episode::stack_height(g, s, m.object) > dest.clearance) continue;
       WorldState trial = s;
       const std::size_t mark = keys.size();
       if (!play(graph::navigation_key(dest.label)) || !play("startplace")) {
@@ -132,7 +133,7 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
         continue;
       }
       const auto targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size);
-      const geom::Region feasible = episode::held_feasible_centres(g, s, to);
+      const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to);
       for (const episode::PlaceTarget& t : targets) {
         const bool wanted = m.next_to >= 0 ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
         if (!wanted || !episode::resolve_target(g, s, to, t, feasible)) continue;
@@ -154,10 +155,18 @@ std::string category_text(const std::string& c) {
   return out;
 }
 
+// An object named in a text ("{object}"): its noun, a reference when it has look-alikes on its
+// platform, and the platform ("leftmost book from shelf_2"), with what those words pick out.
+struct NamedObject {
+  std::string words;
+  std::vector<int> selects;
+  std::vector<Identification> lookalikes;
+};
+
 class Instantiator {
  public:
-  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options)
-      : g_(g), s_(s), options_(options), f_(facts(g, s)) {}
+  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options, DropCounts& dropped)
+      : g_(g), s_(s), options_(options), dropped_(dropped), f_(facts(g, s)) {}
 
   void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
     tmpl_ = &t;
@@ -181,7 +190,55 @@ class Instantiator {
     return Rng(derive_seed(options_.seed, fnv1a64("L4/" + tmpl_->id + "/" + binding)));
   }
   std::string pname(int p) const { return g_.platforms[static_cast<std::size_t>(p)].name; }
-  std::string oname(int o) const { return episode::display_name(g_.objects[static_cast<std::size_t>(o)]); }
+  // Furniture by its instance name, as the platform names the agent reads spell it.
+  std::string furniture_name(int f) const { return g_.objects[static_cast<std::size_t>(f)].name; }
+  std::string category_key(int o) const {
+    const graph::GraphObject& obj = g_.objects[static_cast<std::size_t>(o)];
+    return obj.category.empty() ? obj.short_name : obj.category;
+  }
+
+  // What category words select, read from the scene rather than from the goal: every item of
+  // the category on `platform` (at any depth), or anywhere in the scene for platform -1.
+  std::vector<int> called(const std::string& cat, int platform) const {
+    std::vector<int> out;
+    if (platform >= 0) {
+      for (const int o : episode::pickable_on(g_, s_, platform)) {
+        if (category_key(o) == cat) out.push_back(o);
+      }
+      return out;
+    }
+    for (std::size_t i = 0; i < g_.objects.size(); ++i) {
+      if (g_.objects[i].pickable() && category_key(static_cast<int>(i)) == cat) out.push_back(static_cast<int>(i));
+    }
+    return out;
+  }
+
+  std::optional<NamedObject> name_object(int o) const {
+    const int platform = episode::furniture_platform_of(g_, s_, o);
+    if (platform < 0) return std::nullopt;
+    const auto ref = refer(g_, {&s_}, o, platform, options_.ambiguity);
+    if (!ref) return std::nullopt;
+    NamedObject named;
+    named.words = ref->phrase().substr(4) + " from " + pname(platform);  // without "the "
+    named.selects = resolve(g_, s_, platform, *ref, options_.ambiguity);
+    if (ref->relation != Relation::kAlone) {
+      named.lookalikes.push_back(make_identification(g_, 0, "object", o, platform, *ref));
+    }
+    return named;
+  }
+  // Names every object, or counts the binding as unidentifiable.
+  std::optional<std::vector<NamedObject>> name_objects(std::initializer_list<int> objects) {
+    std::vector<NamedObject> out;
+    for (const int o : objects) {
+      auto named = name_object(o);
+      if (!named) {
+        dropped_.add("unidentifiable", 4);
+        return std::nullopt;
+      }
+      out.push_back(std::move(*named));
+    }
+    return out;
+  }
   int max_moves() const { return options_.level4_max_moves; }
 
   std::vector<int> of_category_on(const std::string& cat, int platform) const {
@@ -214,9 +271,20 @@ class Instantiator {
   }
 
   // Fills the template, plans, verifies the goal with the judge's predicate, and keeps the task.
+  // `selects` holds what the text's words pick out, one set per object list of the goal's
+  // predicates (objects, then objects2 where used), computed from the words: the goal must ask
+  // for exactly those objects, or the text would not say which ones it wants.
   bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
-            const std::vector<Move>& moves) {
-    if (episode::outcome_satisfied(g_, s_, goal, options_.goals)) return false;  // nothing to do
+            const std::vector<Move>& moves, const std::vector<std::vector<int>>& selects,
+            std::vector<Identification> lookalikes = {}) {
+    if (!words_match(goal, selects)) {
+      dropped_.add("vague", 4);
+      return false;
+    }
+    if (episode::outcome_satisfied(g_, s_, goal, options_.goals)) {
+      dropped_.add("trivial", 4);
+      return false;
+    }
     auto plan = plan_moves(g_, s_, moves, options_);
     if (!plan || !episode::outcome_satisfied(g_, plan->after, goal, options_.goals)) return false;
     OutcomeTask task;
@@ -225,8 +293,25 @@ class Instantiator {
     for (const auto& [key, value] : values) replace_all(task.text, "{" + key + "}", value);
     task.goal = std::move(goal);
     task.oracle = std::move(plan->keys);
+    task.identify = std::move(lookalikes);
     out_->push_back(std::move(task));
     return true;
+  }
+
+  static bool words_match(const episode::OutcomeGoal& goal, const std::vector<std::vector<int>>& selects) {
+    auto same = [](std::vector<int> a, std::vector<int> b) {
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      return a == b;
+    };
+    std::size_t k = 0;
+    for (const SetPredicate& p : goal.all) {
+      for (const auto* list : {&p.objects, &p.objects2}) {
+        if (list == &p.objects2 && p.op != SetPredicate::Op::kAnyPairNear) continue;
+        if (k >= selects.size() || !same(*list, selects[k++])) return false;
+      }
+    }
+    return k == selects.size();
   }
 
   // Tries destinations in a seeded order until one gives a feasible plan.
@@ -239,7 +324,7 @@ class Instantiator {
   }
 
   static SetPredicate all_on(std::vector<int> objects, std::vector<int> platforms) {
-    return {SetPredicate::Op::kAllOn, std::move(objects), std::move(platforms)};
+    return {SetPredicate::Op::kAllOn, std::move(objects), std::move(platforms), {}};
   }
 
   void gather_category() {
@@ -253,7 +338,7 @@ class Instantiator {
           for (const int o : objs) moves.push_back({o, {dst}, -1});
           return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
                        {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
-                      {{all_on(objs, {dst})}}, moves);
+                      {{all_on(objs, {dst})}}, moves, {called(cat, src)});
         });
       }
     }
@@ -270,7 +355,7 @@ class Instantiator {
         }
         return emit({{"target", pname(dst)}, {"category", category_text(cat)},
                      {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
-                    {{all_on(objs, {dst})}}, moves);
+                    {{all_on(objs, {dst})}}, moves, {called(cat, -1)});
       });
     }
   }
@@ -289,7 +374,7 @@ class Instantiator {
       std::vector<Move> moves;
       for (const int o : direct) moves.push_back({o, targets, -1});
       emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}},
-           {{{SetPredicate::Op::kNoneOn, objs, {src}}}}, moves);
+           {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {episode::pickable_on(g_, s_, src)});
     }
   }
 
@@ -307,7 +392,7 @@ class Instantiator {
         for (const int o : objs) moves.push_back({o, targets, -1});
         emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural(category_text(cat))},
               {"count", std::to_string(objs.size())}},
-             {{{SetPredicate::Op::kNoneOn, objs, {src}}}}, moves);
+             {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {called(cat, src)});
       }
     }
   }
@@ -320,8 +405,10 @@ class Instantiator {
       rng.shuffle(pool);
       for (std::size_t k = 0; k + 1 < pool.size() && k < 2 * kSamples; k += 2) {
         const int a = pool[k], b = pool[k + 1];
-        emit({{"object", oname(a)}, {"object2", oname(b)}, {"target", pname(dst)}},
-             {{all_on({a, b}, {dst})}}, {{a, {dst}, -1}, {b, {dst}, -1}});
+        const auto named = name_objects({a, b});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}, {"target", pname(dst)}},
+             {{all_on({a, b}, {dst})}}, {{a, {dst}, -1}, {b, {dst}, -1}}, {united(*named)}, lookalikes(*named));
       }
     }
   }
@@ -335,8 +422,10 @@ class Instantiator {
       for (std::size_t k = 0; k < kSamples; ++k) {
         const int a = here[rng.uniform_index(here.size())];
         const int b = elsewhere[rng.uniform_index(elsewhere.size())];
-        emit({{"object", oname(a)}, {"object2", oname(b)}},
-             {{{SetPredicate::Op::kTogether, {a, b}, {}}}}, {{b, {src}, -1}});
+        const auto named = name_objects({a, b});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+             {{{SetPredicate::Op::kTogether, {a, b}, {}, {}}}}, {{b, {src}, -1}}, {united(*named)}, lookalikes(*named));
       }
     }
   }
@@ -355,8 +444,10 @@ class Instantiator {
         const auto& second = cats.at(names[1]);
         const int a = first[rng.uniform_index(first.size())];
         const int b = second[rng.uniform_index(second.size())];
+        // "one cup next to one plate": any cup and any plate will do, so the goal says so.
+        SetPredicate pair{SetPredicate::Op::kAnyPairNear, called(names[0], -1), {dst}, called(names[1], -1)};
         emit({{"target", pname(dst)}, {"category", category_text(names[0])}, {"category2", category_text(names[1])}},
-             {{all_on({a, b}, {dst}), {SetPredicate::Op::kNear, {b, a}, {}}}}, {{a, {dst}, -1}, {b, {dst}, a}});
+             {{pair}}, {{a, {dst}, -1}, {b, {dst}, a}}, {called(names[0], -1), called(names[1], -1)});
       }
     }
   }
@@ -376,7 +467,10 @@ class Instantiator {
       Rng rng = rng_for(g_.objects[static_cast<std::size_t>(f)].name);
       for (std::size_t k = 0; k < kSamples; ++k) {
         const int a = pool[rng.uniform_index(pool.size())];
-        emit({{"object", oname(a)}, {"furniture", oname(f)}}, {{all_on({a}, inner)}}, {{a, inner, -1}});
+        const auto named = name_objects({a});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"furniture", furniture_name(f)}}, {{all_on({a}, inner)}}, {{a, inner, -1}},
+             {united(*named)}, lookalikes(*named));
       }
     }
   }
@@ -398,7 +492,7 @@ class Instantiator {
           emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
                 {"category", category_text(cats[i])}, {"categories", plural(category_text(cats[i]))},
                 {"category2", category_text(cats[j])}, {"categories2", plural(category_text(cats[j]))}},
-               {{all_on(a, {t1}), all_on(b, {t2})}}, moves);
+               {{all_on(a, {t1}), all_on(b, {t2})}}, moves, {called(cats[i], src), called(cats[j], src)});
         }
       }
     }
@@ -426,9 +520,9 @@ class Instantiator {
         for (const int to : others) {
           std::vector<Move> moves;
           for (const int o : direct) moves.push_back({o, {to}, -1});
-          if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", oname(f)},
+          if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", furniture_name(f)},
                     {"count", std::to_string(objs.size())}},
-                   {{all_on(objs, {to})}}, moves)) {
+                   {{all_on(objs, {to})}}, moves, {episode::pickable_on(g_, s_, from)})) {
             break;
           }
         }
@@ -446,15 +540,31 @@ class Instantiator {
         const int anchor = here[rng.uniform_index(here.size())];
         const int a = elsewhere[rng.uniform_index(elsewhere.size())];
         if (s_.objects[static_cast<std::size_t>(anchor)].parent != dst) continue;  // needs its free spaces
-        emit({{"object", oname(a)}, {"object2", oname(anchor)}},
-             {{{SetPredicate::Op::kNear, {a, anchor}, {}}}}, {{a, {dst}, anchor}});
+        const auto named = name_objects({a, anchor});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+             {{{SetPredicate::Op::kNear, {a, anchor}, {}, {}}}}, {{a, {dst}, anchor}}, {united(*named)},
+             lookalikes(*named));
       }
     }
+  }
+
+  // What several named objects select together, and their look-alike records.
+  static std::vector<int> united(const std::vector<NamedObject>& named) {
+    std::vector<int> out;
+    for (const NamedObject& n : named) out.insert(out.end(), n.selects.begin(), n.selects.end());
+    return out;
+  }
+  static std::vector<Identification> lookalikes(const std::vector<NamedObject>& named) {
+    std::vector<Identification> out;
+    for (const NamedObject& n : named) out.insert(out.end(), n.lookalikes.begin(), n.lookalikes.end());
+    return out;
   }
 
   const graph::SceneGraph& g_;
   const WorldState& s_;
   const TaskOptions& options_;
+  DropCounts& dropped_;
   SceneFacts f_;
   const OutcomeTemplate* tmpl_ = nullptr;
   std::vector<OutcomeTask>* out_ = nullptr;
@@ -501,10 +611,10 @@ std::vector<OutcomeTemplate> load_templates(const std::string& source) {
 }
 
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
-                                           const std::vector<OutcomeTemplate>& templates,
-                                           const TaskOptions& options, std::vector<std::string>& warnings) {
+                                           const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
+                                           std::vector<std::string>& warnings, DropCounts& dropped) {
   std::vector<OutcomeTask> all;
-  Instantiator inst(g, initial, options);
+  Instantiator inst(g, initial, options, dropped);
   for (const OutcomeTemplate& t : templates) inst.run(t, all);
   // One task per goal: the first template that produced it keeps it.
   std::vector<OutcomeTask> out;

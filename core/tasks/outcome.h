@@ -9,14 +9,17 @@
 //   clear_category   no {category} stays on {source}                     none_on
 //   arrange_on       {object} and {object2} end on {target}              all_on
 //   together         {object} and {object2} end on one platform          together
-//   set_up           one {category} and one {category2} side by side on {target}   all_on + near
+//   set_up           one {category} and one {category2} side by side on {target}   any_pair_near
 //   put_away         {object} ends on an inner layer of {furniture}      all_on
 //   sort             {category} from {source} to {target}, {category2} to {target2}  all_on x2
 //   move_layer       everything on {layer} of {furniture} ends on {layer2}          all_on
 //   pair             {object} ends next to {object2}                     near
 //
 // Every template is instantiated against every platform (or furniture) that meets its kind's
-// requirements; object-level placeholders are drawn with the seed. The default feasibility check
+// requirements; object-level placeholders are drawn with the seed. An object placeholder reads
+// "<noun> from <platform>", with a reference when the object has look-alikes there ("leftmost
+// book from shelf_2"); a category placeholder means every item of that category in its scope,
+// and the goal must ask for exactly the objects the words pick out (checked for every task). The default feasibility check
 // is rule-based: a greedy plan (the agent's own keys, played with the episode rules) must reach
 // the goal within the step limit; recorded votes (feasibility.h) can veto tasks afterwards.
 
@@ -45,10 +48,15 @@ struct OutcomeTask {
   std::string text;
   episode::OutcomeGoal goal;
   std::vector<std::string> oracle;  // without call_end
+  std::vector<Identification> identify;  // named objects with look-alikes
 };
 
+/// Drops (DropCounts): "vague" when the words of a text pick out other objects than its goal's
+/// (e.g. "all the books in the house" while one book stands where the agent cannot go),
+/// "unidentifiable" when a named object has look-alikes no reference tells apart, "trivial" when
+/// the outcome already holds.
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
-                                           const std::vector<OutcomeTemplate>& templates,
-                                           const TaskOptions& options, std::vector<std::string>& warnings);
+                                           const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
+                                           std::vector<std::string>& warnings, DropCounts& dropped);
 
 }  // namespace mtg::tasks

@@ -2,7 +2,6 @@
 
 #include <array>
 
-#include "core/episode/placement.h"
 #include "core/graph/free_space.h"
 #include "core/util/hash.h"
 #include "core/util/rng.h"
@@ -10,32 +9,34 @@
 namespace mtg::tasks {
 namespace {
 
-// {item}, {source}, {target}, {anchor}, {anchor2}, {direction} are replaced.
+// {item}, {source}, {target}, {anchor}, {anchor2}, {direction} are replaced; objects come with
+// their article ("the book", "the leftmost book"). Sources always read "from <platform>", so an
+// "on" inside a reference ("the book on the box") is never mistaken for a destination.
 constexpr std::array<const char*, 4> kSurface = {
-    "Move the {item} from {source} to {target}.",
-    "Take the {item} on {source} and put it on {target}.",
-    "Pick up the {item} from {source} and place it on {target}.",
-    "Put the {item} that is on {source} onto {target}."};
+    "Move {item} from {source} to {target}.",
+    "Take {item} from {source} and put it on {target}.",
+    "Pick up {item} from {source} and place it on {target}.",
+    "Bring {item} from {source} to {target}."};
 constexpr std::array<const char*, 4> kSurfacePart = {
-    "Move the {item} from {source} to the {direction} part of {target}.",
-    "Put the {item} from {source} on the {direction} part of {target}.",
-    "Take the {item} on {source} and place it in the {direction} part of {target}.",
-    "Place the {item} from {source} onto {target}, in its {direction} part."};
+    "Move {item} from {source} to the {direction} part of {target}.",
+    "Put {item} from {source} on the {direction} part of {target}.",
+    "Take {item} from {source} and place it in the {direction} part of {target}.",
+    "Place {item} from {source} onto {target}, in its {direction} part."};
 constexpr std::array<const char*, 4> kAround = {
-    "Move the {item} from {source} next to the {anchor} on {target}.",
-    "Put the {item} from {source} beside the {anchor} on {target}.",
-    "Take the {item} on {source} and place it close to the {anchor} on {target}.",
-    "Place the {item} from {source} near the {anchor}, on {target}."};
+    "Move {item} from {source} next to {anchor} on {target}.",
+    "Put {item} from {source} beside {anchor} on {target}.",
+    "Take {item} from {source} and place it close to {anchor} on {target}.",
+    "Place {item} from {source} near {anchor}, on {target}."};
 constexpr std::array<const char*, 4> kDirection = {
-    "Move the {item} from {source} to the {direction} of the {anchor} on {target}.",
-    "Put the {item} from {source} on the {direction} side of the {anchor} on {target}.",
-    "Take the {item} on {source} and place it {direction} of the {anchor} on {target}.",
-    "Place the {item} from {source} to the {direction} of the {anchor}, on {target}."};
+    "Move {item} from {source} to the {direction} of {anchor} on {target}.",
+    "Put {item} from {source} on the {direction} side of {anchor} on {target}.",
+    "Take {item} from {source} and place it {direction} of {anchor} on {target}.",
+    "Place {item} from {source} to the {direction} of {anchor}, on {target}."};
 constexpr std::array<const char*, 4> kBetween = {
-    "Move the {item} from {source} between the {anchor} and the {anchor2} on {target}.",
-    "Put the {item} from {source} in between the {anchor} and the {anchor2} on {target}.",
-    "Take the {item} on {source} and place it between the {anchor} and the {anchor2} on {target}.",
-    "Place the {item} from {source} between the {anchor} and the {anchor2}, on {target}."};
+    "Move {item} from {source} between {anchor} and {anchor2} on {target}.",
+    "Put {item} from {source} in between {anchor} and {anchor2} on {target}.",
+    "Take {item} from {source} and place it between {anchor} and {anchor2} on {target}.",
+    "Place {item} from {source} between {anchor} and {anchor2}, on {target}."};
 
 }  // namespace
 
@@ -58,7 +59,8 @@ std::string plural(const std::string& noun) {
   return noun + "s";
 }
 
-std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, std::uint64_t seed) {
+std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, const Wording& words,
+                        std::uint64_t seed) {
   using episode::GoalType;
   const auto* templates = &kSurface;
   switch (goal.type) {
@@ -71,12 +73,11 @@ std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& g
   const std::uint64_t key = fnv1a64(to_json(g, goal).dump());
   Rng rng(derive_seed(seed, key));
   std::string text = (*templates)[rng.uniform_index(templates->size())];
-  auto name = [&](int o) { return episode::display_name(g.objects[static_cast<std::size_t>(o)]); };
-  replace_all(text, "{item}", name(goal.item));
+  replace_all(text, "{item}", words.item.phrase());
   replace_all(text, "{source}", g.platforms[static_cast<std::size_t>(goal.source)].name);
   replace_all(text, "{target}", g.platforms[static_cast<std::size_t>(goal.platform)].name);
-  if (goal.anchor >= 0) replace_all(text, "{anchor}", name(goal.anchor));
-  if (goal.anchor2 >= 0) replace_all(text, "{anchor2}", name(goal.anchor2));
+  if (goal.anchor >= 0) replace_all(text, "{anchor}", words.anchor.phrase());
+  if (goal.anchor2 >= 0) replace_all(text, "{anchor2}", words.anchor2.phrase());
   if (goal.direction >= 0) replace_all(text, "{direction}", graph::direction_name(goal.direction));
   return text;
 }

@@ -6,13 +6,15 @@
 #include <string>
 
 #include "core/episode/goals.h"
+#include "core/tasks/identify.h"
 
 namespace mtg::tasks {
 
-/// The instruction for an atomic goal. Objects are named without their instance id (that is
-/// what makes a Level 2 task ambiguous); platforms by their full names, as the action space
-/// lists them.
-std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, std::uint64_t seed);
+/// The instruction for an atomic goal. Objects are named by `words` (a noun, and for look-alikes
+/// a relation that picks the instance out: identify.h); platforms by their full names, as the
+/// action space lists them.
+std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, const Wording& words,
+                        std::uint64_t seed);
 
 /// "<first>, then <second>" (the paper's THEN connector), for any number of parts.
 std::string sequence_text(const std::vector<std::string>& parts);

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/util/hash.h"
+#include "core/tasks/referring.h"
 #include "core/util/rng.h"
 
 namespace mtg::tasks {
@@ -25,7 +26,8 @@ std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::Worl
 
 std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                                          const std::vector<AtomicTask>& atomic, int count,
-                                         const TaskOptions& options, std::vector<std::string>& warnings) {
+                                         const TaskOptions& options, std::vector<std::string>& warnings,
+                                         DropCounts& dropped) {
   std::vector<Sequence> out;
   if (atomic.empty() || count <= 0) return out;
   std::set<std::string> seen;
@@ -38,9 +40,20 @@ std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episo
       Sequence seq;
       episode::WorldState s = initial;
       std::set<int> moved, changed;  // objects moved, platforms whose contents changed
-      bool ok = true;
-      for (int part = 0; part < chain && ok; ++part) {
+      for (int part = 0; part < chain; ++part) {
+        // A step must be worth asking and nameable where it starts (cheap tests, made before
+        // any re-planning).
+        auto wording = [&](const episode::AtomicGoal& goal) -> std::optional<Identified> {
+          if (episode::goal_met_from_any_side(g, s, goal, options.goals)) {
+            dropped.add("trivial", 3);
+            return std::nullopt;
+          }
+          auto words = identify(g, s, goal, options.ambiguity, part);
+          if (!words) dropped.add("unidentifiable", 3);
+          return words;
+        };
         std::optional<AtomicTask> next;
+        std::optional<Identified> words;
         const bool chained = part > 0 && rng.uniform01() >= 0.5;
         if (chained) {
           // Something next to (or relative to) an object already moved.
@@ -54,43 +67,55 @@ std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episo
           }
           if (!items.empty()) {
             const int item = items[rng.uniform_index(items.size())];
-            std::vector<AtomicTask> options_here;
-            for (AtomicTask& t : enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}})) {
-              const auto anchors = t.goal.anchors();
-              if (std::find(anchors.begin(), anchors.end(), last_item) != anchors.end()) {
-                options_here.push_back(std::move(t));
+            // An item the text could not name is not worth enumerating.
+            if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
+              std::vector<AtomicTask> options_here;
+              for (AtomicTask& t : enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}})) {
+                const auto anchors = t.goal.anchors();
+                if (std::find(anchors.begin(), anchors.end(), last_item) != anchors.end()) {
+                  options_here.push_back(std::move(t));
+                }
+              }
+              if (!options_here.empty()) {
+                next = options_here[rng.uniform_index(options_here.size())];
+                words = wording(next->goal);
+                if (!words) break;
               }
             }
-            if (!options_here.empty()) next = options_here[rng.uniform_index(options_here.size())];
           }
         }
         if (!next) {
           const AtomicTask& pick = atomic[rng.uniform_index(atomic.size())];
-          if (moved.count(pick.goal.item) != 0) {
-            ok = false;
-            break;
-          }
+          if (moved.count(pick.goal.item) != 0) break;
+          words = wording(pick.goal);  // re-planning keeps the goal
+          if (!words) break;
           bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
           for (const int a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
           next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
-          if (!next) {
-            ok = false;
-            break;
-          }
+          if (!next) break;
         }
-        if (!play_oracle(g, s, *next, options)) {
-          ok = false;
-          break;
-        }
+        apply_effect(g, s, *next);
+        next->placed_at = s.objects[static_cast<std::size_t>(next->goal.item)].position;
+        next->margin = episode::goal_margin(g, s, next->goal, options.goals);
+        seq.words.push_back(std::move(*words));
         moved.insert(next->goal.item);
         changed.insert(next->goal.source);
         changed.insert(next->goal.platform);
         seq.parts.push_back(std::move(*next));
       }
+      if (static_cast<int>(seq.parts.size()) < chain) continue;  // a step could not be drawn
+      // Every goal must still hold at the end, as robustly as when it was placed.
+      bool ok = true, robust = true;
+      for (AtomicTask& p : seq.parts) {
+        p.margin = std::min(p.margin, episode::goal_margin(g, s, p.goal, options.goals));
+        ok = ok && p.margin > 0.0;
+        robust = robust && p.margin >= options.min_margin;
+      }
       if (!ok) continue;
-      // Every earlier goal must still hold at the end.
-      for (const AtomicTask& p : seq.parts) ok = ok && episode::goal_satisfied(g, s, p.goal, options.goals);
-      if (!ok) continue;
+      if (!robust) {
+        dropped.add("fragile", 3);
+        continue;
+      }
       std::string key;
       for (const AtomicTask& p : seq.parts) key += p.key + "|";
       if (!seen.insert(key).second) continue;

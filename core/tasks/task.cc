@@ -13,6 +13,39 @@ Ambiguity ambiguity_from_string(const std::string& name) {
 
 const char* to_string(Ambiguity a) { return a == Ambiguity::kCategory ? "category" : "name"; }
 
+nlohmann::json to_json(const Identification& id) {
+  return {{"part", id.part},           {"role", id.role},         {"object", id.object},
+          {"platform", id.platform},   {"reference", id.reference}, {"phrase", id.phrase}};
+}
+
+Identification identification_from_json(const nlohmann::json& j) {
+  for (const char* key : {"part", "role", "object", "platform", "reference", "phrase"}) {
+    if (!j.contains(key)) throw Error(std::string("identification: missing field '") + key + "'");
+  }
+  Identification id;
+  id.part = j["part"].get<int>();
+  id.role = j["role"].get<std::string>();
+  id.object = j["object"].get<std::string>();
+  id.platform = j["platform"].get<std::string>();
+  id.reference = j["reference"];
+  id.phrase = j["phrase"].get<std::string>();
+  return id;
+}
+
+void DropCounts::merge(const DropCounts& other) {
+  for (const auto& [reason, levels] : other.by_reason) {
+    for (const auto& [level, n] : levels) add(reason, level, n);
+  }
+}
+
+nlohmann::json DropCounts::to_json() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [reason, levels] : by_reason) {
+    for (const auto& [level, n] : levels) j[reason][std::to_string(level)] = n;
+  }
+  return j;
+}
+
 nlohmann::json TaskOptions::to_json() const {
   return {{"generator", kGeneratorVersion},
           {"levels", levels},
@@ -23,6 +56,8 @@ nlohmann::json TaskOptions::to_json() const {
           {"level4_templates", level4_templates},
           {"step_limit", rules.step_limit},
           {"min_region_size", rules.min_region_size},
+          {"min_margin", min_margin},
+          {"min_goal_area", min_goal_area},
           {"around_distance", goals.around_distance}};
 }
 

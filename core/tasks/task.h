@@ -2,6 +2,7 @@
 // A generated task and the options of the generator (DESIGN.md §3 "Tasks").
 
 #include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -12,7 +13,24 @@
 
 namespace mtg::tasks {
 
-inline constexpr const char* kGeneratorVersion = "mtg-tasks/1";
+/// mtg-tasks/2: no goal holds before its step, references for look-alikes, stacks against
+/// clearance, robust placements, Level 4 objects named unambiguously (docs/tasks.md).
+inline constexpr const char* kGeneratorVersion = "mtg-tasks/2";
+
+/// How a task's text picks out an object that has look-alikes (referring.h). The scene-graph
+/// service shows each such object in a close-up at the first observation; tests resolve the
+/// reference against the scene. Names the instance: ground truth, never sent to agents.
+struct Identification {
+  int part = 0;              // Level 3 sub-task (0 otherwise)
+  std::string role;          // "item", "anchor", "anchor2", or "object" (Level 4)
+  std::string object;        // the instance meant
+  std::string platform;      // the furniture platform the reference is read on
+  nlohmann::json reference;  // Reference::to_json()
+  std::string phrase;        // the words in the text, e.g. "the leftmost book"
+};
+nlohmann::json to_json(const Identification& id);
+/// @throws mtg::Error naming the missing field.
+Identification identification_from_json(const nlohmann::json& j);
 
 /// One task as stored (docs/tasks.md). Names, not indices: a task outlives the graph object.
 struct Task {
@@ -30,6 +48,11 @@ struct Task {
   std::vector<std::string> oracle;  // action keys that solve it from the initial state
   int step_limit = 15;
   std::string template_id;   // L4
+  std::vector<Identification> identify;  // objects with look-alikes and how the text names them
+  /// Where the oracle plan puts each item: [{"part", "object", "platform", "x", "y", "z"
+  /// (world position of the object frame, m), "margin" (m the centre may move and the goal still
+  /// hold; atomic parts)}], so a checker can verify the plan's placements.
+  nlohmann::json placements = nlohmann::json::array();
 };
 
 enum class Ambiguity {
@@ -43,10 +66,12 @@ const char* to_string(Ambiguity a);
 struct TaskOptions {
   std::set<int> levels = {1, 2, 3, 4};
   std::uint64_t seed = 0;
-  Ambiguity ambiguity = Ambiguity::kNameWithoutId;
+  Ambiguity ambiguity = Ambiguity::kCategory;  // pairs with the paper's nameless action space (docs/tasks.md)
   int level3_count = 10000;     // per scene (the paper's figure)
   int level3_chain = 2;         // sub-tasks per Level 3 task
   int level4_max_moves = 3;     // objects an outcome task may require to move
+  double min_margin = 0.005;    // m the oracle's placement lies inside its goal, at least
+  double min_goal_area = 4e-4;  // m² of positions for the item's centre that meet the goal and fit
   std::string level4_templates = "builtin";  // or a path to a template JSON file
   episode::RuleOptions rules;
   episode::GoalOptions goals;
@@ -57,11 +82,27 @@ struct TaskOptions {
   std::string config_hash() const;
 };
 
+/// Candidate tasks the generator did not keep, per reason and level (stored with the task set,
+/// printed by `mtg tasks stats`). Reasons: "trivial" (the goal already holds when its step
+/// starts), "fragile" (the oracle's placement is less than the margin inside its goal),
+/// "small_area" (less than the minimum feasible area for the item's centre), "stack" (the item
+/// with what rests on it is taller than the destination's clearance, though the item alone is
+/// not), "unidentifiable" (look-alikes no reference tells apart), "vague" (Level 4: the text's
+/// words match other objects than the goal's).
+struct DropCounts {
+  std::map<std::string, std::map<int, long>> by_reason;
+  void add(const std::string& reason, int level, long n = 1) { by_reason[reason][level] += n; }
+  void merge(const DropCounts& other);
+  /// {"<reason>": {"<level>": n}}
+  nlohmann::json to_json() const;
+};
+
 /// Tasks of one scene, per level in generation order.
 struct TaskSet {
   std::string scene;
   std::vector<Task> tasks;
   std::vector<std::string> warnings;
+  DropCounts dropped;
 };
 
 }  // namespace mtg::tasks

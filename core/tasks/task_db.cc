@@ -10,6 +10,8 @@ namespace mtg::tasks {
 namespace fs = std::filesystem;
 namespace {
 
+constexpr const char* kFormat = "mtg-task-db/2";
+
 constexpr const char* kSchema = R"sql(
 CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE tasks (
@@ -28,6 +30,8 @@ CREATE TABLE tasks (
   oracle_json TEXT NOT NULL,
   step_limit INTEGER NOT NULL,
   template_id TEXT NOT NULL,
+  identify_json TEXT NOT NULL,
+  placements_json TEXT NOT NULL,
   generator_version TEXT NOT NULL,
   config_hash TEXT NOT NULL,
   seed INTEGER NOT NULL
@@ -59,6 +63,27 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+nlohmann::json identify_json(const Task& t) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Identification& id : t.identify) j.push_back(to_json(id));
+  return j;
+}
+
+// One line for a database this version cannot use: which file, what it is, what to do.
+void require_format(store::Database& db, const fs::path& file) {
+  std::string format;
+  try {
+    store::Statement q(db, "SELECT value FROM meta WHERE key = 'format'");
+    if (q.step()) format = q.column_text(0);
+  } catch (const Error&) {
+    throw Error(file.string() + ": not a task database (no meta table)");
+  }
+  if (format != kFormat) {
+    throw Error(file.string() + ": task database format '" + format + "', this mtg reads '" + kFormat +
+                "'; generate the task set again with `mtg tasks`");
+  }
+}
+
 nlohmann::json subtasks_of(const Task& t) {
   if (t.goal.contains("sequence")) return t.goal["sequence"];
   if (t.goal.contains("outcome")) return t.goal["outcome"]["all"];
@@ -72,7 +97,8 @@ nlohmann::json task_to_json(const Task& t) {
           {"type", t.type},     {"text", t.text},         {"item", t.item},
           {"source", t.source}, {"destination", t.destination}, {"anchors", t.anchors},
           {"direction", t.direction}, {"goal", t.goal},   {"oracle", t.oracle},
-          {"step_limit", t.step_limit}, {"template_id", t.template_id}};
+          {"step_limit", t.step_limit}, {"template_id", t.template_id},
+          {"identify", identify_json(t)}, {"placements", t.placements}};
 }
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
@@ -85,10 +111,15 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
     store::Transaction tx(db);
     store::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?, ?)");
     std::vector<std::string> scenes;
-    for (const auto& s : sets) scenes.push_back(s.scene);
+    nlohmann::json dropped = nlohmann::json::object();
+    for (const auto& s : sets) {
+      scenes.push_back(s.scene);
+      dropped[s.scene] = s.dropped.to_json();
+    }
     const std::string hash = options.config_hash();
     for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-             {"format", "mtg-task-db/1"},
+             {"format", kFormat},
+             {"dropped", dropped.dump()},
              {"generator_version", kGeneratorVersion},
              {"config_json", options.to_json().dump()},
              {"config_hash", hash},
@@ -99,15 +130,17 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
     store::Statement insert(db,
                             "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
                             "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
-                            "generator_version, config_hash, seed) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+                            "identify_json, placements_json, generator_version, config_hash, seed) "
+                            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
     for (const TaskSet& set : sets) {
       for (const Task& t : set.tasks) {
         insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
         insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
         insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
         insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
-        insert.bind(15, t.template_id).bind(16, std::string(kGeneratorVersion)).bind(17, hash);
-        insert.bind(18, static_cast<std::int64_t>(options.seed));
+        insert.bind(15, t.template_id).bind(16, identify_json(t).dump()).bind(17, t.placements.dump());
+        insert.bind(18, std::string(kGeneratorVersion)).bind(19, hash);
+        insert.bind(20, static_cast<std::int64_t>(options.seed));
         insert.run();
       }
     }
@@ -128,9 +161,11 @@ void write_jsonl(const fs::path& file, const std::vector<TaskSet>& sets) {
 
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {
   store::Database db(file, store::Database::Mode::kReadOnly);
+  require_format(db, file);
   store::Statement q(db,
                      "SELECT id, scene, level, type, text, item, source, destination, anchors, direction, "
-                     "goal_json, oracle_json, step_limit, template_id FROM tasks ORDER BY id");
+                     "goal_json, oracle_json, step_limit, template_id, identify_json, placements_json "
+                     "FROM tasks ORDER BY id");
   std::vector<Task> out;
   while (q.step()) {
     Task t;
@@ -148,8 +183,12 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
     try {
       t.goal = nlohmann::json::parse(q.column_text(10));
       t.oracle = nlohmann::json::parse(q.column_text(11)).get<std::vector<std::string>>();
+      for (const auto& id : nlohmann::json::parse(q.column_text(14))) t.identify.push_back(identification_from_json(id));
+      t.placements = nlohmann::json::parse(q.column_text(15));
     } catch (const nlohmann::json::exception&) {
-      throw Error(file.string() + ": task " + t.id + ": malformed goal_json or oracle_json");
+      throw Error(file.string() + ": task " + t.id + ": malformed goal_json, oracle_json, identify_json or placements_json");
+    } catch (const Error& e) {
+      throw Error(file.string() + ": task " + t.id + ": " + e.what());
     }
     t.step_limit = static_cast<int>(q.column_int(12));
     t.template_id = q.column_text(13);
@@ -160,6 +199,7 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
 
 nlohmann::json task_db_stats(const fs::path& file) {
   store::Database db(file, store::Database::Mode::kReadOnly);
+  require_format(db, file);
   nlohmann::json j;
   nlohmann::json levels = {{"1", 0}, {"2", 0}, {"3", 0}, {"4", 0}};
   nlohmann::json types = nlohmann::json::object(), scenes = nlohmann::json::object();
@@ -188,6 +228,9 @@ nlohmann::json task_db_stats(const fs::path& file) {
   j["types"] = types;
   j["scenes"] = scenes;
   j["total"] = total;
+  j["dropped"] = meta.contains("dropped") ? nlohmann::json::parse(meta["dropped"].get<std::string>())
+                                          : nlohmann::json::object();
+  meta.erase("dropped");
   j["meta"] = meta;
   return j;
 }

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   tasks->add_option("--seed", tasks_opts.seed, "seed (default 0)");
   tasks->add_option("--levels", tasks_opts.levels, "levels to generate, e.g. 1,2,3,4");
   tasks->add_option("--profile", tasks_opts.profile, "scene profile (replica_cad, none, or a file)");
-  tasks->add_option("--ambiguity", tasks_opts.ambiguity, "Level 2 rule: name (default) or category");
+  tasks->add_option("--ambiguity", tasks_opts.ambiguity, "Look-alike rule: category (default: the same semantic class, for agents that see images) or name (the same model, for agents told object names)");
   tasks->add_option("--l3-count", tasks_opts.level3_count, "Level 3 tasks per scene (default 10000)");
   tasks->add_option("--l3-chain", tasks_opts.level3_chain, "sub-tasks per Level 3 task (default 2)");
   tasks->add_option("--l4-max-moves", tasks_opts.level4_max_moves, "objects a Level 4 task may move (default 3)");

@@ -87,8 +87,17 @@ int run_task_stats(const TaskStatsOptions& o) {
   for (const auto& [level, n] : stats["levels"].items()) std::printf("  level %s  %8ld\n", level.c_str(), n.get<long>());
   for (const auto& [type, n] : stats["types"].items()) std::printf("  %-28s %8ld\n", type.c_str(), n.get<long>());
   for (const auto& [scene, counts] : stats["scenes"].items()) {
-    std::printf("  %-8s L1 %ld  L2 %ld  L3 %ld  L4 %ld\n", scene.c_str(), counts["1"].get<long>(),
-                counts["2"].get<long>(), counts["3"].get<long>(), counts["4"].get<long>());
+    const long l1 = counts["1"].get<long>(), l2 = counts["2"].get<long>();
+    std::printf("  %-8s L1 %ld  L2 %ld  L3 %ld  L4 %ld  (L1 share of L1+L2: %.1f %%)\n", scene.c_str(), l1, l2,
+                counts["3"].get<long>(), counts["4"].get<long>(), l1 + l2 > 0 ? 100.0 * l1 / (l1 + l2) : 0.0);
+  }
+  // Candidates the generator left out, and why (docs/tasks.md, "What is never generated").
+  for (const auto& [scene, reasons] : stats["dropped"].items()) {
+    for (const auto& [reason, levels] : reasons.items()) {
+      std::printf("  %-8s dropped %-15s", scene.c_str(), reason.c_str());
+      for (const auto& [level, n] : levels.items()) std::printf("  L%s %ld", level.c_str(), n.get<long>());
+      std::printf("\n");
+    }
   }
   return 0;
 }

@@ -17,7 +17,7 @@ struct TasksOptions {
   std::uint64_t seed = 0;
   std::string levels = "1,2,3,4";
   std::string profile = "replica_cad";
-  std::string ambiguity = "name";
+  std::string ambiguity = "category";
   int level3_count = 10000;
   int level3_chain = 2;
   int level4_max_moves = 3;

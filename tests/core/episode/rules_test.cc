@@ -161,7 +161,10 @@ TEST_F(RulesTest, PlacedItemsAreAppendedToThePlatformsNumbering) {
   const auto objects = pickable_on(g(), s, g().navigable[0]);
   ASSERT_EQ(objects.size(), 3u);
   EXPECT_EQ(objects.back(), g().find_object("box_1"));  // numbers shift after a place
-  EXPECT_THAT(situation_text(g(), s), HasSubstr("object 3 box"));
+  RuleOptions named;
+  named.object_names = true;
+  EXPECT_THAT(situation_text(g(), s, named), HasSubstr("object 3 box"));
+  EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("Objects 1 to 3 here can be picked up"));
 }
 
 }  // namespace

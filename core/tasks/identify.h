@@ -1,0 +1,52 @@
+#pragma once
+// Which object a task means, in words the agent can resolve: the item on its source platform
+// and the anchors on the destination are each named by a reference (referring.h) that picks out
+// exactly that instance in the state the step starts from (and, for anchors, also once the item
+// is in hand, when the agent chooses where to put it). A goal with look-alikes is Level 2; one
+// whose objects cannot be told apart by any reference is not generated.
+
+#include <map>
+#include <optional>
+#include <tuple>
+#include <string>
+#include <vector>
+
+#include "core/episode/goals.h"
+#include "core/tasks/referring.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+/// The references a text uses for an atomic goal's objects.
+struct Wording {
+  Reference item;
+  Reference anchor;   // unused when the goal has no anchor
+  Reference anchor2;  // between only
+};
+
+struct Identified {
+  Wording wording;
+  std::vector<Identification> lookalikes;  // the objects whose reference is not "alone"
+};
+
+/// References already found in one start state, by (object, platform, item held or -1): many
+/// atomic tasks of a scene name the same objects. Valid for that one state only.
+using ReferenceMemo = std::map<std::tuple<int, int, int>, std::optional<Reference>>;
+
+/// The wording of `goal` in state `start` (nothing held), or nullopt when an object cannot be
+/// named uniquely. `part` is recorded in the identifications (Level 3 sub-task index). `memo`,
+/// when given, must belong to `start`.
+std::optional<Identified> identify(const graph::SceneGraph& g, const episode::WorldState& start,
+                                   const episode::AtomicGoal& goal, Ambiguity rule, int part = 0,
+                                   ReferenceMemo* memo = nullptr);
+
+/// Whether some object of the goal has a look-alike (the Level 2 test), without building
+/// references: cheap enough for counting dropped tasks.
+bool has_lookalikes(const graph::SceneGraph& g, const episode::WorldState& start, const episode::AtomicGoal& goal,
+                    Ambiguity rule);
+
+/// The identification record of `object` named by `r` on `platform`.
+Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role, int object,
+                                   int platform, const Reference& r);
+
+}  // namespace mtg::tasks

@@ -1,0 +1,288 @@
+#include "core/tasks/referring.h"
+
+#include <algorithm>
+#include <limits>
+#include <set>
+
+#include "core/episode/goals.h"
+#include "core/episode/placement.h"
+#include "core/graph/free_space.h"
+#include "core/util/error.h"
+
+namespace mtg::tasks {
+namespace {
+
+using episode::WorldState;
+
+constexpr double kNextTo = 0.05;       // m between footprints: "next to"
+constexpr double kNextToClear = 0.15;  // m: no other candidate this close to any landmark
+constexpr double kOrdinalGap = 0.03;   // m between consecutive centres when counting along an axis
+constexpr int kMaxRank = 4;            // "the fourth book from the left" at most
+
+// Relations tried, in order, with their rank (0: not an ordinal).
+constexpr std::pair<Relation, int> kPreference[] = {
+    {Relation::kOn, 0},        {Relation::kUnder, 0},    {Relation::kNextTo, 0},    {Relation::kFromLeft, 1},
+    {Relation::kFromRight, 1}, {Relation::kNearest, 1},  {Relation::kFarthest, 1},  {Relation::kFromLeft, 2},
+    {Relation::kFromRight, 2}, {Relation::kFromLeft, 3}, {Relation::kFromRight, 3}, {Relation::kFromLeft, 4},
+    {Relation::kFromRight, 4}};
+
+const char* ordinal(int rank) {
+  static const char* kWords[] = {"", "first", "second", "third", "fourth"};
+  return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
+}
+
+bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
+
+// One platform as a reader of references sees it in one state: everything on it (at any depth),
+// what each is called, and where each stands as seen from the arrival side.
+class PlatformView {
+ public:
+  PlatformView(const graph::SceneGraph& g, const WorldState& s, int platform, Ambiguity rule)
+      : g_(g), s_(s), platform_(platform), objects_(episode::everything_on(g, s, platform)) {
+    const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+    side_ = static_cast<graph::Side>(std::max(0, p.default_side));
+    const Eigen::Isometry2d X_PW = episode::platform_frame(g, s, platform).inverse();
+    for (const int o : objects_) {
+      nouns_.push_back(noun_of(g.objects[static_cast<std::size_t>(o)], rule));
+      centres_P_.push_back(X_PW * episode::footprint_centre(s.objects[static_cast<std::size_t>(o)]));
+    }
+  }
+
+  std::size_t size() const { return objects_.size(); }
+  int object(std::size_t i) const { return objects_[i]; }
+  const std::string& noun(std::size_t i) const { return nouns_[i]; }
+  // The index of an object, or -1 when it is not on the platform.
+  int index_of(int object) const {
+    const auto it = std::find(objects_.begin(), objects_.end(), object);
+    return it == objects_.end() ? -1 : static_cast<int>(it - objects_.begin());
+  }
+  // Coordinate along a robot-relative direction (2 left, 6 right, 0 near, 4 far).
+  double along(std::size_t i, int relative_dir) const {
+    static const Eigen::Vector2d kDir[8] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
+    return centres_P_[i].dot(kDir[graph::platform_direction(relative_dir, side_)]);
+  }
+  // The object it rests on, or -1 when it stands on the platform itself.
+  int support(std::size_t i) const {
+    const int p = s_.objects[static_cast<std::size_t>(objects_[i])].parent;
+    return p == platform_ || p < 0 ? -1 : index_of(g_.platforms[static_cast<std::size_t>(p)].owner);
+  }
+  // Indices of the objects resting directly on object i.
+  std::vector<std::size_t> above(std::size_t i) const {
+    std::vector<std::size_t> out;
+    for (std::size_t k = 0; k < size(); ++k) {
+      if (support(k) == static_cast<int>(i)) out.push_back(k);
+    }
+    return out;
+  }
+  double gap(std::size_t i, std::size_t k) const {
+    return episode::footprint_gap(s_.objects[static_cast<std::size_t>(objects_[i])].footprint,
+                                  s_.objects[static_cast<std::size_t>(objects_[k])].footprint);
+  }
+  // Smallest gap from object i to any object called `landmark` (other than itself).
+  double gap_to(std::size_t i, const std::string& landmark) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < size(); ++k) {
+      if (k != i && nouns_[k] == landmark) best = std::min(best, gap(i, k));
+    }
+    return best;
+  }
+
+  // The indices a reference picks out (exactly one when it is good here).
+  std::vector<std::size_t> resolve(const Reference& r) const {
+    std::vector<std::size_t> candidates, out;
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (nouns_[i] == r.noun) candidates.push_back(i);
+    }
+    switch (r.relation) {
+      case Relation::kAlone:
+        return candidates;
+      case Relation::kOn:
+        for (const std::size_t c : candidates) {
+          const int below = support(c);
+          if (below >= 0 && nouns_[static_cast<std::size_t>(below)] == r.landmark) out.push_back(c);
+        }
+        return out;
+      case Relation::kUnder:
+        for (const std::size_t c : candidates) {
+          const auto on = above(c);
+          if (std::any_of(on.begin(), on.end(), [&](std::size_t k) { return nouns_[k] == r.landmark; })) {
+            out.push_back(c);
+          }
+        }
+        return out;
+      case Relation::kNextTo:
+        if (r.landmark == r.noun) return candidates;  // symmetric: never picks one out
+        for (const std::size_t c : candidates) {
+          if (gap_to(c, r.landmark) <= kNextToClear) out.push_back(c);
+        }
+        // One candidate in the clear zone, and really next to its landmark.
+        if (out.size() == 1 && gap_to(out.front(), r.landmark) > kNextTo) out.clear();
+        return out;
+      case Relation::kFromLeft: return counted(candidates, 2, r.rank);
+      case Relation::kFromRight: return counted(candidates, 6, r.rank);
+      case Relation::kNearest: return counted(candidates, 0, 1);
+      case Relation::kFarthest: return counted(candidates, 4, 1);
+    }
+    return out;
+  }
+
+  // Landmark nouns worth trying for object i under relation r, in a fixed order.
+  std::vector<std::string> landmarks_for(std::size_t i, Relation r) const {
+    std::set<std::string> out;
+    if (r == Relation::kOn) {
+      if (support(i) >= 0) out.insert(nouns_[static_cast<std::size_t>(support(i))]);
+    } else if (r == Relation::kUnder) {
+      for (const std::size_t k : above(i)) out.insert(nouns_[k]);
+    } else if (r == Relation::kNextTo) {
+      for (std::size_t k = 0; k < size(); ++k) {
+        if (k != i && nouns_[k] != nouns_[i] && gap(i, k) <= kNextTo) out.insert(nouns_[k]);
+      }
+    }
+    return {out.begin(), out.end()};
+  }
+
+ private:
+  // Counting candidates along a viewer axis from its far end: the rank-th one, when it and every
+  // one before it stand at least kOrdinalGap from the next; else the pair too close to tell
+  // apart (the reference is ambiguous).
+  std::vector<std::size_t> counted(const std::vector<std::size_t>& candidates, int relative_dir, int rank) const {
+    std::vector<std::pair<double, std::size_t>> order;
+    for (const std::size_t c : candidates) order.emplace_back(-along(c, relative_dir), c);
+    std::sort(order.begin(), order.end());
+    if (rank < 1 || rank > static_cast<int>(order.size())) return {};
+    for (std::size_t i = 0; i < static_cast<std::size_t>(rank) && i + 1 < order.size(); ++i) {
+      if (order[i + 1].first - order[i].first < kOrdinalGap) return {order[i].second, order[i + 1].second};
+    }
+    return {order[static_cast<std::size_t>(rank) - 1].second};
+  }
+
+  const graph::SceneGraph& g_;
+  const WorldState& s_;
+  int platform_;
+  graph::Side side_ = graph::Side::kRear;
+  std::vector<int> objects_;
+  std::vector<std::string> nouns_;
+  std::vector<geom::Point2> centres_P_;
+};
+
+}  // namespace
+
+std::string noun_of(const graph::GraphObject& o, Ambiguity rule) {
+  if (rule == Ambiguity::kCategory && !o.category.empty()) {
+    std::string noun = o.category;
+    std::replace(noun.begin(), noun.end(), '_', ' ');
+    return noun;
+  }
+  return episode::display_name(o);
+}
+
+const char* to_string(Relation r) {
+  switch (r) {
+    case Relation::kAlone: return "alone";
+    case Relation::kOn: return "on";
+    case Relation::kUnder: return "under";
+    case Relation::kNextTo: return "next_to";
+    case Relation::kFromLeft: return "from_left";
+    case Relation::kFromRight: return "from_right";
+    case Relation::kNearest: return "nearest";
+    case Relation::kFarthest: return "farthest";
+  }
+  return "alone";
+}
+
+Relation relation_from_string(const std::string& name) {
+  for (const Relation r : {Relation::kAlone, Relation::kOn, Relation::kUnder, Relation::kNextTo, Relation::kFromLeft,
+                           Relation::kFromRight, Relation::kNearest, Relation::kFarthest}) {
+    if (name == to_string(r)) return r;
+  }
+  throw Error("reference: unknown relation '" + name + "'");
+}
+
+std::string Reference::phrase() const {
+  switch (relation) {
+    case Relation::kAlone: return "the " + noun;
+    case Relation::kOn: return "the " + noun + " on the " + landmark;
+    case Relation::kUnder: return "the " + noun + " under the " + landmark;
+    case Relation::kNextTo: return "the " + noun + " next to the " + landmark;
+    case Relation::kFromLeft:
+      return rank <= 1 ? "the leftmost " + noun : std::string("the ") + ordinal(rank) + " " + noun + " from the left";
+    case Relation::kFromRight:
+      return rank <= 1 ? "the rightmost " + noun : std::string("the ") + ordinal(rank) + " " + noun + " from the right";
+    case Relation::kNearest: return "the nearest " + noun;
+    case Relation::kFarthest: return "the farthest " + noun;
+  }
+  return "the " + noun;
+}
+
+nlohmann::json Reference::to_json() const {
+  nlohmann::json j = {{"relation", tasks::to_string(relation)}, {"noun", noun}};
+  if (!landmark.empty()) j["landmark"] = landmark;
+  if (rank > 0) j["rank"] = rank;
+  return j;
+}
+
+Reference Reference::from_json(const nlohmann::json& j) {
+  if (!j.is_object() || !j.contains("relation") || !j.contains("noun")) {
+    throw Error("reference: expected an object with 'relation' and 'noun'");
+  }
+  Reference r;
+  r.relation = relation_from_string(j["relation"].get<std::string>());
+  r.noun = j["noun"].get<std::string>();
+  r.landmark = j.value("landmark", "");
+  r.rank = j.value("rank", 0);
+  if (needs_landmark(r.relation) && r.landmark.empty()) throw Error("reference: relation needs 'landmark'");
+  const bool ordinal_relation = !needs_landmark(r.relation) && r.relation != Relation::kAlone;
+  if (ordinal_relation && (r.rank < 1 || r.rank > kMaxRank)) throw Error("reference: 'rank' must be 1..4");
+  return r;
+}
+
+std::vector<int> resolve(const graph::SceneGraph& g, const WorldState& s, int platform, const Reference& r,
+                         Ambiguity rule) {
+  const PlatformView view(g, s, platform, rule);
+  std::vector<int> out;
+  for (const std::size_t i : view.resolve(r)) out.push_back(view.object(i));
+  return out;
+}
+
+bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, int object, int platform, Ambiguity rule) {
+  const std::string noun = noun_of(g.objects[static_cast<std::size_t>(object)], rule);
+  int same = 0;
+  for (const int o : episode::everything_on(g, s, platform)) {
+    same += noun_of(g.objects[static_cast<std::size_t>(o)], rule) == noun ? 1 : 0;
+  }
+  return same > 1;
+}
+
+std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states, int object,
+                               int platform, Ambiguity rule) {
+  MTG_DEMAND(!states.empty(), "refer() needs a state");
+  std::vector<PlatformView> views;
+  for (const WorldState* s : states) views.emplace_back(g, *s, platform, rule);
+  const int first = views.front().index_of(object);
+  if (first < 0) return std::nullopt;  // not on that platform
+  auto names_it = [&](const Reference& r) {
+    return std::all_of(views.begin(), views.end(), [&](const PlatformView& v) {
+      const std::vector<std::size_t> found = v.resolve(r);
+      return found.size() == 1 && v.object(found.front()) == object;
+    });
+  };
+  Reference r;
+  r.noun = views.front().noun(static_cast<std::size_t>(first));
+  if (names_it(r)) return r;
+  for (const auto& [relation, rank] : kPreference) {
+    r.relation = relation;
+    r.rank = rank;
+    r.landmark.clear();
+    if (!needs_landmark(relation)) {
+      if (names_it(r)) return r;
+      continue;
+    }
+    for (const std::string& landmark : views.front().landmarks_for(static_cast<std::size_t>(first), relation)) {
+      r.landmark = landmark;
+      if (names_it(r)) return r;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace mtg::tasks

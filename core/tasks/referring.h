@@ -1,0 +1,72 @@
+#pragma once
+// Referring expressions: how a task text names one object among look-alikes on a platform, so
+// that a Level 2 task ("the teacup, on a table with several teacups") is solvable from what the
+// agent is given (the paper, §4: "task-provided descriptions or images").
+//
+// A noun is what the ambiguity rule compares (Ambiguity::kCategory: "book"; kNameWithoutId:
+// "book 01"). A reference adds at most one relation, evaluated on the furniture platform the
+// object stands on (at any depth), among the objects with the same noun (the candidates):
+//
+//   alone      "the book"                 the only candidate
+//   on         "the book on the box"      it rests on an object called <landmark>
+//   under      "the box under the book"   an object called <landmark> rests on it
+//   next_to    "the book next to the lamp" its footprint is within 5 cm of a <landmark>'s and no
+//                                         other candidate's is within 15 cm of any <landmark>
+//   from_left, from_right (rank 1..4)
+//              "the leftmost book", "the third book from the right": counting candidates along
+//                                         that axis by footprint centre, every centre up to the
+//                                         one after it at least 3 cm from the next
+//   nearest, farthest
+//              "the nearest book"         the same along the near-far axis, rank 1 only
+//
+// Left, right, near and far are named as seen from the platform's arrival side (the side `l<N>`
+// brings the robot to, Platform::default_side), so every agent reads them alike.
+// resolve() is the geometric test a reader applies; refer() picks the first relation, in the
+// order above, that resolve() finds to name exactly the object in every state given.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+#include "core/tasks/task.h"
+
+namespace mtg::tasks {
+
+/// The words for an object under the ambiguity rule: its category ("kitchen utensil"), or its
+/// name without instance id ("kitchen utensil 09"); the display name when it has no category.
+std::string noun_of(const graph::GraphObject& o, Ambiguity rule);
+
+enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNearest, kFarthest };
+/// "alone", "on", ... @throws mtg::Error for an unknown name.
+Relation relation_from_string(const std::string& name);
+const char* to_string(Relation r);
+
+struct Reference {
+  Relation relation = Relation::kAlone;
+  std::string noun;
+  std::string landmark;  // on, under, next_to: the other object's noun
+  int rank = 0;          // from_left, from_right: 1 = the first; nearest, farthest: 1
+
+  /// "the book", "the book on the box", "the leftmost book", ...
+  std::string phrase() const;
+  nlohmann::json to_json() const;
+  /// @throws mtg::Error naming the field.
+  static Reference from_json(const nlohmann::json& j);
+};
+
+/// The objects on furniture platform `platform` (at any depth) that `r` picks out in `s`: exactly
+/// one when the reference is good there.
+std::vector<int> resolve(const graph::SceneGraph& g, const episode::WorldState& s, int platform,
+                         const Reference& r, Ambiguity rule);
+
+/// Whether `object` has look-alikes on `platform` in `s` (another object with its noun).
+bool has_lookalike(const graph::SceneGraph& g, const episode::WorldState& s, int object, int platform,
+                   Ambiguity rule);
+
+/// A reference naming exactly `object` on `platform` in every state of `states`, or nullopt.
+std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const episode::WorldState*>& states,
+                               int object, int platform, Ambiguity rule);
+
+}  // namespace mtg::tasks
