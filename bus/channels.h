@@ -7,6 +7,8 @@
 namespace mtg::bus {
 
 inline constexpr const char* kEpisodeStart = "MTG_EPISODE_START";
+/// The goal and oracle plan of an episode: judge, scene-graph service and oracle only.
+inline constexpr const char* kEpisodeTruth = "MTG_EPISODE_TRUTH";
 inline constexpr const char* kEpisodeResult = "MTG_RESULT";
 inline constexpr const char* kRenderRequest = "MTG_RENDER_REQ";
 inline constexpr const char* kRenderResult = "MTG_RENDER_RES";

@@ -35,13 +35,25 @@ mtg::task_t to_message(const tasks::Task& t) {
   m.level = static_cast<int8_t>(t.level);
   m.task_type = t.type;
   m.text = t.text;
-  m.goal_json = t.goal.dump();
-  m.n_oracle = static_cast<int16_t>(t.oracle.size());
-  m.oracle_plan = t.oracle;
   return m;
 }
 
-tasks::Task from_message(const mtg::task_t& m) {
+mtg::episode_truth_t truth_message(const tasks::Task& t) {
+  mtg::episode_truth_t m{};
+  m.task_id = t.id;
+  m.goal_json = t.goal.dump();
+  m.n_oracle = static_cast<int16_t>(t.oracle.size());
+  m.oracle_plan = t.oracle;
+  nlohmann::json identify = nlohmann::json::array();
+  for (const auto& id : t.identify) identify.push_back(tasks::to_json(id));
+  m.identify_json = identify.dump();
+  return m;
+}
+
+tasks::Task from_messages(const mtg::task_t& m, const mtg::episode_truth_t& truth) {
+  if (truth.task_id != m.task_id) {
+    throw Error("episode truth for task " + truth.task_id + " does not belong to task " + m.task_id);
+  }
   tasks::Task t;
   t.id = m.task_id;
   t.scene = m.scene;
@@ -49,11 +61,16 @@ tasks::Task from_message(const mtg::task_t& m) {
   t.type = m.task_type;
   t.text = m.text;
   try {
-    t.goal = nlohmann::json::parse(m.goal_json);
+    t.goal = nlohmann::json::parse(truth.goal_json);
+    if (!truth.identify_json.empty()) {
+      for (const auto& id : nlohmann::json::parse(truth.identify_json)) {
+        t.identify.push_back(tasks::identification_from_json(id));
+      }
+    }
   } catch (const nlohmann::json::exception&) {
-    throw Error("task " + m.task_id + ": goal_json is not JSON");
+    throw Error("task " + m.task_id + ": goal_json or identify_json is not JSON");
   }
-  t.oracle = m.oracle_plan;
+  t.oracle = truth.oracle_plan;
   return t;
 }
 
@@ -112,6 +129,7 @@ episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_u
 episode::RuleOptions episode_rules(const mtg::episode_start_t& start) {
   episode::RuleOptions rules;
   if (start.step_limit > 0) rules.step_limit = start.step_limit;
+  rules.object_names = start.object_names;
   return rules;
 }
 

@@ -12,21 +12,27 @@
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/state_update_t.hpp"
 #include "mtg/task_t.hpp"
 
 namespace mtg::bus {
 
+/// What an agent may see of a task (id, scene, level, type, text).
 mtg::task_t to_message(const tasks::Task& task);
-tasks::Task from_message(const mtg::task_t& m);
+/// What only the judge, the scene-graph service and the oracle see (header left to the caller).
+mtg::episode_truth_t truth_message(const tasks::Task& task);
+/// The whole task again, from both halves. @throws mtg::Error naming the task when the truth
+/// belongs to another task or its JSON does not parse.
+tasks::Task from_messages(const mtg::task_t& task, const mtg::episode_truth_t& truth);
 
 /// @throws mtg::Error naming an object or platform the graph does not know.
 mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,
                                const episode::StateUpdate& u);
 episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_update_t& m);
 
-/// The episode rules an episode start asks for (its step limit; the defaults otherwise). The
-/// scene-graph service and `mtg rejudge` must step an episode alike.
+/// The episode rules an episode start asks for (its step limit and object naming; the defaults
+/// otherwise). The scene-graph service and `mtg rejudge` must step an episode alike.
 episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
 
 /// What the rules need of an agent's action.

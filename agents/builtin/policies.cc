@@ -17,15 +17,39 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Plays each task's oracle plan, which only it receives (MTG_EPISODE_TRUTH).
 class OraclePolicy : public Policy {
  public:
+  bool reads_answers() const override { return true; }
+  void answer(const mtg::episode_truth_t& truth) override {
+    Plan& p = plans_[{truth.header.run_id, truth.header.episode_id}];
+    if (p.attempt > truth.header.attempt) return;
+    p = Plan{truth.header.attempt, truth.oracle_plan};
+  }
   AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
     AgentReply r;
     r.model = "oracle";
-    const auto& plan = start.task.oracle_plan;
+    const auto it = plans_.find({start.header.run_id, start.header.episode_id});
+    if (it == plans_.end() || it->second.attempt != start.header.attempt) {
+      r.error = "oracle: no plan arrived for episode " + std::to_string(start.header.episode_id) + " attempt " +
+                std::to_string(start.header.attempt);
+      return r;
+    }
+    const auto& plan = it->second.keys;
     r.raw = obs.step < static_cast<int>(plan.size()) ? plan[static_cast<std::size_t>(obs.step)] : "0";
     return r;
   }
+  void end(const mtg::episode_start_t& start) override {
+    const auto it = plans_.find({start.header.run_id, start.header.episode_id});
+    if (it != plans_.end() && it->second.attempt == start.header.attempt) plans_.erase(it);
+  }
+
+ private:
+  struct Plan {
+    int attempt = -1;
+    std::vector<std::string> keys;
+  };
+  std::map<std::pair<std::string, std::int64_t>, Plan> plans_;  // the latest attempt per episode
 };
 
 class RandomPolicy : public Policy {

@@ -17,6 +17,13 @@ AgentHost::AgentHost(bus::Bus& bus, bus::HeaderStamper& stamp, std::string agent
                                        [this](const std::string&, const mtg::episode_start_t& m) { on_start(m); });
   bus_.subscribe<mtg::observation_t>(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
                                      [this](const std::string&, const mtg::observation_t& m) { on_observation(m); });
+  // Answers reach only a policy that plays them (the built-in oracle): no model adapter ever
+  // subscribes to them.
+  if (policy_->reads_answers()) {
+    bus_.subscribe<mtg::episode_truth_t>(bus::kEpisodeTruth, [this](const std::string&, const mtg::episode_truth_t& m) {
+      if (run_id_.empty() || m.header.run_id == run_id_) policy_->answer(m);
+    });
+  }
   for (int i = 0; i < workers; ++i) workers_.emplace_back([this] { work(); });
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // Runs a Policy on the bus: serves the episodes whose episode_start names this agent, answers
 // each observation once (per episode, attempt and step), parses the reply against the offered
-// keys and publishes an agent_action_t. The agent sees only episode starts and observations.
+// keys and publishes an agent_action_t. The agent sees only episode starts and observations
+// (the built-in oracle also its plans: Policy::reads_answers).
 //
 // Built-in policies answer in the bus thread (workers = 0). Model policies wait seconds for an
 // API, so they answer on `workers` threads, several episodes at once; the bus thread publishes

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/observation_t.hpp"
 
 namespace mtg::agents {
@@ -34,6 +35,10 @@ class Policy {
   virtual AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& observation) = 0;
   /// Called once when the episode attempt ends (or is replaced by a newer attempt).
   virtual void end(const mtg::episode_start_t& /*start*/) {}
+  /// Whether the policy is given episodes' answers (MTG_EPISODE_TRUTH, published before each
+  /// start): the built-in oracle, which plays them, and no other agent.
+  virtual bool reads_answers() const { return false; }
+  virtual void answer(const mtg::episode_truth_t& /*truth*/) {}
 };
 
 }  // namespace mtg::agents

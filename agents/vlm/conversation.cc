@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "agents/vlm/encoding.h"
+#include "core/episode/rules.h"
 #include "core/util/error.h"
 
 namespace mtg::vlm {
@@ -14,6 +15,7 @@ std::string role_legend(const std::string& role) {
   if (role == "view_marked") return "the platform from where you stand, objects or free spaces numbered as the keys";
   if (role == "view") return "the platform from where you stand, without numbers";
   if (role == "item") return "the object in your hand";
+  if (role == "focus") return "a close-up of an object the task names (see the hint), other objects faded";
   if (role == "topdown_marked") return "the apartment from above, platforms numbered as the l keys";
   if (role == "topdown") return "the apartment from above";
   return role;
@@ -71,8 +73,10 @@ std::string step_text(const PromptSet& prompts, const VlmSettings& settings, con
 Conversation::Conversation(const PromptSet& prompts, const VlmSettings& settings, const mtg::episode_start_t& start)
     : prompts_(prompts), settings_(settings) {
   system_.role = ChatMessage::Role::kSystem;
-  system_.text = render_template(prompts.system, {{"step_limit", std::to_string(start.step_limit)}},
-                                 prompts.dir + "/system.txt");
+  system_.text = render_template(
+      prompts.system,
+      {{"step_limit", std::to_string(start.step_limit)}, {"directions", episode::direction_convention()}},
+      prompts.dir + "/system.txt");
 }
 
 std::vector<ChatMessage> Conversation::ask(const mtg::observation_t& obs) {

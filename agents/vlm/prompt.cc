@@ -8,11 +8,11 @@
 #include "core/util/text.h"
 
 namespace mtg::vlm {
-// Compiled in from agents/vlm/prompts/v1 (agents/CMakeLists.txt).
-extern const char* const kPromptV1Version;
-extern const char* const kPromptV1System;
-extern const char* const kPromptV1Step;
-extern const char* const kPromptV1Vote;
+// Compiled in from agents/vlm/prompts/v2 (agents/CMakeLists.txt).
+extern const char* const kPromptV2Version;
+extern const char* const kPromptV2System;
+extern const char* const kPromptV2Step;
+extern const char* const kPromptV2Vote;
 namespace {
 
 namespace fs = std::filesystem;
@@ -53,7 +53,7 @@ namespace {
 PromptSet checked(PromptSet p, const std::string& version) {
   const fs::path d(p.dir);
   if (version.empty()) throw Error((d / "VERSION").string() + ": empty prompt version");
-  check(p.system, {"step_limit"}, d / "system.txt");
+  check(p.system, {"step_limit", "directions"}, d / "system.txt");
   check(p.step, {"task", "step", "steps_used", "step_limit", "situation", "hint", "actions", "images"}, d / "step.txt");
   check(p.vote, {"task", "scene", "step_limit"}, d / "vote.txt");
   const std::uint64_t h = fnv1a64(p.vote, fnv1a64(p.step, fnv1a64(p.system)));
@@ -75,11 +75,11 @@ PromptSet PromptSet::load(const std::string& dir) {
 
 PromptSet PromptSet::builtin() {
   PromptSet p;
-  p.dir = "agents/vlm/prompts/v1";
-  p.system = kPromptV1System;
-  p.step = kPromptV1Step;
-  p.vote = kPromptV1Vote;
-  return checked(std::move(p), trim_whitespace(kPromptV1Version));
+  p.dir = "agents/vlm/prompts/v2";
+  p.system = kPromptV2System;
+  p.step = kPromptV2Step;
+  p.vote = kPromptV2Vote;
+  return checked(std::move(p), trim_whitespace(kPromptV2Version));
 }
 
 }  // namespace mtg::vlm

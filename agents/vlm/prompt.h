@@ -12,14 +12,14 @@ namespace mtg::vlm {
 
 struct PromptSet {
   std::string dir;
-  std::string version;   // e.g. "v1+3fa2c1d0"
-  std::string system;    // placeholders: step_limit
+  std::string version;   // e.g. "v2+3fa2c1d0"
+  std::string system;    // placeholders: step_limit, directions (episode::direction_convention)
   std::string step;      // task, step, steps_used, step_limit, situation, hint, actions, images
   std::string vote;      // task, scene, step_limit
 
   /// @throws mtg::Error naming the file (missing, or an unknown placeholder).
   static PromptSet load(const std::string& dir);
-  /// The shipped set (agents/vlm/prompts/v1), compiled in.
+  /// The shipped set (agents/vlm/prompts/v2), compiled in.
   static PromptSet builtin();
 };
 

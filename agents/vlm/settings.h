@@ -14,7 +14,7 @@ struct VlmSettings {
   int max_output_tokens = 256;
   int seed = -1;                    // sent where the API takes one (OpenAI); -1 = not sent
   // what is sent
-  std::vector<std::string> image_roles = {"view_marked", "item", "topdown_marked"};
+  std::vector<std::string> image_roles = {"view_marked", "item", "focus", "topdown_marked"};
   std::string image_detail = "low"; // OpenAI-style detail: "low", "high" or "auto"
   int image_max_side = 0;           // longer side in pixels, images above are shrunk; 0 = as rendered
   int history_steps = 0;            // earlier steps kept in the conversation; 0 = the whole episode
@@ -34,7 +34,7 @@ struct VlmSettings {
   std::string cache_file;           // "" = $MTG_CACHE_DIR or ~/.cache/mtg, vlm-cache.sqlite
   bool cache_only = false;          // a cache miss fails the call instead of calling the API
   bool no_cache = false;
-  std::string prompts_dir;          // "" = the shipped agents/vlm/prompts/v1 (compiled in)
+  std::string prompts_dir;          // "" = the shipped agents/vlm/prompts/v2 (compiled in)
   std::string prices_file;          // "" = the shipped agents/vlm/prices.json (compiled in)
   std::string key_file;             // "" = the provider's environment variable
   std::string base_url;             // "" = the provider's default (or its *_BASE_URL variable)

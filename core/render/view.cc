@@ -174,6 +174,55 @@ ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, con
   return plan;
 }
 
+ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
+  require(r.object >= 0 && r.object < static_cast<int>(g.objects.size()),
+          "render: object index " + std::to_string(r.object) + " out of range");
+  const int platform = episode::furniture_platform_of(g, s, r.object);
+  require(platform >= 0, "render: object " + g.objects[static_cast<std::size_t>(r.object)].name +
+                             " stands on no platform to show it on");
+  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+  const episode::ObjectState& o = s.objects[static_cast<std::size_t>(r.object)];
+  const geom::Point2 c2 = episode::footprint_centre(o);
+  const Eigen::AlignedBox2d box = geom::bounds(o.footprint);
+  const Eigen::Vector3d centre(c2.x(), c2.y(), (o.bottom + o.top) / 2.0);
+  // The object and a hand's breadth around it, so its neighbours show (faded) for context.
+  const double radius =
+      std::max(0.12, 1.6 * 0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), o.top - o.bottom).norm());
+  Eigen::Vector2d from = standing_point(g, s, platform, std::max(0, p.default_side)) - c2;
+  from = from.norm() > 1e-6 ? from.normalized() : Eigen::Vector2d(0, -1);
+  ViewPlan plan;
+  Camera& cam = plan.camera;
+  cam.width = r.width;
+  cam.height = r.height;
+  cam.fovy = 40.0 * kPi / 180;
+  const double distance = radius / std::tan(cam.fovy / 2.0);
+  // Looking down a little, but under the layer above an interior shelf.
+  double elevation = 35.0 * kPi / 180;
+  if (std::isfinite(p.clearance)) {
+    const double headroom = episode::platform_height(g, s, platform) + p.clearance - 0.02 - centre.z();
+    elevation = std::clamp(std::asin(std::clamp(headroom / distance, -1.0, 1.0)), 0.0, elevation);
+  }
+  const Eigen::Vector3d eye = centre + distance * Eigen::Vector3d(std::cos(elevation) * from.x(),
+                                                                  std::cos(elevation) * from.y(), std::sin(elevation));
+  cam.X_WC = look_at(eye, centre);
+  cam.near = std::max(0.01, distance - 3.0 * radius);
+  cam.far = distance + 6.0;
+  // Every other item fades, so only this one stands out; what it rests on stays solid.
+  std::vector<int> supports;
+  for (int p_below = o.parent; p_below >= 0 && p_below != platform;) {
+    const int below = g.platforms[static_cast<std::size_t>(p_below)].owner;
+    supports.push_back(below);
+    p_below = s.objects[static_cast<std::size_t>(below)].parent;
+  }
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    const int other = static_cast<int>(i);
+    const bool support = std::find(supports.begin(), supports.end(), other) != supports.end();
+    if (other != r.object && g.objects[i].pickable() && !support) plan.faded.push_back(other);
+  }
+  if (s.held >= 0) plan.hidden.push_back(s.held);
+  return plan;
+}
+
 ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
   Eigen::AlignedBox2d box;
   double top = 0.0;
@@ -207,6 +256,7 @@ const char* to_string(ViewKind kind) {
   switch (kind) {
     case ViewKind::kPlatform: return "platform";
     case ViewKind::kItem: return "item";
+    case ViewKind::kFocus: return "focus";
     case ViewKind::kTopdown: return "topdown";
   }
   return "platform";
@@ -225,8 +275,9 @@ const char* to_string(MarkKind kind) {
 ViewKind parse_view_kind(const std::string& name) {
   if (name == "platform") return ViewKind::kPlatform;
   if (name == "item") return ViewKind::kItem;
+  if (name == "focus") return ViewKind::kFocus;
   if (name == "topdown") return ViewKind::kTopdown;
-  throw Error("render: unknown view '" + name + "' (platform, item or topdown)");
+  throw Error("render: unknown view '" + name + "' (platform, item, focus or topdown)");
 }
 
 MarkKind parse_mark_kind(const std::string& name) {
@@ -247,6 +298,7 @@ ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, con
   switch (request.view) {
     case ViewKind::kPlatform: return platform_view(g, s, request);
     case ViewKind::kItem: return item_view(g, s, request);
+    case ViewKind::kFocus: return focus_view(g, s, request);
     case ViewKind::kTopdown: return topdown_view(g, s, request);
   }
   throw Error("render: unknown view kind");

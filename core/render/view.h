@@ -7,6 +7,9 @@
 //             (closed form: aim at the angular centre of the key points, then the field of view
 //             that holds them, stepping back when even a wide lens cannot)
 //   item      a close-up of one object alone (the held item), seen from the robot's side
+//   focus     a close-up of one object where it stands, seen from its platform's arrival side,
+//             with every other item faded to 20 % (the paper's task-provided image of an object
+//             that has look-alikes, official-impl-spec §7.4); what it rests on stays solid
 //   topdown   an orthographic overview of the whole scene, north up
 
 #include <string>
@@ -18,10 +21,11 @@
 
 namespace mtg::render {
 
-enum class ViewKind { kPlatform, kItem, kTopdown };
+enum class ViewKind { kPlatform, kItem, kFocus, kTopdown };
 enum class MarkKind { kNone, kItems, kTargets, kLabels };
 
-/// "platform", "item", "topdown" / "", "items", "targets", "labels". @throws mtg::Error otherwise.
+/// "platform", "item", "focus", "topdown" / "", "items", "targets", "labels".
+/// @throws mtg::Error otherwise.
 ViewKind parse_view_kind(const std::string& name);
 MarkKind parse_mark_kind(const std::string& name);
 const char* to_string(ViewKind kind);
@@ -31,18 +35,22 @@ struct ViewRequest {
   ViewKind view = ViewKind::kPlatform;
   int platform = -1;   // platform views
   int side = -1;       // -1: where the robot stands if it is at that platform, else the default side
-  int object = -1;     // item views
+  int object = -1;     // item and focus views
   MarkKind marks = MarkKind::kNone;
   int width = 640;
   int height = 480;
   double min_region_size = 0.03;  // as episode::RuleOptions, for target numbering
 };
 
+/// How much of a faded object shows through (the release dims neighbours to 20 %).
+inline constexpr double kFadedVisibility = 0.2;
+
 struct ViewPlan {
   Camera camera;
   int side = -1;             // the side used (platform views)
   std::vector<int> hidden;   // objects not drawn (the held item stays out of scene views)
   int only = -1;             // when >= 0, the single object drawn (item close-ups)
+  std::vector<int> faded;    // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
 };
 

@@ -82,6 +82,21 @@ std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& g
   return text;
 }
 
+std::string lookalike_hint(const std::vector<Identification>& lookalikes, bool with_images) {
+  if (lookalikes.empty()) return "";
+  std::string text = "Some objects of this task have look-alikes; the task names them as ";
+  for (std::size_t i = 0; i < lookalikes.size(); ++i) {
+    if (i > 0) text += i + 1 == lookalikes.size() ? " and " : ", ";
+    text += lookalikes[i].phrase + " (on " + lookalikes[i].platform + ")";
+  }
+  text += ". Left, right, nearest and farthest are as seen from the side where you arrive at that platform.";
+  if (with_images) {
+    text += lookalikes.size() == 1 ? " A close-up image shows it, the other objects on its platform faded."
+                                   : " Close-up images show them in that order, the other objects on each platform faded.";
+  }
+  return text;
+}
+
 std::string sequence_text(const std::vector<std::string>& parts) {
   std::string text;
   for (std::size_t i = 0; i < parts.size(); ++i) {

@@ -16,6 +16,11 @@ namespace mtg::tasks {
 std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& goal, const Wording& words,
                         std::uint64_t seed);
 
+/// The hint an episode starts with when its text names look-alikes (the paper's "task-provided
+/// descriptions"): which phrases pick them out and where, and how ordinals read; with images,
+/// that close-ups of them follow in the same order. "" when there are none.
+std::string lookalike_hint(const std::vector<Identification>& lookalikes, bool with_images);
+
 /// "<first>, then <second>" (the paper's THEN connector), for any number of parts.
 std::string sequence_text(const std::vector<std::string>& parts);
 

@@ -1,10 +1,29 @@
 #include "core/tasks/validate.h"
 
+#include <cmath>
+
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/tasks/referring.h"
 #include "core/util/error.h"
 
 namespace mtg::tasks {
+namespace {
+
+// Keys of one atomic part's plan: l<source>, o<k>, l<destination>, startplace, <target>.
+constexpr std::size_t kKeysPerPart = 5;
+
+// Whether `id`'s reference names exactly its object in `s`.
+bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, const Identification& id,
+                      Ambiguity rule) {
+  const int platform = g.find_platform(id.platform);
+  const int object = g.find_object(id.object);
+  if (platform < 0 || object < 0) return false;
+  const std::vector<int> found = resolve(g, s, platform, Reference::from_json(id.reference), rule);
+  return found.size() == 1 && found.front() == object;
+}
+
+}  // namespace
 
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
   PlayResult r;
@@ -35,6 +54,79 @@ PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOpt
   r.success = episode::task_goal_satisfied(g, s, goal, options.goals);
   if (!r.success) r.failure = "goal not satisfied at the end";
   return r;
+}
+
+std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
+  std::vector<std::string> problems;
+  auto fail = [&](const std::string& what) { problems.push_back(task.id + ": " + what); };
+  const PlayResult played = play_task(g, task, options);
+  if (!played.success) fail("the oracle plan fails: " + played.failure);
+  episode::TaskGoal goal;
+  try {
+    goal = episode::task_goal_from_json(g, task.goal);
+  } catch (const Error& e) {
+    fail(e.what());
+    return problems;
+  }
+  const episode::WorldState initial = episode::initial_state(g);
+  if (episode::task_goal_satisfied(g, initial, goal, options.goals)) fail("a do-nothing agent meets the goal");
+  if (goal.is_outcome) {
+    if (episode::outcome_satisfied(g, initial, goal.outcome, options.goals)) fail("the outcome holds at the start");
+    for (const Identification& id : task.identify) {
+      if (!names_its_object(g, initial, id, options.ambiguity)) fail("'" + id.phrase + "' does not name " + id.object);
+    }
+    return problems;
+  }
+  if (task.oracle.size() != kKeysPerPart * goal.parts.size() + 1) {
+    fail("the oracle plan does not have " + std::to_string(kKeysPerPart) + " keys per part");
+    return problems;
+  }
+  // Step through the parts: each must be worth asking and nameable where it starts, fit, and put
+  // its item where the task says.
+  episode::WorldState s = initial;
+  episode::RuleOptions rules = options.rules;
+  rules.step_limit = 1 << 20;
+  const episode::TaskConstraints constraints{goal.protected_objects()};
+  for (std::size_t k = 0; k < goal.parts.size(); ++k) {
+    const episode::AtomicGoal& part = goal.parts[k];
+    const std::string which = "part " + std::to_string(k) + ": ";
+    if (episode::goal_met_from_any_side(g, s, part, options.goals)) fail(which + "its goal holds when it starts");
+    episode::WorldState held = s;
+    episode::pick(g, held, part.item);
+    for (const Identification& id : task.identify) {
+      if (id.part != static_cast<int>(k)) continue;
+      const bool ok = names_its_object(g, s, id, options.ambiguity) &&
+                      (id.role == "item" || names_its_object(g, held, id, options.ambiguity));
+      if (!ok) fail(which + "'" + id.phrase + "' does not name " + id.object);
+    }
+    if (episode::stack_height(g, s, part.item) > g.platforms[static_cast<std::size_t>(part.platform)].clearance) {
+      fail(which + "the item with what rests on it is taller than the destination's clearance");
+    }
+    for (std::size_t i = 0; i < kKeysPerPart; ++i) {
+      const std::string& key = task.oracle[kKeysPerPart * k + i];
+      if (!episode::apply_action(g, s, key, constraints, rules).applied) {
+        fail(which + "'" + key + "' is not applied");
+        return problems;
+      }
+    }
+    if (k >= task.placements.size()) {
+      fail(which + "no stored placement");
+      continue;
+    }
+    const nlohmann::json& at = task.placements[k];
+    const Eigen::Vector3d stored(at.value("x", 0.0), at.value("y", 0.0), at.value("z", 0.0));
+    const Eigen::Vector3d now = s.objects[static_cast<std::size_t>(part.item)].position;
+    if ((stored - now).norm() > 1e-6) fail(which + "the item does not land where the task says");
+    if (episode::goal_margin(g, s, part, options.goals) < options.min_margin) {
+      fail(which + "the placement lies less than " + std::to_string(options.min_margin) + " m inside its goal");
+    }
+  }
+  for (std::size_t k = 0; k < goal.parts.size(); ++k) {
+    if (episode::goal_margin(g, s, goal.parts[k], options.goals) < options.min_margin) {
+      fail("part " + std::to_string(k) + ": no longer robustly met at the end");
+    }
+  }
+  return problems;
 }
 
 }  // namespace mtg::tasks

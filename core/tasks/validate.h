@@ -1,9 +1,13 @@
 #pragma once
-// Checking a stored task against the episode rules: play its oracle plan from the initial state
-// (the task's anchors protected, its step limit enforced) and ask the judge's predicate whether
-// the goal holds. Used by the validity tests and by `mtg tasks check`.
+// Checking a stored task against the episode rules and the generator's promises
+// (docs/tasks.md, "What every task guarantees"): its oracle plan, played from the initial state
+// with the episode rules (anchors protected, step limit enforced), reaches the goal; no goal, and
+// no Level 3 step, holds when it starts; every look-alike's reference names exactly its object
+// where the step starts; every placement fits under the clearance and lies where the task says,
+// with the margin it claims. Used by the validity tests.
 
 #include <string>
+#include <vector>
 
 #include "core/graph/scene_graph.h"
 #include "core/tasks/task.h"
@@ -16,6 +20,10 @@ struct PlayResult {
   std::string failure;  // first problem ("" on success)
 };
 
+/// Plays the oracle plan and judges the end state.
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options);
+
+/// Every broken promise of the task, one line each (empty when it keeps them all).
+std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options);
 
 }  // namespace mtg::tasks

@@ -49,8 +49,9 @@ int main(int argc, char** argv) {
   render->add_option("--scene", render_opts.scene, "scene name, e.g. apt_0")->required();
   render->add_option("--data", render_opts.data_dir, "dataset root (default: search order)");
   render->add_option("--profile", render_opts.profile, "scene profile (default replica_cad)");
-  render->add_option("--view", render_opts.view, "platform (default), item or topdown")
-      ->check(CLI::IsMember({"platform", "item", "topdown"}));
+  render->add_option("--view", render_opts.view,
+                     "platform (default), item (alone), focus (in place, neighbours faded) or topdown")
+      ->check(CLI::IsMember({"platform", "item", "focus", "topdown"}));
   render->add_option("--platform", render_opts.platform, "platform name (platform views)");
   render->add_option("--side", render_opts.side, "0 rear, 1 left, 2 front, 3 right (default: the platform's default side)")
       ->check(CLI::Range(-1, 3));
@@ -111,6 +112,10 @@ int main(int argc, char** argv) {
   run->add_option("--image-size", run_opts.image_size, "observation images WIDTHxHEIGHT (default 640x480)");
   run->add_option("--image-encoding", run_opts.image_encoding, "png (default) or jpeg")
       ->check(CLI::IsMember({"png", "jpeg"}));
+  run->add_option("--object-names", run_opts.object_names,
+                  "name objects in the action space: on, off, or auto (default: on without images or for a "
+                  "task set of the name rule; the paper's numbered objects otherwise)")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
   run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
   run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");

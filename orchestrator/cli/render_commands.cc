@@ -35,7 +35,9 @@ int run_render(const RenderOptions& o) {
   if (ext == ".jpg" || ext == ".jpeg") encoding = "jpeg";
   if (encoding.empty()) throw Error("mtg render: --out must end in .png, .jpg or .jpeg: " + o.out);
   if (o.view == "platform" && o.platform.empty()) throw Error("mtg render: a platform view needs --platform <name>");
-  if (o.view == "item" && o.item.empty()) throw Error("mtg render: an item view needs --item <object name>");
+  if ((o.view == "item" || o.view == "focus") && o.item.empty()) {
+    throw Error("mtg render: an " + o.view + " view needs --item <object name>");
+  }
 
   services::ViewSpec view{o.view, o.platform, o.side, o.item, o.marks};
   if (o.marks == "auto") view.marks = o.view == "platform" ? "items" : o.view == "topdown" ? "labels" : "";

@@ -76,6 +76,19 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
   std::printf("  logs        %s/logs/\n", dir.c_str());
 }
 
+// Whether observations name objects. The paper's action space numbers objects only, for agents
+// that see them; an agent without images, or a task set whose look-alike rule is "name" (its
+// texts say "cup 01", which no image shows), needs the names (docs/episode.md).
+bool object_names_for(const std::string& option, bool render, const std::string& tasks_db) {
+  if (option == "on") return true;
+  if (option == "off") return false;
+  if (option != "auto") throw Error("mtg run: --object-names is on, off or auto, not '" + option + "'");
+  if (!render) return true;
+  const nlohmann::json meta = tasks::task_db_stats(tasks_db)["meta"];
+  const nlohmann::json config = nlohmann::json::parse(meta.value("config_json", "{}"), nullptr, false);
+  return config.is_object() && config.value("ambiguity", "") == "name";
+}
+
 }  // namespace
 
 int run_run(const RunOptions& o) {
@@ -120,6 +133,7 @@ int run_run(const RunOptions& o) {
       throw Error("mtg run: --image-size " + o.image_size + " is outside 16..8192 pixels");
     }
     plan.image_encoding = o.image_encoding;
+    plan.object_names = object_names_for(o.object_names, plan.render, plan.tasks_db);
     // A model call may wait minutes for rate limits and retries before the next message.
     plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
     plan.data_dir = o.data_dir;

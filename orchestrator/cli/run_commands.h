@@ -22,6 +22,7 @@ struct RunOptions {
   bool no_render = false;            // --no-render: text only even for model agents
   std::string image_size = "640x480";
   std::string image_encoding = "png";
+  std::string object_names = "auto"; // on, off, or auto: on for text-only runs and name-rule task sets
   std::string out;                   // run folder
   std::string data_dir;
   std::string profile = "replica_cad";

@@ -162,21 +162,23 @@ int LeaseLauncher::next_attempt(std::int64_t episode_id) const {
 }
 
 void LeaseLauncher::send_lease(const std::string& action, std::int64_t episode_id, int attempt,
-                               const std::string& worker, const mtg::episode_start_t* start) {
+                               const std::string& worker, const EpisodeLaunch* launch) {
   mtg::lease_t m{};
   m.header = stamp_.next(episode_id, attempt, "lease");
   m.lease_id = lease_id(episode_id, attempt);
   m.worker = worker;
   m.action = action;
   m.ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
-  if (start != nullptr) {
-    m.task_id = start->task.task_id;
-    m.start = *start;
+  if (launch != nullptr) {
+    m.task_id = launch->start.task.task_id;
+    m.start = launch->start;
+    m.truth = launch->truth;
   }
   bus_.publish(bus::kLease, m);
 }
 
-void LeaseLauncher::launch(const mtg::episode_start_t& start) {
+void LeaseLauncher::launch(const EpisodeLaunch& launch) {
+  const mtg::episode_start_t& start = launch.start;
   // The worker with the most free slots; ties go to the first by id.
   std::string best;
   int best_free = 0;
@@ -196,10 +198,10 @@ void LeaseLauncher::launch(const mtg::episode_start_t& start) {
   Lease lease;
   lease.attempt = attempt;
   lease.worker = best;
-  lease.start = start;
+  lease.launch = launch;
   lease.last_renewal = lease.last_grant = Clock::now();
   leases_[id] = lease;
-  send_lease("grant", id, attempt, best, &start);
+  send_lease("grant", id, attempt, best, &launch);
 }
 
 void LeaseLauncher::drop(std::int64_t episode_id, int attempt) {
@@ -272,7 +274,7 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
     if (seconds_between(l.last_renewal, now) > options_.lease_ttl_s) {
       expired.push_back(id);
     } else if (!l.acknowledged && seconds_between(l.last_grant, now) >= 1.0) {
-      send_lease("grant", id, l.attempt, l.worker, &l.start);  // the grant may have been lost
+      send_lease("grant", id, l.attempt, l.worker, &l.launch);  // the grant may have been lost
       l.last_grant = now;
     }
   }

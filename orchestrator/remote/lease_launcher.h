@@ -47,7 +47,7 @@ class LeaseLauncher final : public Launcher {
   std::vector<AdoptedAttempt> open() override;
   int free_slots() const override;
   int next_attempt(std::int64_t episode_id) const override;
-  void launch(const mtg::episode_start_t& start) override;
+  void launch(const EpisodeLaunch& launch) override;
   void drop(std::int64_t episode_id, int attempt) override;
   void poll(int timeout_ms, LaunchSink& sink) override;
   void close() override;
@@ -64,7 +64,7 @@ class LeaseLauncher final : public Launcher {
   struct Lease {
     int attempt = 0;
     std::string worker;
-    mtg::episode_start_t start{};  // empty for an adopted lease (its grant was sent before)
+    EpisodeLaunch launch{};  // empty for an adopted lease (its grant was sent before)
     bool acknowledged = false;
     Clock::time_point last_renewal, last_grant;
   };
@@ -82,7 +82,7 @@ class LeaseLauncher final : public Launcher {
   int live_workers() const;
   int held_by(const std::string& worker) const;
   void send_lease(const std::string& action, std::int64_t episode_id, int attempt, const std::string& worker,
-                  const mtg::episode_start_t* start = nullptr);
+                  const EpisodeLaunch* launch = nullptr);
   void on_renew(const mtg::lease_t& m);
   void arrived(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);

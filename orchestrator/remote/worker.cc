@@ -269,10 +269,10 @@ class Worker final : public LaunchSink {
       return;
     }
     if (it != held_.end()) forget(id, it->second.attempt);  // superseded by a newer attempt
-    mtg::episode_start_t start = m.start;
-    if (!options_.data_dir.empty()) start.data_dir = options_.data_dir;
-    held_[id] = Held{attempt, start.task.task_id, start.agent};
-    runtime_->launch(start);
+    EpisodeLaunch launch{m.start, m.truth};
+    if (!options_.data_dir.empty()) launch.start.data_dir = options_.data_dir;
+    held_[id] = Held{attempt, launch.start.task.task_id, launch.start.agent};
+    runtime_->launch(launch);
     send_lease("renew", id, attempt);
   }
 

@@ -12,8 +12,17 @@
 
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 
 namespace mtg::orchestrator {
+
+/// What starts one episode attempt: the start every process of the run sees, and the truth
+/// (goal, oracle plan) that only the judge, the scene-graph service and the oracle may see. A
+/// launcher publishes the truth first, on its own channel.
+struct EpisodeLaunch {
+  mtg::episode_start_t start;
+  mtg::episode_truth_t truth;
+};
 
 /// Progress of a run as the engine counts it (a coordinator announces it; telemetry only).
 struct RunCounts {
@@ -57,7 +66,7 @@ class Launcher {
   virtual int free_slots() const = 0;
   /// The attempt number an episode's next try should use (above every one used before).
   virtual int next_attempt(std::int64_t episode_id) const = 0;
-  virtual void launch(const mtg::episode_start_t& start) = 0;
+  virtual void launch(const EpisodeLaunch& launch) = 0;
   /// Forgets an attempt the engine no longer wants (its agent stopped, it was given up).
   virtual void drop(std::int64_t episode_id, int attempt) = 0;
   /// Waits up to `timeout_ms` for news and reports it to `sink`.

@@ -142,12 +142,14 @@ void LocalRuntime::wait_ready(const std::vector<std::string>& names, double time
 
 int LocalRuntime::free_slots() const { return config_.parallel - static_cast<int>(in_flight_.size()); }
 
-void LocalRuntime::launch(const mtg::episode_start_t& start) {
+void LocalRuntime::launch(const EpisodeLaunch& launch) {
+  const mtg::episode_start_t& start = launch.start;
   Flight f;
   f.attempt = start.header.attempt;
   f.agent = start.agent;
   f.last_activity = Clock::now();
   in_flight_[start.header.episode_id] = f;
+  bus_.publish(bus::kEpisodeTruth, launch.truth);
   bus_.publish(bus::kEpisodeStart, start);
 }
 

@@ -50,7 +50,7 @@ class LocalRuntime final : public Launcher {
   std::vector<AdoptedAttempt> open() override;
   int free_slots() const override;
   int next_attempt(std::int64_t) const override { return 0; }
-  void launch(const mtg::episode_start_t& start) override;
+  void launch(const EpisodeLaunch& launch) override;
   void drop(std::int64_t episode_id, int attempt) override;
   void poll(int timeout_ms, LaunchSink& sink) override;
   void close() override;

@@ -11,6 +11,7 @@
 #include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "orchestrator/run/run_plan.h"
 #include "services/common/scene_cache.h"
 
@@ -21,6 +22,7 @@ namespace fs = std::filesystem;
 
 struct Recorded {
   std::map<int, mtg::episode_start_t> starts;                   // attempt -> start
+  std::map<int, mtg::episode_truth_t> truths;                   // attempt -> goal and plan
   std::map<int, std::map<int, mtg::agent_action_t>> actions;     // attempt -> step -> answer
 };
 
@@ -31,6 +33,10 @@ std::map<std::int64_t, Recorded> read_recording(const fs::path& run_dir, const s
       mtg::episode_start_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
       out[m.header.episode_id].starts[m.header.attempt] = m;
+    } else if (ev.channel == bus::kEpisodeTruth) {
+      mtg::episode_truth_t m{};
+      if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
+      out[m.header.episode_id].truths[m.header.attempt] = m;
     } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
       mtg::agent_action_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
@@ -52,12 +58,13 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
     EpisodeRow row = original;
     if (original.status == "scored") {
       const auto rec = recording.find(original.episode_id);
-      if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0) {
+      if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0 ||
+          rec->second.truths.count(original.attempt) == 0) {
         throw Error(run_dir.string() + ": the recording lacks the start of episode " +
                     std::to_string(original.episode_id) + " attempt " + std::to_string(original.attempt));
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
-      const tasks::Task task = bus::from_message(start.task);
+      const tasks::Task task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
       const graph::SceneGraph& g = scenes.get(task.scene, start.data_dir);
       const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
       episode::EpisodeJudge judge(g, goal, task.level);

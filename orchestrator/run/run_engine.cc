@@ -159,7 +159,10 @@ class Engine final : public LaunchSink {
     const PlannedEpisode& e = *by_id_.at(id);
     const auto task = tasks_.find(e.task_id);
     if (task == tasks_.end()) throw Error("task " + e.task_id + " of the plan is not in " + plan_.tasks_db);
-    mtg::episode_start_t m{};
+    EpisodeLaunch launch;
+    launch.truth = bus::truth_message(task->second);
+    launch.truth.header = stamp_.next(id, attempt, "truth");
+    mtg::episode_start_t& m = launch.start;
     m.header = stamp_.next(id, attempt, "start");
     m.task = bus::to_message(task->second);
     m.agent = e.agent;
@@ -167,8 +170,9 @@ class Engine final : public LaunchSink {
     m.step_limit = std::max(plan_.step_limit, task->second.step_limit);
     m.render = plan_.render;
     m.data_dir = plan_.data_dir;
+    m.object_names = plan_.object_names;
     in_flight_[id] = Flight{attempt, Clock::now()};
-    launcher_.launch(m);
+    launcher_.launch(launch);
   }
 
   void retry(std::int64_t id, const std::string& why, const std::string& cause = "infrastructure") {

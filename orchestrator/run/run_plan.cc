@@ -24,6 +24,7 @@ nlohmann::json RunPlan::to_json() const {
           {"parallel", parallel},
           {"step_limit", step_limit},
           {"render", render},
+          {"object_names", object_names},
           {"image_width", image_width},
           {"image_height", image_height},
           {"image_encoding", image_encoding},
@@ -50,6 +51,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.parallel = j.at("parallel").get<int>();
     p.step_limit = j.at("step_limit").get<int>();
     p.render = j.at("render").get<bool>();
+    p.object_names = j.value("object_names", false);
     p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
     p.image_height = j.value("image_height", p.image_height);
     p.image_encoding = j.value("image_encoding", p.image_encoding);

@@ -32,6 +32,7 @@ struct RunPlan {
   int parallel = 4;              // attempts in flight; 0 = no cap (remote: the workers' capacities)
   int step_limit = 15;           // at least; a task may ask for more (long L3/L4 plans)
   bool render = false;           // observations carry images (a renderer process runs)
+  bool object_names = false;     // the action space and situation text name objects (text-only agents)
   int image_width = 640;
   int image_height = 480;
   std::string image_encoding = "png";

@@ -11,11 +11,9 @@
 namespace mtg::services {
 
 JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id)
-    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)) {
+    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)),
+      starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
   auto mine = [this](const mtg::header_t& h) { return run_id_.empty() || h.run_id == run_id_; };
-  bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart, [this, mine](const std::string&, const mtg::episode_start_t& m) {
-    if (mine(m.header)) on_start(m);
-  });
   bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
                                       [this, mine](const std::string&, const mtg::state_update_t& m) {
                                         if (mine(m.header)) on_state(m);
@@ -26,7 +24,7 @@ JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scene
                                       });
 }
 
-void JudgeHost::on_start(const mtg::episode_start_t& start) {
+void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
   const Key key{start.header.run_id, start.header.episode_id};
   const auto existing = episodes_.find(key);
   if (existing != episodes_.end() && existing->second.attempt >= start.header.attempt) return;
@@ -36,7 +34,7 @@ void JudgeHost::on_start(const mtg::episode_start_t& start) {
   e.agent = start.agent;
   e.level = start.task.level;
   try {
-    const tasks::Task task = bus::from_message(start.task);
+    const tasks::Task task = bus::from_messages(start.task, truth);
     e.graph = &scenes_.get(task.scene, start.data_dir);
     e.judge = std::make_unique<episode::EpisodeJudge>(*e.graph, episode::task_goal_from_json(*e.graph, task.goal),
                                                       task.level);

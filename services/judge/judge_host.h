@@ -1,6 +1,6 @@
 #pragma once
-// The judge service's episodes: from the bus alone (episode starts, state updates, agent
-// actions) it follows each episode with core's EpisodeJudge, publishes milestones as they happen
+// The judge service's episodes: from the bus alone (episode starts and truths, state updates,
+// agent actions) it follows each episode with core's EpisodeJudge, publishes milestones as they happen
 // and the episode result at the end. A lost state update (a gap in the scene-graph service's
 // sequence numbers) cannot be scored: the judge reports cause "transport_error" so the
 // orchestrator retries the episode; duplicates are ignored.
@@ -16,16 +16,18 @@
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/state_update_t.hpp"
+#include "services/common/episode_join.h"
 #include "services/common/scene_cache.h"
 
 namespace mtg::services {
 
 class JudgeHost {
  public:
-  /// Subscribes to episode starts, state updates and agent actions of run `run_id` ("" = every run).
+  /// Subscribes to episode starts and truths, state updates and agent actions of run `run_id`
+  /// ("" = every run).
   JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id);
 
-  void on_start(const mtg::episode_start_t& start);
+  void on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth);
   void on_state(const mtg::state_update_t& update);
   void on_action(const mtg::agent_action_t& action);
   int in_flight() const { return static_cast<int>(episodes_.size()); }
@@ -59,6 +61,7 @@ class JudgeHost {
   SceneCache& scenes_;
   std::string run_id_;
   std::map<Key, Episode> episodes_;
+  EpisodeJoin starts_;
 };
 
 }  // namespace mtg::services

@@ -13,6 +13,7 @@ const char* role_of(render::ViewKind kind) {
   switch (kind) {
     case render::ViewKind::kPlatform: return "view";
     case render::ViewKind::kItem: return "item";
+    case render::ViewKind::kFocus: return "focus";
     case render::ViewKind::kTopdown: return "topdown";
   }
   return "view";
@@ -73,7 +74,7 @@ ImageReply Renderer::render(const ImageRequest& request) {
       r.platform = g.find_platform(v.platform);
       if (r.platform < 0) throw Error("render: scene " + request.scene + " has no platform '" + v.platform + "'");
     }
-    if (r.view == render::ViewKind::kItem) {
+    if (r.view == render::ViewKind::kItem || r.view == render::ViewKind::kFocus) {
       r.object = g.find_object(v.item);
       if (r.object < 0) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }

@@ -5,6 +5,7 @@
 #include "core/episode/state_json.h"
 #include "core/episode/transcript.h"
 #include "core/render/view.h"
+#include "core/tasks/phrasing.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/error_event_t.hpp"
@@ -23,10 +24,8 @@ FaultInjection FaultInjection::from_env() {
 
 EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
                          FaultInjection faults, ImageOptions images)
-    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults), images_(std::move(images)) {
-  bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart, [this](const std::string&, const mtg::episode_start_t& m) {
-    if (run_id_.empty() || m.header.run_id == run_id_) on_start(m);
-  });
+    : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults), images_(std::move(images)),
+      starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
   bus_.subscribe<mtg::agent_action_t>(bus::episode_channel_regex(bus::EpisodeStream::kAction),
                                       [this](const std::string&, const mtg::agent_action_t& m) {
                                         if (run_id_.empty() || m.header.run_id == run_id_) on_action(m);
@@ -36,20 +35,22 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& s
   });
 }
 
-void EpisodeHost::on_start(const mtg::episode_start_t& start) {
+void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
   const Key key{start.header.run_id, start.header.episode_id};
   const auto existing = episodes_.find(key);
   if (existing != episodes_.end() && existing->second.attempt >= start.header.attempt) return;  // duplicate
   try {
     Episode e;
     e.attempt = start.header.attempt;
-    e.task = bus::from_message(start.task);
+    e.task = bus::from_messages(start.task, truth);
     e.graph = &scenes_.get(e.task.scene, start.data_dir);
     e.constraints.protected_objects = episode::task_goal_from_json(*e.graph, e.task.goal).protected_objects();
     e.rules = bus::episode_rules(start);
     e.state = episode::initial_state(*e.graph);
     e.render = start.render;
     e.data_dir = start.data_dir;
+    // The first observation tells which look-alikes the text means (and shows them, with images).
+    e.hint = tasks::lookalike_hint(e.task.identify, e.render);
     episodes_[key] = std::move(e);
   } catch (const Error& err) {
     report_error(key, start.header.attempt, err.what());
@@ -128,9 +129,20 @@ void EpisodeHost::publish_observation(const Key& key, Episode& e) {
 }
 
 void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_t obs) {
-  const std::vector<render::ViewRequest> views =
+  std::vector<render::ViewRequest> views =
       e.render ? render::observation_views(e.state, images_.width, images_.height, e.rules.min_region_size)
                : std::vector<render::ViewRequest>{};
+  if (e.render && e.state.steps == 0) {
+    // The task-provided close-ups of look-alikes, once, with the first observation.
+    for (const tasks::Identification& id : e.task.identify) {
+      render::ViewRequest v;
+      v.view = render::ViewKind::kFocus;
+      v.object = e.graph->find_object(id.object);
+      v.width = images_.width;
+      v.height = images_.height;
+      if (v.object >= 0) views.push_back(v);
+    }
+  }
   e.pending = std::move(obs);
   if (views.empty()) {
     finish_observation(key, e);

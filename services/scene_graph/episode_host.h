@@ -23,6 +23,7 @@
 #include "mtg/observation_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
+#include "services/common/episode_join.h"
 #include "services/common/scene_cache.h"
 
 namespace mtg::services {
@@ -45,11 +46,12 @@ struct ImageOptions {
 
 class EpisodeHost {
  public:
-  /// Subscribes to episode starts, agent actions and render results of run `run_id` ("" = every run).
+  /// Subscribes to episode starts and truths, agent actions and render results of run `run_id`
+  /// ("" = every run).
   EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
               FaultInjection faults = {}, ImageOptions images = {});
 
-  void on_start(const mtg::episode_start_t& start);
+  void on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth);
   void on_action(const mtg::agent_action_t& action);
   void on_render_result(const mtg::render_result_t& result);
   /// Resends or gives up on render requests that got no answer in time (liveness only: what the
@@ -94,6 +96,7 @@ class EpisodeHost {
   FaultInjection faults_;
   ImageOptions images_;
   std::map<Key, Episode> episodes_;
+  EpisodeJoin starts_;
 };
 
 }  // namespace mtg::services

@@ -12,6 +12,7 @@
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/error_event_t.hpp"
 #include "mtg/header_t.hpp"
 #include "mtg/heartbeat_t.hpp"
@@ -104,6 +105,10 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     auto start = with_header<mtg::episode_start_t>();
     start.task.task_id = "fixture/L1/000001";
     w.add("MTG_EPISODE_START", start);
+    auto truth = with_header<mtg::episode_truth_t>();
+    truth.oracle_plan = {"l1", "o1", "0"};
+    truth.n_oracle = 3;
+    w.add("MTG_EPISODE_TRUTH", truth);
     w.add("MTG_RESULT", with_header<mtg::episode_result_t>());
     mtg::render_view_t view{};
     view.view = "platform";
@@ -144,7 +149,7 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(status, 0) << text;
-  EXPECT_NE(text.find("ALL 25 types decoded"), std::string::npos) << text;
+  EXPECT_NE(text.find("ALL 26 types decoded"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED observation_t MTG_OBS_E7 run=java-check"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED record_chunk_t MTG_RECORD run=java-check"), std::string::npos) << text;
 }

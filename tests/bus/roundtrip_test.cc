@@ -11,6 +11,7 @@
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/error_event_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/judge_event_t.hpp"
@@ -55,9 +56,6 @@ mtg::task_t sample_task() {
   t.level = 1;
   t.task_type = "surface_part";
   t.text = "Move the cup to the front part of the table.";
-  t.goal_json = R"({"item":"cup_01_3"})";
-  t.n_oracle = 3;
-  t.oracle_plan = {"l4", "o2", "startplace"};
   return t;
 }
 
@@ -102,6 +100,14 @@ class RoundTrip {
     ts.level_counts[3] = 4;
     ts.total = 14;
     check("T_TASKSET_SUMMARY", ts);
+
+    mtg::episode_truth_t truth{};
+    truth.task_id = "apt_0/L1/000001";
+    truth.goal_json = R"({"atomic":{"item":"cup_01_3"}})";
+    truth.n_oracle = 3;
+    truth.oracle_plan = {"l4", "o2", "startplace"};
+    truth.identify_json = "[]";
+    check("T_TRUTH", truth);
 
     mtg::episode_start_t start{};
     start.task = sample_task();

@@ -86,7 +86,7 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
     EXPECT_EQ(r.cache_hits, 0);
     EXPECT_GT(r.images_sent, 0);
     EXPECT_GT(r.input_tokens, 0);
-    EXPECT_THAT(r.prompt_version, ::testing::StartsWith("v1+"));
+    EXPECT_THAT(r.prompt_version, ::testing::StartsWith("v2+"));
   }
   const auto seen = server_.requests();
   std::set<std::string> providers;

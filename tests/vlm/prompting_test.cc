@@ -14,6 +14,7 @@
 #include "agents/vlm/settings.h"
 #include "agents/vlm/voter.h"
 #include "core/episode/reply_parser.h"
+#include "core/episode/rules.h"
 #include "core/tasks/feasibility.h"
 #include "core/util/error.h"
 #include "core/util/rate_window.h"
@@ -54,9 +55,9 @@ mtg::observation_t observation(int step, int images) {
 
 TEST(PromptTest, TheShippedTemplatesLoadAndCarryAVersionWithTheirHash) {
   const PromptSet p = PromptSet::builtin();
-  EXPECT_THAT(p.version, ::testing::StartsWith("v1+"));
+  EXPECT_THAT(p.version, ::testing::StartsWith("v2+"));
   EXPECT_EQ(p.version.size(), 11u);
-  const PromptSet from_files = PromptSet::load(std::string(MTG_SOURCE_DIR) + "/agents/vlm/prompts/v1");
+  const PromptSet from_files = PromptSet::load(std::string(MTG_SOURCE_DIR) + "/agents/vlm/prompts/v2");
   EXPECT_EQ(from_files.version, p.version) << "the compiled-in templates are the shipped files";
   EXPECT_THAT(render_template("a {{ x }} b {{y}}", {{"x", "1"}, {"y", "2"}}, "t"), "a 1 b 2");
   try {
@@ -65,6 +66,15 @@ TEST(PromptTest, TheShippedTemplatesLoadAndCarryAVersionWithTheirHash) {
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(), "prompts/step.txt: unknown placeholder {{nobody}}");
   }
+}
+
+// The model is told the environment's convention (rules.h), not a paraphrase that could drift.
+TEST(PromptTest, TheSystemPromptStatesTheDirectionConventionOfTheEnvironment) {
+  const PromptSet p = PromptSet::builtin();
+  const std::string system =
+      render_template(p.system, {{"step_limit", "15"}, {"directions", episode::direction_convention()}}, "system.txt");
+  EXPECT_THAT(system, ::testing::HasSubstr(episode::direction_convention()));
+  EXPECT_THAT(system, ::testing::Not(::testing::HasSubstr("front is the part nearest")));  // what v1 said
 }
 
 TEST(PromptTest, AnEditedTemplateGetsANewVersion) {

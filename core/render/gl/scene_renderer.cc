@@ -292,6 +292,14 @@ ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const 
     draw[static_cast<std::size_t>(plan.only)] = true;
   }
   Frame frame = renderer.render(plan.camera, poses, draw);
+  if (!plan.faded.empty()) {
+    // Faded objects: the view with them over the view without them, at kFadedVisibility.
+    std::vector<bool> without = draw;
+    for (const int f : plan.faded) without[static_cast<std::size_t>(f)] = false;
+    const Frame behind = renderer.render(plan.camera, poses, without);
+    cv::addWeighted(frame.image, kFadedVisibility, behind.image, 1.0 - kFadedVisibility, 0.0, frame.image);
+    frame.triangles += behind.triangles;
+  }
   ViewImages out;
   out.triangles = frame.triangles;
   if (with_marks) out.marked = annotate(frame.image, plan.camera, plan.marks);

@@ -1,6 +1,7 @@
 #include "core/episode/rules.h"
 
 #include <gmock/gmock.h>
+#include <map>
 #include <gtest/gtest.h>
 
 #include "core/episode/goals.h"
@@ -70,6 +71,61 @@ TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
   const geom::Point2 item = geom::centroid(geom::Region{{s.objects[static_cast<size_t>(box)].footprint}});
   const geom::Point2 centre = p.X_WP.translation();
   EXPECT_GT((item - robot).norm(), (centre - robot).norm());
+}
+
+// The convention the agent is told (direction_convention(), in the system prompt and the placing
+// text) is the one the targets number and the judge applies, from every side the robot can use:
+// "front" lands farther from the robot than "rear", "left" on its left, and only the named part
+// holds for the judge.
+TEST_F(RulesTest, TheDirectionConventionTheAgentIsToldIsTheOneTargetsAndJudgeUse) {
+  EXPECT_THAT(direction_convention(), HasSubstr("front is the part farthest from you"));
+  EXPECT_THAT(direction_convention(), HasSubstr("rear the part nearest you"));
+  const int box = g().find_object("box_1");
+  const int table = g().navigable[1];
+  const graph::Platform& p = g().platforms[static_cast<size_t>(table)];
+  int sides_checked = 0;
+  for (const graph::Side side : graph::kSides) {
+    if (!p.sides[static_cast<size_t>(side)].usable()) continue;
+    ++sides_checked;
+    const geom::Point2 robot = p.sides[static_cast<size_t>(side)].standing_point;
+    const geom::Point2 centre = p.X_WP.translation();
+    const Eigen::Vector2d forward = (centre - robot).normalized();
+    std::map<std::string, geom::Point2> landed;  // part name -> where the item's centre lands
+    for (const auto& [key, name] : std::vector<std::pair<std::string, std::string>>{
+             {"1", "rear"}, {"3", "left"}, {"5", "front"}, {"7", "right"}}) {
+      WorldState s = initial_state(g());
+      for (const char* k : {"l1", "o1", "l2"}) ASSERT_TRUE(act(s, k).applied) << k;
+      while (s.side != static_cast<int>(side)) ASSERT_TRUE(act(s, "-1").applied);
+      ASSERT_TRUE(act(s, "startplace").applied);
+      const auto offered = action_space(g(), s, options_);
+      const auto option = std::find_if(offered.begin(), offered.end(), [&](const ActionOption& a) { return a.key == key; });
+      ASSERT_NE(option, offered.end());
+      EXPECT_THAT(option->description, HasSubstr("the " + name + " part"));
+      ASSERT_TRUE(act(s, key).applied);
+      landed[name] = geom::centroid(geom::Region{{s.objects[static_cast<size_t>(box)].footprint}});
+      for (const auto& [dir, part] : std::vector<std::pair<int, std::string>>{{0, "rear"}, {2, "left"}, {4, "front"}, {6, "right"}}) {
+        AtomicGoal goal{GoalType::kSurfacePart, box, g().navigable[0], table, -1, -1, dir};
+        EXPECT_EQ(goal_satisfied(g(), s, goal), part == name) << "side " << graph::to_string(side) << ": placed "
+                                                              << name << ", judged " << part;
+      }
+    }
+    EXPECT_GT((landed["front"] - robot).dot(forward), (landed["rear"] - robot).dot(forward) + 0.1);
+    const auto cross = [&](const geom::Point2& q) { return forward.x() * (q - robot).y() - forward.y() * (q - robot).x(); };
+    EXPECT_GT(cross(landed["left"]), cross(landed["right"]) + 0.1) << "left is on the robot's left";
+  }
+  EXPECT_GE(sides_checked, 2);
+}
+
+// An item the episode never placed has no side to name directions from: a direction or part
+// goal about it does not hold, whatever its position (a do-nothing agent wins nothing).
+TEST_F(RulesTest, AnItemNeverPlacedMeetsNoDirectionGoal) {
+  const WorldState s = initial_state(g());
+  const int box1 = g().find_object("box_1"), box3 = g().find_object("box_3");
+  AtomicGoal left_of_3{GoalType::kDirection, box1, g().navigable[0], g().navigable[0], box3, -1, 2};
+  EXPECT_FALSE(goal_satisfied(g(), s, left_of_3));
+  EXPECT_TRUE(goal_met_from_any_side(g(), s, left_of_3));  // so no task asks for it
+  AtomicGoal around_3{GoalType::kAround, box1, g().navigable[0], g().navigable[0], box3, -1, -1};
+  EXPECT_FALSE(goal_met_from_any_side(g(), s, around_3));  // 0.5 m apart
 }
 
 TEST_F(RulesTest, BadAndUnavailableKeysCostAStepWithAHint) {
