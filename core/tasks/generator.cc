@@ -32,14 +32,9 @@ void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, T
 }
 
 // Where the oracle puts an atomic part's item (Task::placements).
-nlohmann::json placement_json(const graph::SceneGraph& g, int part, const AtomicTask& a) {
-  return {{"part", part},
-          {"object", g.objects[static_cast<std::size_t>(a.goal.item)].name},
-          {"platform", g.platforms[static_cast<std::size_t>(a.goal.platform)].name},
-          {"x", a.placed_at.x()},
-          {"y", a.placed_at.y()},
-          {"z", a.placed_at.z()},
-          {"margin", a.margin}};
+OraclePlacement placement_of(const graph::SceneGraph& g, int part, const AtomicTask& a) {
+  return {part, g.objects[static_cast<std::size_t>(a.goal.item)].name,
+          g.platforms[static_cast<std::size_t>(a.goal.platform)].name, a.placed_at, a.margin};
 }
 
 }  // namespace
@@ -115,7 +110,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
       fill_columns(g, a.goal, t);
       t.goal = {{"atomic", to_json(g, a.goal)}};
       t.identify = words->lookalikes;
-      t.placements.push_back(placement_json(g, 0, a));
+      t.placements.push_back(placement_of(g, 0, a));
       t.oracle = a.oracle;
       t.oracle.push_back("0");
       t.step_limit = options.rules.step_limit;
@@ -137,7 +132,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
         texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
         parts.push_back(to_json(g, p.goal));
         t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
-        t.placements.push_back(placement_json(g, static_cast<int>(k), p));
+        t.placements.push_back(placement_of(g, static_cast<int>(k), p));
         t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
       }
       t.text = sequence_text(texts);

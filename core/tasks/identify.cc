@@ -19,7 +19,7 @@ Identification make_identification(const graph::SceneGraph& g, int part, const s
   id.role = role;
   id.object = g.objects[static_cast<std::size_t>(object)].name;
   id.platform = g.platforms[static_cast<std::size_t>(platform)].name;
-  id.reference = r.to_json();
+  id.reference = r;
   id.phrase = r.phrase();
   return id;
 }

@@ -24,12 +24,12 @@
 // resolve() is the geometric test a reader applies; refer() picks the first relation, in the
 // order above, that resolve() finds to name exactly the object in every state given.
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/episode/world_state.h"
+#include "core/tasks/reference.h"
 #include "core/tasks/task.h"
 
 namespace mtg::tasks {
@@ -37,24 +37,6 @@ namespace mtg::tasks {
 /// The words for an object under the ambiguity rule: its category ("kitchen utensil"), or its
 /// name without instance id ("kitchen utensil 09"); the display name when it has no category.
 std::string noun_of(const graph::GraphObject& o, Ambiguity rule);
-
-enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNearest, kFarthest };
-/// "alone", "on", ... @throws mtg::Error for an unknown name.
-Relation relation_from_string(const std::string& name);
-const char* to_string(Relation r);
-
-struct Reference {
-  Relation relation = Relation::kAlone;
-  std::string noun;
-  std::string landmark;  // on, under, next_to: the other object's noun
-  int rank = 0;          // from_left, from_right: 1 = the first; nearest, farthest: 1
-
-  /// "the book", "the book on the box", "the leftmost book", ...
-  std::string phrase() const;
-  nlohmann::json to_json() const;
-  /// @throws mtg::Error naming the field.
-  static Reference from_json(const nlohmann::json& j);
-};
 
 /// The objects on furniture platform `platform` (at any depth) that `r` picks out in `s`: exactly
 /// one when the reference is good there.

@@ -15,7 +15,7 @@ const char* to_string(Ambiguity a) { return a == Ambiguity::kCategory ? "categor
 
 nlohmann::json to_json(const Identification& id) {
   return {{"part", id.part},           {"role", id.role},         {"object", id.object},
-          {"platform", id.platform},   {"reference", id.reference}, {"phrase", id.phrase}};
+          {"platform", id.platform},   {"reference", id.reference.to_json()}, {"phrase", id.phrase}};
 }
 
 Identification identification_from_json(const nlohmann::json& j) {
@@ -27,9 +27,32 @@ Identification identification_from_json(const nlohmann::json& j) {
   id.role = j["role"].get<std::string>();
   id.object = j["object"].get<std::string>();
   id.platform = j["platform"].get<std::string>();
-  id.reference = j["reference"];
+  id.reference = Reference::from_json(j["reference"]);
   id.phrase = j["phrase"].get<std::string>();
   return id;
+}
+
+nlohmann::json to_json(const OraclePlacement& p) {
+  return {{"part", p.part},
+          {"object", p.object},
+          {"platform", p.platform},
+          {"x", p.position.x()},
+          {"y", p.position.y()},
+          {"z", p.position.z()},
+          {"margin", p.margin}};
+}
+
+OraclePlacement oracle_placement_from_json(const nlohmann::json& j) {
+  for (const char* key : {"part", "object", "platform", "x", "y", "z", "margin"}) {
+    if (!j.contains(key)) throw Error(std::string("oracle placement: missing field '") + key + "'");
+  }
+  OraclePlacement p;
+  p.part = j["part"].get<int>();
+  p.object = j["object"].get<std::string>();
+  p.platform = j["platform"].get<std::string>();
+  p.position = {j["x"].get<double>(), j["y"].get<double>(), j["z"].get<double>()};
+  p.margin = j["margin"].get<double>();
+  return p;
 }
 
 void DropCounts::merge(const DropCounts& other) {

@@ -10,6 +10,7 @@
 
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/tasks/reference.h"
 
 namespace mtg::tasks {
 
@@ -25,12 +26,24 @@ struct Identification {
   std::string role;          // "item", "anchor", "anchor2", or "object" (Level 4)
   std::string object;        // the instance meant
   std::string platform;      // the furniture platform the reference is read on
-  nlohmann::json reference;  // Reference::to_json()
+  Reference reference;
   std::string phrase;        // the words in the text, e.g. "the leftmost book"
 };
 nlohmann::json to_json(const Identification& id);
 /// @throws mtg::Error naming the missing field.
 Identification identification_from_json(const nlohmann::json& j);
+
+/// Where an oracle plan puts one item (world frame, metres), so a checker can verify it.
+struct OraclePlacement {
+  int part = 0;             // Level 3 sub-task (0 otherwise)
+  std::string object;
+  std::string platform;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // of the object frame, after placing
+  double margin = 0.0;      // m the footprint centre may move and the goal still hold
+};
+nlohmann::json to_json(const OraclePlacement& p);
+/// @throws mtg::Error naming the missing field.
+OraclePlacement oracle_placement_from_json(const nlohmann::json& j);
 
 /// One task as stored (docs/tasks.md). Names, not indices: a task outlives the graph object.
 struct Task {
@@ -49,10 +62,7 @@ struct Task {
   int step_limit = 15;
   std::string template_id;   // L4
   std::vector<Identification> identify;  // objects with look-alikes and how the text names them
-  /// Where the oracle plan puts each item: [{"part", "object", "platform", "x", "y", "z"
-  /// (world position of the object frame, m), "margin" (m the centre may move and the goal still
-  /// hold; atomic parts)}], so a checker can verify the plan's placements.
-  nlohmann::json placements = nlohmann::json::array();
+  std::vector<OraclePlacement> placements;  // where the oracle plan puts each atomic part's item
 };
 
 enum class Ambiguity {

@@ -69,6 +69,12 @@ nlohmann::json identify_json(const Task& t) {
   return j;
 }
 
+nlohmann::json placements_json(const Task& t) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const OraclePlacement& p : t.placements) j.push_back(to_json(p));
+  return j;
+}
+
 // One line for a database this version cannot use: which file, what it is, what to do.
 void require_format(store::Database& db, const fs::path& file) {
   std::string format;
@@ -98,7 +104,7 @@ nlohmann::json task_to_json(const Task& t) {
           {"source", t.source}, {"destination", t.destination}, {"anchors", t.anchors},
           {"direction", t.direction}, {"goal", t.goal},   {"oracle", t.oracle},
           {"step_limit", t.step_limit}, {"template_id", t.template_id},
-          {"identify", identify_json(t)}, {"placements", t.placements}};
+          {"identify", identify_json(t)}, {"placements", placements_json(t)}};
 }
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
@@ -138,7 +144,7 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
         insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
         insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
         insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
-        insert.bind(15, t.template_id).bind(16, identify_json(t).dump()).bind(17, t.placements.dump());
+        insert.bind(15, t.template_id).bind(16, identify_json(t).dump()).bind(17, placements_json(t).dump());
         insert.bind(18, std::string(kGeneratorVersion)).bind(19, hash);
         insert.bind(20, static_cast<std::int64_t>(options.seed));
         insert.run();
@@ -184,7 +190,7 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
       t.goal = nlohmann::json::parse(q.column_text(10));
       t.oracle = nlohmann::json::parse(q.column_text(11)).get<std::vector<std::string>>();
       for (const auto& id : nlohmann::json::parse(q.column_text(14))) t.identify.push_back(identification_from_json(id));
-      t.placements = nlohmann::json::parse(q.column_text(15));
+      for (const auto& p : nlohmann::json::parse(q.column_text(15))) t.placements.push_back(oracle_placement_from_json(p));
     } catch (const nlohmann::json::exception&) {
       throw Error(file.string() + ": task " + t.id + ": malformed goal_json, oracle_json, identify_json or placements_json");
     } catch (const Error& e) {

@@ -19,7 +19,7 @@ bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, 
   const int platform = g.find_platform(id.platform);
   const int object = g.find_object(id.object);
   if (platform < 0 || object < 0) return false;
-  const std::vector<int> found = resolve(g, s, platform, Reference::from_json(id.reference), rule);
+  const std::vector<int> found = resolve(g, s, platform, id.reference, rule);
   return found.size() == 1 && found.front() == object;
 }
 
@@ -113,10 +113,8 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
       fail(which + "no stored placement");
       continue;
     }
-    const nlohmann::json& at = task.placements[k];
-    const Eigen::Vector3d stored(at.value("x", 0.0), at.value("y", 0.0), at.value("z", 0.0));
     const Eigen::Vector3d now = s.objects[static_cast<std::size_t>(part.item)].position;
-    if ((stored - now).norm() > 1e-6) fail(which + "the item does not land where the task says");
+    if ((task.placements[k].position - now).norm() > 1e-6) fail(which + "the item does not land where the task says");
     if (episode::goal_margin(g, s, part, options.goals) < options.min_margin) {
       fail(which + "the placement lies less than " + std::to_string(options.min_margin) + " m inside its goal");
     }

@@ -58,6 +58,21 @@ TEST_F(JudgeTest, TheOraclePlanSucceedsWithFullPoints) {
   EXPECT_EQ(events_, 4);  // the four milestones, as they happen
 }
 
+// A goal that held before the agent did anything (a hand-made or old task: the generator makes
+// none) is not "placed" by an agent that picked another object and ended: the stage stops where
+// the agent did, the cause says what it did wrong, and every judge (live, rejudge) agrees.
+TEST_F(JudgeTest, AGoalThatAlreadyHeldIsNotPlacedByAnAgentThatNeverMovedItsItem) {
+  goal_.type = GoalType::kSurface;
+  goal_.platform = goal_.source;  // box_1 already stands there
+  const Verdict v = play({"l1", "o2", "0"});
+  EXPECT_FALSE(v.success);
+  EXPECT_EQ(v.stage, "source");
+  EXPECT_EQ(v.cause, "wrong_item");
+  EXPECT_EQ(v.part_success, (std::vector<bool>{false}));
+  const Verdict again = play({"l1", "o2", "0"});
+  EXPECT_EQ(again.detail, v.detail);
+}
+
 TEST_F(JudgeTest, WrongPartIsAWrongRegionAtTheDestination) {
   const Verdict v = play({"l1", "o1", "l2", "startplace", "1", "0"});  // the rear part
   EXPECT_FALSE(v.success);

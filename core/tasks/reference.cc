@@ -1,0 +1,79 @@
+#include "core/tasks/reference.h"
+
+#include "core/util/error.h"
+
+namespace mtg::tasks {
+namespace {
+
+constexpr int kMaxRank = 4;  // "the fourth book from the left" at most
+
+const char* ordinal(int rank) {
+  static const char* kWords[] = {"", "first", "second", "third", "fourth"};
+  return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
+}
+
+bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
+
+}  // namespace
+
+const char* to_string(Relation r) {
+  switch (r) {
+    case Relation::kAlone: return "alone";
+    case Relation::kOn: return "on";
+    case Relation::kUnder: return "under";
+    case Relation::kNextTo: return "next_to";
+    case Relation::kFromLeft: return "from_left";
+    case Relation::kFromRight: return "from_right";
+    case Relation::kNearest: return "nearest";
+    case Relation::kFarthest: return "farthest";
+  }
+  return "alone";
+}
+
+Relation relation_from_string(const std::string& name) {
+  for (const Relation r : {Relation::kAlone, Relation::kOn, Relation::kUnder, Relation::kNextTo, Relation::kFromLeft,
+                           Relation::kFromRight, Relation::kNearest, Relation::kFarthest}) {
+    if (name == to_string(r)) return r;
+  }
+  throw Error("reference: unknown relation '" + name + "'");
+}
+
+std::string Reference::phrase() const {
+  switch (relation) {
+    case Relation::kAlone: return "the " + noun;
+    case Relation::kOn: return "the " + noun + " on the " + landmark;
+    case Relation::kUnder: return "the " + noun + " under the " + landmark;
+    case Relation::kNextTo: return "the " + noun + " next to the " + landmark;
+    case Relation::kFromLeft:
+      return rank <= 1 ? "the leftmost " + noun : std::string("the ") + ordinal(rank) + " " + noun + " from the left";
+    case Relation::kFromRight:
+      return rank <= 1 ? "the rightmost " + noun : std::string("the ") + ordinal(rank) + " " + noun + " from the right";
+    case Relation::kNearest: return "the nearest " + noun;
+    case Relation::kFarthest: return "the farthest " + noun;
+  }
+  return "the " + noun;
+}
+
+nlohmann::json Reference::to_json() const {
+  nlohmann::json j = {{"relation", tasks::to_string(relation)}, {"noun", noun}};
+  if (!landmark.empty()) j["landmark"] = landmark;
+  if (rank > 0) j["rank"] = rank;
+  return j;
+}
+
+Reference Reference::from_json(const nlohmann::json& j) {
+  if (!j.is_object() || !j.contains("relation") || !j.contains("noun")) {
+    throw Error("reference: expected an object with 'relation' and 'noun'");
+  }
+  Reference r;
+  r.relation = relation_from_string(j["relation"].get<std::string>());
+  r.noun = j["noun"].get<std::string>();
+  r.landmark = j.value("landmark", "");
+  r.rank = j.value("rank", 0);
+  if (needs_landmark(r.relation) && r.landmark.empty()) throw Error("reference: relation needs 'landmark'");
+  const bool ordinal_relation = !needs_landmark(r.relation) && r.relation != Relation::kAlone;
+  if (ordinal_relation && (r.rank < 1 || r.rank > kMaxRank)) throw Error("reference: 'rank' must be 1..4");
+  return r;
+}
+
+}  // namespace mtg::tasks

@@ -1,0 +1,29 @@
+#pragma once
+// A referring expression as a value: how a task text names one object among look-alikes ("the
+// leftmost book", "the cup next to the plate"). What it means geometrically, and how one is
+// chosen, is in referring.h.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace mtg::tasks {
+
+enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNearest, kFarthest };
+/// "alone", "on", ... @throws mtg::Error for an unknown name.
+Relation relation_from_string(const std::string& name);
+const char* to_string(Relation r);
+
+struct Reference {
+  Relation relation = Relation::kAlone;
+  std::string noun;
+  std::string landmark;  // on, under, next_to: the other object's noun
+  int rank = 0;          // from_left, from_right: 1 = the first; nearest, farthest: 1
+
+  /// "the book", "the book on the box", "the leftmost book", "the second book from the right"...
+  std::string phrase() const;
+  nlohmann::json to_json() const;
+  /// @throws mtg::Error naming the field.
+  static Reference from_json(const nlohmann::json& j);
+};
+
+}  // namespace mtg::tasks

@@ -1,0 +1,161 @@
+// References to look-alikes (referring.h, identify.h) on small fixture scenes: ordinals counted
+// from the arrival side, stacking relations, the states a reference must hold in, and the tasks
+// that are dropped because no reference tells their objects apart.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "core/episode/rules.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/identify.h"
+#include "core/tasks/referring.h"
+#include "core/tasks/validate.h"
+#include "core/util/error.h"
+#include "tests/support/graph_fixtures.h"
+
+namespace mtg::tasks {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::optional<Reference> refer_to(const graph::SceneGraph& g, const episode::WorldState& s, const char* name) {
+  const int o = g.find_object(name);
+  return refer(g, {&s}, o, episode::furniture_platform_of(g, s, o), Ambiguity::kCategory);
+}
+
+// Three identical boxes in a row on table_0 (x = -0.3, 0, 0.3), the robot arriving at the rear
+// side (looking along +y): box_1 is the leftmost.
+TEST(References, IdenticalBoxesInARowAreCountedFromTheArrivalSide) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto& g = b.graph;
+  ASSERT_EQ(g.platforms[static_cast<std::size_t>(g.navigable[0])].default_side, 0);
+  const episode::WorldState s = episode::initial_state(g);
+  EXPECT_EQ(refer_to(g, s, "box_1")->phrase(), "the leftmost box");
+  EXPECT_EQ(refer_to(g, s, "box_2")->phrase(), "the second box from the left");
+  EXPECT_EQ(refer_to(g, s, "box_3")->phrase(), "the rightmost box");
+  // What a reader finds: exactly the object, and with box_1 in hand the leftmost is box_2.
+  const int table = g.navigable[0];
+  const Reference leftmost = *refer_to(g, s, "box_1");
+  EXPECT_EQ(resolve(g, s, table, leftmost, Ambiguity::kCategory), (std::vector<int>{g.find_object("box_1")}));
+  episode::WorldState held = s;
+  episode::pick(g, held, g.find_object("box_1"));
+  EXPECT_EQ(resolve(g, held, table, leftmost, Ambiguity::kCategory), (std::vector<int>{g.find_object("box_2")}));
+  // As JSON and back, as the task database stores it.
+  EXPECT_EQ(Reference::from_json(leftmost.to_json()).phrase(), leftmost.phrase());
+  const nlohmann::json bad_rank = {{"relation", "from_left"}, {"noun", "box"}, {"rank", 9}};
+  EXPECT_THROW(Reference::from_json(bad_rank), mtg::Error);
+}
+
+// Level 2 texts name the instance; an anchor is named so it reads right both before the item
+// is picked and while placing (the item comes from the same table here).
+TEST(References, LevelTwoTextsPickOutTheGoalsInstances) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  TaskOptions o;
+  o.levels = {1, 2};
+  const GenerationResult r = generate_tasks(b.graph, o);
+  int checked = 0;
+  for (const Task& t : r.set.tasks) {
+    ASSERT_EQ(t.level, 2) << t.text;  // every box has look-alikes on table_0
+    ASSERT_FALSE(t.identify.empty()) << t.text;
+    for (const Identification& id : t.identify) EXPECT_THAT(t.text, HasSubstr(id.phrase)) << t.id;
+    EXPECT_THAT(audit_task(b.graph, t, o), ::testing::IsEmpty()) << t.text;
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+}
+
+// A box on a box: "the box on the box" and "the box under the box"; two thin pens whose centres
+// stand 2.5 cm apart cannot be counted, so tasks about them are dropped and counted.
+TEST(References, StacksAreNamedAndCrowdsAreDropped) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
+  fx.add_object_config("toy_pen", fx.add_box_mesh("pen", {0.015, 0.02, 0.14}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(-0.3, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(-0.3, 0, 0.85)),
+                       testing::FixtureDataset::instance("toy_pen", testing::hab(0.2, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_pen", testing::hab(0.225, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0))}}});
+  const auto b = testing::build_fixture_scene(fx, "s");
+  const auto& g = b.graph;
+  const episode::WorldState s = episode::initial_state(g);
+  EXPECT_EQ(refer_to(g, s, "box_1")->phrase(), "the box under the box");
+  EXPECT_EQ(refer_to(g, s, "box_2")->phrase(), "the box on the box");
+  // The pens stand 2.5 cm apart: left-to-right counting cannot tell them apart.
+  EXPECT_FALSE(refer_to(g, s, "pen_3").has_value());
+  EXPECT_FALSE(refer_to(g, s, "pen_4").has_value());
+  TaskOptions o;
+  o.levels = {1, 2};
+  const GenerationResult r = generate_tasks(g, o);
+  EXPECT_GT(r.set.dropped.by_reason.at("unidentifiable").at(2), 0);
+  for (const Task& t : r.set.tasks) EXPECT_TRUE(t.item.rfind("pen", 0) != 0) << t.text;
+}
+
+// Level 4 texts name the instances their goals need: "toy box from table_0" alone would match
+// three boxes, so the text carries a reference (and a close-up), or the task is not made.
+TEST(References, LevelFourTextsNameTheObjectsTheirGoalsNeed) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  TaskOptions o;
+  o.levels = {4};
+  const GenerationResult r = generate_tasks(b.graph, o);
+  int named = 0;
+  for (const Task& t : r.set.tasks) {
+    EXPECT_THAT(audit_task(b.graph, t, o), ::testing::IsEmpty()) << t.text;
+    for (const Identification& id : t.identify) {
+      EXPECT_THAT(t.text, HasSubstr(id.phrase.substr(4) + " from ")) << t.text;
+      ++named;
+    }
+  }
+  EXPECT_GT(named, 0);
+}
+
+// What rests on an item travels with it: a box carrying a box does not fit under a shelf that
+// takes either box alone, and startplace says why.
+TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  // A shelf: a board at 0.30 m under a board at 0.48 m (0.14 m of free height on the lower one).
+  fx.add_object_config("toy_shelf", fx.add_boxes_mesh("shelf", {{{0.8, 0.02, 0.4}, {0, 0.29, 0}},
+                                                                {{0.8, 0.02, 0.4}, {0, 0.47, 0}},
+                                                                {{0.02, 0.48, 0.4}, {-0.39, 0, 0}},
+                                                                {{0.02, 0.48, 0.4}, {0.39, 0, 0}}}));
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(-0.2, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_box", testing::hab(-0.2, 0, 0.85)),
+                       testing::FixtureDataset::instance("toy_shelf", testing::hab(2.5, 0, 0))}}});
+  const auto b = testing::build_fixture_scene(fx, "s");
+  const auto& g = b.graph;
+  int shelf = -1;
+  for (const int p : g.navigable) {
+    if (g.platforms[static_cast<std::size_t>(p)].clearance < 0.2) shelf = p;
+  }
+  ASSERT_GE(shelf, 0) << "the lower board is a platform with little free height";
+  const int bottom = g.find_object("box_1");
+  episode::WorldState s = episode::initial_state(g);
+  EXPECT_NEAR(episode::stack_height(g, s, bottom), 0.2, 0.01);
+  episode::pick(g, s, bottom);
+  s.at_platform = shelf;
+  s.side = g.platforms[static_cast<std::size_t>(shelf)].default_side;
+  s.phase = episode::Phase::kAtPlatform;
+  const episode::StepOutcome out = episode::apply_action(g, s, "startplace", {}, {});
+  EXPECT_FALSE(out.applied);
+  EXPECT_THAT(out.hint, HasSubstr("with what stands on it"));
+  // The generator never sends the stack there, and counts what it left out.
+  TaskOptions o;
+  o.levels = {1, 2};
+  const GenerationResult r = generate_tasks(g, o);
+  for (const Task& t : r.set.tasks) {
+    EXPECT_FALSE(t.item == "box_1" && t.destination == g.platforms[static_cast<std::size_t>(shelf)].name) << t.text;
+  }
+  EXPECT_GT(r.set.dropped.by_reason.at("stack").at(2), 0);
+}
+
+}  // namespace
+}  // namespace mtg::tasks
