@@ -1,5 +1,8 @@
 #include "core/tasks/task.h"
 
+#include <cmath>
+#include <limits>
+
 #include "core/util/error.h"
 #include "core/util/hash.h"
 
@@ -39,7 +42,8 @@ nlohmann::json to_json(const OraclePlacement& p) {
           {"x", p.position.x()},
           {"y", p.position.y()},
           {"z", p.position.z()},
-          {"margin", p.margin}};
+          // A surface goal holds wherever the item stands: an unbounded margin, null in JSON.
+          {"margin", std::isfinite(p.margin) ? nlohmann::json(p.margin) : nlohmann::json(nullptr)}};
 }
 
 OraclePlacement oracle_placement_from_json(const nlohmann::json& j) {
@@ -51,7 +55,7 @@ OraclePlacement oracle_placement_from_json(const nlohmann::json& j) {
   p.object = j["object"].get<std::string>();
   p.platform = j["platform"].get<std::string>();
   p.position = {j["x"].get<double>(), j["y"].get<double>(), j["z"].get<double>()};
-  p.margin = j["margin"].get<double>();
+  p.margin = j["margin"].is_null() ? std::numeric_limits<double>::infinity() : j["margin"].get<double>();
   return p;
 }
 
