@@ -91,8 +91,8 @@ std::string lookalike_hint(const std::vector<Identification>& lookalikes, bool w
   }
   text += ". Left, right, nearest and farthest are as seen from the side where you arrive at that platform.";
   if (with_images) {
-    text += lookalikes.size() == 1 ? " A close-up image shows it, the other objects on its platform faded."
-                                   : " Close-up images show them in that order, the other objects on each platform faded.";
+    text += lookalikes.size() == 1 ? " A close-up image shows it, every other object faded."
+                                   : " Close-up images show them in that order, every other object faded.";
   }
   return text;
 }

@@ -152,5 +152,51 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   EXPECT_GE(marked, with_images);
 }
 
+// Look-alikes are shown, not only named: the first observation of a task about one of three
+// identical boxes carries a close-up of the box meant (role "focus") and a hint naming it.
+TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  tasks::TaskOptions options;
+  options.levels = {2};
+  const auto generated = tasks::generate_tasks(b.graph, options);
+  const std::string db = (fx.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  std::map<std::string, std::size_t> lookalikes;  // task id -> objects shown
+  for (const auto& t : generated.set.tasks) lookalikes[t.id] = t.identify.size();
+  const auto out = fx.root() / "run";
+  testing::ChildProcess run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "3",
+                             "--levels", "2", "--parallel", "2", "--render", "--image-size", "320x240", "--out",
+                             out.string(), "--data", fx.root().string(), "--profile", "none", "--no-progress"},
+                            (fx.root() / "mtg.log").string());
+  ASSERT_EQ(run.wait(120000), 0) << "see " << (fx.root() / "mtg.log");
+  const auto rows = orchestrator::read_results(out / "results.sqlite");
+  ASSERT_EQ(rows.size(), 3u);
+  std::map<std::int64_t, std::string> task_of;
+  for (const auto& r : rows) {
+    EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+    task_of[r.episode_id] = r.task_id;
+  }
+  int first_observations = 0;
+  bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
+    if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+    mtg::observation_t obs{};
+    ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
+    std::size_t focus = 0;
+    for (const auto& img : obs.images) focus += img.role == "focus" ? 1 : 0;
+    if (obs.step != 0) {
+      EXPECT_EQ(focus, 0u) << "close-ups come once, at the start";
+      return;
+    }
+    ++first_observations;
+    const std::size_t expected = lookalikes.at(task_of.at(obs.header.episode_id));
+    EXPECT_GE(expected, 1u);
+    EXPECT_EQ(focus, expected) << obs.task_text;
+    EXPECT_THAT(obs.hint, ::testing::HasSubstr("look-alikes")) << obs.hint;
+    EXPECT_THAT(obs.hint, ::testing::HasSubstr("lose-up"));
+  });
+  EXPECT_EQ(first_observations, 3);
+}
+
 }  // namespace
 }  // namespace mtg

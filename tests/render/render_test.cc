@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/episode/rules.h"
@@ -163,6 +164,40 @@ TEST_F(RenderTest, EachNumberSitsOnItsItem) {
     ASSERT_TRUE(cv::Rect(0, 0, image.cols, image.rows).contains(p));
     EXPECT_NE(image.at<cv::Vec3b>(p), background) << "mark " << m.number << " is not on " << g().objects[m.object].name;
   }
+}
+
+// A close-up of one item where it stands: every other item faded to 20 % (the view with them
+// over the view without them), the item itself and the furniture untouched.
+TEST_F(RenderTest, AFocusCloseUpFadesEveryOtherItem) {
+  const episode::WorldState s = episode::initial_state(g());
+  const int cube = object_of(g(), "toy_red_cube");
+  render::ViewRequest r;
+  r.view = render::ViewKind::kFocus;
+  r.object = cube;
+  const render::ViewPlan focus = render::plan_view(g(), s, r);
+  const int tower = object_of(g(), "toy_green_tower"), slab = object_of(g(), "toy_blue_slab");
+  EXPECT_THAT(focus.faded, ::testing::Contains(tower));
+  EXPECT_THAT(focus.faded, ::testing::Contains(slab));
+  EXPECT_THAT(focus.faded, ::testing::Not(::testing::Contains(cube)));
+  EXPECT_THAT(focus.faded, ::testing::Not(::testing::Contains(object_of(g(), "toy_wood_table"))));
+  render::ViewPlan solid = focus, without = focus;
+  solid.faded.clear();
+  without.faded.clear();
+  without.hidden = focus.faded;
+  const cv::Mat shown = draw(s, focus).plain, all = draw(s, solid).plain, none = draw(s, without).plain;
+  cv::Mat expected;
+  cv::addWeighted(all, render::kFadedVisibility, none, 1.0 - render::kFadedVisibility, 0.0, expected);
+  cv::Mat diff;
+  cv::absdiff(shown, expected, diff);
+  double worst = 0.0;
+  cv::minMaxLoc(diff.reshape(1), nullptr, &worst);
+  EXPECT_LE(worst, 1.0);
+  // The cube is in the middle of the picture and solid red.
+  const auto px = focus.camera.project(s.objects[static_cast<std::size_t>(cube)].position);
+  ASSERT_TRUE(px.has_value());
+  EXPECT_NEAR(px->x(), focus.camera.width / 2.0, focus.camera.width / 4.0);
+  const cv::Vec3b red = shown.at<cv::Vec3b>(cv::Point(static_cast<int>(px->x()), static_cast<int>(px->y())));
+  EXPECT_GT(red[2], 2 * red[1]);
 }
 
 TEST_F(RenderTest, APickedItemVanishesAndAPlacedItemAppearsWhereTheStateSays) {
