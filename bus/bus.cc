@@ -1,6 +1,8 @@
 #include "bus/bus.h"
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <utility>
 
 #include "bus/url.h"
@@ -44,7 +46,9 @@ bool Bus::handle_once(int timeout_ms) {
   }
   const int rc = lcm_->handleTimeout(timeout_ms);
   rethrow_pending();
-  if (rc < 0) throw Error("LCM handle failed on " + url_);
+  // A signal (SIGINT, SIGTERM: the caller's stop request) interrupts the wait: nothing handled.
+  if (rc < 0 && errno == EINTR) return false;
+  if (rc < 0) throw Error("LCM handle failed on " + url_ + ": " + std::strerror(errno));
   return rc > 0;
 }
 

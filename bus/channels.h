@@ -10,6 +10,8 @@ inline constexpr const char* kEpisodeStart = "MTG_EPISODE_START";
 /// The goal and oracle plan of an episode: judge, scene-graph service and oracle only.
 inline constexpr const char* kEpisodeTruth = "MTG_EPISODE_TRUTH";
 inline constexpr const char* kEpisodeResult = "MTG_RESULT";
+/// The recorder's acknowledgement that a result is in the recording (recorded_t).
+inline constexpr const char* kRecorded = "MTG_RECORDED";
 inline constexpr const char* kRenderRequest = "MTG_RENDER_REQ";
 inline constexpr const char* kRenderResult = "MTG_RENDER_RES";
 inline constexpr const char* kHeartbeat = "MTG_HEARTBEAT";

@@ -22,6 +22,7 @@ class HeaderStamper {
 
   mtg::header_t next(std::int64_t episode_id = -1, std::int32_t attempt = 0, const std::string& stream = "");
   const std::string& sender() const { return sender_; }
+  const std::string& run_id() const { return run_id_; }
   void set_run_id(std::string run_id) { run_id_ = std::move(run_id); }
 
  private:

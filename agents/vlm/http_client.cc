@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 
+#include "agents/vlm/http_relay.h"
 #include "core/util/error.h"
 
 namespace mtg::vlm {
@@ -68,6 +70,13 @@ struct SlistDeleter {
 }  // namespace
 
 HttpResponse http_post(const HttpRequest& request, const std::atomic<bool>* cancel) {
+  if (const char* relay = std::getenv(kHttpRelayEnv); relay != nullptr && *relay != '\0') {
+    return relay_post(relay, request, cancel);
+  }
+  return http_post_direct(request, cancel);
+}
+
+HttpResponse http_post_direct(const HttpRequest& request, const std::atomic<bool>* cancel) {
   HttpResponse out;
   CURL* curl = thread_handle();
   std::unique_ptr<curl_slist, SlistDeleter> headers;

@@ -27,7 +27,11 @@ struct HttpResponse {
 };
 
 /// Never throws for network trouble: it is reported in transport_error. `cancel`, when given and
-/// set (by another thread), aborts the exchange.
+/// set (by another thread), aborts the exchange. Inside an isolated run ($MTG_HTTP_RELAY set)
+/// the call goes through the run's HTTP relay (http_relay.h), otherwise straight out.
 HttpResponse http_post(const HttpRequest& request, const std::atomic<bool>* cancel = nullptr);
+
+/// The call straight out through libcurl, whatever the environment says.
+HttpResponse http_post_direct(const HttpRequest& request, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace mtg::vlm

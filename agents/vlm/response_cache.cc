@@ -1,5 +1,12 @@
 #include "agents/vlm/response_cache.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 #include "agents/vlm/encoding.h"
 #include "core/util/error.h"
 
@@ -8,8 +15,18 @@ namespace mtg::vlm {
 std::string cache_key(const std::string& url, const std::string& body) { return sha256_hex(url + "\n" + body); }
 
 ResponseCache::ResponseCache(const std::filesystem::path& file) : file_(file) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (file.has_parent_path() && !fs::exists(file.parent_path())) {
+    fs::create_directories(file.parent_path(), ec);
+    fs::permissions(file.parent_path(), fs::perms::owner_all, ec);  // a new folder: ours alone
+  }
+  // Answers may quote what was sent: the file is the owner's alone (SQLite gives its journal
+  // files the same mode). An existing cache is tightened too.
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+  if (fd < 0) throw Error(file.string() + ": cannot open the response cache: " + std::strerror(errno));
+  ::fchmod(fd, 0600);
+  ::close(fd);
   db_ = std::make_unique<store::Database>(file, store::Database::Mode::kCreate);
   // Several adapter processes write at once: WAL lets readers go on, and a writer waits its turn.
   db_->exec("PRAGMA busy_timeout=30000");

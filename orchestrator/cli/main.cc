@@ -3,7 +3,9 @@
 
 #include <CLI/CLI.hpp>
 
+
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "core/util/error.h"
@@ -15,6 +17,23 @@
 #include "orchestrator/cli/scene_commands.h"
 #include "orchestrator/cli/task_commands.h"
 #include "orchestrator/cli/vlm_commands.h"
+#include "orchestrator/run/run_namespace.h"
+
+namespace {
+
+// "mtg <subcommand>: <message>", once: a message that already names its command keeps its name.
+std::string where(const CLI::App& app, const std::string& message) {
+  std::string who = "mtg";
+  for (const CLI::App* sub = &app; !sub->get_subcommands().empty();) {
+    sub = sub->get_subcommands().front();
+    who += " " + sub->get_name();
+  }
+  if (message.rfind(who + ":", 0) == 0) return message;
+  if (message.rfind("mtg ", 0) == 0) return message;
+  return who + ": " + message;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
@@ -127,7 +146,7 @@ int main(int argc, char** argv) {
                   "with --remote: seconds without renewal before a lease is re-issued (default 5)");
   run->add_option("--episode-timeout", run_opts.episode_timeout_s, "seconds without news before a retry (default 60)");
   run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
-  run->add_flag("!--no-progress", run_opts.progress, "no progress bar");
+  run->add_flag("--no-progress", run_opts.no_progress, "no progress bar");
   run->add_option("--recorder", run_opts.recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
   mtg::vlm::add_vlm_options(*run, run_opts.vlm, true);
   // mtg worker / mtg status
@@ -224,13 +243,27 @@ int main(int argc, char** argv) {
     if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
     if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
     if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
-    if (run->parsed()) return mtg::cli::run_run(run_opts);
+    if (run->parsed()) {
+      for (const CLI::Option* opt : run->get_options()) {
+        if (opt->count() > 0) run_opts.given.insert(opt->get_name());
+      }
+      // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
+      if (run_opts.url.empty() && !run_opts.remote) {
+        if (const auto status = mtg::orchestrator::run_in_own_namespace(argv)) return *status;
+      }
+      return mtg::cli::run_run(run_opts);
+    }
     if (worker->parsed()) return mtg::cli::run_worker(worker_opts);
     if (status->parsed()) return mtg::cli::run_status(status_opts);
     if (render->parsed()) return mtg::cli::run_render(render_opts);
     if (images->parsed()) return mtg::cli::run_images(images_opts);
     if (report->parsed()) return mtg::cli::run_report(report_opts);
-    if (replay->parsed()) return mtg::cli::run_replay(replay_opts);
+    if (replay->parsed()) {
+      if (replay_opts.url.empty()) {
+        if (const auto status = mtg::orchestrator::run_in_own_namespace(argv)) return *status;
+      }
+      return mtg::cli::run_replay(replay_opts);
+    }
     if (rejudge->parsed()) return mtg::cli::run_rejudge(rejudge_run);
     if (vlm_ask->parsed()) return mtg::cli::run_vlm_ask(ask_opts);
     if (tasks_stats->parsed()) return mtg::cli::run_task_stats(stats_opts);
@@ -241,10 +274,13 @@ int main(int argc, char** argv) {
     if (bench_runtime_cmd->parsed()) return mtg::cli::run_bench_runtime(bench_runtime);
     if (bench_render_cmd->parsed()) return mtg::cli::run_bench_render(bench_render);
   } catch (const mtg::Error& e) {
-    std::cerr << "mtg: " << e.what() << '\n';
+    std::cerr << where(app, e.what()) << '\n';
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << where(app, e.code().message() + ": " + e.path1().string()) << '\n';
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "mtg: unexpected failure: " << e.what() << '\n';
+    std::cerr << where(app, std::string("unexpected failure: ") + e.what()) << '\n';
     return 1;
   }
   return 0;

@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <set>
+#include <tuple>
+#include <unistd.h>
 
 #include "agents/builtin/policies.h"
 #include "agents/vlm/model_setup.h"
@@ -12,11 +15,13 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "core/util/log.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
+#include "orchestrator/run/run_namespace.h"
 #include "orchestrator/run/run_plan.h"
 
 namespace mtg::cli {
@@ -82,83 +87,148 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
 bool object_names_for(const std::string& option, bool render, const std::string& tasks_db) {
   if (option == "on") return true;
   if (option == "off") return false;
-  if (option != "auto") throw Error("mtg run: --object-names is on, off or auto, not '" + option + "'");
+  if (option != "auto") throw Error("--object-names is on, off or auto, not '" + option + "'");
   if (!render) return true;
   const nlohmann::json meta = tasks::task_db_stats(tasks_db)["meta"];
   const nlohmann::json config = nlohmann::json::parse(meta.value("config_json", "{}"), nullptr, false);
   return config.is_object() && config.value("ambiguity", "") == "name";
 }
 
-}  // namespace
 
-int run_run(const RunOptions& o) {
-  if (o.out.empty()) throw Error("mtg run: --out <run dir> is required");
-  const fs::path dir = fs::absolute(o.out).lexically_normal();
-  RunPlan plan;
-  if (fs::exists(dir / "plan.json")) {
-    plan = orchestrator::load_plan(dir);
-    if (!o.tasks.empty() && fs::absolute(o.tasks).lexically_normal().string() != plan.tasks_db) {
-      throw Error(dir.string() + " holds a run of " + plan.tasks_db + "; use another --out for " + o.tasks);
-    }
-    if (!o.agents.empty() && o.agents != plan.agents) {
-      throw Error(dir.string() + " holds a run of other agents; use another --out");
-    }
-    std::printf("resuming %s\n", dir.c_str());
-  } else {
-    if (o.tasks.empty()) throw Error("mtg run: --tasks <tasks.sqlite> is required");
-    plan.run_id = dir.filename().string();
-    plan.tasks_db = fs::absolute(o.tasks).lexically_normal().string();
-    plan.agents = o.agents;
-    plan.scenes = {o.scenes.begin(), o.scenes.end()};
-    plan.levels = tasks::parse_levels(o.levels);
-    plan.limit = o.limit;
-    plan.seed = o.seed;
-    // With workers their capacities decide, unless --parallel caps the whole run.
-    plan.parallel = o.parallel > 0 ? o.parallel : (o.remote ? 0 : 4);
-    plan.step_limit = o.step_limit;
-    if (o.render && o.no_render) throw Error("mtg run: --render and --no-render contradict each other");
-    // Built-in agents read only the text; images are for model agents unless asked for.
-    const bool model_agent = std::any_of(o.agents.begin(), o.agents.end(),
-                                         [](const std::string& a) { return !agents::is_builtin_agent(a); });
-    plan.render = o.render || (model_agent && !o.no_render);
-    const auto x = o.image_size.find('x');
-    try {
-      if (x == std::string::npos) throw std::invalid_argument("no x");
-      plan.image_width = std::stoi(o.image_size.substr(0, x));
-      plan.image_height = std::stoi(o.image_size.substr(x + 1));
-    } catch (const std::exception&) {
-      throw Error("mtg run: --image-size must be WIDTHxHEIGHT, e.g. 640x480, not '" + o.image_size + "'");
-    }
-    if (plan.image_width < 16 || plan.image_height < 16 || plan.image_width > 8192 || plan.image_height > 8192) {
-      throw Error("mtg run: --image-size " + o.image_size + " is outside 16..8192 pixels");
-    }
-    plan.image_encoding = o.image_encoding;
-    plan.object_names = object_names_for(o.object_names, plan.render, plan.tasks_db);
-    // A model call may wait minutes for rate limits and retries before the next message.
-    plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
-    plan.data_dir = o.data_dir;
-    plan.profile = o.profile;
-    plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
-    plan.remote = o.remote;
-    const auto all = tasks::read_tasks(plan.tasks_db);
-    plan = orchestrator::make_plan(std::move(plan), all);
-    fs::create_directories(dir);
-    orchestrator::save_plan(plan, dir);
+// The largest observation image: every image of an observation travels in one bus message,
+// which must fit the 4 MB receive buffer with room to spare (docs/bus.md).
+constexpr long kMaxImagePixels = 1280L * 1024L;
+
+std::pair<int, int> parse_image_size(const std::string& text) {
+  const auto x = text.find('x');
+  int w = 0, h = 0;
+  try {
+    if (x == std::string::npos) throw std::invalid_argument("no x");
+    std::size_t used_w = 0, used_h = 0;
+    w = std::stoi(text.substr(0, x), &used_w);
+    h = std::stoi(text.substr(x + 1), &used_h);
+    if (used_w != x || used_h != text.size() - x - 1) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw Error("--image-size must be WIDTHxHEIGHT, e.g. 640x480, not '" + text + "'");
   }
-  // Model agents are checked here (spec, key, settings, prompts, prices, cache), so a missing key
-  // is one clear line now rather than adapters that never become ready. With workers the keys
-  // and files are on their hosts; each worker checks its own when it joins.
-  for (const std::string& spec : plan.agents) {
+  if (w < 16 || h < 16 || static_cast<long>(w) * h > kMaxImagePixels) {
+    throw Error("--image-size " + text + " is outside what an observation may carry: at least 16x16 and at most " +
+                std::to_string(kMaxImagePixels) + " pixels (e.g. 1280x1024)");
+  }
+  return {w, h};
+}
+
+// Every agent is known, and a model agent's key, settings, prompts, prices and cache are usable:
+// one clear line now rather than adapters that never become ready. With workers the keys and
+// files are on their hosts; each worker checks its own when it joins.
+void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions& vlm, bool remote) {
+  for (const std::string& spec : agents) {
     if (vlm::is_model_spec(spec)) {
-      if (!plan.remote) (void)vlm::ModelSetup::make(spec, o.vlm.resolve());
+      if (!remote) (void)vlm::ModelSetup::make(spec, vlm.resolve());
     } else if (!agents::is_builtin_agent(spec)) {
-      throw Error("mtg run: unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
+      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
                   "openai:<model>, anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
     }
   }
+}
+
+// A new run's plan from the options (the episodes are laid out by make_plan).
+RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
+  if (o.tasks.empty()) throw Error("--tasks <tasks.sqlite> is required");
+  if (o.given.count("--parallel") && o.parallel < 1) throw Error("--parallel must be at least 1, not " + std::to_string(o.parallel));
+  if (o.limit < 0) throw Error("--limit must be 0 (every task) or more, not " + std::to_string(o.limit));
+  if (o.step_limit < 1) throw Error("--step-limit must be at least 1, not " + std::to_string(o.step_limit));
+  if (o.render && o.no_render) throw Error("--render and --no-render contradict each other");
+  RunPlan plan;
+  plan.run_id = orchestrator::new_run_id(dir.filename().string());
+  plan.tasks_db = fs::absolute(o.tasks).lexically_normal().string();
+  plan.agents = o.agents;
+  plan.scenes = {o.scenes.begin(), o.scenes.end()};
+  plan.levels = tasks::parse_levels(o.levels);
+  plan.limit = o.limit;
+  plan.seed = o.seed;
+  // With workers their capacities decide, unless --parallel caps the whole run.
+  plan.parallel = o.given.count("--parallel") ? o.parallel : (o.remote ? 0 : 4);
+  plan.step_limit = o.step_limit;
+  // Built-in agents read only the text; images are for model agents unless asked for.
+  const bool model_agent = std::any_of(o.agents.begin(), o.agents.end(),
+                                       [](const std::string& a) { return !agents::is_builtin_agent(a); });
+  plan.render = o.render || (model_agent && !o.no_render);
+  std::tie(plan.image_width, plan.image_height) = parse_image_size(o.image_size);
+  plan.image_encoding = o.image_encoding;
+  plan.object_names = object_names_for(o.object_names, plan.render, plan.tasks_db);
+  // A model call may wait minutes for rate limits and retries before the next message.
+  plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
+  plan.data_dir = o.data_dir;
+  plan.profile = o.profile;
+  plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
+  plan.remote = o.remote;
+  return plan;
+}
+
+// A resume runs the plan on disk: options that would change what it evaluates are refused, with
+// the names of those that differ.
+void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir) {
+  if (!o.tasks.empty() && fs::absolute(o.tasks).lexically_normal().string() != plan.tasks_db) {
+    throw Error(dir.string() + " holds a run of " + plan.tasks_db + "; use another --out for " + o.tasks);
+  }
+  if (!o.agents.empty() && o.agents != plan.agents) throw Error(dir.string() + " holds a run of other agents; use another --out");
+  std::vector<std::string> changed;
+  auto differs = [&](const char* option, bool different) {
+    if (o.given.count(option) && different) changed.push_back(option);
+  };
+  differs("--levels", tasks::parse_levels(o.levels) != plan.levels);
+  differs("--limit", o.limit != plan.limit);
+  differs("--seed", o.seed != plan.seed);
+  differs("--scene", std::set<std::string>(o.scenes.begin(), o.scenes.end()) != plan.scenes);
+  differs("--step-limit", o.step_limit != plan.step_limit);
+  differs("--render", !plan.render);
+  differs("--no-render", plan.render);
+  differs("--image-size", parse_image_size(o.image_size) != std::make_pair(plan.image_width, plan.image_height));
+  differs("--image-encoding", o.image_encoding != plan.image_encoding);
+  differs("--object-names", object_names_for(o.object_names, plan.render, plan.tasks_db) != plan.object_names);
+  differs("--data", o.data_dir != plan.data_dir);
+  differs("--profile", o.profile != plan.profile);
+  differs("--parallel", o.parallel != plan.parallel);
+  if (changed.empty()) return;
+  std::string names;
+  for (const auto& c : changed) names += (names.empty() ? "" : ", ") + c;
+  throw Error(dir.string() + " holds a run planned with other " + names +
+              "; resume it without them (the plan is in plan.json) or use another --out");
+}
+
+// Where a run's bus is, for `scripts/lcm-spy --run DIR`: the URL, and the process whose
+// network namespace holds it.
+void write_bus_file(const fs::path& dir, const RunPlan& plan) {
+  write_json_file(dir / "bus.json", {{"url", plan.bus_url},
+                                     {"pid", static_cast<long>(::getpid())},
+                                     {"own_namespace", orchestrator::inside_run_namespace()},
+                                     {"user_namespace", orchestrator::inside_run_namespace() && ::geteuid() != 0}});
+}
+
+}  // namespace
+
+int run_run(const RunOptions& o) {
+  if (o.out.empty()) throw Error("--out <run dir> is required");
+  const fs::path dir = fs::absolute(o.out).lexically_normal();
+  if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("--out " + dir.string() + " is a file, not a run folder");
+  RunPlan plan;
+  if (fs::exists(dir / "plan.json")) {
+    plan = orchestrator::load_plan(dir);
+    check_resume(plan, o, dir);
+    check_agents(plan.agents, o.vlm, plan.remote);
+    std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
+  } else {
+    plan = plan_from_options(o, dir);
+    check_agents(plan.agents, o.vlm, plan.remote);  // before anything is written
+    plan = orchestrator::make_plan(std::move(plan), tasks::read_tasks(plan.tasks_db));
+    fs::create_directories(dir);
+    orchestrator::save_plan(plan, dir);
+  }
+  write_bus_file(dir, plan);
   const auto tasks = load_tasks(plan.tasks_db);
   orchestrator::EngineOptions engine;
-  engine.progress = o.progress;
+  engine.progress = !o.no_progress;
   engine.recorder = o.recorder;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;

@@ -2,6 +2,7 @@
 // `mtg run`, `mtg report`, `mtg replay`, `mtg rejudge` (docs/runtime.md).
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,7 @@ struct RunOptions {
   std::vector<std::string> scenes;   // empty = all
   std::string levels = "1,2,3";
   int limit = 0;                     // tasks per (scene, level); 0 = all
-  int parallel = 0;                  // 0 = 4, or with --remote as many as the workers take
+  int parallel = 0;                  // when not given: 4, or with --remote as many as the workers take
   std::uint64_t seed = 0;
   bool render = false;               // --render: images even for built-in agents
   bool no_render = false;            // --no-render: text only even for model agents
@@ -29,11 +30,12 @@ struct RunOptions {
   std::string url;                   // LCM URL ("" = default)
   double episode_timeout_s = -1.0;   // -1 = 60 s, or 900 s with a model agent (API retries)
   int step_limit = 15;
-  bool progress = true;
+  bool no_progress = false;
   std::string recorder = "mtg";      // or lcm-logger
   vlm::VlmOptions vlm;               // for model agents (forwarded to every adapter)
   bool remote = false;               // episodes run on `mtg worker`s of the bus, by lease
   orchestrator::remote::RemoteOptions remote_options;
+  std::set<std::string> given;       // the options given on the command line ("--levels", ...)
 };
 
 struct ReportOptions {

@@ -10,25 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "bus/event_log.h"
 #include "mtg/header_t.hpp"
 #include "mtg/record_chunk_t.hpp"
 
 namespace mtg::orchestrator::remote {
 
-struct LoggedEvent {
-  std::string channel;
-  std::int64_t utime = 0;  // receive time on the worker (lcm-logplayer paces by it)
-  std::vector<std::uint8_t> data;
-};
-
-/// The header_t every mtg message carries first (after LCM's 8-byte type fingerprint); nullopt
-/// for bytes that do not start with one.
-std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message);
-
-/// The events in LCM's event-log format, numbered from 0.
-std::vector<std::uint8_t> encode_event_log(const std::vector<LoggedEvent>& events);
-/// @throws mtg::Error naming `origin` on a truncated or malformed log.
-std::vector<LoggedEvent> decode_event_log(std::span<const std::uint8_t> bytes, const std::string& origin);
+using bus::decode_event_log;
+using bus::encode_event_log;
+using bus::LoggedEvent;
+using bus::peek_header;
 
 /// Chunks of at most `chunk_bytes` each (at least one, even for an empty log), stamped with
 /// `header` (the attempt) and `lease_id`.

@@ -12,6 +12,7 @@
 #include "core/util/log.h"
 #include "mtg/error_event_t.hpp"
 #include "mtg/heartbeat_t.hpp"
+#include "mtg/recorded_t.hpp"
 #include "mtg/run_control_t.hpp"
 #include "mtg/state_update_t.hpp"
 
@@ -30,8 +31,21 @@ void LocalRuntime::subscribe() {
     if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
     const auto it = in_flight_.find(m.header.episode_id);
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
+    if (recorder_acks()) {
+      if (!it->second.result) it->second.result = m;  // stored once the recorder has it
+      return;
+    }
     in_flight_.erase(it);
     sink_->on_result(m, "");
+  });
+  bus_.subscribe<mtg::recorded_t>(bus::kRecorded, [this](const std::string&, const mtg::recorded_t& m) {
+    if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
+    recorder_deaths_since_ack_ = 0;
+    const auto it = in_flight_.find(m.header.episode_id);
+    if (it == in_flight_.end() || it->second.attempt != m.header.attempt || !it->second.result) return;
+    const mtg::episode_result_t result = *it->second.result;
+    in_flight_.erase(it);
+    sink_->on_result(result, "");
   });
   bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
     ready_pids_.insert(m.pid);
@@ -67,7 +81,8 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
   if (config_.recorder == "lcm-logger") {
     supervisor_.start("recorder", {"/usr/bin/lcm-logger", "--lcm-url=" + config_.bus_url, "--append", log.string()});
   } else if (config_.recorder == "mtg") {
-    supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", config_.bus_url, log.string()});
+    supervisor_.start("recorder", {(bin / "mtg_recorder").string(), "--url", config_.bus_url, "--run", config_.run_id,
+                                   log.string()});
   } else {
     throw Error("unknown recorder '" + config_.recorder + "' (mtg or lcm-logger)");
   }
@@ -201,6 +216,12 @@ void LocalRuntime::handle_deaths(LaunchSink& sink) {
   std::set<std::string> affected_agents;
   bool all = false;
   for (const auto& name : died) {
+    // A recorder that keeps dying before it records anything cannot record this run: say so,
+    // rather than run episodes nobody can replay.
+    if (name == "recorder" && ++recorder_deaths_since_ack_ >= 3 && recorder_acks()) {
+      throw Error("the recorder died 3 times in a row without recording a result (see " +
+                  (dir_ / "logs" / "recorder.log").string() + "): the run cannot be recorded; it resumes once fixed");
+    }
     // The governor holds no episode: its restart only delays calls.
     if (name == "scene_graph" || name == "judge" || name == "recorder" || name == "renderer") all = true;
     for (const auto& [spec, process] : agent_process_) {

@@ -2,16 +2,18 @@
 // The run's processes on this machine, on one bus: the recorder, the scene-graph service, the
 // judge, the renderer when images are on, one process per agent, and the rate governor for model
 // agents. It starts episode attempts, watches them, and reports what became of each:
-//   - a result from the judge (any cause);
+//   - a result from the judge (any cause), once the recorder has written it to the recording;
 //   - a failure when no message about the attempt came for episode_timeout_s, when a service
 //     reported an error about it, or when a process it depended on died (that process is
-//     restarted first);
+//     restarted first; a recorder that died before acknowledging an attempt's result means the
+//     attempt may be missing from the recording, so it runs again);
 //   - a stopped agent when a model agent reports a fatal error (authentication, quota, billing).
 // `mtg run` uses it directly; `mtg worker` uses one per run it joins.
 
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -66,6 +68,8 @@ class LocalRuntime final : public Launcher {
     int attempt = 0;
     std::string agent;
     Clock::time_point last_activity;
+    /// The judge's result, held until the recorder says the attempt is in the recording.
+    std::optional<mtg::episode_result_t> result;
   };
 
   void subscribe();
@@ -75,6 +79,8 @@ class LocalRuntime final : public Launcher {
   void fail(std::int64_t episode_id, const std::string& why, LaunchSink& sink);
   void touch(const mtg::header_t& h);
   bool recorder_beats() const { return config_.recorder != "lcm-logger"; }
+  /// The mtg recorder acknowledges every result it writes; lcm-logger does not.
+  bool recorder_acks() const { return config_.recorder == "mtg"; }
 
   RuntimeConfig config_;
   std::filesystem::path dir_;
@@ -87,6 +93,7 @@ class LocalRuntime final : public Launcher {
   std::map<std::int64_t, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()
   bool open_ = false;
+  int recorder_deaths_since_ack_ = 0;
 };
 
 }  // namespace mtg::orchestrator

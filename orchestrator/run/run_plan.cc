@@ -1,7 +1,9 @@
 #include "orchestrator/run/run_plan.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
+#include <random>
 
 #include "core/util/error.h"
 #include "core/util/hash.h"
@@ -69,6 +71,14 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     throw Error(origin + ": malformed run plan (" + e.what() + ")");
   }
   return p;
+}
+
+std::string new_run_id(const std::string& name) {
+  // Identity, not logic: the one place a run draws entropy from the machine.
+  std::random_device entropy;
+  char suffix[16];
+  std::snprintf(suffix, sizeof(suffix), "-%08x", static_cast<unsigned>(entropy()));
+  return name + suffix;
 }
 
 RunPlan make_plan(RunPlan plan, const std::vector<tasks::Task>& all_tasks) {

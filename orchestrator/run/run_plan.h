@@ -22,7 +22,7 @@ struct PlannedEpisode {
 };
 
 struct RunPlan {
-  std::string run_id;            // the run folder's name
+  std::string run_id;            // unique: the folder's name and a random suffix (new_run_id)
   std::string tasks_db;          // absolute path of the task database
   std::vector<std::string> agents;
   std::set<std::string> scenes;  // empty = every scene of the task set
@@ -49,6 +49,10 @@ struct RunPlan {
   /// @throws mtg::Error naming the field.
   static RunPlan from_json(const nlohmann::json& j, const std::string& origin);
 };
+
+/// A run's identity: `name` (its folder's name) and 8 random hex digits, so two runs in folders
+/// of the same name, or one run after another in the same place, never share an id.
+std::string new_run_id(const std::string& name);
 
 /// Draws the tasks and lays out the episodes: tasks in id order, each run by every agent in
 /// turn (so agents interleave when episodes run in parallel).

@@ -40,7 +40,9 @@ ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string r
     : bus_(bus), stamp_(stamp), role_(std::move(role)), capacity_(capacity) {
   if (!obeys_shutdown) return;
   bus_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
-    const bool for_me = m.target.empty() || m.target == role_ || m.target == stamp_.sender();
+    // A process of a run obeys its own run only: another run's shutdown is not ours.
+    const bool my_run = stamp_.run_id().empty() || m.header.run_id == stamp_.run_id();
+    const bool for_me = my_run && (m.target.empty() || m.target == role_ || m.target == stamp_.sender());
     if (for_me && m.command == "shutdown") {
       log::info("shutdown requested by " + m.header.sender);
       stopping_ = true;

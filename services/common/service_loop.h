@@ -1,7 +1,7 @@
 #pragma once
 // The loop every service process runs: dispatch bus messages, publish a heartbeat once a
 // second (liveness telemetry, never used in episode logic), stop on SIGINT/SIGTERM or on a
-// run_control "shutdown" addressed to this role, and give the service a chance to do queued
+// run_control "shutdown" of its own run addressed to this role, and give the service a chance to do queued
 // work between messages (handlers stay short; heavy work runs from `idle`).
 
 #include <functional>

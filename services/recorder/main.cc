@@ -15,16 +15,21 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"mtg bus recorder (an lcm-logger with a deep queue)"};
-  std::string url = mtg::bus::default_url(), out;
+  std::string url = mtg::bus::default_url(), out, run_id;
   app.add_option("--url", url, "LCM URL");
+  app.add_option("--run", run_id, "record only this run's messages ('' = everything on the bus)");
   app.add_option("file", out, "event log to append to")->required();
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("recorder");
   mtg::services::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::services::Recorder recorder(bus, out);
-    mtg::bus::HeaderStamper stamp("", mtg::services::sender_id("recorder"));
+    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("recorder"));
+    mtg::services::Recorder recorder(bus, stamp, out, run_id);
+    if (recorder.repaired_bytes() > 0) {
+      mtg::log::warn("cut a torn last event (" + std::to_string(recorder.repaired_bytes()) + " bytes) off " + out +
+                     ": the recorder before this one was killed while writing it");
+    }
     mtg::services::ServiceLoop loop(bus, stamp, "recorder", 1, /*obeys_shutdown=*/false);
     auto next_flush = std::chrono::steady_clock::now();
     loop.run([&] {

@@ -2,11 +2,32 @@
 
 #include <cstdio>
 
+#include "bus/channels.h"
+#include "bus/event_log.h"
 #include "core/util/error.h"
+#include "mtg/recorded_t.hpp"
 
 namespace mtg::services {
+namespace {
 
-Recorder::Recorder(bus::Bus& bus, const std::filesystem::path& path) : path_(path), log_(path.string(), "a") {
+// Cuts a torn last event off `path` (a killed writer's), before anything is appended to it;
+// returns the bytes removed.
+std::uintmax_t repair(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return 0;
+  const std::uintmax_t size = std::filesystem::file_size(path);
+  const std::uintmax_t whole = bus::whole_events_length(path);
+  if (whole == size) return 0;
+  std::filesystem::resize_file(path, whole, ec);
+  if (ec) throw Error(path.string() + ": cannot cut its torn last event off (" + ec.message() + ")");
+  return size - whole;
+}
+
+}  // namespace
+
+Recorder::Recorder(bus::Bus& bus, bus::HeaderStamper& stamp, const std::filesystem::path& path, std::string run_id)
+    : bus_(bus), stamp_(stamp), path_(path), run_id_(std::move(run_id)), repaired_(repair(path)),
+      log_(path.string(), "a") {
   if (!log_.good()) throw Error(path_.string() + ": cannot open the recording for writing");
   bus.subscribe_raw(".*", [this](const std::string& channel, std::span<const std::uint8_t> data, std::int64_t utime) {
     write(channel, data, utime);
@@ -14,6 +35,8 @@ Recorder::Recorder(bus::Bus& bus, const std::filesystem::path& path) : path_(pat
 }
 
 void Recorder::write(const std::string& channel, std::span<const std::uint8_t> data, std::int64_t recv_utime) {
+  const auto header = bus::peek_header(data);
+  if (!run_id_.empty() && (!header || (!header->run_id.empty() && header->run_id != run_id_))) return;
   lcm::LogEvent ev;
   ev.eventnum = events_;
   ev.timestamp = recv_utime;  // lcm-logplayer paces the replay by these
@@ -22,6 +45,16 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
   ev.data = const_cast<std::uint8_t*>(data.data());  // LogFile only reads it
   if (log_.writeEvent(&ev) != 0) throw Error(path_.string() + ": cannot write to the recording (disk full?)");
   ++events_;
+  if (channel == bus::kEpisodeResult && header && header->episode_id >= 0) {
+    // The result is the attempt's last message: once it is on disk, the whole attempt is.
+    flush();
+    mtg::recorded_t ack{};
+    ack.header = stamp_.next(header->episode_id, header->attempt, "recorded");
+    ack.header.run_id = header->run_id;
+    ack.file = path_.string();
+    ack.events = events_;
+    bus_.publish(bus::kRecorded, ack);
+  }
 }
 
 void Recorder::flush() { std::fflush(log_.getFilePtr()); }

@@ -19,6 +19,7 @@
 #include "mtg/image_t.hpp"
 #include "mtg/judge_event_t.hpp"
 #include "mtg/lease_t.hpp"
+#include "mtg/recorded_t.hpp"
 #include "mtg/object_placement_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/rate_limit_t.hpp"
@@ -110,6 +111,7 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     truth.n_oracle = 3;
     w.add("MTG_EPISODE_TRUTH", truth);
     w.add("MTG_RESULT", with_header<mtg::episode_result_t>());
+    w.add("MTG_RECORDED", with_header<mtg::recorded_t>());
     mtg::render_view_t view{};
     view.view = "platform";
     auto request = with_header<mtg::render_request_t>();
@@ -149,7 +151,7 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(status, 0) << text;
-  EXPECT_NE(text.find("ALL 26 types decoded"), std::string::npos) << text;
+  EXPECT_NE(text.find("ALL 27 types decoded"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED observation_t MTG_OBS_E7 run=java-check"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED record_chunk_t MTG_RECORD run=java-check"), std::string::npos) << text;
 }

@@ -1,5 +1,10 @@
 #include "tests/support/process.h"
 
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -42,6 +47,37 @@ int ChildProcess::wait(int timeout_ms) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+}
+
+}  // namespace mtg::testing
+
+namespace mtg::testing {
+
+pid_t descendant_pid(pid_t ancestor, const std::string& program) {
+  namespace fs = std::filesystem;
+  auto parent_of = [](pid_t pid) -> pid_t {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(stat, line)) return -1;
+    // "pid (comm) state ppid ...": comm may hold spaces, so read after the last ')'.
+    std::istringstream rest(line.substr(line.rfind(')') + 1));
+    char state = 0;
+    pid_t ppid = -1;
+    rest >> state >> ppid;
+    return ppid;
+  };
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || !std::isdigit(static_cast<unsigned char>(name[0]))) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(name));
+    std::ifstream comm(entry.path() / "comm");
+    std::string exe;
+    if (!std::getline(comm, exe) || exe != program.substr(0, 15)) continue;  // comm keeps 15 characters
+    for (pid_t p = parent_of(pid); p > 1; p = parent_of(p)) {
+      if (p == ancestor) return pid;
+    }
+  }
+  return -1;
 }
 
 }  // namespace mtg::testing

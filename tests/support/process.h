@@ -33,4 +33,9 @@ class ChildProcess {
   int status_ = 0;
 };
 
+/// The pid of a running descendant of `ancestor` whose executable is named `program` (e.g.
+/// "mtg_judge"), or -1. A run's processes live in a network namespace of their own, so tests find
+/// them through the process tree rather than through their heartbeats.
+pid_t descendant_pid(pid_t ancestor, const std::string& program);
+
 }  // namespace mtg::testing
