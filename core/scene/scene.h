@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,9 @@ struct Scene {
   std::vector<ObjectInstance> objects;  // rigid objects in file order, then articulated
   std::vector<std::string> warnings;    // one line each, naming the object and file
   LoadStats stats;
+  /// Every file the scene was made from, present or looked for in vain: the scene instance, stage
+  /// and object configs, URDFs, meshes (dataset_fingerprint.h ties a task set to them).
+  std::set<std::filesystem::path> source_files;
 
   const ObjectInstance* find(const std::string& name) const;
 };

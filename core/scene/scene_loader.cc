@@ -170,6 +170,7 @@ void load_rigid_objects(const Dataset& ds, const JsonField& list, MeshLoader& me
       continue;
     }
     const fs::path cfg_file = cfg_it->second;
+    scene.source_files.insert(cfg_file);
     const nlohmann::json cfg_json = read_json_file(cfg_file);
     const JsonField cfg(cfg_json, cfg_file.string());
     if (auto s = cfg.find("scale")) {
@@ -202,8 +203,10 @@ void load_rigid_objects(const Dataset& ds, const JsonField& list, MeshLoader& me
       collision_candidates.push_back((cfg_file.parent_path() / c->as_string()).lexically_normal());
     }
     collision_candidates.push_back(fs::path(part.render_path.string() + ".convex.stl"));
+    scene.source_files.insert(part.render_path);
     for (const auto& c : collision_candidates) {
       if (fs::exists(c)) {
+        scene.source_files.insert(c);
         part.collision_path = c;
         break;
       }
@@ -250,6 +253,7 @@ void load_articulated_objects(const Dataset& ds, const JsonField& list, MeshLoad
       continue;
     }
     UrdfModel model;
+    scene.source_files.insert(urdf_it->second);
     try {
       model = load_urdf(urdf_it->second);
     } catch (const Error& e) {
@@ -271,6 +275,7 @@ void load_articulated_objects(const Dataset& ds, const JsonField& list, MeshLoad
         const UrdfVisual& v = link.visuals.front();
         part.T_OA = T_OL * Eigen::Affine3d(v.X_LV.matrix()) * Eigen::Scaling(v.scale);
         part.render_path = v.mesh;
+        scene.source_files.insert(v.mesh);
         part.render = meshes.load(v.mesh, obj.name + "/" + link.name,
                                   "using its URDF collision boxes for geometry");
       }
@@ -291,6 +296,7 @@ void load_articulated_objects(const Dataset& ds, const JsonField& list, MeshLoad
     const fs::path ao_config =
         urdf_it->second.parent_path() / (urdf_it->second.stem().string() + ".ao_config.json");
     if (fs::exists(ao_config)) {
+      scene.source_files.insert(ao_config);
       const nlohmann::json ao_json = read_json_file(ao_config);
       obj.receptacles = read_receptacles(JsonField(ao_json, ao_config.string()), part_of_link,
                                          link_frames, scene.warnings, obj.name);
@@ -308,6 +314,7 @@ Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& ca
   scene.name = scene_name;
   scene.data_root = ds.root;
   scene.scene_file = ds.scene_file(scene_name);
+  scene.source_files.insert(scene.scene_file);
 
   const nlohmann::json doc = read_json_file(scene.scene_file);
   const JsonField root(doc, scene.scene_file.string());
@@ -316,6 +323,7 @@ Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& ca
   if (auto stage = root.find("stage_instance")) {
     scene.stage_template = template_basename(stage->at("template_name").as_string());
     if (const auto it = ds.stage_configs.find(scene.stage_template); it != ds.stage_configs.end()) {
+      scene.source_files.insert(it->second);
       const nlohmann::json stage_json = read_json_file(it->second);
       const JsonField stage_cfg(stage_json, it->second.string());
       if (auto asset = stage_cfg.find("render_asset")) {

@@ -36,6 +36,7 @@ GenerationReport run_generation(const GenerationJob& job) {
     for (const auto& w : result.set.warnings) report.warnings.push_back(name + ": " + w);
     report.scenes.push_back(sr);
     votes.insert(votes.end(), result.votes.begin(), result.votes.end());
+    result.set.dataset = scene::fingerprint_files(dataset.root, loaded.source_files);
     sets.push_back(std::move(result.set));
   }
   write_task_db(job.out, sets, votes, job.options);

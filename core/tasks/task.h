@@ -10,6 +10,7 @@
 
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/scene/dataset_fingerprint.h"
 #include "core/tasks/reference.h"
 
 namespace mtg::tasks {
@@ -113,6 +114,7 @@ struct TaskSet {
   std::vector<Task> tasks;
   std::vector<std::string> warnings;
   DropCounts dropped;
+  scene::DatasetFingerprint dataset;  // the files the scene was loaded from
 };
 
 }  // namespace mtg::tasks

@@ -118,14 +118,17 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
     store::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?, ?)");
     std::vector<std::string> scenes;
     nlohmann::json dropped = nlohmann::json::object();
+    std::map<std::string, scene::DatasetFingerprint> dataset;
     for (const auto& s : sets) {
       scenes.push_back(s.scene);
       dropped[s.scene] = s.dropped.to_json();
+      dataset[s.scene] = s.dataset;
     }
     const std::string hash = options.config_hash();
     for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
              {"format", kFormat},
              {"dropped", dropped.dump()},
+             {"dataset", scene::to_json(dataset).dump()},
              {"generator_version", kGeneratorVersion},
              {"config_json", options.to_json().dump()},
              {"config_hash", hash},
@@ -203,6 +206,18 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
   return out;
 }
 
+std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const fs::path& file) {
+  store::Database db(file, store::Database::Mode::kReadOnly);
+  require_format(db, file);
+  store::Statement q(db, "SELECT value FROM meta WHERE key = 'dataset'");
+  if (!q.step()) return {};
+  try {
+    return scene::fingerprints_from_json(nlohmann::json::parse(q.column_text(0)));
+  } catch (const std::exception& e) {
+    throw Error(file.string() + ": malformed dataset fingerprint (" + e.what() + ")");
+  }
+}
+
 nlohmann::json task_db_stats(const fs::path& file) {
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
@@ -237,6 +252,7 @@ nlohmann::json task_db_stats(const fs::path& file) {
   j["dropped"] = meta.contains("dropped") ? nlohmann::json::parse(meta["dropped"].get<std::string>())
                                           : nlohmann::json::object();
   meta.erase("dropped");
+  meta.erase("dataset");  // file hashes: read_dataset_fingerprints
   j["meta"] = meta;
   return j;
 }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,6 +27,10 @@ nlohmann::json task_to_json(const Task& task);
 /// Tasks of the database, optionally only some levels, in id order.
 /// @throws mtg::Error if the file is missing or is not a task database.
 std::vector<Task> read_tasks(const std::filesystem::path& file, const std::set<int>& levels = {});
+
+/// Per scene, the dataset files its tasks were made from (the `dataset` meta entry).
+/// @throws mtg::Error if the file is not a task database.
+std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const std::filesystem::path& file);
 
 /// Counts per level ("levels": {"1": n, ...}), per type, per scene, total, plus the meta table.
 nlohmann::json task_db_stats(const std::filesystem::path& file);

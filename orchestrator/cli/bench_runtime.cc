@@ -96,9 +96,8 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
   job.options.levels = {1, 2, 3};
   job.options.level3_count = std::max(1, options.per_level);
   tasks::run_generation(job);
-  const std::vector<tasks::Task> all = tasks::read_tasks(job.out);
   std::map<std::string, tasks::Task> by_id;
-  for (const auto& t : all) by_id.emplace(t.id, t);
+  for (auto& t : tasks::read_tasks(job.out)) by_id.emplace(t.id, std::move(t));
 
   std::printf("runtime: text-only oracle episodes on %s, %d tasks per level (L1-L3), over %s\n", options.scene.c_str(),
               options.per_level, bus::default_url().c_str());
@@ -113,11 +112,11 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
     plan.parallel = k;
     plan.data_dir = options.data_dir;
     plan.bus_url = bus::normalize_url(bus::default_url());
-    plan = orchestrator::make_plan(std::move(plan), all);
+    plan = orchestrator::make_plan(std::move(plan), by_id);
     const fs::path dir = work / plan.run_id;
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
-    const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}});
+    const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}, .dataset_json = {}});
     long steps = 0, succeeded = 0;
     for (const auto& row : orchestrator::read_results(dir / "results.sqlite")) {
       steps += row.steps;

@@ -137,6 +137,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
   run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
+  run->add_flag("--allow-data-mismatch", run_opts.allow_data_mismatch,
+                "run even where the dataset differs from the one the task set was made from");
   run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
   run->add_option("--url,--bus", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
   run->add_flag("--remote", run_opts.remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");

@@ -72,6 +72,7 @@ int run_images(const ImagesOptions& o) {
   if (o.out.empty()) throw Error("mtg images: --out <folder> is required");
   fs::create_directories(o.out);
   long written = 0;
+  bool seen_episode = false;
   bus::for_each_recorded_event(o.run, [&](const lcm::LogEvent& ev) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
     mtg::observation_t obs{};
@@ -79,6 +80,7 @@ int run_images(const ImagesOptions& o) {
       throw Error("mtg images: a message on " + ev.channel + " in " + o.run + " does not decode");
     }
     if (o.episode >= 0 && obs.header.episode_id != o.episode) return;
+    seen_episode = true;
     for (const mtg::image_t& img : obs.images) {
       if (img.nbytes == 0) continue;
       const std::string ext = img.encoding == "jpeg" ? ".jpg" : ".png";
@@ -89,6 +91,9 @@ int run_images(const ImagesOptions& o) {
       ++written;
     }
   });
+  if (o.episode >= 0 && !seen_episode) {
+    throw Error("episode " + std::to_string(o.episode) + " is not in the recording of " + o.run);
+  }
   std::printf("wrote %ld image(s) to %s\n", written, o.out.c_str());
   return 0;
 }

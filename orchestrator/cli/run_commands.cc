@@ -12,6 +12,8 @@
 #include "agents/builtin/policies.h"
 #include "agents/vlm/model_setup.h"
 #include "bus/url.h"
+#include "core/scene/dataset.h"
+#include "core/scene/dataset_fingerprint.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
@@ -163,7 +165,31 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   plan.profile = o.profile;
   plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
   plan.remote = o.remote;
+  plan.allow_data_mismatch = o.allow_data_mismatch;
   return plan;
+}
+
+// The task set's fingerprints of the scenes the plan runs.
+std::map<std::string, scene::DatasetFingerprint> fingerprints_of(const RunPlan& plan,
+                                                                 const std::map<std::string, tasks::Task>& tasks) {
+  std::set<std::string> scenes;
+  for (const auto& e : plan.episodes) scenes.insert(tasks.at(e.task_id).scene);
+  std::map<std::string, scene::DatasetFingerprint> out;
+  for (auto& [scene, f] : tasks::read_dataset_fingerprints(plan.tasks_db)) {
+    if (scenes.count(scene) != 0) out.emplace(scene, std::move(f));
+  }
+  return out;
+}
+
+// A run on this machine refuses a dataset other than the task set's (a missing mesh would turn
+// the oracle's tasks into failures without a word); workers check their own as they join.
+void check_dataset(const RunPlan& plan, const std::map<std::string, scene::DatasetFingerprint>& expected) {
+  const fs::path root = scene::resolve_data_root(plan.data_dir);
+  const std::string diff = scene::first_difference(expected, root);
+  if (diff.empty()) return;
+  const std::string what = "the dataset at " + root.string() + " is not the one " + plan.tasks_db + " was made from (" + diff + ")";
+  if (!plan.allow_data_mismatch) throw Error(what + "; use that dataset (--data) or --allow-data-mismatch");
+  log::warn(what + "; going on (--allow-data-mismatch)");
 }
 
 // A resume runs the plan on disk: options that would change what it evaluates are refused, with
@@ -213,21 +239,29 @@ int run_run(const RunOptions& o) {
   const fs::path dir = fs::absolute(o.out).lexically_normal();
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("--out " + dir.string() + " is a file, not a run folder");
   RunPlan plan;
-  if (fs::exists(dir / "plan.json")) {
+  const bool resuming = fs::exists(dir / "plan.json");
+  if (resuming) {
     plan = orchestrator::load_plan(dir);
     check_resume(plan, o, dir);
-    check_agents(plan.agents, o.vlm, plan.remote);
-    std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
+    plan.allow_data_mismatch = o.allow_data_mismatch;  // a permission of this invocation
   } else {
     plan = plan_from_options(o, dir);
-    check_agents(plan.agents, o.vlm, plan.remote);  // before anything is written
-    plan = orchestrator::make_plan(std::move(plan), tasks::read_tasks(plan.tasks_db));
+  }
+  // Everything is checked before anything is written: a typo must not spoil the folder.
+  check_agents(plan.agents, o.vlm, plan.remote);
+  const auto tasks = load_tasks(plan.tasks_db);
+  if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
+  const auto fingerprints = fingerprints_of(plan, tasks);
+  if (!plan.remote) check_dataset(plan, fingerprints);
+  if (resuming) {
+    std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
+  } else {
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
   }
   write_bus_file(dir, plan);
-  const auto tasks = load_tasks(plan.tasks_db);
   orchestrator::EngineOptions engine;
+  engine.dataset_json = scene::to_json(fingerprints).dump();
   engine.progress = !o.no_progress;
   engine.recorder = o.recorder;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
@@ -248,10 +282,28 @@ int run_run(const RunOptions& o) {
   return 0;
 }
 
+namespace {
+
+// The report of a run whose folder may be read-only (someone else's, a shared archive): what
+// cannot be written is said in one line, and the report is printed all the same.
+nlohmann::json write_reports_if_possible(const fs::path& dir, const std::string& html) {
+  try {
+    return orchestrator::write_reports(dir, html);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mtg report: the report files cannot be written (%s); printing it only\n", e.what());
+    return orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string());
+  }
+}
+
+}  // namespace
+
 int run_report(const ReportOptions& o) {
   const fs::path dir(o.run);
   if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
-  const nlohmann::json report = orchestrator::write_reports(dir, o.html);
+  // --json only reads; otherwise the files are written where the folder allows it.
+  const nlohmann::json report =
+      o.json ? orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string())
+             : write_reports_if_possible(dir, o.html);
   if (o.json) {
     std::cout << report.dump() << '\n';
     return 0;
@@ -283,7 +335,9 @@ int run_report(const ReportOptions& o) {
     }
     std::printf("\n");
   }
-  std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
+  if (::access(dir.c_str(), W_OK) == 0) {
+    std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
+  }
   return 0;
 }
 

@@ -35,6 +35,7 @@ struct RunOptions {
   vlm::VlmOptions vlm;               // for model agents (forwarded to every adapter)
   bool remote = false;               // episodes run on `mtg worker`s of the bus, by lease
   orchestrator::remote::RemoteOptions remote_options;
+  bool allow_data_mismatch = false;  // run on a dataset other than the task set's
   std::set<std::string> given;       // the options given on the command line ("--levels", ...)
 };
 

@@ -84,8 +84,12 @@ void LeaseLauncher::subscribe() {
     arrived(key);
   });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
-    if (m.header.run_id != run_.run_id || sink_ == nullptr) return;
-    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) sink_->on_agent_stopped(m.source.substr(6), m.message);
+    if (m.header.run_id != run_.run_id) return;
+    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) {
+      if (sink_ != nullptr) sink_->on_agent_stopped(m.source.substr(6), m.message);
+    } else if (worker_errors_.insert(m.message).second) {
+      log::warn(m.message);  // e.g. a worker whose dataset differs stays out of the run
+    }
   });
 }
 

@@ -69,6 +69,7 @@ class LeaseLauncher final : public Launcher {
     Clock::time_point last_renewal, last_grant;
   };
   using AttemptKey = std::pair<std::int64_t, int>;
+  std::set<std::string> worker_errors_;  // said once each
   struct Arrival {
     std::optional<mtg::episode_result_t> result;
     ChunkAssembly chunks;

@@ -14,6 +14,8 @@ mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) 
   m.n_agents = static_cast<std::int16_t>(m.agents.size());
   m.vlm_args = run.vlm_args;
   m.n_vlm_args = static_cast<std::int16_t>(m.vlm_args.size());
+  m.dataset_json = run.dataset_json;
+  m.allow_data_mismatch = run.allow_data_mismatch;
   m.planned = counts.planned;
   m.finished = counts.finished;
   m.scored = counts.scored;
@@ -35,6 +37,8 @@ RuntimeConfig announced_config(const mtg::run_info_t& info) {
   c.episode_timeout_s = info.episode_timeout_s;
   c.agents = info.agents;
   c.vlm_args = info.vlm_args;
+  c.dataset_json = info.dataset_json;
+  c.allow_data_mismatch = info.allow_data_mismatch;
   return c;
 }
 

@@ -12,6 +12,8 @@
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "core/scene/dataset.h"
+#include "core/scene/dataset_fingerprint.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/log.h"
@@ -189,6 +191,7 @@ class Worker final : public LaunchSink {
     c.governor = false;  // the coordinator's governor serves every host
     log::info("joining run " + run_id_ + " of " + info.header.sender);
     try {
+      check_dataset(c);
       runtime_ = std::make_unique<LocalRuntime>(c, fs::path(options_.dir) / run_id_);
       runtime_->bus().subscribe_raw(".*", [this](const std::string& channel, std::span<const std::uint8_t> bytes,
                                                  std::int64_t utime) { capture(channel, bytes, utime); });
@@ -200,6 +203,13 @@ class Worker final : public LaunchSink {
       status_ = "ready";
     } catch (const Error& e) {
       log::error("cannot run " + run_id_ + ": " + e.what() + " (trying again in 30 s)");
+      // The coordinator says why this host stays out.
+      mtg::error_event_t m{};
+      m.header = stamp_.next(-1, 0, "error");
+      m.source = stamp_.sender();
+      m.severity = "error";
+      m.message = "worker on " + host_ + " cannot run " + run_id_ + ": " + e.what();
+      shared_.publish(bus::kError, m);
       failed_run_ = run_id_;
       retry_join_at_ = Clock::now() + std::chrono::seconds(30);
       runtime_.reset();
@@ -207,6 +217,17 @@ class Worker final : public LaunchSink {
       stamp_.set_run_id("");
       status_ = "idle";
     }
+  }
+
+  // This host's dataset must be the one the run's task set was made from (run_info_t).
+  void check_dataset(const RuntimeConfig& c) const {
+    if (c.dataset_json.empty()) return;
+    const fs::path root = scene::resolve_data_root(options_.data_dir);
+    const std::string diff = scene::first_difference(scene::fingerprints_from_json(nlohmann::json::parse(c.dataset_json)), root);
+    if (diff.empty()) return;
+    const std::string what = "the dataset at " + root.string() + " is not the one the run's tasks were made from (" + diff + ")";
+    if (!c.allow_data_mismatch) throw Error(what);
+    log::warn(what + "; going on (the run allows it)");
   }
 
   void leave() {

@@ -42,6 +42,10 @@ struct RuntimeConfig {
   /// Start the rate governor when a model agent runs. A worker does not: the coordinator's
   /// governor serves every host, so the limits hold for the whole run.
   bool governor = true;
+  /// What the task set was made from (scene::fingerprints_from_json; "" = unchecked): a worker
+  /// compares its own dataset with it before it joins, unless mismatches are allowed.
+  std::string dataset_json;
+  bool allow_data_mismatch = false;
 };
 
 class LocalRuntime final : public Launcher {

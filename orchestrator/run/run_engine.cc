@@ -265,6 +265,8 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.parallel = plan.parallel;
   c.episode_timeout_s = plan.episode_timeout_s;
   c.recorder = options.recorder;
+  c.dataset_json = options.dataset_json;
+  c.allow_data_mismatch = plan.allow_data_mismatch;
   return c;
 }
 

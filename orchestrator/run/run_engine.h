@@ -48,6 +48,8 @@ struct EngineOptions {
   std::vector<std::string> vlm_args;
   /// With plan.remote: how the coordinator deals with workers.
   remote::RemoteOptions remote;
+  /// The task set's dataset fingerprints of the plan's scenes (scene::to_json), for workers.
+  std::string dataset_json;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

@@ -36,6 +36,7 @@ nlohmann::json RunPlan::to_json() const {
           {"profile", profile},
           {"bus_url", bus_url},
           {"remote", remote},
+          {"allow_data_mismatch", allow_data_mismatch},
           {"episodes", eps}};
 }
 
@@ -63,6 +64,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.profile = j.at("profile").get<std::string>();
     p.bus_url = j.at("bus_url").get<std::string>();
     p.remote = j.value("remote", false);  // absent in plans written before multi-host runs
+    p.allow_data_mismatch = j.value("allow_data_mismatch", false);
     for (const auto& e : j.at("episodes")) {
       p.episodes.push_back({e.at("id").get<std::int64_t>(), e.at("task").get<std::string>(),
                             e.at("agent").get<std::string>(), e.at("seed").get<std::uint64_t>()});
@@ -81,10 +83,10 @@ std::string new_run_id(const std::string& name) {
   return name + suffix;
 }
 
-RunPlan make_plan(RunPlan plan, const std::vector<tasks::Task>& all_tasks) {
+RunPlan make_plan(RunPlan plan, const std::map<std::string, tasks::Task>& all_tasks) {
   if (plan.agents.empty()) throw Error("no agent given (e.g. --agent oracle)");
   std::map<std::pair<std::string, int>, std::vector<const tasks::Task*>> groups;
-  for (const tasks::Task& t : all_tasks) {
+  for (const auto& [id, t] : all_tasks) {
     const bool scene_wanted = plan.scenes.empty() || plan.scenes.count(t.scene) != 0;
     if (scene_wanted && plan.levels.count(t.level)) groups[{t.scene, t.level}].push_back(&t);
   }

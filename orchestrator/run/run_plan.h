@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -43,6 +44,8 @@ struct RunPlan {
   std::string bus_url;
   /// Episodes run on workers (`mtg worker`) of the bus by lease, not on this machine.
   bool remote = false;
+  /// Run even where the dataset differs from the one the task set was made from.
+  bool allow_data_mismatch = false;
   std::vector<PlannedEpisode> episodes;
 
   nlohmann::json to_json() const;
@@ -56,7 +59,7 @@ std::string new_run_id(const std::string& name);
 
 /// Draws the tasks and lays out the episodes: tasks in id order, each run by every agent in
 /// turn (so agents interleave when episodes run in parallel).
-RunPlan make_plan(RunPlan base, const std::vector<tasks::Task>& all_tasks);
+RunPlan make_plan(RunPlan base, const std::map<std::string, tasks::Task>& all_tasks);
 
 /// plan.json in `run_dir`. @throws mtg::Error on a malformed file.
 void save_plan(const RunPlan& plan, const std::filesystem::path& run_dir);

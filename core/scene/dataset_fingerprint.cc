@@ -1,0 +1,94 @@
+#include "core/scene/dataset_fingerprint.h"
+
+#include <fstream>
+#include <vector>
+
+#include "core/util/error.h"
+#include "core/util/hash.h"
+
+namespace mtg::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string hash_of(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return kMissingFile;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string() + ": cannot read it to fingerprint the dataset");
+  std::uint64_t h = kFnvOffset;
+  std::vector<char> buffer(1 << 20);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    h = fnv1a64(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(buffer.data()), n), h);
+  }
+  return to_hex(h);
+}
+
+std::string key_of(const fs::path& data_root, const fs::path& file) {
+  const fs::path rel = file.lexically_normal().lexically_relative(data_root.lexically_normal());
+  const bool inside = !rel.empty() && *rel.begin() != "..";
+  return inside ? rel.generic_string() : file.lexically_normal().generic_string();
+}
+
+}  // namespace
+
+std::string DatasetFingerprint::digest() const {
+  std::uint64_t h = kFnvOffset;
+  for (const auto& [path, hash] : files) h = fnv1a64(hash, fnv1a64(path + "\n", h));
+  return to_hex(h);
+}
+
+nlohmann::json DatasetFingerprint::to_json() const { return files; }
+
+DatasetFingerprint DatasetFingerprint::from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw Error("dataset fingerprint: expected an object of file -> hash");
+  DatasetFingerprint f;
+  for (const auto& [path, hash] : j.items()) {
+    if (!hash.is_string()) throw Error("dataset fingerprint: the hash of " + path + " is not a string");
+    f.files[path] = hash.get<std::string>();
+  }
+  return f;
+}
+
+DatasetFingerprint fingerprint_files(const fs::path& data_root, const std::set<fs::path>& files) {
+  DatasetFingerprint f;
+  for (const fs::path& file : files) f.files[key_of(data_root, file)] = hash_of(file);
+  return f;
+}
+
+std::string first_difference(const DatasetFingerprint& expected, const fs::path& data_root) {
+  for (const auto& [path, hash] : expected.files) {
+    const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : data_root / path;
+    const std::string here = hash_of(file);
+    if (here == hash) continue;
+    if (here == kMissingFile) return path + " is missing here";
+    if (hash == kMissingFile) return path + " is here but was missing where the tasks were made";
+    return path + " differs";
+  }
+  return "";
+}
+
+std::string first_difference(const std::map<std::string, DatasetFingerprint>& by_scene, const fs::path& data_root) {
+  for (const auto& [scene, fingerprint] : by_scene) {
+    const std::string diff = first_difference(fingerprint, data_root);
+    if (!diff.empty()) return scene + ": " + diff;
+  }
+  return "";
+}
+
+nlohmann::json to_json(const std::map<std::string, DatasetFingerprint>& by_scene) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [scene, f] : by_scene) j[scene] = f.to_json();
+  return j;
+}
+
+std::map<std::string, DatasetFingerprint> fingerprints_from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw Error("dataset fingerprints: expected an object of scene -> files");
+  std::map<std::string, DatasetFingerprint> out;
+  for (const auto& [scene, files] : j.items()) out[scene] = DatasetFingerprint::from_json(files);
+  return out;
+}
+
+}  // namespace mtg::scene

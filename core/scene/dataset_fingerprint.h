@@ -1,0 +1,52 @@
+#pragma once
+// What a task set was made from (DESIGN.md §7, "A task set knows its inputs"): every file each of
+// its scenes was loaded from, by path relative to the dataset root, with a content hash (or
+// "missing"). A run, and every worker of a multi-host run, compares its own dataset with it
+// before the first episode: a copy that lacks a mesh or holds another version of a config would
+// otherwise score the oracle's tasks as failures without a word.
+//
+// The hashes are FNV-1a 64 of the file contents: they catch a different or missing file, not a
+// forgery (core/util/hash.h).
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+namespace mtg::scene {
+
+inline constexpr const char* kMissingFile = "missing";
+
+struct DatasetFingerprint {
+  /// Path relative to the dataset root -> hex content hash, or kMissingFile.
+  std::map<std::string, std::string> files;
+
+  /// One hash over every entry.
+  std::string digest() const;
+  /// {"<path>": "<hash>", ...}
+  nlohmann::json to_json() const;
+  /// @throws mtg::Error naming the field.
+  static DatasetFingerprint from_json(const nlohmann::json& j);
+};
+
+/// The fingerprint of `files` (absolute, under `data_root`; files elsewhere keep their absolute
+/// path as key). @throws mtg::Error naming a file that exists but cannot be read.
+DatasetFingerprint fingerprint_files(const std::filesystem::path& data_root,
+                                     const std::set<std::filesystem::path>& files);
+
+/// The same files under another root, fingerprinted again: "" when every file matches, else one
+/// line naming the first that differs and how ("missing here", "differs").
+std::string first_difference(const DatasetFingerprint& expected, const std::filesystem::path& data_root);
+
+/// The first difference over several scenes' fingerprints ("apt_0: objects/x.glb is missing
+/// here"), "" when all match.
+std::string first_difference(const std::map<std::string, DatasetFingerprint>& by_scene,
+                             const std::filesystem::path& data_root);
+
+/// The fingerprints of several scenes as one JSON object {"<scene>": {...}}, and back.
+nlohmann::json to_json(const std::map<std::string, DatasetFingerprint>& by_scene);
+/// @throws mtg::Error naming the field.
+std::map<std::string, DatasetFingerprint> fingerprints_from_json(const nlohmann::json& j);
+
+}  // namespace mtg::scene
