@@ -20,7 +20,7 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
 }
 
 void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler) {
-  auto owned = std::make_unique<RawHandler>(std::move(handler), pending_);
+  auto owned = std::make_unique<RawHandler>(std::move(handler), pending_, auth_);
   lcm::Subscription* sub = lcm_->subscribe(channel_regex, &RawHandler::on, owned.get());
   if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
   sub->setQueueCapacity(kQueueCapacity);

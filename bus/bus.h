@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bus/authenticator.h"
 #include "core/util/error.h"
 
 namespace mtg::bus {
@@ -30,16 +31,34 @@ class Bus {
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
+  /// From now on every message published is signed and every message received must carry a
+  /// valid tag (authenticator.h): for a bus shared between hosts. Call before subscribing.
+  void authenticate(std::shared_ptr<const Authenticator> auth) { auth_ = std::move(auth); }
+  /// Messages dropped for a missing or wrong tag (0 without authentication).
+  std::int64_t rejected() const { return auth_ ? auth_->rejected() : 0; }
+
   /// @throws mtg::Error if LCM reports a failure (e.g. the message exceeds the UDP limits).
   template <class Msg>
   void publish(const std::string& channel, const Msg& msg) {
+    if (auth_) {
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+      publish_raw(channel, bytes);
+      return;
+    }
     if (lcm_->publish(channel, &msg) != 0) {
       throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
     }
   }
 
-  /// Publishes already encoded bytes (forwarding a message between buses unchanged).
+  /// Publishes already encoded bytes (forwarding a message between buses unchanged; signed on an
+  /// authenticated bus).
   void publish_raw(const std::string& channel, std::span<const std::uint8_t> data) {
+    std::vector<std::uint8_t> signed_bytes;
+    if (auth_) {
+      signed_bytes = auth_->sign(channel, data);
+      data = signed_bytes;
+    }
     if (lcm_->publish(channel, data.data(), static_cast<unsigned int>(data.size())) != 0) {
       throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
     }
@@ -51,6 +70,14 @@ class Bus {
   template <class Msg>
   void subscribe(const std::string& channel_regex,
                  std::function<void(const std::string&, const Msg&)> handler) {
+    if (auth_) {  // verified bytes first (subscribe_raw), then decoded
+      subscribe_raw(channel_regex, [fn = std::move(handler)](const std::string& channel,
+                                                             std::span<const std::uint8_t> bytes, std::int64_t) {
+        Msg m{};
+        if (m.decode(bytes.data(), 0, static_cast<int>(bytes.size())) >= 0) fn(channel, m);
+      });
+      return;
+    }
     auto owned = std::make_unique<Handler<Msg>>(std::move(handler), pending_);
     lcm::Subscription* sub = lcm_->subscribe(channel_regex, &Handler<Msg>::on, owned.get());
     if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
@@ -58,7 +85,8 @@ class Bus {
     handlers_.push_back(std::move(owned));
   }
 
-  /// Like subscribe(), undecoded: `handler(channel, bytes, receive time in µs)`.
+  /// Like subscribe(), undecoded: `handler(channel, bytes, receive time in µs)`; on an
+  /// authenticated bus only verified messages arrive, without their tag.
   void subscribe_raw(const std::string& channel_regex,
                      std::function<void(const std::string&, std::span<const std::uint8_t>, std::int64_t)> handler);
 
@@ -97,17 +125,25 @@ class Bus {
 
   struct RawHandler : HandlerBase {
     using Fn = std::function<void(const std::string&, std::span<const std::uint8_t>, std::int64_t)>;
-    RawHandler(Fn f, std::exception_ptr& pending) : fn(std::move(f)), pending_error(pending) {}
+    RawHandler(Fn f, std::exception_ptr& pending, std::shared_ptr<const Authenticator> a)
+        : fn(std::move(f)), pending_error(pending), auth(std::move(a)) {}
     void on(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
       if (pending_error) return;
       try {
-        fn(channel, {static_cast<const std::uint8_t*>(rbuf->data), rbuf->data_size}, rbuf->recv_utime);
+        std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(rbuf->data), rbuf->data_size);
+        if (auth) {
+          const auto verified = auth->verify(channel, bytes);
+          if (!verified) return;  // counted by the authenticator
+          bytes = *verified;
+        }
+        fn(channel, bytes, rbuf->recv_utime);
       } catch (...) {
         pending_error = std::current_exception();
       }
     }
     Fn fn;
     std::exception_ptr& pending_error;
+    std::shared_ptr<const Authenticator> auth;
   };
 
   void rethrow_pending();
@@ -118,6 +154,7 @@ class Bus {
   std::unique_ptr<lcm::LCM> lcm_;
   std::exception_ptr pending_;
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
+  std::shared_ptr<const Authenticator> auth_;
 };
 
 }  // namespace mtg::bus

@@ -1,5 +1,7 @@
 #include "orchestrator/cli/cluster_commands.h"
 
+#include <cstdlib>
+
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -38,6 +40,8 @@ int run_worker(WorkerCliOptions o) {
 int run_status(const StatusOptions& o) {
   const std::string url = bus::normalize_url(o.bus_url.empty() ? bus::default_url() : o.bus_url);
   bus::Bus bus(url);
+  const bool keyed = !o.bus_key.empty() || std::getenv("MTG_BUS_KEY") != nullptr;
+  if (keyed) bus.authenticate(bus::shared_bus_authenticator(o.bus_key));
   std::map<std::string, mtg::heartbeat_t> workers;
   std::map<std::string, mtg::run_info_t> runs;
   bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
@@ -49,13 +53,16 @@ int run_status(const StatusOptions& o) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.listen_s);
   while (std::chrono::steady_clock::now() < end) bus.handle_once(50);
   if (workers.empty() && runs.empty()) {
+    const std::string rejected =
+        bus.rejected() > 0 ? "; " + std::to_string(bus.rejected()) + " message(s) were not signed with this key" : "";
     throw Error("nothing heard on " + url + " in " + std::to_string(o.listen_s).substr(0, 3) +
-                " s: no coordinator or worker (same URL? multicast routed? docs/multihost.md)");
+                " s: no coordinator or worker (same URL? multicast routed? same --bus-key? docs/multihost.md)" + rejected);
   }
   auto sr = [](const mtg::run_info_t& r) { return r.scored > 0 ? 100.0 * static_cast<double>(r.successes) / static_cast<double>(r.scored) : 0.0; };
   auto ip = [](const mtg::run_info_t& r) { return r.scored > 0 ? r.ip_sum / static_cast<double>(r.scored) : 0.0; };
   if (o.json) {
-    nlohmann::json j = {{"bus", url}, {"runs", nlohmann::json::array()}, {"workers", nlohmann::json::array()}};
+    nlohmann::json j = {{"bus", url},          {"verified", keyed},      {"rejected", bus.rejected()},
+                        {"runs", nlohmann::json::array()}, {"workers", nlohmann::json::array()}};
     for (const auto& [id, r] : runs) {
       j["runs"].push_back({{"run", id}, {"coordinator", r.header.sender}, {"state", r.state}, {"planned", r.planned},
                            {"finished", r.finished}, {"errors", r.errors}, {"in_flight", r.in_flight},
@@ -69,7 +76,7 @@ int run_status(const StatusOptions& o) {
     std::cout << j.dump() << '\n';
     return 0;
   }
-  std::printf("bus %s\n", url.c_str());
+  std::printf("bus %s%s\n", url.c_str(), keyed ? "" : " (unverified: no --bus-key)");
   for (const auto& [id, r] : runs) {
     std::printf("run %s (%s): %s, %lld/%lld finished (%lld errors), %d in flight on %d workers, %.0f episodes/min\n",
                 id.c_str(), r.header.sender.c_str(), r.state.c_str(), static_cast<long long>(r.finished),

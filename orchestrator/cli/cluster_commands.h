@@ -15,6 +15,7 @@ struct WorkerCliOptions {
 
 struct StatusOptions {
   std::string bus_url;
+  std::string bus_key;  // "" = $MTG_BUS_KEY; without either, messages are shown unverified
   double listen_s = 2.5;
   bool json = false;
 };

@@ -142,6 +142,8 @@ int main(int argc, char** argv) {
   run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
   run->add_option("--url,--bus", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
   run->add_flag("--remote", run_opts.remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");
+  run->add_option("--bus-key", run_opts.remote_options.bus_key,
+                  "with --remote: the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
   run->add_option("--min-workers", run_opts.remote_options.min_workers, "with --remote: workers to wait for (default 1)");
   run->add_option("--worker-wait", run_opts.remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
   run->add_option("--lease-ttl", run_opts.remote_options.lease_ttl_s,
@@ -155,6 +157,8 @@ int main(int argc, char** argv) {
   mtg::cli::WorkerCliOptions worker_opts;
   CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
   worker->add_option("--bus", worker_opts.worker.bus_url, "the shared LCM URL (udpm, ttl=1)")->required();
+  worker->add_option("--bus-key", worker_opts.worker.bus_key,
+                     "the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
   worker->add_option("--local-url", worker_opts.worker.local_url, "this host's own bus (default $MTG_LCM_URL or the loopback group)");
   worker->add_option("--capacity", worker_opts.worker.capacity, "episodes at once (default 2)");
   worker->add_option("--name", worker_opts.worker.name, "name shown by mtg status (default: the host name)");
@@ -167,6 +171,8 @@ int main(int argc, char** argv) {
   mtg::cli::StatusOptions status_opts;
   CLI::App* status = app.add_subcommand("status", "Hosts, episodes in flight, rates and SR/IP of the runs on a bus");
   status->add_option("--bus", status_opts.bus_url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  status->add_option("--bus-key", status_opts.bus_key,
+                     "the shared bus's key file: only messages signed with it are shown (default $MTG_BUS_KEY)");
   status->add_option("--listen", status_opts.listen_s, "seconds to listen (default 2.5)");
   status->add_flag("--json", status_opts.json, "print one JSON object");
 

@@ -40,6 +40,8 @@ LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCount
     : run_(std::move(run)), dir_(std::move(run_dir)), counts_(counts), options_(options), bus_(run_.bus_url),
       stamp_(run_.run_id, services::sender_id("coordinator")), supervisor_(dir_ / "logs"),
       book_(dir_ / "leases.sqlite") {
+  options_.bus_key = bus::shared_bus_key_file(options_.bus_key);  // the governor signs with it too
+  bus_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
   subscribe();
 }
 
@@ -110,8 +112,10 @@ std::vector<AdoptedAttempt> LeaseLauncher::open() {
   if (!adopted.empty()) log::info("adopting " + std::to_string(adopted.size()) + " leases still out");
   const bool model_agents = std::any_of(run_.agents.begin(), run_.agents.end(), vlm::is_model_spec);
   if (model_agents) {
-    supervisor_.start("governor", {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
-                                   run_.run_id});
+    std::vector<std::string> argv = {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
+                                     run_.run_id};
+    argv.insert(argv.end(), {"--bus-key", options_.bus_key});
+    supervisor_.start("governor", argv);
     governor_ = true;
   }
   // Wait for the workers (announcing the run so they join).

@@ -1,6 +1,8 @@
 #pragma once
 // How a coordinator (`mtg run --remote`) deals with its workers (docs/multihost.md).
 
+#include <string>
+
 namespace mtg::orchestrator::remote {
 
 struct RemoteOptions {
@@ -10,6 +12,8 @@ struct RemoteOptions {
   double worker_wait_s = 600.0;
   /// A lease not renewed for this long is re-issued elsewhere (workers renew every second).
   double lease_ttl_s = 5.0;
+  /// The shared bus's key file ("" = $MTG_BUS_KEY): every message between hosts is signed with it.
+  std::string bus_key;
 };
 
 }  // namespace mtg::orchestrator::remote

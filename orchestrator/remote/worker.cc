@@ -58,6 +58,7 @@ class Worker final : public LaunchSink {
       : options_(std::move(options)), host_(options_.name.empty() ? services::host_name() : options_.name),
         shared_(options_.bus_url), stamp_("", services::sender_id("worker")) {
     if (options_.capacity < 1) throw Error("mtg worker: --capacity must be at least 1");
+    shared_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
     shared_.subscribe<mtg::run_info_t>(bus::kRunInfo, [this](const std::string&, const mtg::run_info_t& m) {
       on_run_info(m);
     });

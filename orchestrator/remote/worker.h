@@ -18,6 +18,7 @@ namespace mtg::orchestrator::remote {
 
 struct WorkerOptions {
   std::string bus_url;            // the shared bus (udpm, ttl=1 across hosts)
+  std::string bus_key;            // its key file ("" = $MTG_BUS_KEY): messages are signed
   std::string local_url;          // this host's bus for the run's processes (ttl=0)
   std::string name;               // shown by `mtg status` ("" = host name)
   int capacity = 2;               // episodes at once

@@ -11,14 +11,16 @@
 int main(int argc, char** argv) {
   CLI::App app{"mtg rate-limit governor"};
   std::string url = mtg::bus::default_url();
-  std::string run_id;
+  std::string run_id, bus_key;
   app.add_option("--url", url, "LCM URL");
+  app.add_option("--bus-key", bus_key, "key file of a bus shared between hosts (messages are signed)");
   app.add_option("--run", run_id, "the run it serves (for its heartbeats)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("governor");
   mtg::services::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
+    if (!bus_key.empty()) bus.authenticate(mtg::bus::shared_bus_authenticator(bus_key));
     mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("governor"));
     mtg::services::Governor governor(bus, stamp);
     mtg::services::ServiceLoop loop(bus, stamp, "governor", 1);

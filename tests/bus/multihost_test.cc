@@ -44,6 +44,10 @@ class MultiHostTest : public ::testing::Test {
     std::string inside, outside;
     map >> inside >> outside;
     if (outside != "0") GTEST_SKIP() << "simulated hosts need root (ip netns); CI runs as root";
+    // The shared bus is authenticated: every host of the test reads the same key file.
+    const auto key = fx_.root() / "bus.key";
+    std::ofstream(key) << "test-secret-of-the-multihost-fixture\n";
+    ::setenv("MTG_BUS_KEY", key.c_str(), 1);
     built_ = testing::two_tables(fx_);
     tasks::TaskOptions options;
     options.level3_count = 40;
@@ -388,10 +392,20 @@ TEST(MultiHostErrors, NoWorkersNoOneOnTheBusAndAWorkerWithoutABusFailWithOneLine
     return std::make_pair(status, std::string(std::istreambuf_iterator<char>(in), {}));
   };
   const std::string url = "udpm://239.255.76.67:7667?ttl=0";  // this test's own loopback bus
+  const std::string key = (fx.root() / "bus.key").string();
+  std::ofstream(key) << "test-secret-of-the-errors-test\n";
+
+  ::unsetenv("MTG_BUS_KEY");
+  const auto [no_key, key_why] = run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--out",
+                                      (fx.root() / "nokey").string(), "--data", fx.root().string(), "--profile",
+                                      "none", "--remote", "--bus", url, "--worker-wait", "1", "--no-progress"});
+  EXPECT_EQ(no_key, 1);
+  EXPECT_NE(key_why.find("needs a key: --bus-key FILE"), std::string::npos) << key_why;
 
   const auto [no_workers, why] = run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--out",
                                       (fx.root() / "r").string(), "--data", fx.root().string(), "--profile", "none",
-                                      "--remote", "--bus", url, "--worker-wait", "1", "--no-progress"});
+                                      "--remote", "--bus", url, "--bus-key", key, "--worker-wait", "1",
+                                      "--no-progress"});
   EXPECT_EQ(no_workers, 1);
   EXPECT_NE(why.find("only 0 of 1 workers joined in 1 s"), std::string::npos) << why;
   EXPECT_NE(why.find("mtg worker --bus"), std::string::npos) << why;
@@ -404,7 +418,8 @@ TEST(MultiHostErrors, NoWorkersNoOneOnTheBusAndAWorkerWithoutABusFailWithOneLine
   EXPECT_EQ(same_bus, 1);
   EXPECT_NE(told.find("must differ from the shared bus"), std::string::npos) << told;
 
-  const auto [bad_url, error] = run({testing::bin("mtg"), "worker", "--bus", "udpm://not-an-address:1?ttl=1"});
+  const auto [bad_url, error] =
+      run({testing::bin("mtg"), "worker", "--bus", "udpm://not-an-address:1?ttl=1", "--bus-key", key});
   EXPECT_EQ(bad_url, 1);
   EXPECT_NE(error.find("not-an-address"), std::string::npos) << error;
 }

@@ -258,6 +258,10 @@ int main(int argc, char** argv) {
   try {
     fs::remove_all(work);
     fs::create_directories(work);
+    // The shared bus is authenticated: every simulated host reads the same key file.
+    const fs::path key = fs::path(work) / "bus.key";
+    std::ofstream(key) << "bench-secret-of-the-cluster-figures\n";
+    ::setenv("MTG_BUS_KEY", key.c_str(), 1);
     Bench bench(root, work, tasks);
     std::printf("oracle on apt_0, Levels 1-3, %d tasks each, 4 episodes in flight; every host is a network\n"
                 "namespace on this machine's %ld cores\n", limit, sysconf(_SC_NPROCESSORS_ONLN));

@@ -1,0 +1,59 @@
+#pragma once
+// Messages on a bus shared between hosts are authenticated (docs/multihost.md, "Threat model"):
+// each carries, after its LCM encoding, a 32-byte HMAC-SHA-256 over its channel and bytes, keyed
+// per run with a secret every host reads from the same key file. LCM decoders ignore trailing
+// bytes, so stock lcm-spy and lcm-logger still read every message. A message whose tag does not
+// hold (unsigned, forged, or from a host without the key) is dropped and counted, never handled.
+//
+// Keys: K_run = HMAC(secret, "mtg-bus-run:" + run id), where the run id is the one in the
+// message's header ("" for messages outside a run), so a message of one run never passes for
+// another's. What an attacker on the segment can still do is listed in docs/multihost.md.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mtg::bus {
+
+class Authenticator {
+ public:
+  /// Bytes of the tag appended to every message.
+  static constexpr std::size_t kTagBytes = 32;
+
+  explicit Authenticator(std::string secret);
+  /// A key file's secret: its contents, surrounding whitespace removed.
+  /// @throws mtg::Error naming the file when it is missing, unreadable, or shorter than 16 bytes.
+  static std::string read_secret(const std::filesystem::path& file);
+
+  /// `payload` with its tag appended.
+  std::vector<std::uint8_t> sign(const std::string& channel, std::span<const std::uint8_t> payload) const;
+  /// The payload (without its tag) when the tag holds; nullopt otherwise, counted in rejected().
+  std::optional<std::span<const std::uint8_t>> verify(const std::string& channel,
+                                                      std::span<const std::uint8_t> message) const;
+  /// Messages dropped by verify() so far.
+  std::int64_t rejected() const { return rejected_; }
+
+ private:
+  std::vector<std::uint8_t> tag(const std::string& channel, std::span<const std::uint8_t> payload) const;
+  const std::vector<std::uint8_t>& run_key(const std::string& run_id) const;
+
+  std::string secret_;
+  mutable std::mutex mutex_;
+  mutable std::map<std::string, std::vector<std::uint8_t>> run_keys_;
+  mutable std::atomic<std::int64_t> rejected_{0};
+};
+
+/// The key file of a shared bus: `key_file` if given, else $MTG_BUS_KEY.
+/// @throws mtg::Error with the fix when there is neither.
+std::string shared_bus_key_file(const std::string& key_file);
+/// The authenticator of that key file. @throws mtg::Error as above, or naming an unusable file.
+std::shared_ptr<const Authenticator> shared_bus_authenticator(const std::string& key_file);
+
+}  // namespace mtg::bus
