@@ -334,6 +334,10 @@ void LeaseLauncher::close() {
     bus_.handle_once(100);
   }
   if (governor_) supervisor_.stop("governor", SIGTERM, 3000);
+  if (bus_.rejected() > 0) {
+    log::warn(std::to_string(bus_.rejected()) +
+              " message(s) on the shared bus had no valid signature (another key, or none) and were dropped");
+  }
 }
 
 }  // namespace mtg::orchestrator::remote

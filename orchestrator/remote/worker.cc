@@ -233,6 +233,9 @@ class Worker final : public LaunchSink {
 
   void leave() {
     leave_ = false;
+    if (shared_.rejected() > 0) {
+      log::warn(std::to_string(shared_.rejected()) + " message(s) on the shared bus had no valid signature and were dropped");
+    }
     if (runtime_) runtime_->close();
     runtime_.reset();
     log::info("run " + run_id_ + " is done");

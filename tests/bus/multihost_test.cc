@@ -13,14 +13,19 @@
 #include <set>
 #include <thread>
 
+#include "bus/authenticator.h"
+#include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/recording.h"
 #include "core/store/sqlite.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
+#include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/lease_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "orchestrator/run/results_db.h"
+#include "orchestrator/run/run_plan.h"
 #include "tests/support/fake_model_server.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
@@ -202,6 +207,43 @@ TEST_F(MultiHostTest, TwoAndThreeHostsGiveTheResultsOfOneHostAndTheRecordingReju
     EXPECT_NE(log_text().find(std::to_string(rows.size()) + " identical, 0 differ"), std::string::npos) << log_text();
     workers_.clear();  // next round: fresh workers
   }
+}
+
+// The shared bus is authenticated: results, lease revocations and a shutdown forged during a run
+// (unsigned, or signed with another key) are dropped and counted, and the run's results are those
+// of one machine.
+TEST_F(MultiHostTest, ForgedMessagesOnTheSharedBusAreDroppedAndCounted) {
+  ASSERT_EQ(mtg(run_args("one", 4, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  testing::ChildProcess run(run_args("forged", 4, 4, 2), log());
+  ASSERT_TRUE(wait_for([&] { return fs::exists(fx_.root() / "forged" / "plan.json"); }, 30000));
+  const std::string run_id = orchestrator::load_plan(fx_.root() / "forged").run_id;
+  bus::Bus plain(kSharedUrl);
+  bus::Bus other_key(kSharedUrl);
+  other_key.authenticate(std::make_shared<const bus::Authenticator>("not-the-run-s-secret-at-all"));
+  int forged = 0;
+  while (run.running() && forged < 400) {
+    for (bus::Bus* b : {&plain, &other_key}) {
+      mtg::episode_result_t fake{};
+      fake.header.run_id = run_id;
+      fake.header.episode_id = forged % 16;
+      fake.success = true;
+      fake.stage = "done";
+      b->publish(bus::kEpisodeResult, fake);
+      mtg::lease_t revoke{};
+      revoke.header = fake.header;
+      revoke.action = "revoke";
+      b->publish(bus::kLease, revoke);
+      forged += 2;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(run.wait(180000), 0) << log_text();
+  EXPECT_EQ(fingerprints(results("forged")), single);
+  EXPECT_GT(forged, 0);
+  EXPECT_NE(log_text().find("had no valid signature"), std::string::npos) << log_text();
 }
 
 TEST_F(MultiHostTest, AKilledHostsEpisodesRunElsewhereNothingLostNothingTwice) {
