@@ -102,6 +102,67 @@ TEST_F(RuntimeTest, KillingTheOrchestratorAndRunningAgainResumesWithoutRunningAn
   EXPECT_TRUE(fs::exists(fx_.root() / "resume" / "bus-1.lcmlog"));  // a second recording
 }
 
+// A user's mistakes get one line each, exit 1, and spoil nothing: the corrected command then
+// runs (or resumes) as if the mistake had never been made.
+TEST_F(RuntimeTest, MistakesGetOneLineAndSpoilNothing) {
+  auto run_with = [&](const std::string& out, std::vector<std::string> extra,
+                      const std::vector<std::string>& agents = {"oracle"}) {
+    std::vector<std::string> args = {testing::bin("mtg"), "run", "--tasks", tasks_db_, "--out", (fx_.root() / out).string(),
+                                     "--data", fx_.root().string(), "--profile", "none", "--no-progress"};
+    for (const auto& a : agents) args.insert(args.end(), {"--agent", a});
+    args.insert(args.end(), extra.begin(), extra.end());
+    if (std::find(extra.begin(), extra.end(), "--limit") == extra.end()) args.insert(args.end(), {"--limit", "2"});
+    const std::size_t before = log_text().size();
+    const int status = mtg(args);
+    return std::make_pair(status, log_text().substr(before));
+  };
+  const auto [typo, typo_said] = run_with("typo", {}, {"gpt4"});
+  EXPECT_EQ(typo, 1);
+  EXPECT_THAT(typo_said, ::testing::HasSubstr("mtg run: unknown agent 'gpt4'"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "typo")) << "nothing written for a command that cannot run";
+  EXPECT_EQ(run_with("typo", {}).first, 0) << "the corrected command runs in the same folder";
+  for (const auto& [option, said] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--parallel", "0"}, "--parallel must be at least 1"},
+           {{"--limit", "-1"}, "--limit must be 0"},
+           {{"--image-size", "8192x8192"}, "is outside what an observation may carry"},
+           {{"--image-size", "640x48O"}, "--image-size must be WIDTHxHEIGHT"}}) {
+    const auto [status, text] = run_with("bad", option);
+    EXPECT_EQ(status, 1) << option[0];
+    EXPECT_THAT(text, ::testing::HasSubstr(said));
+    EXPECT_EQ(text.find("mtg: mtg"), std::string::npos) << "the command is named once: " << text;
+  }
+  EXPECT_FALSE(fs::exists(fx_.root() / "bad"));
+  std::ofstream(fx_.root() / "a_file") << "x";
+  const auto [file_out, file_said] = run_with("a_file", {});
+  EXPECT_EQ(file_out, 1);
+  EXPECT_THAT(file_said, ::testing::HasSubstr("is a file, not a run folder"));
+  // A resume with other options that change what is evaluated is refused, naming them.
+  const auto [resume, resume_said] = run_with("typo", {"--seed", "9", "--levels", "1"});
+  EXPECT_EQ(resume, 1);
+  EXPECT_THAT(resume_said, ::testing::HasSubstr("other --levels, --seed"));
+  // An episode that is not in the run is named, not silently skipped.
+  EXPECT_EQ(mtg({testing::bin("mtg"), "images", (fx_.root() / "typo").string(), "--episode", "99", "--out",
+                 (fx_.root() / "images").string()}),
+            1);
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("episode 99 is not in the recording"));
+}
+
+// SIGINT or SIGTERM stops a run cleanly: exit 130, a line that says how to resume, and the same
+// command finishes it.
+TEST_F(RuntimeTest, AnInterruptedRunSaysSoAndResumes) {
+  for (const int sig : {SIGINT, SIGTERM}) {
+    const std::string out = sig == SIGINT ? "int" : "term";
+    testing::ChildProcess run(run_args(out, {"oracle", "random"}, 0, 2), log());
+    ASSERT_TRUE(wait_for_results(out, 10, 60000)) << log_text();
+    ::kill(run.pid(), sig);
+    EXPECT_EQ(run.wait(60000), 130) << log_text();
+    EXPECT_THAT(log_text(), ::testing::HasSubstr("interrupted: run the same command again to resume"));
+    EXPECT_EQ(log_text().find("LCM handle failed"), std::string::npos) << log_text();
+    ASSERT_EQ(mtg(run_args(out, {"oracle", "random"}, 0, 2)), 0) << log_text();
+    EXPECT_EQ(results(out).size(), planned(out));
+  }
+}
+
 // Kills one service (found in the run's process tree) once the run is under way.
 class KillServiceTest : public RuntimeTest, public ::testing::WithParamInterface<std::string> {};
 
