@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <fstream>
 #include <thread>
 
 #include "agents/builtin/policies.h"
@@ -19,6 +20,20 @@
 namespace mtg::orchestrator {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The last line a process wrote to its log: usually why it stopped.
+std::string last_line_of(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  return last.empty() ? "no message" : last;
+}
+
+}  // namespace
 
 LocalRuntime::LocalRuntime(RuntimeConfig config, fs::path dir)
     : config_(std::move(config)), dir_(std::move(dir)), bus_(config_.bus_url),
@@ -140,12 +155,18 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
 
 void LocalRuntime::wait_ready(const std::vector<std::string>& names, double timeout_s) {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+  std::map<std::string, int> deaths;
   while (Clock::now() < deadline) {
     bool all = true;
     for (const auto& n : names) all = all && ready_pids_.count(supervisor_.pid(n)) != 0;
     if (all) return;
     bus_.handle_once(50);
-    for (const auto& died : supervisor_.poll()) log::warn(died + " died while starting");
+    for (const auto& died : supervisor_.poll()) {
+      // A process that cannot start (no recording file, a broken dataset) says why in its log.
+      const fs::path log = dir_ / "logs" / (died + ".log");
+      if (++deaths[died] >= 3) throw Error(died + " dies as it starts: " + last_line_of(log) + " (" + log.string() + ")");
+      log::warn(died + " died while starting");
+    }
   }
   std::string missing;
   for (const auto& n : names) {
