@@ -70,6 +70,7 @@ class LeaseLauncher final : public Launcher {
   };
   using AttemptKey = std::pair<std::int64_t, int>;
   std::set<std::string> worker_errors_;  // said once each
+  std::int64_t announcements_ = 0;
   struct Arrival {
     std::optional<mtg::episode_result_t> result;
     ChunkAssembly chunks;

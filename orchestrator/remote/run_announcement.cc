@@ -1,5 +1,7 @@
 #include "orchestrator/remote/run_announcement.h"
 
+#include "core/util/hash.h"
+
 namespace mtg::orchestrator::remote {
 
 mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) {
@@ -15,6 +17,8 @@ mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) 
   m.vlm_args = run.vlm_args;
   m.n_vlm_args = static_cast<std::int16_t>(m.vlm_args.size());
   m.dataset_json = run.dataset_json;
+  m.data_dir = run.data_dir;
+  m.dataset_digest = run.dataset_json.empty() ? "" : to_hex(fnv1a64(run.dataset_json));
   m.allow_data_mismatch = run.allow_data_mismatch;
   m.planned = counts.planned;
   m.finished = counts.finished;
@@ -38,6 +42,7 @@ RuntimeConfig announced_config(const mtg::run_info_t& info) {
   c.agents = info.agents;
   c.vlm_args = info.vlm_args;
   c.dataset_json = info.dataset_json;
+  c.data_dir = info.data_dir;
   c.allow_data_mismatch = info.allow_data_mismatch;
   return c;
 }

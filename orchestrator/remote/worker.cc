@@ -163,6 +163,7 @@ class Worker final : public LaunchSink {
     if (run_id_.empty() && m.state == "running" && !join_) {
       // A run this host could not start is tried again after a while, not on every announcement.
       if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
+      if (!m.dataset_digest.empty() && m.dataset_json.empty()) return;  // join with the fingerprints
       join_ = m;
     } else if (m.header.run_id == run_id_) {
       last_announcement_ = Clock::now();
@@ -223,7 +224,8 @@ class Worker final : public LaunchSink {
   // This host's dataset must be the one the run's task set was made from (run_info_t).
   void check_dataset(const RuntimeConfig& c) const {
     if (c.dataset_json.empty()) return;
-    const fs::path root = scene::resolve_data_root(options_.data_dir);
+    // Where this host will load scenes from: its own --data, else the path the episodes name.
+    const fs::path root = scene::resolve_data_root(options_.data_dir.empty() ? c.data_dir : options_.data_dir);
     const std::string diff = scene::first_difference(scene::fingerprints_from_json(nlohmann::json::parse(c.dataset_json)), root);
     if (diff.empty()) return;
     const std::string what = "the dataset at " + root.string() + " is not the one the run's tasks were made from (" + diff + ")";

@@ -46,6 +46,7 @@ struct RuntimeConfig {
   /// compares its own dataset with it before it joins, unless mismatches are allowed.
   std::string dataset_json;
   bool allow_data_mismatch = false;
+  std::string data_dir;  // the run's dataset path ("" = the default search), as in episode starts
 };
 
 class LocalRuntime final : public Launcher {

@@ -267,6 +267,7 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.recorder = options.recorder;
   c.dataset_json = options.dataset_json;
   c.allow_data_mismatch = plan.allow_data_mismatch;
+  c.data_dir = plan.data_dir;
   return c;
 }
 

@@ -45,7 +45,7 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
   ev.data = const_cast<std::uint8_t*>(data.data());  // LogFile only reads it
   if (log_.writeEvent(&ev) != 0) throw Error(path_.string() + ": cannot write to the recording (disk full?)");
   ++events_;
-  if (channel == bus::kEpisodeResult && header && header->episode_id >= 0) {
+  if (!run_id_.empty() && channel == bus::kEpisodeResult && header && header->episode_id >= 0) {
     // The result is the attempt's last message: once it is on disk, the whole attempt is.
     flush();
     mtg::recorded_t ack{};

@@ -8,7 +8,8 @@
 //     file, so the log stays readable to its end by every tool;
 //   - once an episode's result is written and flushed it says so (recorded_t on MTG_RECORDED):
 //     the orchestrator stores a result only then, and re-runs the attempts it never heard of.
-// With a run id it keeps the messages of that run (and those of no run), nothing else.
+// With a run id it keeps the messages of that run (and those of no run), nothing else, and
+// acknowledges that run's results; without one it records the whole bus and acknowledges none.
 
 #include <lcm/lcm-cpp.hpp>
 

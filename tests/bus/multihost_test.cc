@@ -17,6 +17,7 @@
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/recording.h"
+#include "core/scene/dataset_fingerprint.h"
 #include "core/store/sqlite.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
@@ -57,7 +58,9 @@ class MultiHostTest : public ::testing::Test {
     tasks::TaskOptions options;
     options.level3_count = 40;
     options.levels = {1, 2, 3};
-    const auto generated = tasks::generate_tasks(built_.graph, options);
+    auto generated = tasks::generate_tasks(built_.graph, options);
+    // As `mtg tasks` does: the task set remembers the files its scene was made from.
+    generated.set.dataset = scene::fingerprint_files(fx_.root(), built_.scene.source_files);
     tasks_db_ = (fx_.root() / "tasks.sqlite").string();
     tasks::write_task_db(tasks_db_, {generated.set}, generated.votes, options);
     prefix_ = "h" + std::to_string(::getpid() % 100000);
@@ -244,6 +247,36 @@ TEST_F(MultiHostTest, ForgedMessagesOnTheSharedBusAreDroppedAndCounted) {
   EXPECT_EQ(fingerprints(results("forged")), single);
   EXPECT_GT(forged, 0);
   EXPECT_NE(log_text().find("had no valid signature"), std::string::npos) << log_text();
+}
+
+// A worker whose dataset lacks a file the task set was made from stays out of the run, says why,
+// and the coordinator prints it; the other worker runs every episode.
+TEST_F(MultiHostTest, AWorkerWithAnotherDatasetStaysOutAndSaysWhy) {
+  ASSERT_EQ(mtg(run_args("one", 2, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  const fs::path copy = fx_.root() / "other_data";
+  fs::create_directories(copy);
+  for (const auto& entry : fs::directory_iterator(fx_.root())) {
+    const std::string name = entry.path().filename().string();
+    if (name == "configs" || name == "objects" || name.find("scene_dataset_config") != std::string::npos) {
+      fs::copy(entry.path(), copy / name, fs::copy_options::recursive);
+    }
+  }
+  std::string removed;
+  for (const auto& f : fs::recursive_directory_iterator(copy / "objects")) {
+    if (f.path().filename().string().rfind("box", 0) == 0) removed = f.path().string();
+  }
+  ASSERT_FALSE(removed.empty());
+  fs::remove(removed);
+  make_hosts(2);
+  start_worker(0);
+  start_worker(1, 2, {"--data", copy.string()});
+  auto args = run_args("mixed", 2, 4, 1);
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto rows = results("mixed");
+  EXPECT_EQ(fingerprints(rows), single);
+  for (const auto& r : rows) EXPECT_NE(r.worker.find("host0"), std::string::npos) << r.worker;
+  EXPECT_NE(log_text().find("is missing here"), std::string::npos) << log_text();
 }
 
 TEST_F(MultiHostTest, AKilledHostsEpisodesRunElsewhereNothingLostNothingTwice) {
