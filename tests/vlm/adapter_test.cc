@@ -192,6 +192,9 @@ TEST_F(AdapterTest, AuthQuotaAndBillingErrorsStopTheAgentWithoutRetrying) {
 
 TEST_F(AdapterTest, TheCacheAnswersRepeatsAndKeysOnImageBytes) {
   ResponseCache cache(dir_ / "cache.sqlite");
+  // Answers quote what was asked: the file is the owner's alone.
+  EXPECT_EQ(std::filesystem::status(dir_ / "cache.sqlite").permissions() & std::filesystem::perms::all,
+            std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
   settings_.cache_file = (dir_ / "cache.sqlite").string();
   const CallResult first = client("openai:gpt-4o", &cache)->call(conversation(1, "AAAA"));
   ASSERT_TRUE(first.ok);
