@@ -16,6 +16,7 @@ constexpr double kMaxFovy = 100.0 * kPi / 180;
 constexpr double kStepBack = 0.25;            // metres per step when even kMaxFovy is too narrow
 constexpr int kMaxStepsBack = 8;
 constexpr double kMinSpan = 0.6;              // metres of surroundings around a small platform
+constexpr double kCloseUpFovy = 40.0 * kPi / 180;
 
 // Bad requests are the caller's input, not our invariants: a plain one-line error.
 void require(bool condition, const std::string& message) {
@@ -146,30 +147,46 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   return plan;
 }
 
+// An object's middle and the radius of a ball around it, for close-ups.
+struct ObjectExtent {
+  Eigen::Vector3d centre;
+  double radius = 0.0;
+};
+ObjectExtent extent_of(const episode::ObjectState& o) {
+  const geom::Point2 c2 = episode::footprint_centre(o);
+  const Eigen::AlignedBox2d box = geom::bounds(o.footprint);
+  return {Eigen::Vector3d(c2.x(), c2.y(), (o.bottom + o.top) / 2.0),
+          0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), o.top - o.bottom).norm()};
+}
+
+// A 40-degree camera on `target`, `distance` away towards the horizontal direction `from`,
+// `elevation` above the horizon.
+Camera close_up_camera(const Eigen::Vector3d& target, Eigen::Vector2d from, double distance, double elevation,
+                       const ViewRequest& r) {
+  from = from.norm() > 1e-6 ? from.normalized() : Eigen::Vector2d(0, -1);
+  Camera cam;
+  cam.width = r.width;
+  cam.height = r.height;
+  cam.fovy = kCloseUpFovy;
+  const Eigen::Vector3d eye = target + distance * Eigen::Vector3d(std::cos(elevation) * from.x(),
+                                                                  std::cos(elevation) * from.y(), std::sin(elevation));
+  cam.X_WC = look_at(eye, target);
+  return cam;
+}
+
 ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
   require(r.object >= 0 && r.object < static_cast<int>(g.objects.size()),
              "render: object index " + std::to_string(r.object) + " out of range");
-  const episode::ObjectState& o = s.objects[static_cast<std::size_t>(r.object)];
-  const geom::Point2 c2 = episode::footprint_centre(o);
-  const Eigen::AlignedBox2d box = geom::bounds(o.footprint);
-  const Eigen::Vector3d centre(c2.x(), c2.y(), (o.bottom + o.top) / 2.0);
-  const double radius = std::max(0.03, 0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), o.top - o.bottom).norm());
+  const ObjectExtent e = extent_of(s.objects[static_cast<std::size_t>(r.object)]);
+  const double radius = std::max(0.03, e.radius);
   // Seen from where the robot stands when it stands somewhere, else from the south-west.
   Eigen::Vector2d from(-1.0, -1.0);
-  if (s.at_platform >= 0 && s.side >= 0) from = standing_point(g, s, s.at_platform, s.side) - c2;
-  from = from.norm() > 1e-6 ? from.normalized() : Eigen::Vector2d(0, -1);
+  if (s.at_platform >= 0 && s.side >= 0) from = standing_point(g, s, s.at_platform, s.side) - e.centre.head<2>();
+  const double distance = radius / std::tan(kCloseUpFovy / 2.0) / 0.7;
   ViewPlan plan;
-  Camera& cam = plan.camera;
-  cam.width = r.width;
-  cam.height = r.height;
-  cam.fovy = 40.0 * kPi / 180;
-  const double distance = radius / std::tan(cam.fovy / 2.0) / 0.7;
-  const double elevation = 30.0 * kPi / 180;
-  const Eigen::Vector3d eye = centre + distance * Eigen::Vector3d(std::cos(elevation) * from.x(),
-                                                                  std::cos(elevation) * from.y(), std::sin(elevation));
-  cam.X_WC = look_at(eye, centre);
-  cam.near = std::max(0.01, distance - 2.0 * radius);
-  cam.far = distance + 2.0 * radius;
+  plan.camera = close_up_camera(e.centre, from, distance, 30.0 * kPi / 180, r);
+  plan.camera.near = std::max(0.01, distance - 2.0 * radius);
+  plan.camera.far = distance + 2.0 * radius;
   plan.only = r.object;
   return plan;
 }
@@ -182,31 +199,21 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
                              " stands on no platform to show it on");
   const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
   const episode::ObjectState& o = s.objects[static_cast<std::size_t>(r.object)];
-  const geom::Point2 c2 = episode::footprint_centre(o);
-  const Eigen::AlignedBox2d box = geom::bounds(o.footprint);
-  const Eigen::Vector3d centre(c2.x(), c2.y(), (o.bottom + o.top) / 2.0);
+  const ObjectExtent e = extent_of(o);
   // The object and a hand's breadth around it, so its neighbours show (faded) for context.
-  const double radius =
-      std::max(0.12, 1.6 * 0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), o.top - o.bottom).norm());
-  Eigen::Vector2d from = standing_point(g, s, platform, std::max(0, p.default_side)) - c2;
-  from = from.norm() > 1e-6 ? from.normalized() : Eigen::Vector2d(0, -1);
-  ViewPlan plan;
-  Camera& cam = plan.camera;
-  cam.width = r.width;
-  cam.height = r.height;
-  cam.fovy = 40.0 * kPi / 180;
-  const double distance = radius / std::tan(cam.fovy / 2.0);
+  const double radius = std::max(0.12, 1.6 * e.radius);
+  const double distance = radius / std::tan(kCloseUpFovy / 2.0);
   // Looking down a little, but under the layer above an interior shelf.
   double elevation = 35.0 * kPi / 180;
   if (std::isfinite(p.clearance)) {
-    const double headroom = episode::platform_height(g, s, platform) + p.clearance - 0.02 - centre.z();
+    const double headroom = episode::platform_height(g, s, platform) + p.clearance - 0.02 - e.centre.z();
     elevation = std::clamp(std::asin(std::clamp(headroom / distance, -1.0, 1.0)), 0.0, elevation);
   }
-  const Eigen::Vector3d eye = centre + distance * Eigen::Vector3d(std::cos(elevation) * from.x(),
-                                                                  std::cos(elevation) * from.y(), std::sin(elevation));
-  cam.X_WC = look_at(eye, centre);
-  cam.near = std::max(0.01, distance - 3.0 * radius);
-  cam.far = distance + 6.0;
+  ViewPlan plan;
+  const Eigen::Vector2d from = standing_point(g, s, platform, std::max(0, p.default_side)) - e.centre.head<2>();
+  plan.camera = close_up_camera(e.centre, from, distance, elevation, r);
+  plan.camera.near = std::max(0.01, distance - 3.0 * radius);
+  plan.camera.far = distance + 6.0;
   // Every other item fades, so only this one stands out; what it rests on stays solid.
   std::vector<int> supports;
   for (int p_below = o.parent; p_below >= 0 && p_below != platform;) {
