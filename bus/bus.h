@@ -98,8 +98,6 @@ class Bus {
 
   int fileno() { return lcm_->getFileno(); }
   const std::string& url() const { return url_; }
-  /// For file:// URLs: whether the log has been read to its end.
-  bool end_of_log() const { return end_of_log_; }
 
  private:
   struct HandlerBase {

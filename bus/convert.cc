@@ -103,7 +103,7 @@ mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldS
   m.format_error = u.format_error;
   m.provider_error = u.provider_error;
   m.done = u.done;
-  m.end_reason = u.end_reason;
+  m.end_reason = episode::to_string(u.end_reason);
   return m;
 }
 
@@ -122,7 +122,9 @@ episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_u
   u.format_error = m.format_error;
   u.provider_error = m.provider_error;
   u.done = m.done;
-  u.end_reason = m.end_reason;
+  const auto reason = episode::end_reason_from_string(m.end_reason);
+  if (!reason) throw Error("state update: unknown end_reason '" + m.end_reason + "'");
+  u.end_reason = *reason;
   return u;
 }
 
@@ -140,8 +142,8 @@ episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {
 void fill_result(const episode::Verdict& v, mtg::episode_result_t& r) {
   r.success = v.success;
   r.ip = v.ip;
-  r.stage = v.stage;
-  r.cause = v.cause;
+  r.stage = episode::to_string(v.stage);
+  r.cause = episode::to_string(v.cause);
   r.steps = v.steps;
   r.invalid_actions = v.invalid_actions;
   r.n_subtasks = static_cast<int8_t>(v.part_ip.size());

@@ -6,7 +6,8 @@
 namespace mtg::episode {
 namespace {
 
-const char* kStages[] = {"start", "source", "picked", "destination", "placed"};
+// The stage of a part that reached `milestones` of its first three.
+Stage stage_of(int milestones) { return kStagesInOrder[milestones]; }
 
 }  // namespace
 
@@ -93,7 +94,7 @@ Verdict EpisodeJudge::verdict() const {
   v.invalid_actions = invalid_;
   v.ip = current_ip(true);
   const bool goal_met = task_goal_satisfied(g_, replica_, goal_, options_);
-  const bool ended_by_agent = end_reason_ == "call_end";
+  const bool ended_by_agent = end_reason_ == EndReason::kCallEnd;
   v.success = done_ && ended_by_agent && goal_met;
   // A part is done when the agent carried its item to the destination (milestone 3) and the
   // goal holds there now; only then may the stage say "placed".
@@ -103,7 +104,7 @@ Verdict EpisodeJudge::verdict() const {
     v.part_ip.push_back(part_points(k, ok));
   }
   if (v.success) {
-    v.stage = "done";
+    v.stage = Stage::kDone;
     v.detail = "goal reached and call_end";
     return v;
   }
@@ -112,44 +113,46 @@ Verdict EpisodeJudge::verdict() const {
   while (failing < goal_.parts.size() && v.part_success[failing]) ++failing;
   const bool all_parts_done = failing == goal_.parts.size();
   if (goal_.is_outcome) {
-    v.stage = goal_met ? "placed" : (v.ip > 0 ? "destination" : "start");
+    v.stage = goal_met ? Stage::kPlaced : (v.ip > 0 ? Stage::kDestination : Stage::kStart);
   } else if (all_parts_done) {
-    v.stage = "placed";
+    v.stage = Stage::kPlaced;
   } else {
-    v.stage = kStages[reached_[failing]];
+    v.stage = stage_of(reached_[failing]);
   }
   // Cause, from what stopped the agent most directly.
-  const bool step_limit = end_reason_ == "step_limit";
+  const bool step_limit = end_reason_ == EndReason::kStepLimit;
+  const Cause ran_out = step_limit ? Cause::kStepLimit : Cause::kEarlyEnd;
   if (provider_error_) {
-    v.cause = "provider_error";
+    v.cause = Cause::kProviderError;
   } else if (steps_ > 0 && 2 * format_errors_ >= steps_) {
-    v.cause = "format_error";
+    v.cause = Cause::kFormatError;
   } else if (step_limit && invalid_run_ >= 3) {
-    v.cause = "invalid_action_loop";
+    v.cause = Cause::kInvalidActionLoop;
   } else if (goal_met) {
-    v.cause = "no_call_end";  // the goal held but the agent never called call_end
+    v.cause = Cause::kNoCallEnd;  // the goal held but the agent never called call_end
   } else if (goal_.is_outcome) {
-    v.cause = step_limit ? "step_limit" : "outcome_unmet";
+    v.cause = step_limit ? Cause::kStepLimit : Cause::kOutcomeUnmet;
   } else if (all_parts_done) {
     // Every item is where it belongs, but the episode ended with something in hand.
-    v.cause = step_limit ? "step_limit" : "early_end";
+    v.cause = ran_out;
   } else {
     const std::size_t k = failing;
     const int r = reached_[k];
     if (r == 0) {
-      v.cause = "navigation";
+      v.cause = Cause::kNavigation;
     } else if (r == 1) {
-      v.cause = wrong_item_picks_[k] > 0 ? "wrong_item" : (step_limit ? "step_limit" : "early_end");
+      v.cause = wrong_item_picks_[k] > 0 ? Cause::kWrongItem : ran_out;
     } else if (placed_on_dest_[k] && replica_.objects[static_cast<std::size_t>(goal_.parts[k].item)].parent ==
                                          goal_.parts[k].platform) {
-      v.cause = "wrong_region";
+      v.cause = Cause::kWrongRegion;
     } else if (placed_elsewhere_[k]) {
-      v.cause = "wrong_platform";
+      v.cause = Cause::kWrongPlatform;
     } else {
-      v.cause = step_limit ? "step_limit" : "early_end";
+      v.cause = ran_out;
     }
   }
-  v.detail = "stage " + v.stage + ", cause " + v.cause + (done_ ? ", ended by " + end_reason_ : ", not ended");
+  v.detail = std::string("stage ") + to_string(v.stage) + ", cause " + to_string(v.cause) +
+             (done_ ? std::string(", ended by ") + to_string(end_reason_) : std::string(", not ended"));
   return v;
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/episode/goals.h"
+#include "core/episode/outcomes.h"
 #include "core/episode/transcript.h"
 
 namespace mtg::episode {
@@ -34,8 +35,8 @@ struct JudgeEvent {
 struct Verdict {
   bool success = false;
   double ip = 0.0;
-  std::string stage;
-  std::string cause;  // "" on success
+  Stage stage = Stage::kStart;
+  Cause cause = Cause::kNone;
   int steps = 0;
   int invalid_actions = 0;
   std::vector<double> part_ip;
@@ -74,7 +75,7 @@ class EpisodeJudge {
   int format_errors_ = 0;
   bool provider_error_ = false;
   bool done_ = false;
-  std::string end_reason_;
+  EndReason end_reason_ = EndReason::kNone;
 };
 
 }  // namespace mtg::episode

@@ -61,7 +61,7 @@ std::string object_place(const graph::SceneGraph& g, const WorldState& s, int ob
   return cm(right) + (right < 0 ? "left" : "right") + ", " + cm(far) + (far < 0 ? "near" : "far");
 }
 
-void end(WorldState& s, StepOutcome& out, const char* reason) {
+void end(WorldState& s, StepOutcome& out, EndReason reason) {
   s.phase = Phase::kDone;
   out.done = true;
   out.end_reason = reason;
@@ -143,7 +143,7 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
     out.hint = "action " + std::string(key) + " is not available now; choose one of the offered keys";
   } else if (key == "0") {
     out.applied = true;
-    end(s, out, "call_end");
+    end(s, out, EndReason::kCallEnd);
     return out;
   } else if (key[0] == 'l' && key.size() > 1) {
     const int n = std::stoi(std::string(key.substr(1)));
@@ -196,7 +196,7 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
       out.applied = true;
     }
   }
-  if (s.steps >= options.step_limit) end(s, out, "step_limit");
+  if (s.steps >= options.step_limit) end(s, out, EndReason::kStepLimit);
   return out;
 }
 

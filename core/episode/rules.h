@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/episode/outcomes.h"
 #include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 
@@ -48,7 +49,7 @@ struct StepOutcome {
   int picked = -1;          // object picked by this step
   int placed = -1;          // object placed by this step
   bool done = false;        // the episode ended with this step
-  std::string end_reason;   // "call_end" or "step_limit"
+  EndReason end_reason = EndReason::kNone;
 };
 
 /// Keys the agent may answer with now, with descriptions (the observation's action space).

@@ -32,7 +32,7 @@ EpisodeStep step_episode(const graph::SceneGraph& g, WorldState& s, const AgentA
     out.update.invalid = false;
     out.update.provider_error = true;
     out.update.done = true;
-    out.update.end_reason = "aborted";
+    out.update.end_reason = EndReason::kAborted;
     return out;
   }
   const std::string key = answer.format_ok ? answer.key : std::string();

@@ -30,7 +30,7 @@ struct StateUpdate {
   bool format_error = false;  // the agent's reply held no readable key
   bool provider_error = false;  // the agent's provider failed this step
   bool done = false;
-  std::string end_reason;  // "call_end", "step_limit", "aborted"
+  EndReason end_reason = EndReason::kNone;
 };
 
 /// One answer of the agent as the scene-graph service receives it.

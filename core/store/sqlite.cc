@@ -59,10 +59,6 @@ Statement& Statement::bind(int index, std::string_view value) {
   }
   return *this;
 }
-Statement& Statement::bind_null(int index) {
-  if (sqlite3_bind_null(stmt_, index) != SQLITE_OK) db_.fail(sqlite3_errmsg(db_.handle()));
-  return *this;
-}
 
 bool Statement::step() {
   const int rc = sqlite3_step(stmt_);
@@ -89,7 +85,6 @@ std::string Statement::column_text(int index) const {
   return text ? std::string(reinterpret_cast<const char*>(text), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, index)))
               : std::string();
 }
-bool Statement::column_is_null(int index) const { return sqlite3_column_type(stmt_, index) == SQLITE_NULL; }
 
 Transaction::~Transaction() {
   if (!done_) {

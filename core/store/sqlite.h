@@ -26,7 +26,6 @@ class Statement {
   Statement& bind(int index, std::int64_t value);
   Statement& bind(int index, double value);
   Statement& bind(int index, std::string_view value);
-  Statement& bind_null(int index);
 
   /// Steps once: true while a row is available.
   bool step();
@@ -37,7 +36,6 @@ class Statement {
   std::int64_t column_int(int index) const;
   double column_double(int index) const;
   std::string column_text(int index) const;
-  bool column_is_null(int index) const;
 
  private:
   Database& db_;

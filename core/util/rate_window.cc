@@ -42,9 +42,4 @@ void RateWindow::settle(std::int64_t id, int tokens) {
 
 void RateWindow::pause_until(RateClock::time_point until) { paused_until_ = std::max(paused_until_, until); }
 
-int RateWindow::calls_in_window(const RateLimits& limits, RateClock::time_point now) {
-  expire(limits, now);
-  return static_cast<int>(log_.size());
-}
-
 }  // namespace mtg

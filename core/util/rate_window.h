@@ -30,8 +30,6 @@ class RateWindow {
   /// The call's real token count, once known.
   void settle(std::int64_t id, int tokens);
   void pause_until(RateClock::time_point until);
-  /// Calls admitted within the window ending at `now` (for tests and telemetry).
-  int calls_in_window(const RateLimits& limits, RateClock::time_point now);
 
  private:
   struct Entry {

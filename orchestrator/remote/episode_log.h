@@ -34,7 +34,6 @@ class ChunkAssembly {
   bool complete() const;
   /// The whole log. @throws mtg::Error if incomplete or the size or checksum is wrong.
   std::vector<std::uint8_t> bytes() const;
-  int received() const { return received_; }
   int count() const { return count_; }
 
  private:

@@ -12,6 +12,7 @@
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "core/episode/outcomes.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
 #include "core/util/error.h"
@@ -120,8 +121,8 @@ class Worker final : public LaunchSink {
     m.header = stamp_.next(episode_id, attempt, "result");
     m.task_id = it->second.task_id;
     m.agent = it->second.agent;
-    m.stage = "start";
-    m.cause = "transport_error";  // not the agent's failure: the coordinator tries again
+    m.stage = episode::to_string(episode::Stage::kStart);
+    m.cause = episode::to_string(episode::Cause::kTransportError);  // not the agent's: the coordinator tries again
     m.detail = "on " + host_ + ": " + why;
     finished_.push_back(m);
   }

@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/episode/outcomes.h"
 #include "core/util/error.h"
 
 namespace mtg::orchestrator {
@@ -15,11 +16,8 @@ namespace {
 
 // Stage order follows the episode; causes by count; outcome success first.
 int stage_rank(const std::string& s) {
-  static const std::array<const char*, 6> kOrder = {"start", "source", "picked", "destination", "placed", "done"};
-  for (std::size_t i = 0; i < kOrder.size(); ++i) {
-    if (s == kOrder[i]) return static_cast<int>(i);
-  }
-  return 99;
+  const auto stage = episode::stage_from_string(s);
+  return stage ? static_cast<int>(*stage) : 99;
 }
 
 struct Node {

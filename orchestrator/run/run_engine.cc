@@ -10,6 +10,7 @@
 
 #include "bus/convert.h"
 #include "bus/header.h"
+#include "core/episode/outcomes.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/remote/lease_launcher.h"
@@ -100,8 +101,10 @@ class Engine final : public LaunchSink {
     const auto it = in_flight_.find(m.header.episode_id);
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
     // Neither a lost message nor a failing API is the agent's failure: try the episode again.
-    if (m.cause == "transport_error" || m.cause == "provider_error") {
-      retry(m.header.episode_id, m.detail, m.cause == "provider_error" ? "provider_error" : "infrastructure");
+    const auto cause = episode::cause_from_string(m.cause);
+    if (cause == episode::Cause::kTransportError || cause == episode::Cause::kProviderError) {
+      retry(m.header.episode_id, m.detail,
+            cause == episode::Cause::kProviderError ? episode::Cause::kProviderError : episode::Cause::kInfrastructure);
       return;
     }
     EpisodeRow row = base_row(m.header.episode_id, m.header.attempt);
@@ -175,7 +178,7 @@ class Engine final : public LaunchSink {
     launcher_.launch(launch);
   }
 
-  void retry(std::int64_t id, const std::string& why, const std::string& cause = "infrastructure") {
+  void retry(std::int64_t id, const std::string& why, episode::Cause cause = episode::Cause::kInfrastructure) {
     const auto it = in_flight_.find(id);
     if (it == in_flight_.end()) return;
     const int attempt = it->second.attempt + 1;
@@ -184,8 +187,8 @@ class Engine final : public LaunchSink {
       log::warn("episode " + std::to_string(id) + " given up after " + std::to_string(attempt) + " attempts: " + why);
       EpisodeRow row = base_row(id, attempt - 1);
       row.status = "error";
-      row.stage = "start";
-      row.cause = cause;
+      row.stage = episode::to_string(episode::Stage::kStart);
+      row.cause = episode::to_string(cause);
       row.detail = why;
       store(row, false);
       ++errors_;

@@ -71,14 +71,17 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
   const auto it = episodes_.find(key);
   if (it == episodes_.end() || it->second.attempt != m.header.attempt) return;
   Episode& e = it->second;
-  if (e.next_seq == 0 && e.source.empty()) e.source = m.header.sender;
-  if (m.header.sender != e.source || m.header.seq < e.next_seq) return;  // another service, or a duplicate
-  if (m.header.seq > e.next_seq) {
-    finish(key, e, "lost state update(s): expected seq " + std::to_string(e.next_seq) + ", got " +
-                       std::to_string(m.header.seq));
-    return;
+  if (e.source.empty()) e.source = m.header.sender;
+  if (m.header.sender != e.source) return;  // another scene-graph service's copy
+  switch (sequence_.observe(m.header)) {
+    case bus::SequenceTracker::Verdict::kDuplicate:
+      return;
+    case bus::SequenceTracker::Verdict::kGap:
+      finish(key, e, "lost state update(s) before seq " + std::to_string(m.header.seq));
+      return;
+    case bus::SequenceTracker::Verdict::kInOrder:
+      break;
   }
-  ++e.next_seq;
   episode::StateUpdate u;
   try {
     u = bus::from_message(*e.graph, m);
@@ -109,12 +112,13 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
   r.agent = e.agent;
   r.level = static_cast<int8_t>(e.level);
   if (transport_error.empty()) {
-    bus::fill_result(e.judge->verdict(), r);
-    if (r.cause == "provider_error" && !e.provider_error.empty()) r.detail += ": " + e.provider_error;
+    const episode::Verdict v = e.judge->verdict();
+    bus::fill_result(v, r);
+    if (v.cause == episode::Cause::kProviderError && !e.provider_error.empty()) r.detail += ": " + e.provider_error;
   } else {
     r.success = false;
-    r.stage = "start";
-    r.cause = "transport_error";
+    r.stage = episode::to_string(episode::Stage::kStart);
+    r.cause = episode::to_string(episode::Cause::kTransportError);
     r.detail = transport_error;
     log::warn("episode " + std::to_string(key.second) + " attempt " + std::to_string(e.attempt) + ": " +
               transport_error + " (to be retried)");
@@ -129,6 +133,7 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
   r.prompt_version = e.usage.prompt_version;
   r.latency_ms = e.usage.latency_ms;
   bus_.publish(bus::kEpisodeResult, r);
+  sequence_.forget_episode(key.second);
   episodes_.erase(key);
 }
 

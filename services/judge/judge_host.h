@@ -46,8 +46,7 @@ class JudgeHost {
     int level = 0;
     const graph::SceneGraph* graph = nullptr;
     std::unique_ptr<episode::EpisodeJudge> judge;
-    std::int64_t next_seq = 0;   // expected state-update seq from the scene-graph service
-    std::string source;          // that service's sender id (first update)
+    std::string source;          // the scene-graph service's sender id (first update)
     Usage usage;
     std::string provider_error;  // the agent's last provider error, for the verdict's detail
     std::map<int, bool> actions_seen;  // step -> counted (duplicates of agent actions ignored)
@@ -61,6 +60,7 @@ class JudgeHost {
   SceneCache& scenes_;
   std::string run_id_;
   std::map<Key, Episode> episodes_;
+  bus::SequenceTracker sequence_;  // state updates per (sender, episode, attempt)
   EpisodeJoin starts_;
 };
 

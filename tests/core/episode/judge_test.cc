@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/episode/outcomes.h"
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
 #include "core/tasks/atomic.h"
@@ -52,8 +53,8 @@ TEST_F(JudgeTest, TheOraclePlanSucceedsWithFullPoints) {
   const Verdict v = play({"l1", "o1", "l2", "startplace", "5", "0"});
   EXPECT_TRUE(v.success);
   EXPECT_DOUBLE_EQ(v.ip, 100.0);
-  EXPECT_EQ(v.stage, "done");
-  EXPECT_EQ(v.cause, "");
+  EXPECT_EQ(v.stage, Stage::kDone);
+  EXPECT_EQ(v.cause, Cause::kNone);
   EXPECT_EQ(v.steps, 6);
   EXPECT_EQ(events_, 4);  // the four milestones, as they happen
 }
@@ -66,8 +67,8 @@ TEST_F(JudgeTest, AGoalThatAlreadyHeldIsNotPlacedByAnAgentThatNeverMovedItsItem)
   goal_.platform = goal_.source;  // box_1 already stands there
   const Verdict v = play({"l1", "o2", "0"});
   EXPECT_FALSE(v.success);
-  EXPECT_EQ(v.stage, "source");
-  EXPECT_EQ(v.cause, "wrong_item");
+  EXPECT_EQ(v.stage, Stage::kSource);
+  EXPECT_EQ(v.cause, Cause::kWrongItem);
   EXPECT_EQ(v.part_success, (std::vector<bool>{false}));
   const Verdict again = play({"l1", "o2", "0"});
   EXPECT_EQ(again.detail, v.detail);
@@ -77,46 +78,46 @@ TEST_F(JudgeTest, WrongPartIsAWrongRegionAtTheDestination) {
   const Verdict v = play({"l1", "o1", "l2", "startplace", "1", "0"});  // the rear part
   EXPECT_FALSE(v.success);
   EXPECT_DOUBLE_EQ(v.ip, 75.0);
-  EXPECT_EQ(v.stage, "destination");
-  EXPECT_EQ(v.cause, "wrong_region");
+  EXPECT_EQ(v.stage, Stage::kDestination);
+  EXPECT_EQ(v.cause, Cause::kWrongRegion);
 }
 
 TEST_F(JudgeTest, ReachingTheGoalWithoutCallEndFailsAsInThePaper) {
   const Verdict v = play({"l1", "o1", "l2", "startplace", "5", "-1"}, 6);
   EXPECT_FALSE(v.success);
   EXPECT_DOUBLE_EQ(v.ip, 100.0);
-  EXPECT_EQ(v.stage, "placed");
-  EXPECT_EQ(v.cause, "no_call_end");
+  EXPECT_EQ(v.stage, Stage::kPlaced);
+  EXPECT_EQ(v.cause, Cause::kNoCallEnd);
 }
 
 TEST_F(JudgeTest, PickingAnotherItemIsAWrongItem) {
   const Verdict v = play({"l1", "o2", "0"});
-  EXPECT_EQ(v.stage, "source");
-  EXPECT_EQ(v.cause, "wrong_item");
+  EXPECT_EQ(v.stage, Stage::kSource);
+  EXPECT_EQ(v.cause, Cause::kWrongItem);
   EXPECT_DOUBLE_EQ(v.ip, 25.0);
 }
 
 TEST_F(JudgeTest, PuttingTheItemOnAnotherPlatformIsAWrongPlatform) {
   const Verdict v = play({"l1", "o1", "startplace", "999", "0"});
-  EXPECT_EQ(v.stage, "picked");
-  EXPECT_EQ(v.cause, "wrong_platform");
+  EXPECT_EQ(v.stage, Stage::kPicked);
+  EXPECT_EQ(v.cause, Cause::kWrongPlatform);
   EXPECT_DOUBLE_EQ(v.ip, 50.0);
 }
 
 TEST_F(JudgeTest, NeverReachingTheSourceIsNavigation) {
   const Verdict v = play({"l2", "0"});
-  EXPECT_EQ(v.stage, "start");
-  EXPECT_EQ(v.cause, "navigation");
+  EXPECT_EQ(v.stage, Stage::kStart);
+  EXPECT_EQ(v.cause, Cause::kNavigation);
   EXPECT_DOUBLE_EQ(v.ip, 0.0);
 }
 
 TEST_F(JudgeTest, UnreadableRepliesAreFormatErrorsAndLoopsOfInvalidKeysAreNamed) {
   const Verdict format = play(std::vector<std::string>(15, "<garbage>"));
-  EXPECT_EQ(format.cause, "format_error");
+  EXPECT_EQ(format.cause, Cause::kFormatError);
   EXPECT_EQ(format.invalid_actions, 15);
   const Verdict loop = play({"l1", "o1", "l9", "l9", "l9", "l9"}, 6);
-  EXPECT_EQ(loop.cause, "invalid_action_loop");
-  EXPECT_EQ(loop.stage, "picked");
+  EXPECT_EQ(loop.cause, Cause::kInvalidActionLoop);
+  EXPECT_EQ(loop.stage, Stage::kPicked);
 }
 
 TEST_F(JudgeTest, ALevelThreeTaskAveragesItsParts) {
@@ -133,6 +134,19 @@ TEST_F(JudgeTest, ALevelThreeTaskAveragesItsParts) {
   ASSERT_EQ(v.part_success.size(), 2u);
   EXPECT_TRUE(v.part_success[0]);
   EXPECT_FALSE(v.part_success[1]);
+}
+
+TEST(Outcomes, EveryNameReadsBackAsItsValue) {
+  for (int i = 0; i <= static_cast<int>(Cause::kInfrastructure); ++i) {
+    const auto c = static_cast<Cause>(i);
+    EXPECT_EQ(cause_from_string(to_string(c)), c) << to_string(c);
+  }
+  for (const Stage s : kStagesInOrder) EXPECT_EQ(stage_from_string(to_string(s)), s) << to_string(s);
+  for (const EndReason r : {EndReason::kNone, EndReason::kCallEnd, EndReason::kStepLimit, EndReason::kAborted}) {
+    EXPECT_EQ(end_reason_from_string(to_string(r)), r) << to_string(r);
+  }
+  EXPECT_FALSE(cause_from_string("wrong_itme").has_value());
+  EXPECT_FALSE(stage_from_string("").has_value());
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ TEST_F(RulesTest, ActionSpaceFollowsThePapersStates) {
   EXPECT_EQ(s.objects[static_cast<size_t>(g().find_object("box_2"))].parent, g().navigable[1]);
   const auto end = act(s, "0");
   EXPECT_TRUE(end.done);
-  EXPECT_EQ(end.end_reason, "call_end");
+  EXPECT_EQ(end.end_reason, EndReason::kCallEnd);
   EXPECT_EQ(s.steps, 6);
 }
 
@@ -150,7 +150,7 @@ TEST_F(RulesTest, StepLimitEndsTheEpisode) {
   act(s, "-1");
   const auto r = act(s, "l2");
   EXPECT_TRUE(r.done);
-  EXPECT_EQ(r.end_reason, "step_limit");
+  EXPECT_EQ(r.end_reason, EndReason::kStepLimit);
   EXPECT_FALSE(act(s, "l1").applied);  // nothing happens after the end
 }
 

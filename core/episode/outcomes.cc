@@ -1,0 +1,48 @@
+#include "core/episode/outcomes.h"
+
+#include <array>
+#include <utility>
+
+namespace mtg::episode {
+namespace {
+
+constexpr std::array<std::pair<EndReason, const char*>, 4> kEndReasons = {
+    {{EndReason::kNone, ""}, {EndReason::kCallEnd, "call_end"}, {EndReason::kStepLimit, "step_limit"},
+     {EndReason::kAborted, "aborted"}}};
+constexpr std::array<std::pair<Stage, const char*>, 6> kStages = {
+    {{Stage::kStart, "start"}, {Stage::kSource, "source"}, {Stage::kPicked, "picked"},
+     {Stage::kDestination, "destination"}, {Stage::kPlaced, "placed"}, {Stage::kDone, "done"}}};
+constexpr std::array<std::pair<Cause, const char*>, 14> kCauses = {
+    {{Cause::kNone, ""}, {Cause::kProviderError, "provider_error"}, {Cause::kFormatError, "format_error"},
+     {Cause::kInvalidActionLoop, "invalid_action_loop"}, {Cause::kNoCallEnd, "no_call_end"},
+     {Cause::kOutcomeUnmet, "outcome_unmet"}, {Cause::kNavigation, "navigation"}, {Cause::kWrongItem, "wrong_item"},
+     {Cause::kWrongRegion, "wrong_region"}, {Cause::kWrongPlatform, "wrong_platform"},
+     {Cause::kStepLimit, "step_limit"}, {Cause::kEarlyEnd, "early_end"}, {Cause::kTransportError, "transport_error"},
+     {Cause::kInfrastructure, "infrastructure"}}};
+
+template <class E, std::size_t N>
+const char* name_of(const std::array<std::pair<E, const char*>, N>& table, E value) {
+  for (const auto& [v, name] : table) {
+    if (v == value) return name;
+  }
+  return "";
+}
+
+template <class E, std::size_t N>
+std::optional<E> value_of(const std::array<std::pair<E, const char*>, N>& table, std::string_view name) {
+  for (const auto& [v, n] : table) {
+    if (name == n) return v;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const char* to_string(EndReason r) { return name_of(kEndReasons, r); }
+const char* to_string(Stage s) { return name_of(kStages, s); }
+const char* to_string(Cause c) { return name_of(kCauses, c); }
+std::optional<EndReason> end_reason_from_string(std::string_view name) { return value_of(kEndReasons, name); }
+std::optional<Stage> stage_from_string(std::string_view name) { return value_of(kStages, name); }
+std::optional<Cause> cause_from_string(std::string_view name) { return value_of(kCauses, name); }
+
+}  // namespace mtg::episode

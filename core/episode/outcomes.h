@@ -1,0 +1,40 @@
+#pragma once
+// The words an episode ends with, as types (one name table each): why it ended, how far the
+// agent got (the Sankey's stages, in flow order), and why it failed (docs/episode.md). Messages
+// and databases carry the names; code compares the enums.
+
+#include <optional>
+#include <string_view>
+
+namespace mtg::episode {
+
+/// Why an episode ended: the agent's call_end, the step limit, or a provider failure.
+enum class EndReason { kNone, kCallEnd, kStepLimit, kAborted };
+
+/// The furthest milestone of the first part not completed, in flow order; kDone on success.
+enum class Stage { kStart, kSource, kPicked, kDestination, kPlaced, kDone };
+
+/// Why an episode failed (kNone on success). kTransportError (the judge missed a message) and
+/// kInfrastructure (an attempt lost without a verdict) are never the agent's: the orchestrator
+/// retries such attempts, and gives up on them with status "error".
+enum class Cause {
+  kNone, kProviderError, kFormatError, kInvalidActionLoop, kNoCallEnd, kOutcomeUnmet, kNavigation,
+  kWrongItem, kWrongRegion, kWrongPlatform, kStepLimit, kEarlyEnd, kTransportError, kInfrastructure,
+};
+
+/// "", "call_end", "step_limit", "aborted".
+const char* to_string(EndReason r);
+/// "start", "source", "picked", "destination", "placed", "done".
+const char* to_string(Stage s);
+/// "", "provider_error", "format_error", ... (docs/episode.md).
+const char* to_string(Cause c);
+
+/// The enum with that name, or nullopt.
+std::optional<EndReason> end_reason_from_string(std::string_view name);
+std::optional<Stage> stage_from_string(std::string_view name);
+std::optional<Cause> cause_from_string(std::string_view name);
+
+inline constexpr Stage kStagesInOrder[] = {Stage::kStart, Stage::kSource, Stage::kPicked,
+                                           Stage::kDestination, Stage::kPlaced, Stage::kDone};
+
+}  // namespace mtg::episode
