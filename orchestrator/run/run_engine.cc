@@ -102,6 +102,10 @@ class Engine final : public LaunchSink {
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
     // Neither a lost message nor a failing API is the agent's failure: try the episode again.
     const auto cause = episode::cause_from_string(m.cause);
+    if (!cause || !episode::stage_from_string(m.stage)) {  // a judge from another version: never score it
+      retry(m.header.episode_id, "result with unknown stage '" + m.stage + "' or cause '" + m.cause + "'");
+      return;
+    }
     if (cause == episode::Cause::kTransportError || cause == episode::Cause::kProviderError) {
       retry(m.header.episode_id, m.detail,
             cause == episode::Cause::kProviderError ? episode::Cause::kProviderError : episode::Cause::kInfrastructure);
