@@ -33,13 +33,13 @@ Eigen::AlignedBox2d box_in(const geom::Ring& ring_W, const Eigen::Isometry2d& X_
 // The footprint-centre positions (in P) of a direction of box a: beyond its edge and within its
 // extent across (sides), or beyond both edges (corners). Unbounded away from the anchor.
 Eigen::AlignedBox2d direction_box(const Eigen::AlignedBox2d& a, int dir) {
-  // Per direction, the interval along x and along y: -1 below the box, 0 across it, +1 above it.
-  static constexpr int kSpan[8][2] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
+  // Along x and along y, the interval the step points to: -1 below the box, 0 across it, +1 above it.
   auto interval = [](double lo, double hi, int span) {
     return span < 0 ? Eigen::Vector2d(-kInf, lo) : span > 0 ? Eigen::Vector2d(hi, kInf) : Eigen::Vector2d(lo, hi);
   };
-  const Eigen::Vector2d x = interval(a.min().x(), a.max().x(), kSpan[dir][0]);
-  const Eigen::Vector2d y = interval(a.min().y(), a.max().y(), kSpan[dir][1]);
+  const Eigen::Vector2i step = graph::direction_step(dir);
+  const Eigen::Vector2d x = interval(a.min().x(), a.max().x(), step.x());
+  const Eigen::Vector2d y = interval(a.min().y(), a.max().y(), step.y());
   return {Eigen::Vector2d(x[0], y[0]), Eigen::Vector2d(x[1], y[1])};
 }
 

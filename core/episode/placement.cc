@@ -64,7 +64,7 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
         t.platform_dir = dir;
         t.anchor = obstacles[k].object;
         t.region_P = r.region_P;
-          t.aim_P = aim_on_box(obstacles[k].box_P, dir);
+        t.aim_P = aim_on_box(obstacles[k].box_P, dir);
         out.push_back(std::move(t));
       }
     }

@@ -52,9 +52,9 @@ std::string object_place(const graph::SceneGraph& g, const WorldState& s, int ob
   }
   const geom::Point2 c_P = platform_frame(g, s, s.at_platform).inverse() * footprint_centre(o);
   const auto side = static_cast<graph::Side>(s.side);
-  auto along = [&](int relative_dir) {  // unit vector of a robot-relative direction, in P
-    static const Eigen::Vector2d kDir[8] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
-    return kDir[graph::platform_direction(relative_dir, side)];
+  auto along = [&](int relative_dir) {  // unit vector of a robot-relative side direction, in P
+    const Eigen::Vector2i step = graph::direction_step(graph::platform_direction(relative_dir, side));
+    return Eigen::Vector2d(step.x(), step.y());
   };
   const double right = c_P.dot(along(6)), far = c_P.dot(along(4));
   auto cm = [](double m) { return std::to_string(static_cast<long>(std::lround(std::abs(m) * 100.0))) + " cm "; };

@@ -117,19 +117,12 @@ void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const E
 }
 
 double stack_height(const graph::SceneGraph& g, const WorldState& s, int object) {
-  const double bottom = s.objects.at(static_cast<std::size_t>(object)).bottom;
-  double top = s.objects[static_cast<std::size_t>(object)].top;
-  std::vector<int> stack = {object};
-  while (!stack.empty()) {
-    const int o = stack.back();
-    stack.pop_back();
-    top = std::max(top, s.objects[static_cast<std::size_t>(o)].top);
-    for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
-      const auto& on = s.children[static_cast<std::size_t>(p)];
-      stack.insert(stack.end(), on.begin(), on.end());
-    }
+  const ObjectState& o = s.objects.at(static_cast<std::size_t>(object));
+  double top = o.top;
+  for (const int p : g.objects[static_cast<std::size_t>(object)].platforms) {
+    for (const int above : everything_on(g, s, p)) top = std::max(top, s.objects[static_cast<std::size_t>(above)].top);
   }
-  return top - bottom;
+  return top - o.bottom;
 }
 
 int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object) {

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
+
+#include "core/util/error.h"
 
 namespace mtg::graph {
 namespace {
@@ -113,6 +116,13 @@ int platform_direction(int relative, Side side) {
   return (relative + 2 * static_cast<int>(side)) % kNumDirections;
 }
 
+Eigen::Vector2i direction_step(int dir) {
+  static const Eigen::Vector2i kStep[9] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1},
+                                           {1, 1},  {1, 0},   {1, -1}, {0, 0}};
+  MTG_DEMAND(dir >= 0 && dir <= kCentre, "direction " + std::to_string(dir) + " out of range");
+  return kStep[dir];
+}
+
 int relative_direction(int platform_dir, Side side) {
   if (platform_dir == kCentre) return kCentre;
   return (platform_dir - 2 * static_cast<int>(side) + 2 * kNumDirections) % kNumDirections;
@@ -151,15 +161,13 @@ std::vector<FreeRegion> object_regions(const Platform& platform,
   std::vector<FreeRegion> out;
   const Eigen::AlignedBox2d limit = platform.box_P;
   const bool rectangular = fills_its_box(platform);
-  static constexpr int kCorner[8][2] = {{0, 0}, {-1, -1}, {0, 0}, {-1, 1},
-                                        {0, 0}, {1, 1},   {0, 0}, {1, -1}};
   for (const Obstacle& a : obstacles) {
     for (int dir = 0; dir < kNumDirections; ++dir) {
       FreeRegion r;
       r.object = a.object;
       r.dir = dir;
       r.rect_P = dir % 2 == 0 ? side_rect(a.box_P, dir, limit, obstacles, a.object)
-                              : corner_rect(a.box_P, kCorner[dir][0], kCorner[dir][1], limit,
+                              : corner_rect(a.box_P, direction_step(dir).x(), direction_step(dir).y(), limit,
                                             obstacles, a.object);
       const Eigen::Vector2d size = r.rect_P.sizes();
       if (size.x() > kEps && size.y() > kEps) r.region_P = clip_to_platform(platform, rectangular, r.rect_P);
@@ -173,12 +181,10 @@ std::vector<FreeRegion> object_regions(const Platform& platform,
 }
 
 Eigen::AlignedBox2d grid_cell_rect(const Platform& platform, int dir) {
-  // (row along y: 0 rear .. 2 front, column along x: 0 left .. 2 right) of each direction.
-  static constexpr int kCell[9][2] = {{0, 1}, {0, 0}, {1, 0}, {2, 0}, {2, 1},
-                                      {2, 2}, {1, 2}, {0, 2}, {1, 1}};
+  // Column along x (0 left .. 2 right) and row along y (0 rear .. 2 front) of the direction.
+  const Eigen::Vector2i cell = direction_step(dir) + Eigen::Vector2i(1, 1);
   const Eigen::Vector2d step = platform.box_P.sizes() / 3.0;
-  const Eigen::Vector2d a =
-      platform.box_P.min() + Eigen::Vector2d(kCell[dir][1] * step.x(), kCell[dir][0] * step.y());
+  const Eigen::Vector2d a = platform.box_P.min() + Eigen::Vector2d(cell.x() * step.x(), cell.y() * step.y());
   return Eigen::AlignedBox2d(a, a + step);
 }
 

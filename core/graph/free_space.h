@@ -23,6 +23,9 @@ const char* direction_name(int dir);  // "rear", "rear-left", ..., "rear-right",
 int platform_direction(int relative, Side side);
 /// Inverse of platform_direction.
 int relative_direction(int platform_dir, Side side);
+/// Which way a platform-frame direction points: x -1 left, +1 right; y -1 rear, +1 front;
+/// (0, 0) for the centre. One table for every use of the direction numbering.
+Eigen::Vector2i direction_step(int dir);
 
 /// An object on the platform, seen as an obstacle in P.
 struct Obstacle {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "core/episode/placement.h"
@@ -14,8 +15,6 @@ namespace {
 
 using episode::AtomicGoal;
 using episode::GoalType;
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct AnchorInfo {
   int object;
@@ -150,7 +149,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
         // At least min_goal_area of centre positions meet the goal and fit. A disk of that area
         // around the placement, inside both, settles it without clipping polygons.
         const auto roomy = [&](const AtomicGoal& goal, double margin, const geom::Point2& c_P) {
-          const double r = std::sqrt(options.min_goal_area / kPi);
+          const double r = std::sqrt(options.min_goal_area / std::numbers::pi);
           if (margin >= r && geom::contains(feasible.all, c_P) && geom::distance_to_boundary(feasible.all, c_P) >= r) {
             return true;
           }
@@ -241,18 +240,6 @@ void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const Atom
   episode::place_held(g, s, task.goal.platform, task.place_xy);
   s.phase = episode::Phase::kAtPlatform;
   s.steps += static_cast<int>(task.oracle.size());
-}
-
-bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task,
-                 const TaskOptions& options) {
-  episode::RuleOptions rules = options.rules;
-  rules.step_limit = 1 << 20;  // the caller's plan decides the length
-  const episode::TaskConstraints constraints{task.goal.anchors()};
-  for (const std::string& key : task.oracle) {
-    const episode::StepOutcome out = episode::apply_action(g, s, key, constraints, rules);
-    if (!out.applied) return false;
-  }
-  return episode::goal_satisfied(g, s, task.goal, options.goals);
 }
 
 }  // namespace mtg::tasks

@@ -47,10 +47,4 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
 /// (its source and destination unchanged since), which Level 3 guarantees.
 void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task);
 
-/// Plays an atomic task's oracle plan on `s` (which must be the state it was generated for or
-/// one where its keys still apply) with the episode rules; true when the goal then holds.
-bool play_oracle(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task,
-                 const TaskOptions& options);
-
-
 }  // namespace mtg::tasks

@@ -57,6 +57,9 @@ std::set<std::string> placeholders_of(const std::string& text) {
   return out;
 }
 
+// The key Level 4 groups items by: the semantic category, or the model name without one.
+std::string category_key(const graph::GraphObject& obj) { return obj.category.empty() ? obj.short_name : obj.category; }
+
 // What the generator needs about the scene, computed once.
 struct SceneFacts {
   std::vector<int> navigable;                         // platform indices
@@ -72,8 +75,7 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s) {
   for (const int p : g.navigable) {
     f.items_on[p] = episode::pickable_on(g, s, p);
     for (const int o : f.items_on[p]) {
-      const graph::GraphObject& obj = g.objects[static_cast<std::size_t>(o)];
-      const std::string cat = obj.category.empty() ? obj.short_name : obj.category;
+      const std::string cat = category_key(g.objects[static_cast<std::size_t>(o)]);
       f.category_of[o] = cat;
       f.by_category[cat].push_back(o);
     }
@@ -192,10 +194,6 @@ class Instantiator {
   std::string pname(int p) const { return g_.platforms[static_cast<std::size_t>(p)].name; }
   // Furniture by its instance name, as the platform names the agent reads spell it.
   std::string furniture_name(int f) const { return g_.objects[static_cast<std::size_t>(f)].name; }
-  std::string category_key(int o) const {
-    const graph::GraphObject& obj = g_.objects[static_cast<std::size_t>(o)];
-    return obj.category.empty() ? obj.short_name : obj.category;
-  }
 
   // What category words select, read from the scene rather than from the goal: every item of
   // the category on `platform` (at any depth), or anywhere in the scene for platform -1.
@@ -203,12 +201,12 @@ class Instantiator {
     std::vector<int> out;
     if (platform >= 0) {
       for (const int o : episode::pickable_on(g_, s_, platform)) {
-        if (category_key(o) == cat) out.push_back(o);
+        if (category_key(g_.objects[static_cast<std::size_t>(o)]) == cat) out.push_back(o);
       }
       return out;
     }
     for (std::size_t i = 0; i < g_.objects.size(); ++i) {
-      if (g_.objects[i].pickable() && category_key(static_cast<int>(i)) == cat) out.push_back(static_cast<int>(i));
+      if (g_.objects[i].pickable() && category_key(g_.objects[i]) == cat) out.push_back(static_cast<int>(i));
     }
     return out;
   }

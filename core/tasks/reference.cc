@@ -12,9 +12,9 @@ const char* ordinal(int rank) {
   return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
 }
 
-bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
-
 }  // namespace
+
+bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
 
 const char* to_string(Relation r) {
   switch (r) {

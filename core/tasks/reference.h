@@ -12,6 +12,8 @@ enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNear
 /// "alone", "on", ... @throws mtg::Error for an unknown name.
 Relation relation_from_string(const std::string& name);
 const char* to_string(Relation r);
+/// Whether the relation names a second object (on, under, next_to).
+bool needs_landmark(Relation r);
 
 struct Reference {
   Relation relation = Relation::kAlone;

@@ -25,8 +25,6 @@ constexpr std::pair<Relation, int> kPreference[] = {
     {Relation::kFromRight, 2}, {Relation::kFromLeft, 3}, {Relation::kFromRight, 3}, {Relation::kFromLeft, 4},
     {Relation::kFromRight, 4}};
 
-bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
-
 // One platform as a reader of references sees it in one state: everything on it (at any depth),
 // what each is called, and where each stands as seen from the arrival side.
 class PlatformView {
@@ -52,8 +50,8 @@ class PlatformView {
   }
   // Coordinate along a robot-relative direction (2 left, 6 right, 0 near, 4 far).
   double along(std::size_t i, int relative_dir) const {
-    static const Eigen::Vector2d kDir[8] = {{0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}, {1, 0}, {1, -1}};
-    return centres_P_[i].dot(kDir[graph::platform_direction(relative_dir, side_)]);
+    const Eigen::Vector2i step = graph::direction_step(graph::platform_direction(relative_dir, side_));
+    return centres_P_[i].dot(Eigen::Vector2d(step.x(), step.y()));
   }
   // The object it rests on, or -1 when it stands on the platform itself.
   int support(std::size_t i) const {
