@@ -44,9 +44,7 @@ mtg::episode_truth_t truth_message(const tasks::Task& t) {
   m.goal_json = t.goal.dump();
   m.n_oracle = static_cast<int16_t>(t.oracle.size());
   m.oracle_plan = t.oracle;
-  nlohmann::json identify = nlohmann::json::array();
-  for (const auto& id : t.identify) identify.push_back(tasks::to_json(id));
-  m.identify_json = identify.dump();
+  m.identify_json = tasks::to_json(t.identify).dump();
   return m;
 }
 
@@ -62,11 +60,7 @@ tasks::Task from_messages(const mtg::task_t& m, const mtg::episode_truth_t& trut
   t.text = m.text;
   try {
     t.goal = nlohmann::json::parse(truth.goal_json);
-    if (!truth.identify_json.empty()) {
-      for (const auto& id : nlohmann::json::parse(truth.identify_json)) {
-        t.identify.push_back(tasks::identification_from_json(id));
-      }
-    }
+    if (!truth.identify_json.empty()) t.identify = tasks::identifications_from_json(nlohmann::json::parse(truth.identify_json));
   } catch (const nlohmann::json::exception&) {
     throw Error("task " + m.task_id + ": goal_json or identify_json is not JSON");
   }

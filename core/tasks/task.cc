@@ -59,6 +59,33 @@ OraclePlacement oracle_placement_from_json(const nlohmann::json& j) {
   return p;
 }
 
+namespace {
+
+template <class Record>
+nlohmann::json array_of(const std::vector<Record>& records) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Record& r : records) j.push_back(to_json(r));
+  return j;
+}
+
+template <class Record>
+std::vector<Record> records_of(const nlohmann::json& j, Record (*read)(const nlohmann::json&)) {
+  std::vector<Record> out;
+  for (const auto& item : j) out.push_back(read(item));
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const std::vector<Identification>& ids) { return array_of(ids); }
+std::vector<Identification> identifications_from_json(const nlohmann::json& j) {
+  return records_of(j, &identification_from_json);
+}
+nlohmann::json to_json(const std::vector<OraclePlacement>& placements) { return array_of(placements); }
+std::vector<OraclePlacement> oracle_placements_from_json(const nlohmann::json& j) {
+  return records_of(j, &oracle_placement_from_json);
+}
+
 void DropCounts::merge(const DropCounts& other) {
   for (const auto& [reason, levels] : other.by_reason) {
     for (const auto& [level, n] : levels) add(reason, level, n);

@@ -33,6 +33,9 @@ struct Identification {
 nlohmann::json to_json(const Identification& id);
 /// @throws mtg::Error naming the missing field.
 Identification identification_from_json(const nlohmann::json& j);
+/// A task's identifications as one JSON array (its identify_json), and back.
+nlohmann::json to_json(const std::vector<Identification>& ids);
+std::vector<Identification> identifications_from_json(const nlohmann::json& j);
 
 /// Where an oracle plan puts one item (world frame, metres), so a checker can verify it.
 struct OraclePlacement {
@@ -45,6 +48,9 @@ struct OraclePlacement {
 nlohmann::json to_json(const OraclePlacement& p);
 /// @throws mtg::Error naming the missing field.
 OraclePlacement oracle_placement_from_json(const nlohmann::json& j);
+/// A task's placements as one JSON array (its placements_json), and back.
+nlohmann::json to_json(const std::vector<OraclePlacement>& placements);
+std::vector<OraclePlacement> oracle_placements_from_json(const nlohmann::json& j);
 
 /// One task as stored (docs/tasks.md). Names, not indices: a task outlives the graph object.
 struct Task {

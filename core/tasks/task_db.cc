@@ -1,5 +1,6 @@
 #include "core/tasks/task_db.h"
 
+#include <optional>
 #include <ostream>
 
 #include "core/store/sqlite.h"
@@ -63,17 +64,6 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-nlohmann::json identify_json(const Task& t) {
-  nlohmann::json j = nlohmann::json::array();
-  for (const Identification& id : t.identify) j.push_back(to_json(id));
-  return j;
-}
-
-nlohmann::json placements_json(const Task& t) {
-  nlohmann::json j = nlohmann::json::array();
-  for (const OraclePlacement& p : t.placements) j.push_back(to_json(p));
-  return j;
-}
 
 // One line for a database this version cannot use: which file, what it is, what to do.
 void require_format(store::Database& db, const fs::path& file) {
@@ -104,7 +94,7 @@ nlohmann::json task_to_json(const Task& t) {
           {"source", t.source}, {"destination", t.destination}, {"anchors", t.anchors},
           {"direction", t.direction}, {"goal", t.goal},   {"oracle", t.oracle},
           {"step_limit", t.step_limit}, {"template_id", t.template_id},
-          {"identify", identify_json(t)}, {"placements", placements_json(t)}};
+          {"identify", to_json(t.identify)}, {"placements", to_json(t.placements)}};
 }
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
@@ -147,7 +137,7 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
         insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
         insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
         insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
-        insert.bind(15, t.template_id).bind(16, identify_json(t).dump()).bind(17, placements_json(t).dump());
+        insert.bind(15, t.template_id).bind(16, to_json(t.identify).dump()).bind(17, to_json(t.placements).dump());
         insert.bind(18, std::string(kGeneratorVersion)).bind(19, hash);
         insert.bind(20, static_cast<std::int64_t>(options.seed));
         insert.run();
@@ -192,8 +182,8 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
     try {
       t.goal = nlohmann::json::parse(q.column_text(10));
       t.oracle = nlohmann::json::parse(q.column_text(11)).get<std::vector<std::string>>();
-      for (const auto& id : nlohmann::json::parse(q.column_text(14))) t.identify.push_back(identification_from_json(id));
-      for (const auto& p : nlohmann::json::parse(q.column_text(15))) t.placements.push_back(oracle_placement_from_json(p));
+      t.identify = identifications_from_json(nlohmann::json::parse(q.column_text(14)));
+      t.placements = oracle_placements_from_json(nlohmann::json::parse(q.column_text(15)));
     } catch (const nlohmann::json::exception&) {
       throw Error(file.string() + ": task " + t.id + ": malformed goal_json, oracle_json, identify_json or placements_json");
     } catch (const Error& e) {
@@ -206,16 +196,32 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
   return out;
 }
 
-std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const fs::path& file) {
+namespace {
+
+// One entry of the meta table of a task database, or nullopt.
+std::optional<std::string> meta_value(const fs::path& file, const std::string& key) {
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
-  store::Statement q(db, "SELECT value FROM meta WHERE key = 'dataset'");
-  if (!q.step()) return {};
+  store::Statement q(db, "SELECT value FROM meta WHERE key = ?");
+  q.bind(1, key);
+  if (!q.step()) return std::nullopt;
+  return q.column_text(0);
+}
+
+}  // namespace
+
+std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const fs::path& file) {
+  const auto dataset = meta_value(file, "dataset");
+  if (!dataset) return {};
   try {
-    return scene::fingerprints_from_json(nlohmann::json::parse(q.column_text(0)));
+    return scene::fingerprints_from_json(nlohmann::json::parse(*dataset));
   } catch (const std::exception& e) {
     throw Error(file.string() + ": malformed dataset fingerprint (" + e.what() + ")");
   }
+}
+
+nlohmann::json read_generator_config(const fs::path& file) {
+  return nlohmann::json::parse(meta_value(file, "config_json").value_or("{}"), nullptr, false);
 }
 
 nlohmann::json task_db_stats(const fs::path& file) {

@@ -32,6 +32,11 @@ std::vector<Task> read_tasks(const std::filesystem::path& file, const std::set<i
 /// @throws mtg::Error if the file is not a task database.
 std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const std::filesystem::path& file);
 
+/// The generator options the task set was made with (TaskOptions::to_json(), the config_json
+/// meta entry); a JSON discarded value when that entry does not parse.
+/// @throws mtg::Error if the file is not a task database.
+nlohmann::json read_generator_config(const std::filesystem::path& file);
+
 /// Counts per level ("levels": {"1": n, ...}), per type, per scene, total, plus the meta table.
 nlohmann::json task_db_stats(const std::filesystem::path& file);
 

@@ -91,8 +91,7 @@ bool object_names_for(const std::string& option, bool render, const std::string&
   if (option == "off") return false;
   if (option != "auto") throw Error("--object-names is on, off or auto, not '" + option + "'");
   if (!render) return true;
-  const nlohmann::json meta = tasks::task_db_stats(tasks_db)["meta"];
-  const nlohmann::json config = nlohmann::json::parse(meta.value("config_json", "{}"), nullptr, false);
+  const nlohmann::json config = tasks::read_generator_config(tasks_db);
   return config.is_object() && config.value("ambiguity", "") == "name";
 }
 
