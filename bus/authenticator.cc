@@ -2,26 +2,21 @@
 
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
-#include <openssl/hmac.h>
 
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
-#include "bus/event_log.h"
+#include "bus/header.h"
 #include "core/util/error.h"
 #include "core/util/text.h"
 
 namespace mtg::bus {
 namespace {
 
-std::vector<std::uint8_t> hmac_sha256(std::span<const std::uint8_t> key, std::span<const std::uint8_t> a,
+std::vector<std::uint8_t> hmac_sha256(EVP_MAC* mac, std::span<const std::uint8_t> key, std::span<const std::uint8_t> a,
                                       std::span<const std::uint8_t> b) {
   // HMAC over a || b without copying them together: the streaming interface.
   std::vector<std::uint8_t> out(EVP_MAX_MD_SIZE);
-  unsigned int n = 0;
-  EVP_MAC* mac = EVP_MAC_fetch(nullptr, "HMAC", nullptr);
-  EVP_MAC_CTX* ctx = mac != nullptr ? EVP_MAC_CTX_new(mac) : nullptr;
+  EVP_MAC_CTX* ctx = EVP_MAC_CTX_new(mac);
   char digest[] = "SHA256";
   const OSSL_PARAM params[] = {OSSL_PARAM_construct_utf8_string("digest", digest, 0), OSSL_PARAM_construct_end()};
   std::size_t len = 0;
@@ -29,10 +24,8 @@ std::vector<std::uint8_t> hmac_sha256(std::span<const std::uint8_t> key, std::sp
                   EVP_MAC_update(ctx, a.data(), a.size()) == 1 && EVP_MAC_update(ctx, b.data(), b.size()) == 1 &&
                   EVP_MAC_final(ctx, out.data(), &len, out.size()) == 1;
   EVP_MAC_CTX_free(ctx);
-  EVP_MAC_free(mac);
   if (!ok) throw Error("bus authentication: HMAC-SHA-256 is not available from OpenSSL");
-  n = static_cast<unsigned int>(len);
-  out.resize(n);
+  out.resize(len);
   return out;
 }
 
@@ -42,14 +35,14 @@ std::span<const std::uint8_t> bytes_of(const std::string& s) {
 
 }  // namespace
 
-Authenticator::Authenticator(std::string secret) : secret_(std::move(secret)) {}
+Authenticator::Authenticator(std::string secret)
+    : secret_(std::move(secret)), mac_(EVP_MAC_fetch(nullptr, "HMAC", nullptr), &EVP_MAC_free) {
+  // Fetched once: every message on a shared bus is signed or checked with it.
+  if (!mac_) throw Error("bus authentication: HMAC-SHA-256 is not available from OpenSSL");
+}
 
 std::string Authenticator::read_secret(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file.string() + ": cannot read the bus key file");
-  std::stringstream s;
-  s << in.rdbuf();
-  const std::string secret = trim_whitespace(s.str());
+  const std::string secret = trim_whitespace(read_text_file(file, "bus key file"));
   if (secret.size() < 16) {
     throw Error(file.string() + ": the bus key must hold at least 16 bytes (e.g. `head -c 32 /dev/urandom | "
                 "base64 > " + file.filename().string() + "`)");
@@ -62,7 +55,7 @@ const std::vector<std::uint8_t>& Authenticator::run_key(const std::string& run_i
   auto it = run_keys_.find(run_id);
   if (it == run_keys_.end()) {
     const std::string label = "mtg-bus-run:" + run_id;
-    it = run_keys_.emplace(run_id, hmac_sha256(bytes_of(secret_), bytes_of(label), {})).first;
+    it = run_keys_.emplace(run_id, hmac_sha256(mac_.get(), bytes_of(secret_), bytes_of(label), {})).first;
   }
   return it->second;
 }
@@ -71,7 +64,7 @@ std::vector<std::uint8_t> Authenticator::tag(const std::string& channel, std::sp
   const auto header = peek_header(payload);
   const std::string run_id = header ? header->run_id : std::string();
   const std::string prefix = channel + '\0';
-  return hmac_sha256(run_key(run_id), bytes_of(prefix), payload);
+  return hmac_sha256(mac_.get(), run_key(run_id), bytes_of(prefix), payload);
 }
 
 std::vector<std::uint8_t> Authenticator::sign(const std::string& channel, std::span<const std::uint8_t> payload) const {

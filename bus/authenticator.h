@@ -9,6 +9,8 @@
 // message's header ("" for messages outside a run), so a message of one run never passes for
 // another's. What an attacker on the segment can still do is listed in docs/multihost.md.
 
+#include <openssl/types.h>
+
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -45,6 +47,7 @@ class Authenticator {
   const std::vector<std::uint8_t>& run_key(const std::string& run_id) const;
 
   std::string secret_;
+  std::shared_ptr<EVP_MAC> mac_;  // OpenSSL's HMAC implementation
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::vector<std::uint8_t>> run_keys_;
   mutable std::atomic<std::int64_t> rejected_{0};

@@ -25,14 +25,6 @@ std::uint64_t get_be(std::span<const std::uint8_t> in, std::size_t at, int bytes
 
 }  // namespace
 
-std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message) {
-  if (message.size() < 8) return std::nullopt;
-  mtg::header_t h{};
-  const int len = static_cast<int>(message.size());
-  if (h._decodeNoHash(message.data(), 8, len - 8) < 0) return std::nullopt;
-  return h;
-}
-
 std::vector<std::uint8_t> encode_event_log(const std::vector<LoggedEvent>& events) {
   std::vector<std::uint8_t> out;
   std::int64_t n = 0;

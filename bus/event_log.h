@@ -6,12 +6,9 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include "mtg/header_t.hpp"
 
 namespace mtg::bus {
 
@@ -20,10 +17,6 @@ struct LoggedEvent {
   std::int64_t utime = 0;  // receive time (lcm-logplayer paces by it)
   std::vector<std::uint8_t> data;
 };
-
-/// The header_t every mtg message carries first (after LCM's 8-byte type fingerprint); nullopt
-/// for bytes that do not start with one.
-std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message);
 
 /// The events in LCM's event-log format, numbered from 0.
 std::vector<std::uint8_t> encode_event_log(const std::vector<LoggedEvent>& events);

@@ -13,8 +13,16 @@ mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt,
   return h;
 }
 
+std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message) {
+  if (message.size() < 8) return std::nullopt;
+  mtg::header_t h{};
+  const int len = static_cast<int>(message.size());
+  if (h._decodeNoHash(message.data(), 8, len - 8) < 0) return std::nullopt;
+  return h;
+}
+
 SequenceTracker::Verdict SequenceTracker::observe(const mtg::header_t& header) {
-  const auto key = std::make_tuple(header.sender, header.episode_id, header.attempt);
+  const auto key = std::make_tuple(header.run_id, header.sender, header.episode_id, header.attempt);
   const auto it = last_seq_.find(key);
   if (it == last_seq_.end()) {
     last_seq_[key] = header.seq;
@@ -26,9 +34,10 @@ SequenceTracker::Verdict SequenceTracker::observe(const mtg::header_t& header) {
   return gap ? Verdict::kGap : Verdict::kInOrder;
 }
 
-void SequenceTracker::forget_episode(std::int64_t episode_id) {
+void SequenceTracker::forget_episode(const std::string& run_id, std::int64_t episode_id) {
   for (auto it = last_seq_.begin(); it != last_seq_.end();) {
-    it = std::get<1>(it->first) == episode_id ? last_seq_.erase(it) : std::next(it);
+    const bool same = std::get<0>(it->first) == run_id && std::get<2>(it->first) == episode_id;
+    it = same ? last_seq_.erase(it) : std::next(it);
   }
 }
 

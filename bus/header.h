@@ -3,6 +3,8 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
+#include <span>
 #include <string>
 #include <tuple>
 
@@ -31,17 +33,22 @@ class HeaderStamper {
   std::map<std::tuple<std::string, std::int64_t, std::int32_t>, std::int64_t> next_seq_;
 };
 
-/// Checks incoming headers per (sender, episode, attempt) stream.
+/// The header_t every mtg message carries first (after LCM's 8-byte type fingerprint); nullopt
+/// for bytes that do not start with one.
+std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message);
+
+/// Checks incoming headers per (run, sender, episode, attempt) stream.
 class SequenceTracker {
  public:
   enum class Verdict { kInOrder, kDuplicate, kGap };
   /// kGap when messages were skipped (the message is still accepted and the stream resyncs);
   /// kDuplicate for a seq already seen (or older).
   Verdict observe(const mtg::header_t& header);
-  void forget_episode(std::int64_t episode_id);
+  /// Forgets every stream of one episode of one run (another run's episode of that id stays).
+  void forget_episode(const std::string& run_id, std::int64_t episode_id);
 
  private:
-  std::map<std::tuple<std::string, std::int64_t, std::int32_t>, std::int64_t> last_seq_;
+  std::map<std::tuple<std::string, std::string, std::int64_t, std::int32_t>, std::int64_t> last_seq_;
 };
 
 }  // namespace mtg::bus

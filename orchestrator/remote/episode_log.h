@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bus/event_log.h"
+#include "bus/header.h"
 #include "mtg/header_t.hpp"
 #include "mtg/record_chunk_t.hpp"
 

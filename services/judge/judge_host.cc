@@ -133,7 +133,7 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
   r.prompt_version = e.usage.prompt_version;
   r.latency_ms = e.usage.latency_ms;
   bus_.publish(bus::kEpisodeResult, r);
-  sequence_.forget_episode(key.second);
+  sequence_.forget_episode(key.first, key.second);
   episodes_.erase(key);
 }
 

@@ -60,7 +60,7 @@ class JudgeHost {
   SceneCache& scenes_;
   std::string run_id_;
   std::map<Key, Episode> episodes_;
-  bus::SequenceTracker sequence_;  // state updates per (sender, episode, attempt)
+  bus::SequenceTracker sequence_;  // state updates per (run, sender, episode, attempt)
   EpisodeJoin starts_;
 };
 

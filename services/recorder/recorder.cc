@@ -4,6 +4,7 @@
 
 #include "bus/channels.h"
 #include "bus/event_log.h"
+#include "bus/header.h"
 #include "core/util/error.h"
 #include "mtg/recorded_t.hpp"
 

@@ -253,5 +253,17 @@ TEST(BusHeader, SequenceTrackerFlagsGapsAndDuplicates) {
   EXPECT_EQ(tracker.observe(stamp.next(2, 0)), SequenceTracker::Verdict::kInOrder);
 }
 
+// A judge serving several runs finishes episode 1 of one run: the other run's episode 1, from
+// the same sender, goes on in sequence rather than reading as a gap.
+TEST(BusHeader, SequenceTrackerForgetsOneRunsEpisodeOnly) {
+  HeaderStamper a("run-a", "sg:0"), b("run-b", "sg:0");
+  SequenceTracker tracker;
+  EXPECT_EQ(tracker.observe(a.next(1, 0)), SequenceTracker::Verdict::kInOrder);
+  EXPECT_EQ(tracker.observe(b.next(1, 0)), SequenceTracker::Verdict::kInOrder);
+  tracker.forget_episode("run-a", 1);
+  EXPECT_EQ(tracker.observe(b.next(1, 0)), SequenceTracker::Verdict::kInOrder);
+  EXPECT_EQ(tracker.observe(a.next(1, 1)), SequenceTracker::Verdict::kInOrder);  // a new attempt, from 0
+}
+
 }  // namespace
 }  // namespace mtg::bus
