@@ -3,7 +3,6 @@
 
 #include <CLI/CLI.hpp>
 
-
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -257,7 +256,7 @@ int main(int argc, char** argv) {
       }
       // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
       if (run_opts.url.empty() && !run_opts.remote) {
-        if (const auto status = mtg::orchestrator::run_in_own_namespace(argv)) return *status;
+        if (const auto isolated = mtg::orchestrator::run_in_own_namespace(argv)) return *isolated;
       }
       return mtg::cli::run_run(run_opts);
     }
@@ -268,7 +267,7 @@ int main(int argc, char** argv) {
     if (report->parsed()) return mtg::cli::run_report(report_opts);
     if (replay->parsed()) {
       if (replay_opts.url.empty()) {
-        if (const auto status = mtg::orchestrator::run_in_own_namespace(argv)) return *status;
+        if (const auto isolated = mtg::orchestrator::run_in_own_namespace(argv)) return *isolated;
       }
       return mtg::cli::run_replay(replay_opts);
     }

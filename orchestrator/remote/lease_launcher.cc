@@ -112,10 +112,8 @@ std::vector<AdoptedAttempt> LeaseLauncher::open() {
   if (!adopted.empty()) log::info("adopting " + std::to_string(adopted.size()) + " leases still out");
   const bool model_agents = std::any_of(run_.agents.begin(), run_.agents.end(), vlm::is_model_spec);
   if (model_agents) {
-    std::vector<std::string> argv = {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
-                                     run_.run_id};
-    argv.insert(argv.end(), {"--bus-key", options_.bus_key});
-    supervisor_.start("governor", argv);
+    supervisor_.start("governor", {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
+                                   run_.run_id, "--bus-key", options_.bus_key});
     governor_ = true;
   }
   // Wait for the workers (announcing the run so they join).
