@@ -5,7 +5,9 @@
 #include <cstring>
 #include <utility>
 
+#include "bus/header.h"
 #include "bus/url.h"
+#include "core/util/log.h"
 
 namespace mtg::bus {
 
@@ -25,6 +27,13 @@ void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler
   if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
   sub->setQueueCapacity(kQueueCapacity);
   handlers_.push_back(std::move(owned));
+}
+
+bool Bus::SchemaGate::admit_header(const mtg::header_t& header, const std::string& channel) {
+  if (speaks_our_schema(header)) return true;
+  ++dropped;
+  if (!std::exchange(warned, true)) log::warn(schema_mismatch(header, "message on " + channel) + "; dropped");
+  return false;
 }
 
 void Bus::rethrow_pending() {

@@ -17,6 +17,7 @@
 
 #include "bus/authenticator.h"
 #include "core/util/error.h"
+#include "mtg/header_t.hpp"
 
 namespace mtg::bus {
 
@@ -36,6 +37,9 @@ class Bus {
   void authenticate(std::shared_ptr<const Authenticator> auth) { auth_ = std::move(auth); }
   /// Messages dropped for a missing or wrong tag (0 without authentication).
   std::int64_t rejected() const { return auth_ ? auth_->rejected() : 0; }
+  /// Typed messages dropped because their header's schema_version is not this build's
+  /// (bus/header.h kSchemaVersion): a process of another mtg version on the same bus.
+  std::int64_t foreign_schema() const { return schema_gate_.dropped; }
 
   /// @throws mtg::Error if LCM reports a failure (e.g. the message exceeds the UDP limits).
   template <class Msg>
@@ -71,14 +75,14 @@ class Bus {
   void subscribe(const std::string& channel_regex,
                  std::function<void(const std::string&, const Msg&)> handler) {
     if (auth_) {  // verified bytes first (subscribe_raw), then decoded
-      subscribe_raw(channel_regex, [fn = std::move(handler)](const std::string& channel,
+      subscribe_raw(channel_regex, [fn = std::move(handler), gate = &schema_gate_](const std::string& channel,
                                                              std::span<const std::uint8_t> bytes, std::int64_t) {
         Msg m{};
-        if (m.decode(bytes.data(), 0, static_cast<int>(bytes.size())) >= 0) fn(channel, m);
+        if (m.decode(bytes.data(), 0, static_cast<int>(bytes.size())) >= 0 && gate->admit(m, channel)) fn(channel, m);
       });
       return;
     }
-    auto owned = std::make_unique<Handler<Msg>>(std::move(handler), pending_);
+    auto owned = std::make_unique<Handler<Msg>>(std::move(handler), pending_, schema_gate_);
     lcm::Subscription* sub = lcm_->subscribe(channel_regex, &Handler<Msg>::on, owned.get());
     if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
     sub->setQueueCapacity(kQueueCapacity);
@@ -100,17 +104,29 @@ class Bus {
   const std::string& url() const { return url_; }
 
  private:
+  // Drops typed messages of another schema version, saying so once per bus.
+  struct SchemaGate {
+    std::int64_t dropped = 0;
+    bool warned = false;
+    bool admit_header(const mtg::header_t& header, const std::string& channel);
+    template <class Msg>
+    bool admit(const Msg& msg, const std::string& channel) {
+      if constexpr (requires { msg.header.schema_version; }) return admit_header(msg.header, channel);
+      return true;
+    }
+  };
+
   struct HandlerBase {
     virtual ~HandlerBase() = default;
   };
   template <class Msg>
   struct Handler : HandlerBase {
-    Handler(std::function<void(const std::string&, const Msg&)> f, std::exception_ptr& pending)
-        : fn(std::move(f)), pending_error(pending) {}
+    Handler(std::function<void(const std::string&, const Msg&)> f, std::exception_ptr& pending, SchemaGate& g)
+        : fn(std::move(f)), pending_error(pending), gate(g) {}
     // Unwinding through liblcm would leave its receive buffers half-released (it aborts in
     // lcm_destroy), so the exception waits here until LCM has returned.
     void on(const lcm::ReceiveBuffer*, const std::string& channel, const Msg* msg) {
-      if (pending_error) return;
+      if (pending_error || !gate.admit(*msg, channel)) return;
       try {
         fn(channel, *msg);
       } catch (...) {
@@ -119,6 +135,7 @@ class Bus {
     }
     std::function<void(const std::string&, const Msg&)> fn;
     std::exception_ptr& pending_error;
+    SchemaGate& gate;
   };
 
   struct RawHandler : HandlerBase {
@@ -153,6 +170,7 @@ class Bus {
   std::exception_ptr pending_;
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
   std::shared_ptr<const Authenticator> auth_;
+  SchemaGate schema_gate_;
 };
 
 }  // namespace mtg::bus

@@ -1,6 +1,7 @@
 #include "bus/convert.h"
 
 #include "core/util/error.h"
+#include "core/util/hash.h"
 
 namespace mtg::bus {
 namespace {
@@ -131,6 +132,82 @@ episode::RuleOptions episode_rules(const mtg::episode_start_t& start) {
 
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {
   return {action.parsed_key, action.format_ok != 0, !action.error.empty()};
+}
+
+render::ImageRequest from_message(const mtg::render_request_t& m) {
+  render::ImageRequest r;
+  r.scene = m.scene;
+  r.data_dir = m.data_dir;
+  r.width = m.width;
+  r.height = m.height;
+  r.encoding = m.encoding;
+  r.state_json = m.state_json;
+  if (m.min_region_size > 0.0) r.min_region_size = m.min_region_size;
+  for (const mtg::render_view_t& v : m.views) {
+    r.views.push_back({render::parse_view_kind(v.view), v.platform, v.side, v.item, render::parse_mark_kind(v.marks)});
+  }
+  return r;
+}
+
+mtg::render_view_t to_message(const graph::SceneGraph& g, const render::ViewRequest& v) {
+  mtg::render_view_t m{};
+  m.view = render::to_string(v.view);
+  m.platform = platform_name(g, v.platform);
+  m.side = static_cast<int8_t>(v.side);
+  m.item = object_name(g, v.object);
+  m.marks = render::to_string(v.marks);
+  return m;
+}
+
+mtg::image_t to_message(const render::EncodedImage& e) {
+  mtg::image_t img{};
+  img.role = e.role;
+  img.encoding = e.encoding;
+  img.width = e.width;
+  img.height = e.height;
+  img.content_hash = to_hex(fnv1a64(e.bytes));
+  img.data = e.bytes;
+  img.nbytes = static_cast<int32_t>(img.data.size());
+  return img;
+}
+
+void set_usage(mtg::agent_action_t& a, const episode::AnswerUsage& u) {
+  a.input_tokens = u.input_tokens;
+  a.output_tokens = u.output_tokens;
+  a.images_sent = u.images_sent;
+  a.cost_usd = u.cost_usd;
+  a.latency_ms = u.latency_ms;
+  a.cache_hit = u.cache_hit;
+}
+
+episode::AnswerUsage answer_usage(const mtg::agent_action_t& a) {
+  return {a.input_tokens, a.output_tokens, a.images_sent, a.cost_usd, a.latency_ms, a.cache_hit};
+}
+
+void set_usage(mtg::episode_result_t& r, const episode::EpisodeUsage& u) {
+  r.input_tokens = static_cast<int32_t>(u.input_tokens);
+  r.output_tokens = static_cast<int32_t>(u.output_tokens);
+  r.images_sent = u.images_sent;
+  r.model_calls = u.model_calls;
+  r.cache_hits = u.cache_hits;
+  r.cost_usd = u.cost_usd;
+  r.spent_usd = u.spent_usd;
+  r.latency_ms = u.latency_ms;
+  r.prompt_version = u.prompt_version;
+}
+
+episode::EpisodeUsage episode_usage(const mtg::episode_result_t& r) {
+  episode::EpisodeUsage u;
+  u.input_tokens = r.input_tokens;
+  u.output_tokens = r.output_tokens;
+  u.images_sent = r.images_sent;
+  u.model_calls = r.model_calls;
+  u.cache_hits = r.cache_hits;
+  u.cost_usd = r.cost_usd;
+  u.spent_usd = r.spent_usd;
+  u.latency_ms = r.latency_ms;
+  u.prompt_version = r.prompt_version;
+  return u;
 }
 
 void fill_result(const episode::Verdict& v, mtg::episode_result_t& r) {

@@ -7,12 +7,18 @@
 #include "core/episode/judge.h"
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
+#include "core/episode/usage.h"
 #include "core/graph/scene_graph.h"
+#include "core/render/image_request.h"
+#include "core/render/view.h"
 #include "core/tasks/task.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
+#include "mtg/image_t.hpp"
+#include "mtg/render_request_t.hpp"
+#include "mtg/render_view_t.hpp"
 #include "mtg/state_update_t.hpp"
 #include "mtg/task_t.hpp"
 
@@ -37,6 +43,21 @@ episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
 
 /// What the rules need of an agent's action.
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action);
+
+/// A render request as the renderer takes it (views by name, typed).
+/// @throws mtg::Error naming an unknown view or mark kind.
+render::ImageRequest from_message(const mtg::render_request_t& m);
+/// One view of a render request: the graph's indices become names.
+mtg::render_view_t to_message(const graph::SceneGraph& g, const render::ViewRequest& v);
+/// An encoded image with its content hash.
+mtg::image_t to_message(const render::EncodedImage& e);
+
+/// An answer's cost figures, to and from the action that carries them.
+void set_usage(mtg::agent_action_t& action, const episode::AnswerUsage& usage);
+episode::AnswerUsage answer_usage(const mtg::agent_action_t& action);
+/// An episode's summed cost figures, to and from its result.
+void set_usage(mtg::episode_result_t& result, const episode::EpisodeUsage& usage);
+episode::EpisodeUsage episode_usage(const mtg::episode_result_t& result);
 
 /// Fills the verdict fields of an episode result (header and identity left to the caller).
 void fill_result(const episode::Verdict& v, mtg::episode_result_t& r);

@@ -13,6 +13,11 @@ mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt,
   return h;
 }
 
+std::string schema_mismatch(const mtg::header_t& header, const std::string& what) {
+  return what + " from " + header.sender + " has schema version " + std::to_string(header.schema_version) +
+         "; this build speaks " + std::to_string(kSchemaVersion);
+}
+
 std::optional<mtg::header_t> peek_header(std::span<const std::uint8_t> message) {
   if (message.size() < 8) return std::nullopt;
   mtg::header_t h{};

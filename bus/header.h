@@ -14,6 +14,12 @@ namespace mtg::bus {
 
 inline constexpr std::int32_t kSchemaVersion = 1;
 
+/// Whether a message with this header was written by a build of this schema (a message of another
+/// schema may decode and still mean something else).
+inline bool speaks_our_schema(const mtg::header_t& header) { return header.schema_version == kSchemaVersion; }
+/// "<what> from <sender> has schema version N; this build speaks M".
+std::string schema_mismatch(const mtg::header_t& header, const std::string& what);
+
 /// Stamps outgoing headers: seq counts from 0 per (stream, episode, attempt), where a stream is
 /// one kind of message (its channel family), so a receiver of that stream sees 0, 1, 2, ... and
 /// can tell a lost message from one it was never meant to see.

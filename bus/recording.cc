@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "bus/header.h"
 #include "core/util/error.h"
 
 namespace mtg::bus {
@@ -19,7 +20,17 @@ void for_each_recorded_event(const std::filesystem::path& run_dir,
   for (const auto& log : logs) {
     lcm::LogFile file(log.string(), "r");
     if (!file.good()) throw Error(log.string() + ": cannot read the recording");
-    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) fn(*ev);
+    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
+      // A recording of another schema would be read wrongly without a word: refuse it.
+      if (ev->channel.starts_with("MTG_")) {
+        const auto header = peek_header({static_cast<const std::uint8_t*>(ev->data), static_cast<std::size_t>(ev->datalen)});
+        if (header && !speaks_our_schema(*header)) {
+          throw Error(log.string() + ": " + schema_mismatch(*header, "the message on " + ev->channel) +
+                      " (read it with the mtg that recorded it)");
+        }
+      }
+      fn(*ev);
+    }
   }
 }
 

@@ -5,10 +5,11 @@
 #include "agents/builtin/policies.h"
 #include "agents/common/agent_host.h"
 #include "bus/bus.h"
+#include "bus/error_events.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"mtg built-in agent"};
@@ -19,12 +20,12 @@ int main(int argc, char** argv) {
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("agent " + spec);
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("agent"));
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("agent"));
     mtg::agents::AgentHost host(bus, stamp, spec, mtg::agents::make_builtin_policy(spec), run_id);
-    mtg::services::ServiceLoop loop(bus, stamp, "agent:" + spec, 64);
+    mtg::process::ServiceLoop loop(bus, stamp, mtg::bus::agent_role(spec), 64);
     loop.run([&] { loop.set_in_flight(host.in_flight()); });
   } catch (const std::exception& e) {
     mtg::log::error(e.what());

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bus/channels.h"
+#include "bus/convert.h"
 #include "bus/recording.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
@@ -100,12 +101,8 @@ class ReplayPolicy : public Policy {
     r.error = a.error;
     r.provider = a.provider;
     r.model = a.model;
-    r.input_tokens = a.input_tokens;
-    r.output_tokens = a.output_tokens;
-    r.images_sent = a.images_sent;
-    r.cost_usd = a.cost_usd;
-    r.latency_ms = a.latency_ms;
-    r.cache_hit = true;  // nothing was asked of a provider
+    r.usage = bus::answer_usage(a);
+    r.usage.cache_hit = true;  // nothing was asked of a provider
     return r;
   }
 

@@ -1,6 +1,8 @@
 #include "agents/common/agent_host.h"
 
 #include "bus/channels.h"
+#include "bus/convert.h"
+#include "bus/error_events.h"
 #include "core/episode/reply_parser.h"
 #include "core/util/log.h"
 #include "mtg/agent_action_t.hpp"
@@ -104,12 +106,9 @@ void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) 
     // Once per process: the orchestrator stops giving this agent episodes and says why.
     stop_reported_ = true;
     log::error("agent stopped: " + reply.error);
-    mtg::error_event_t ev{};
+    mtg::error_event_t ev = bus::agent_stopped_event(spec_, reply.error);
     ev.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "error");
     ev.header.run_id = obs.header.run_id;
-    ev.source = "agent:" + spec_;
-    ev.severity = "fatal";
-    ev.message = reply.error;
     bus_.publish(bus::kError, ev);
   }
   mtg::agent_action_t a{};
@@ -127,12 +126,7 @@ void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) 
   }
   a.provider = reply.provider;
   a.model = reply.model;
-  a.input_tokens = reply.input_tokens;
-  a.output_tokens = reply.output_tokens;
-  a.images_sent = reply.images_sent;
-  a.cost_usd = reply.cost_usd;
-  a.latency_ms = reply.latency_ms;
-  a.cache_hit = reply.cache_hit;
+  bus::set_usage(a, reply.usage);
   a.prompt_version = reply.prompt_version;
   bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction, obs.header.episode_id), a);
 }

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "core/episode/usage.h"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
 #include "mtg/observation_t.hpp"
@@ -15,12 +16,7 @@ struct AgentReply {
   std::string error;          // provider failure ("" if none): ends the episode
   std::string provider = "builtin";
   std::string model;
-  int input_tokens = 0;
-  int output_tokens = 0;
-  int images_sent = 0;
-  double cost_usd = 0.0;
-  double latency_ms = 0.0;    // telemetry only
-  bool cache_hit = false;
+  episode::AnswerUsage usage;  // telemetry only
   std::string prompt_version; // "" for built-in agents
   bool stop_agent = false;    // the error ends this agent for the whole run (auth, quota, billing)
 };

@@ -11,9 +11,10 @@
 #include "agents/vlm/options.h"
 #include "agents/vlm/vlm_policy.h"
 #include "bus/bus.h"
+#include "bus/error_events.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"mtg model agent"};
@@ -27,11 +28,11 @@ int main(int argc, char** argv) {
   mtg::vlm::add_vlm_options(app, options, true);
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("agent " + spec);
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::vlm::ModelSetup setup = mtg::vlm::ModelSetup::make(spec, options.resolve());
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("agent"));
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("agent"));
     mtg::vlm::BusRateGate gate(bus, stamp, setup.limits());
     mtg::vlm::ModelClient client(setup.spec, setup.key, setup.settings, setup.prices, setup.cache.get(), &gate);
     auto policy = std::make_unique<mtg::vlm::VlmPolicy>(client, setup.prompts, setup.settings);
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
                    (setup.settings.cache_only ? " (cache only)" : ""));
     {
       mtg::agents::AgentHost host(bus, stamp, spec, std::move(policy), run_id, setup.settings.workers);
-      mtg::services::ServiceLoop loop(bus, stamp, "agent:" + spec, setup.settings.workers);
+      mtg::process::ServiceLoop loop(bus, stamp, mtg::bus::agent_role(spec), setup.settings.workers);
       loop.run([&] {
         gate.pump();
         host.poll();

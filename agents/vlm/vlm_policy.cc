@@ -48,12 +48,7 @@ agents::AgentReply VlmPolicy::reply(const mtg::episode_start_t& start, const mtg
     return out;
   }
   const CallResult r = client_.call(messages);
-  out.input_tokens = r.input_tokens;
-  out.output_tokens = r.output_tokens;
-  out.images_sent = r.images;
-  out.cost_usd = r.cost_usd;
-  out.latency_ms = r.latency_ms;
-  out.cache_hit = r.cache_hit;
+  out.usage = {r.input_tokens, r.output_tokens, r.images, r.cost_usd, r.latency_ms, r.cache_hit};
   if (!r.ok) {
     out.error = r.error.empty() ? "model call failed" : r.error;
     out.stop_agent = r.stop_agent;

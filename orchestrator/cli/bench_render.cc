@@ -11,11 +11,11 @@
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
 #include "core/render/image_codec.h"
+#include "core/render/image_renderer.h"
 #include "core/render/view.h"
 #include "core/tasks/generator.h"
 #include "core/util/stopwatch.h"
 #include "orchestrator/cli/bench_commands.h"
-#include "services/renderer/renderer.h"
 
 namespace mtg::cli {
 namespace {
@@ -48,10 +48,10 @@ std::size_t observation_images(render::SceneRenderer& renderer, const graph::Sce
 }  // namespace
 
 int run_bench_render(const BenchRenderOptions& o) {
-  services::Renderer renderer(o.profile);
+  render::ImageRenderer renderer(o.profile);
   std::printf("renderer: %s\n", renderer.gl_description().c_str());
   Stopwatch load;
-  const services::SceneCache::Entry& entry = renderer.scenes().load(o.scene, o.data_dir);
+  const graph::SceneCache::Entry& entry = renderer.scenes().load(o.scene, o.data_dir);
   const double scene_ms = load.elapsed_ms();
   load.reset();
   render::SceneRenderer& gpu = renderer.scene_renderer(entry);

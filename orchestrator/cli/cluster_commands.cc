@@ -13,11 +13,11 @@
 
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/process/faults.h"
 #include "bus/url.h"
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/run_info_t.hpp"
-#include "services/common/faults.h"
 
 namespace mtg::cli {
 
@@ -32,8 +32,8 @@ int run_worker(WorkerCliOptions o) {
   if (w.dir.empty()) w.dir = (std::filesystem::current_path() / "mtg-worker").string();
   w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
   w.vlm_args = o.vlm.to_args();
-  w.drop_chunk_every = std::max(0, services::fault_setting("drop_chunk"));
-  w.hold_results = services::fault_setting("hold_results") > 0;
+  w.drop_chunk_every = std::max(0, process::fault_setting("drop_chunk"));
+  w.hold_results = process::fault_setting("hold_results") > 0;
   return orchestrator::remote::run_worker(w);
 }
 

@@ -6,11 +6,11 @@
 
 #include "bus/channels.h"
 #include "bus/recording.h"
+#include "core/render/image_renderer.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
 #include "mtg/observation_t.hpp"
-#include "services/renderer/renderer.h"
 
 namespace mtg::cli {
 
@@ -39,10 +39,15 @@ int run_render(const RenderOptions& o) {
     throw Error("mtg render: an " + o.view + " view needs --item <object name>");
   }
 
-  services::ViewSpec view{o.view, o.platform, o.side, o.item, o.marks};
-  if (o.marks == "auto") view.marks = o.view == "platform" ? "items" : o.view == "topdown" ? "labels" : "";
-  if (o.marks == "none") view.marks = "";
-  services::ImageRequest request;
+  render::ViewSpec view{render::parse_view_kind(o.view), o.platform, o.side, o.item, render::MarkKind::kNone};
+  if (o.marks == "auto") {
+    view.marks = view.view == render::ViewKind::kPlatform  ? render::MarkKind::kItems
+                 : view.view == render::ViewKind::kTopdown ? render::MarkKind::kLabels
+                                                           : render::MarkKind::kNone;
+  } else if (o.marks != "none") {
+    view.marks = render::parse_mark_kind(o.marks);
+  }
+  render::ImageRequest request;
   request.scene = o.scene;
   request.data_dir = o.data_dir;
   request.width = o.width;
@@ -50,14 +55,14 @@ int run_render(const RenderOptions& o) {
   request.encoding = encoding;
   request.views = {view};
 
-  services::Renderer renderer(o.profile);
+  render::ImageRenderer renderer(o.profile);
   const Stopwatch load;
   renderer.scene_renderer(renderer.scenes().load(o.scene, o.data_dir));
   const double load_ms = load.elapsed_ms();
   const Stopwatch draw;
-  const services::ImageReply reply = renderer.render(request);
+  const render::ImageReply reply = renderer.render(request);
   const double draw_ms = draw.elapsed_ms();
-  for (const services::EncodedImage& image : reply.images) {
+  for (const render::EncodedImage& image : reply.images) {
     const bool marked = image.role.ends_with("_marked");
     const fs::path file = marked ? out.parent_path() / (out.stem().string() + "_marked" + ext) : out;
     write_bytes(file, image.bytes.data(), image.bytes.size());

@@ -15,9 +15,9 @@
 #include "agents/vlm/model_client.h"
 #include "agents/vlm/model_setup.h"
 #include "bus/bus.h"
+#include "bus/process/identity.h"
 #include "bus/url.h"
 #include "core/util/error.h"
-#include "services/common/service_loop.h"
 
 namespace mtg::cli {
 namespace {
@@ -49,7 +49,7 @@ int run_vlm_ask(const VlmAskOptions& o) {
     gate = std::make_unique<vlm::LocalRateGate>(setup.limits());
   } else {
     bus = std::make_unique<bus::Bus>(bus::normalize_url(o.bus_url));
-    stamp = std::make_unique<bus::HeaderStamper>("", services::sender_id("vlm-ask"));
+    stamp = std::make_unique<bus::HeaderStamper>("", process::sender_id("vlm-ask"));
     auto g = std::make_unique<vlm::BusRateGate>(*bus, *stamp, setup.limits());
     bus_gate = g.get();
     gate = std::move(g);

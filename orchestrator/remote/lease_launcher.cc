@@ -5,8 +5,11 @@
 #include <thread>
 
 #include "agents/vlm/model_spec.h"
-#include "core/util/atomic_file.h"
 #include "bus/channels.h"
+#include "bus/error_events.h"
+#include "bus/process/heartbeat.h"
+#include "bus/process/identity.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/episode_result_t.hpp"
@@ -14,7 +17,6 @@
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/merge_recordings.h"
 #include "orchestrator/remote/run_announcement.h"
-#include "services/common/service_loop.h"
 
 namespace mtg::orchestrator::remote {
 
@@ -38,7 +40,7 @@ void write_bytes(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
 
 LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCounts& counts, RemoteOptions options)
     : run_(std::move(run)), dir_(std::move(run_dir)), counts_(counts), options_(options), bus_(run_.bus_url),
-      stamp_(run_.run_id, services::sender_id("coordinator")), supervisor_(dir_ / "logs"),
+      stamp_(run_.run_id, process::sender_id("coordinator")), supervisor_(dir_ / "logs"),
       book_(dir_ / "leases.sqlite") {
   options_.bus_key = bus::shared_bus_key_file(options_.bus_key);  // the governor signs with it too
   bus_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
@@ -55,7 +57,9 @@ void LeaseLauncher::subscribe() {
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
     // A worker of another run, or one still starting its services, takes no lease.
-    w.capacity = m.header.run_id == run_.run_id && m.status != "starting" && m.status != "draining" ? m.capacity : 0;
+    const auto status = process::parse_heartbeat_status(m.status);
+    const bool takes_work = status != process::HeartbeatStatus::kStarting && status != process::HeartbeatStatus::kDraining;
+    w.capacity = m.header.run_id == run_.run_id && takes_work ? m.capacity : 0;
     w.status = m.status;
     w.last_seen = Clock::now();
   });
@@ -87,8 +91,8 @@ void LeaseLauncher::subscribe() {
   });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
     if (m.header.run_id != run_.run_id) return;
-    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) {
-      if (sink_ != nullptr) sink_->on_agent_stopped(m.source.substr(6), m.message);
+    if (const auto agent = bus::stopped_agent(m)) {
+      if (sink_ != nullptr) sink_->on_agent_stopped(*agent, m.message);
     } else if (worker_errors_.insert(m.message).second) {
       log::warn(m.message);  // e.g. a worker whose dataset differs stays out of the run
     }

@@ -11,21 +11,22 @@
 
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/error_events.h"
 #include "bus/header.h"
+#include "bus/process/heartbeat.h"
+#include "bus/process/identity.h"
+#include "bus/process/stop_signals.h"
 #include "core/episode/outcomes.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/log.h"
-#include "mtg/error_event_t.hpp"
-#include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/episode_log.h"
 #include "orchestrator/remote/run_announcement.h"
 #include "orchestrator/run/local_runtime.h"
-#include "services/common/service_loop.h"
 
 namespace mtg::orchestrator::remote {
 namespace {
@@ -56,8 +57,8 @@ class Bridge {
 class Worker final : public LaunchSink {
  public:
   explicit Worker(WorkerOptions options)
-      : options_(std::move(options)), host_(options_.name.empty() ? services::host_name() : options_.name),
-        shared_(options_.bus_url), stamp_("", services::sender_id("worker")) {
+      : options_(std::move(options)), host_(options_.name.empty() ? process::host_name() : options_.name),
+        shared_(options_.bus_url), stamp_("", process::sender_id("worker")) {
     if (options_.capacity < 1) throw Error("mtg worker: --capacity must be at least 1");
     shared_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
     shared_.subscribe<mtg::run_info_t>(bus::kRunInfo, [this](const std::string&, const mtg::run_info_t& m) {
@@ -73,12 +74,12 @@ class Worker final : public LaunchSink {
   }
 
   int run() {
-    services::install_stop_signals();
+    process::install_stop_signals();
     log::info(stamp_.sender() + " on " + options_.bus_url + " (host bus " + options_.local_url + "), capacity " +
               std::to_string(options_.capacity));
     auto next_beat = Clock::now();
     auto next_renewal = Clock::now();
-    while (!services::stop_signal_received()) {
+    while (!process::stop_signal_received()) {
       wait_for_messages(sending() ? 10 : 20);  // a paced recording goes on after at most 10 ms
       while (shared_.handle_once(0)) {
       }
@@ -104,7 +105,7 @@ class Worker final : public LaunchSink {
         next_renewal = now + std::chrono::seconds(1);
       }
     }
-    status_ = "draining";
+    status_ = process::HeartbeatStatus::kDraining;
     heartbeat();
     if (runtime_) runtime_->close();
     return 0;
@@ -128,11 +129,8 @@ class Worker final : public LaunchSink {
   }
 
   void on_agent_stopped(const std::string& agent, const std::string& why) override {
-    mtg::error_event_t m{};
+    mtg::error_event_t m = bus::agent_stopped_event(agent, why);
     m.header = stamp_.next(-1, 0, "error");
-    m.source = "agent:" + agent;
-    m.severity = "fatal";
-    m.message = why;
     shared_.publish(bus::kError, m);
   }
 
@@ -184,7 +182,7 @@ class Worker final : public LaunchSink {
     run_id_ = info.header.run_id;
     stamp_.set_run_id(run_id_);
     last_announcement_ = Clock::now();
-    status_ = "starting";
+    status_ = process::HeartbeatStatus::kStarting;
     heartbeat();
     RuntimeConfig c = announced_config(info);
     c.bus_url = options_.local_url;
@@ -203,22 +201,20 @@ class Worker final : public LaunchSink {
         if (rate_bridge_.should_forward(bytes)) shared_.publish_raw(channel, bytes);
       });
       runtime_->open();
-      status_ = "ready";
+      status_ = process::HeartbeatStatus::kReady;
     } catch (const Error& e) {
       log::error("cannot run " + run_id_ + ": " + e.what() + " (trying again in 30 s)");
       // The coordinator says why this host stays out.
-      mtg::error_event_t m{};
+      mtg::error_event_t m = bus::error_event(stamp_.sender(), bus::Severity::kFailure,
+                                              "worker on " + host_ + " cannot run " + run_id_ + ": " + e.what());
       m.header = stamp_.next(-1, 0, "error");
-      m.source = stamp_.sender();
-      m.severity = "error";
-      m.message = "worker on " + host_ + " cannot run " + run_id_ + ": " + e.what();
       shared_.publish(bus::kError, m);
       failed_run_ = run_id_;
       retry_join_at_ = Clock::now() + std::chrono::seconds(30);
       runtime_.reset();
       run_id_.clear();
       stamp_.set_run_id("");
-      status_ = "idle";
+      status_ = process::HeartbeatStatus::kIdle;
     }
   }
 
@@ -247,20 +243,16 @@ class Worker final : public LaunchSink {
     captured_.clear();
     run_id_.clear();
     stamp_.set_run_id("");
-    status_ = "idle";
+    status_ = process::HeartbeatStatus::kIdle;
     once_done_ = options_.once;
   }
 
   void heartbeat() {
-    mtg::heartbeat_t hb{};
+    const bool busy = status_ == process::HeartbeatStatus::kReady && !held_.empty();
+    mtg::heartbeat_t hb = process::heartbeat_message({"worker", host_, options_.capacity,
+                                                      static_cast<int>(held_.size()), tick_++,
+                                                      busy ? process::HeartbeatStatus::kBusy : status_});
     hb.header = stamp_.next(-1, 0, "heartbeat");
-    hb.role = "worker";
-    hb.host = host_;
-    hb.pid = static_cast<std::int32_t>(::getpid());
-    hb.capacity = options_.capacity;
-    hb.in_flight = static_cast<std::int32_t>(held_.size());
-    hb.tick = tick_++;
-    hb.status = status_ == "ready" && !held_.empty() ? "busy" : status_;
     shared_.publish(bus::kHeartbeat, hb);
   }
 
@@ -290,7 +282,7 @@ class Worker final : public LaunchSink {
       forget(id, attempt);
       return;
     }
-    if (m.action != "grant" || !runtime_ || status_ == "starting") return;
+    if (m.action != "grant" || !runtime_ || status_ == process::HeartbeatStatus::kStarting) return;
     const auto it = held_.find(id);
     if (it != held_.end() && it->second.attempt == attempt) {
       send_lease("renew", id, attempt);  // a repeated grant: our renewal was lost
@@ -373,7 +365,7 @@ class Worker final : public LaunchSink {
   bus::HeaderStamper stamp_;
   std::unique_ptr<LocalRuntime> runtime_;
   std::string run_id_;
-  std::string status_ = "idle";
+  process::HeartbeatStatus status_ = process::HeartbeatStatus::kIdle;
   std::optional<mtg::run_info_t> join_;
   bool leave_ = false;
   bool once_done_ = false;

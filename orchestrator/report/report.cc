@@ -37,15 +37,15 @@ struct Usage {
   double cost_usd = 0.0, spent_usd = 0.0, latency_ms = 0.0;
   std::set<std::string> prompt_versions;
   void add(const EpisodeRow& r) {
-    calls += r.model_calls;
-    cache_hits += r.cache_hits;
-    input_tokens += r.input_tokens;
-    output_tokens += r.output_tokens;
-    images += r.images_sent;
-    cost_usd += r.cost_usd;
-    spent_usd += r.spent_usd;
-    latency_ms += r.latency_ms;
-    if (!r.prompt_version.empty()) prompt_versions.insert(r.prompt_version);
+    calls += r.usage.model_calls;
+    cache_hits += r.usage.cache_hits;
+    input_tokens += r.usage.input_tokens;
+    output_tokens += r.usage.output_tokens;
+    images += r.usage.images_sent;
+    cost_usd += r.usage.cost_usd;
+    spent_usd += r.usage.spent_usd;
+    latency_ms += r.usage.latency_ms;
+    if (!r.usage.prompt_version.empty()) prompt_versions.insert(r.usage.prompt_version);
   }
   nlohmann::json json() const {
     auto round6 = [](double v) { return std::round(v * 1e6) / 1e6; };
@@ -95,7 +95,7 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   std::vector<SankeyFlow> flows;
   std::map<std::string, Usage> usage;
   for (const EpisodeRow& r : rows) {
-    if (r.model_calls > 0) usage[r.agent].add(r);
+    if (r.usage.model_calls > 0) usage[r.agent].add(r);
     if (r.status != "scored") {
       ++errors;
       continue;
@@ -107,9 +107,9 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
     by_agent_level[r.agent][level].add(r);
     stages[r.stage] += 1;
     if (!r.success) causes[r.cause] += 1;
-    in_tokens += r.input_tokens;
-    out_tokens += r.output_tokens;
-    cost += r.cost_usd;
+    in_tokens += r.usage.input_tokens;
+    out_tokens += r.usage.output_tokens;
+    cost += r.usage.cost_usd;
     flows.push_back({"Level " + level, r.stage, r.success ? "success" : r.cause, r.success ? "success" : "failure"});
   }
   nlohmann::json j;

@@ -9,6 +9,7 @@
 #include "agents/builtin/policies.h"
 #include "agents/vlm/model_spec.h"
 #include "bus/channels.h"
+#include "bus/error_events.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/error_event_t.hpp"
@@ -71,12 +72,11 @@ void LocalRuntime::subscribe() {
                                       [this](const std::string&, const mtg::state_update_t& m) { touch(m.header); });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
     if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
-    if (m.severity == "fatal" && m.source.rfind("agent:", 0) == 0) {
-      const std::string agent = m.source.substr(6);
+    if (const auto agent = bus::stopped_agent(m)) {
       for (auto it = in_flight_.begin(); it != in_flight_.end();) {
-        it = it->second.agent == agent ? in_flight_.erase(it) : std::next(it);
+        it = it->second.agent == *agent ? in_flight_.erase(it) : std::next(it);
       }
-      sink_->on_agent_stopped(agent, m.message);
+      sink_->on_agent_stopped(*agent, m.message);
       return;
     }
     log::warn("error from " + m.source + ": " + m.message);

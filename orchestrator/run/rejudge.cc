@@ -8,12 +8,12 @@
 #include "bus/convert.h"
 #include "bus/recording.h"
 #include "core/episode/judge.h"
+#include "core/graph/scene_cache.h"
 #include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
 #include "orchestrator/run/run_plan.h"
-#include "services/common/scene_cache.h"
 
 namespace mtg::orchestrator {
 namespace {
@@ -52,7 +52,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
   const RunPlan plan = load_plan(run_dir);
   const std::vector<EpisodeRow> recorded_rows = read_results(run_dir / "results.sqlite");
   const auto recording = read_recording(run_dir, plan.run_id);
-  services::SceneCache scenes(plan.profile);
+  graph::SceneCache scenes(plan.profile);
   RejudgeReport report;
   for (const EpisodeRow& original : recorded_rows) {
     EpisodeRow row = original;

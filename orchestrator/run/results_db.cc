@@ -57,19 +57,19 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
     r.cause = q.column_text(10);
     r.steps = static_cast<int>(q.column_int(11));
     r.invalid_actions = static_cast<int>(q.column_int(12));
-    r.input_tokens = q.column_int(13);
-    r.output_tokens = q.column_int(14);
-    r.cost_usd = q.column_double(15);
-    r.latency_ms = q.column_double(16);
+    r.usage.input_tokens = q.column_int(13);
+    r.usage.output_tokens = q.column_int(14);
+    r.usage.cost_usd = q.column_double(15);
+    r.usage.latency_ms = q.column_double(16);
     r.wall_ms = q.column_double(17);
     r.subtask_ip = q.column_text(18);
     r.detail = q.column_text(19);
     r.status = q.column_text(20);
-    r.spent_usd = q.column_double(21);
-    r.images_sent = static_cast<int>(q.column_int(22));
-    r.model_calls = static_cast<int>(q.column_int(23));
-    r.cache_hits = static_cast<int>(q.column_int(24));
-    r.prompt_version = q.column_text(25);
+    r.usage.spent_usd = q.column_double(21);
+    r.usage.images_sent = static_cast<int>(q.column_int(22));
+    r.usage.model_calls = static_cast<int>(q.column_int(23));
+    r.usage.cache_hits = static_cast<int>(q.column_int(24));
+    r.usage.prompt_version = q.column_text(25);
     r.worker = q.column_text(26);
     out.push_back(std::move(r));
   }
@@ -87,17 +87,6 @@ void add_missing_columns(store::Database& db) {
 
 }  // namespace
 
-void set_usage(EpisodeRow& row, const mtg::episode_result_t& result) {
-  row.input_tokens = result.input_tokens;
-  row.output_tokens = result.output_tokens;
-  row.images_sent = result.images_sent;
-  row.model_calls = result.model_calls;
-  row.cache_hits = result.cache_hits;
-  row.cost_usd = result.cost_usd;
-  row.spent_usd = result.spent_usd;
-  row.prompt_version = result.prompt_version;
-  row.latency_ms = result.latency_ms;
-}
 
 void set_verdict(EpisodeRow& row, const mtg::episode_result_t& result) {
   row.success = result.success;
@@ -133,10 +122,10 @@ bool ResultsDb::insert(const EpisodeRow& r) {
   q.bind(1, r.episode_id).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
   q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
-  q.bind(14, r.input_tokens).bind(15, r.output_tokens).bind(16, r.cost_usd).bind(17, r.latency_ms);
+  q.bind(14, r.usage.input_tokens).bind(15, r.usage.output_tokens).bind(16, r.usage.cost_usd).bind(17, r.usage.latency_ms);
   q.bind(18, r.wall_ms).bind(19, r.subtask_ip).bind(20, r.detail).bind(21, r.status);
-  q.bind(22, r.spent_usd).bind(23, std::int64_t{r.images_sent}).bind(24, std::int64_t{r.model_calls});
-  q.bind(25, std::int64_t{r.cache_hits}).bind(26, r.prompt_version).bind(27, r.worker);
+  q.bind(22, r.usage.spent_usd).bind(23, std::int64_t{r.usage.images_sent}).bind(24, std::int64_t{r.usage.model_calls});
+  q.bind(25, std::int64_t{r.usage.cache_hits}).bind(26, r.usage.prompt_version).bind(27, r.worker);
   q.run();
   return db_->changes() > 0;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/episode/usage.h"
 #include "core/store/sqlite.h"
 #include "mtg/episode_result_t.hpp"
 
@@ -23,22 +24,13 @@ struct EpisodeRow {
   double ip = 0.0;
   std::string stage, cause;
   int steps = 0, invalid_actions = 0;
-  std::int64_t input_tokens = 0, output_tokens = 0;
-  double cost_usd = 0.0;     // list price of the model answers used (equal on a cached rerun)
-  double spent_usd = 0.0;    // what this run paid (cache hits cost nothing)
-  int images_sent = 0, model_calls = 0, cache_hits = 0;
-  std::string prompt_version;  // "" for built-in agents
-  double latency_ms = 0.0;   // telemetry: summed agent call time
+  episode::EpisodeUsage usage;  // telemetry: what the agent's answers cost
   double wall_ms = 0.0;      // telemetry: wall time of the attempt
   std::string worker;        // telemetry: the worker that ran it (multi-host runs; "" = this machine)
   std::string subtask_ip;    // JSON list
   std::string detail;
   std::string status = "scored";  // "scored", or "error" (infrastructure gave up; excluded from SR/IP)
 };
-
-/// Copies the usage telemetry of a judge's result (tokens, images, calls, cache hits, cost,
-/// prompt version, summed call latency) into `row`.
-void set_usage(EpisodeRow& row, const mtg::episode_result_t& result);
 
 /// Copies the verdict of a judge's result into `row` (success, IP, stage, cause, steps, invalid
 /// actions, sub-task IP, detail); identity, usage and timing stay as they are.

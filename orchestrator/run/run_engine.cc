@@ -1,6 +1,5 @@
 #include "orchestrator/run/run_engine.h"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 
 #include "bus/convert.h"
 #include "bus/header.h"
+#include "bus/process/stop_signals.h"
 #include "core/episode/outcomes.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
@@ -24,9 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-volatile sig_atomic_t g_interrupted = 0;
-void on_interrupt(int) { g_interrupted = 1; }
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -69,11 +66,10 @@ class Engine final : public LaunchSink {
     Progress progress(summary.planned, summary.already_done, options_.progress);
     progress_ = &progress;
     const auto episodes_started = Clock::now();
-    signal(SIGINT, on_interrupt);
-    signal(SIGTERM, on_interrupt);
+    process::install_stop_signals();
 
     while (!pending_.empty() || !in_flight_.empty()) {
-      if (g_interrupted) {
+      if (process::stop_signal_received()) {
         summary.interrupted = true;
         break;
       }
@@ -85,8 +81,7 @@ class Engine final : public LaunchSink {
     progress.draw(true);
     counts_.in_flight = 0;
     launcher_.close();
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
+    process::restore_default_signals();
     summary.completed = completed_;
     summary.errors = errors_;
     summary.retries = retries_;
@@ -113,7 +108,7 @@ class Engine final : public LaunchSink {
     }
     EpisodeRow row = base_row(m.header.episode_id, m.header.attempt);
     set_verdict(row, m);
-    set_usage(row, m);
+    row.usage = bus::episode_usage(m);
     row.worker = worker;
     row.wall_ms = 1000.0 * seconds_since(it->second.started);
     in_flight_.erase(it);

@@ -7,9 +7,9 @@
 #include <chrono>
 #include <thread>
 
+#include "bus/process/subprocess.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
-#include "core/util/subprocess.h"
 
 namespace mtg::orchestrator {
 
@@ -23,7 +23,7 @@ Supervisor::~Supervisor() { stop_all(2000); }
 
 pid_t Supervisor::spawn(const std::string& name, const std::vector<std::string>& argv) {
   std::filesystem::create_directories(log_dir_);
-  return spawn_process(argv, (log_dir_ / (name + ".log")).string(), SIGTERM);
+  return process::spawn_process(argv, (log_dir_ / (name + ".log")).string(), SIGTERM);
 }
 
 void Supervisor::start(const std::string& name, const std::vector<std::string>& argv, bool restart) {

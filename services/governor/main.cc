@@ -3,9 +3,9 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/bus.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 #include "services/governor/governor.h"
 
 int main(int argc, char** argv) {
@@ -17,13 +17,13 @@ int main(int argc, char** argv) {
   app.add_option("--run", run_id, "the run it serves (for its heartbeats)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("governor");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
     if (!bus_key.empty()) bus.authenticate(mtg::bus::shared_bus_authenticator(bus_key));
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("governor"));
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("governor"));
     mtg::services::Governor governor(bus, stamp);
-    mtg::services::ServiceLoop loop(bus, stamp, "governor", 1);
+    mtg::process::ServiceLoop loop(bus, stamp, "governor", 1);
     loop.run([&] {
       governor.tick();
       loop.set_in_flight(governor.waiting());

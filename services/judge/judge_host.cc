@@ -10,7 +10,7 @@
 
 namespace mtg::services {
 
-JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id)
+JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache& scenes, std::string run_id)
     : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)),
       starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
   auto mine = [this](const mtg::header_t& h) { return run_id_.empty() || h.run_id == run_id_; };
@@ -51,18 +51,7 @@ void JudgeHost::on_action(const mtg::agent_action_t& action) {
   Episode& e = it->second;
   if (e.actions_seen[action.step]) return;
   e.actions_seen[action.step] = true;
-  Usage& u = e.usage;
-  u.input_tokens += action.input_tokens;
-  u.output_tokens += action.output_tokens;
-  u.images_sent += action.images_sent;
-  u.cost_usd += action.cost_usd;
-  u.latency_ms += action.latency_ms;
-  if (action.provider != "builtin") {
-    ++u.model_calls;
-    u.cache_hits += action.cache_hit ? 1 : 0;
-    u.spent_usd += action.cache_hit ? 0.0 : action.cost_usd;
-  }
-  if (!action.prompt_version.empty()) u.prompt_version = action.prompt_version;
+  e.usage.add(bus::answer_usage(action), action.provider != "builtin", action.prompt_version);
   if (!action.error.empty()) e.provider_error = action.error;
 }
 
@@ -123,15 +112,7 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
     log::warn("episode " + std::to_string(key.second) + " attempt " + std::to_string(e.attempt) + ": " +
               transport_error + " (to be retried)");
   }
-  r.input_tokens = e.usage.input_tokens;
-  r.output_tokens = e.usage.output_tokens;
-  r.images_sent = e.usage.images_sent;
-  r.model_calls = e.usage.model_calls;
-  r.cache_hits = e.usage.cache_hits;
-  r.cost_usd = e.usage.cost_usd;
-  r.spent_usd = e.usage.spent_usd;
-  r.prompt_version = e.usage.prompt_version;
-  r.latency_ms = e.usage.latency_ms;
+  bus::set_usage(r, e.usage);
   bus_.publish(bus::kEpisodeResult, r);
   sequence_.forget_episode(key.first, key.second);
   episodes_.erase(key);

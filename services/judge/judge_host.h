@@ -11,13 +11,14 @@
 #include <utility>
 
 #include "bus/bus.h"
+#include "bus/episode_join.h"
 #include "bus/header.h"
 #include "core/episode/judge.h"
+#include "core/episode/usage.h"
+#include "core/graph/scene_cache.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/state_update_t.hpp"
-#include "services/common/episode_join.h"
-#include "services/common/scene_cache.h"
 
 namespace mtg::services {
 
@@ -25,7 +26,7 @@ class JudgeHost {
  public:
   /// Subscribes to episode starts and truths, state updates and agent actions of run `run_id`
   /// ("" = every run).
-  JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id);
+  JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache& scenes, std::string run_id);
 
   void on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth);
   void on_state(const mtg::state_update_t& update);
@@ -33,12 +34,6 @@ class JudgeHost {
   int in_flight() const { return static_cast<int>(episodes_.size()); }
 
  private:
-  // What the agent's model answers cost, summed over the episode (telemetry; never in the verdict).
-  struct Usage {
-    int input_tokens = 0, output_tokens = 0, images_sent = 0, model_calls = 0, cache_hits = 0;
-    double cost_usd = 0.0, spent_usd = 0.0, latency_ms = 0.0;
-    std::string prompt_version;
-  };
   struct Episode {
     int attempt = 0;
     std::string task_id;
@@ -47,7 +42,7 @@ class JudgeHost {
     const graph::SceneGraph* graph = nullptr;
     std::unique_ptr<episode::EpisodeJudge> judge;
     std::string source;          // the scene-graph service's sender id (first update)
-    Usage usage;
+    episode::EpisodeUsage usage;  // what the answers cost (telemetry; never in the verdict)
     std::string provider_error;  // the agent's last provider error, for the verdict's detail
     std::map<int, bool> actions_seen;  // step -> counted (duplicates of agent actions ignored)
   };
@@ -57,11 +52,11 @@ class JudgeHost {
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
-  SceneCache& scenes_;
+  graph::SceneCache& scenes_;
   std::string run_id_;
   std::map<Key, Episode> episodes_;
   bus::SequenceTracker sequence_;  // state updates per (run, sender, episode, attempt)
-  EpisodeJoin starts_;
+  bus::EpisodeJoin starts_;
 };
 
 }  // namespace mtg::services

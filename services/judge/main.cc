@@ -3,9 +3,9 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/bus.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 #include "services/judge/judge_host.h"
 
 int main(int argc, char** argv) {
@@ -17,13 +17,13 @@ int main(int argc, char** argv) {
   app.add_option("--run", run_id, "judge only this run ('' = every run)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("judge");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("judge"));
-    mtg::services::SceneCache scenes(profile);
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("judge"));
+    mtg::graph::SceneCache scenes(profile);
     mtg::services::JudgeHost host(bus, stamp, scenes, run_id);
-    mtg::services::ServiceLoop loop(bus, stamp, "judge", 64);
+    mtg::process::ServiceLoop loop(bus, stamp, "judge", 64);
     loop.run([&] { loop.set_in_flight(host.in_flight()); });
   } catch (const std::exception& e) {
     mtg::log::error(e.what());

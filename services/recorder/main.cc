@@ -8,9 +8,9 @@
 
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 #include "services/recorder/recorder.h"
 
 int main(int argc, char** argv) {
@@ -21,16 +21,16 @@ int main(int argc, char** argv) {
   app.add_option("file", out, "event log to append to")->required();
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("recorder");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("recorder"));
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("recorder"));
     mtg::services::Recorder recorder(bus, stamp, out, run_id);
     if (recorder.repaired_bytes() > 0) {
       mtg::log::warn("cut a torn last event (" + std::to_string(recorder.repaired_bytes()) + " bytes) off " + out +
                      ": the recorder before this one was killed while writing it");
     }
-    mtg::services::ServiceLoop loop(bus, stamp, "recorder", 1, /*obeys_shutdown=*/false);
+    mtg::process::ServiceLoop loop(bus, stamp, "recorder", 1, /*obeys_shutdown=*/false);
     auto next_flush = std::chrono::steady_clock::now();
     loop.run([&] {
       if (std::chrono::steady_clock::now() < next_flush) return;

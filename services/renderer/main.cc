@@ -4,9 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/bus.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 #include "services/renderer/render_host.h"
 
 int main(int argc, char** argv) {
@@ -21,13 +21,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(16, 8192));
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("renderer");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("renderer"));
-    mtg::services::Renderer renderer(profile, options);
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("renderer"));
+    mtg::render::ImageRenderer renderer(profile, options);
     mtg::services::RenderHost host(bus, stamp, renderer, run_id);
-    mtg::services::ServiceLoop loop(bus, stamp, "renderer", 1);
+    mtg::process::ServiceLoop loop(bus, stamp, "renderer", 1);
     loop.run();
   } catch (const std::exception& e) {
     mtg::log::error(e.what());

@@ -7,26 +7,24 @@
 
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "core/render/image_renderer.h"
 #include "mtg/render_request_t.hpp"
-#include "services/renderer/renderer.h"
 
 namespace mtg::services {
 
 class RenderHost {
  public:
-  RenderHost(bus::Bus& bus, bus::HeaderStamper& stamp, Renderer& renderer, std::string run_id);
+  RenderHost(bus::Bus& bus, bus::HeaderStamper& stamp, render::ImageRenderer& renderer, std::string run_id);
   void on_request(const mtg::render_request_t& request);
   long served() const { return served_; }
 
  private:
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
-  Renderer& renderer_;
+  render::ImageRenderer& renderer_;
   std::string run_id_;
   long served_ = 0;
 };
 
-/// The bus-free request of a message.
-ImageRequest to_image_request(const mtg::render_request_t& m);
 
 }  // namespace mtg::services

@@ -2,27 +2,27 @@
 
 #include "bus/channels.h"
 #include "bus/convert.h"
+#include "bus/error_events.h"
+#include "bus/process/faults.h"
 #include "core/episode/state_json.h"
 #include "core/episode/transcript.h"
 #include "core/render/view.h"
 #include "core/tasks/phrasing.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
-#include "mtg/error_event_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/state_update_t.hpp"
-#include "services/common/faults.h"
 
 namespace mtg::services {
 
 FaultInjection FaultInjection::from_env() {
   FaultInjection f;
-  f.drop_state_step = fault_setting("drop_state");
-  f.duplicate_state_step = fault_setting("dup_state");
+  f.drop_state_step = process::fault_setting("drop_state");
+  f.duplicate_state_step = process::fault_setting("dup_state");
   return f;
 }
 
-EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
+EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache& scenes, std::string run_id,
                          FaultInjection faults, ImageOptions images)
     : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults), images_(std::move(images)),
       starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
@@ -161,15 +161,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   r.encoding = images_.encoding;
   r.state_json = episode::state_delta_to_json(g, e.state).dump();
   r.min_region_size = e.rules.min_region_size;
-  for (const render::ViewRequest& v : views) {
-    mtg::render_view_t m{};
-    m.view = render::to_string(v.view);
-    m.platform = v.platform >= 0 ? g.platforms[static_cast<std::size_t>(v.platform)].name : "";
-    m.side = static_cast<int8_t>(v.side);
-    m.item = v.object >= 0 ? g.objects[static_cast<std::size_t>(v.object)].name : "";
-    m.marks = render::to_string(v.marks);
-    r.views.push_back(std::move(m));
-  }
+  for (const render::ViewRequest& v : views) r.views.push_back(bus::to_message(g, v));
   r.n_views = static_cast<int32_t>(r.views.size());
   e.awaiting_images = true;
   e.resent = false;
@@ -228,12 +220,10 @@ void EpisodeHost::check_render_timeouts() {
 }
 
 void EpisodeHost::report_error(const Key& key, int attempt, const std::string& message) {
-  mtg::error_event_t ev{};
+  mtg::error_event_t ev =
+      bus::error_event(stamp_.sender(), bus::Severity::kFailure, "episode " + std::to_string(key.second) + ": " + message);
   ev.header = stamp_.next(key.second, attempt, "error");
   ev.header.run_id = key.first;
-  ev.source = stamp_.sender();
-  ev.severity = "error";
-  ev.message = "episode " + std::to_string(key.second) + ": " + message;
   bus_.publish(bus::kError, ev);
   log::error(ev.message);
 }

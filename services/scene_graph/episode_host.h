@@ -13,18 +13,18 @@
 #include <utility>
 
 #include "bus/bus.h"
+#include "bus/episode_join.h"
 #include "bus/header.h"
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
+#include "core/graph/scene_cache.h"
 #include "core/tasks/task.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
-#include "services/common/episode_join.h"
-#include "services/common/scene_cache.h"
 
 namespace mtg::services {
 
@@ -48,7 +48,7 @@ class EpisodeHost {
  public:
   /// Subscribes to episode starts and truths, agent actions and render results of run `run_id`
   /// ("" = every run).
-  EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, SceneCache& scenes, std::string run_id,
+  EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache& scenes, std::string run_id,
               FaultInjection faults = {}, ImageOptions images = {});
 
   void on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth);
@@ -91,12 +91,12 @@ class EpisodeHost {
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
-  SceneCache& scenes_;
+  graph::SceneCache& scenes_;
   std::string run_id_;
   FaultInjection faults_;
   ImageOptions images_;
   std::map<Key, Episode> episodes_;
-  EpisodeJoin starts_;
+  bus::EpisodeJoin starts_;
 };
 
 }  // namespace mtg::services

@@ -4,9 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include "bus/bus.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/util/log.h"
-#include "services/common/service_loop.h"
 #include "services/scene_graph/episode_host.h"
 
 int main(int argc, char** argv) {
@@ -23,14 +23,14 @@ int main(int argc, char** argv) {
   app.add_option("--render-timeout", images.timeout_s, "seconds to wait for the renderer before asking again");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("scene_graph");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp(run_id, mtg::services::sender_id("scene_graph"));
-    mtg::services::SceneCache scenes(profile);
+    mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("scene_graph"));
+    mtg::graph::SceneCache scenes(profile);
     mtg::services::EpisodeHost host(bus, stamp, scenes, run_id, mtg::services::FaultInjection::from_env(),
                                         images);
-    mtg::services::ServiceLoop loop(bus, stamp, "scene_graph", 64);
+    mtg::process::ServiceLoop loop(bus, stamp, "scene_graph", 64);
     loop.run([&] {
       loop.set_in_flight(host.in_flight());
       host.check_render_timeouts();

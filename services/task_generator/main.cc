@@ -8,6 +8,7 @@
 
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/process/service_loop.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
@@ -15,7 +16,6 @@
 #include "core/util/log.h"
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
-#include "services/common/service_loop.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"mtg task-generator service"};
@@ -26,11 +26,11 @@ int main(int argc, char** argv) {
   app.add_option("--profile", profile, "scene profile");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("task_generator");
-  mtg::services::install_stop_signals();
+  mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
-    mtg::bus::HeaderStamper stamp("", mtg::services::sender_id("task_generator"));
-    mtg::services::ServiceLoop loop(bus, stamp, "task_generator");
+    mtg::bus::HeaderStamper stamp("", mtg::process::sender_id("task_generator"));
+    mtg::process::ServiceLoop loop(bus, stamp, "task_generator");
     std::deque<mtg::task_set_request_t> queue;
     bus.subscribe<mtg::task_set_request_t>(mtg::bus::kTaskSetRequest,
                                            [&](const std::string&, const mtg::task_set_request_t& r) { queue.push_back(r); });

@@ -433,7 +433,7 @@ TEST_F(MultiHostTest, ModelAgentsOnTwoHostsShareTheCoordinatorsRateGovernor) {
   std::set<std::string> used;
   for (const auto& r : rows) {
     EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
-    EXPECT_GT(r.images_sent, 0);
+    EXPECT_GT(r.usage.images_sent, 0);
     used.insert(r.worker);
   }
   EXPECT_EQ(used.size(), 2u);

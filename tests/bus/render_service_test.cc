@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "bus/bus.h"
+#include "bus/header.h"
 #include "bus/channels.h"
 #include "bus/recording.h"
 #include "bus/url.h"
@@ -42,7 +43,7 @@ class RenderServiceTest : public ::testing::Test {
 
   mtg::render_request_t request(std::int64_t id, mtg::render_view_t view) const {
     mtg::render_request_t r{};
-    r.header.episode_id = 7;
+    r.header = bus::HeaderStamper("", "render_service_test").next(7);  // a header of this schema
     r.request_id = id;
     r.scene = "render_room";
     r.data_dir = fx_.root().string();

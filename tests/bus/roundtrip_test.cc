@@ -3,10 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <optional>
 
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "bus/recording.h"
 #include "bus/url.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
@@ -263,6 +267,49 @@ TEST(BusHeader, SequenceTrackerForgetsOneRunsEpisodeOnly) {
   tracker.forget_episode("run-a", 1);
   EXPECT_EQ(tracker.observe(b.next(1, 0)), SequenceTracker::Verdict::kInOrder);
   EXPECT_EQ(tracker.observe(a.next(1, 1)), SequenceTracker::Verdict::kInOrder);  // a new attempt, from 0
+}
+
+// A process of another mtg version on the same bus: its typed messages may decode and mean
+// something else, so they are dropped and counted; and a recording of another schema is refused
+// with one line rather than read wrongly.
+TEST(BusHeader, AnotherSchemaVersionIsDroppedLiveAndRefusedInARecording) {
+  Bus bus("memq://");
+  std::vector<std::int64_t> got;
+  bus.subscribe<mtg::heartbeat_t>("T_HB", [&](const std::string&, const mtg::heartbeat_t& m) { got.push_back(m.tick); });
+  HeaderStamper stamp("run", "other:0");
+  mtg::heartbeat_t hb{};
+  hb.header = stamp.next();
+  hb.tick = 1;
+  bus.publish("T_HB", hb);
+  hb.header.schema_version = kSchemaVersion + 1;
+  hb.tick = 2;
+  bus.publish("T_HB", hb);
+  while (bus.handle_once(0)) {
+  }
+  EXPECT_EQ(got, std::vector<std::int64_t>{1});
+  EXPECT_EQ(bus.foreign_schema(), 1);
+
+  const auto dir = std::filesystem::temp_directory_path() / ("mtg-schema-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    lcm::LogFile log((dir / "bus.lcmlog").string(), "w");
+    const std::vector<std::uint8_t> bytes = encode(hb);
+    lcm::LogEvent ev{};
+    ev.eventnum = 0;
+    ev.timestamp = 0;
+    ev.channel = "MTG_HEARTBEAT";
+    ev.datalen = static_cast<int32_t>(bytes.size());
+    ev.data = const_cast<std::uint8_t*>(bytes.data());
+    ASSERT_EQ(log.writeEvent(&ev), 0);
+  }
+  try {
+    for_each_recorded_event(dir, [](const lcm::LogEvent&) { ADD_FAILURE() << "an event of another schema was read"; });
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("schema version " + std::to_string(kSchemaVersion + 1)), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -82,11 +82,11 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
   ASSERT_EQ(rows.size(), 9u);
   for (const auto& r : rows) {
     EXPECT_TRUE(r.success) << r.agent << " " << r.task_id << ": " << r.detail;
-    EXPECT_EQ(r.model_calls, r.steps) << "one call per step";
-    EXPECT_EQ(r.cache_hits, 0);
-    EXPECT_GT(r.images_sent, 0);
-    EXPECT_GT(r.input_tokens, 0);
-    EXPECT_THAT(r.prompt_version, ::testing::StartsWith("v2+"));
+    EXPECT_EQ(r.usage.model_calls, r.steps) << "one call per step";
+    EXPECT_EQ(r.usage.cache_hits, 0);
+    EXPECT_GT(r.usage.images_sent, 0);
+    EXPECT_GT(r.usage.input_tokens, 0);
+    EXPECT_THAT(r.usage.prompt_version, ::testing::StartsWith("v2+"));
   }
   const auto seen = server_.requests();
   std::set<std::string> providers;
@@ -116,10 +116,10 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
   ASSERT_EQ(again.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     EXPECT_EQ(orchestrator::verdict_fingerprint(again[i]), orchestrator::verdict_fingerprint(rows[i]));
-    EXPECT_EQ(again[i].cache_hits, again[i].model_calls);
-    EXPECT_EQ(again[i].input_tokens, rows[i].input_tokens);
-    EXPECT_DOUBLE_EQ(again[i].cost_usd, rows[i].cost_usd);
-    EXPECT_EQ(again[i].spent_usd, 0.0);
+    EXPECT_EQ(again[i].usage.cache_hits, again[i].usage.model_calls);
+    EXPECT_EQ(again[i].usage.input_tokens, rows[i].usage.input_tokens);
+    EXPECT_DOUBLE_EQ(again[i].usage.cost_usd, rows[i].usage.cost_usd);
+    EXPECT_EQ(again[i].usage.spent_usd, 0.0);
   }
 }
 

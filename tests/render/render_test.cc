@@ -11,9 +11,9 @@
 
 #include "core/episode/rules.h"
 #include "core/episode/state_json.h"
+#include "core/render/image_renderer.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
-#include "services/renderer/renderer.h"
 #include "tests/support/golden_image.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/shipped_data.h"
@@ -35,7 +35,7 @@ int top_of(const graph::SceneGraph& g, const std::string& owner_template) {
   return p;
 }
 
-cv::Mat decode(const services::EncodedImage& e) {
+cv::Mat decode(const render::EncodedImage& e) {
   return cv::imdecode(cv::Mat(1, static_cast<int>(e.bytes.size()), CV_8UC1, const_cast<std::uint8_t*>(e.bytes.data())),
                       cv::IMREAD_COLOR);
 }
@@ -45,7 +45,7 @@ class RenderTest : public ::testing::Test {
   static void SetUpTestSuite() {
     fx_ = new testing::FixtureDataset();
     built_ = new testing::BuiltScene(testing::render_room(*fx_));
-    renderer_ = new services::Renderer("none");
+    renderer_ = new render::ImageRenderer("none");
   }
   static void TearDownTestSuite() {
     delete renderer_;
@@ -66,8 +66,8 @@ class RenderTest : public ::testing::Test {
     return s;
   }
 
-  services::ImageRequest request(const episode::WorldState& s, std::vector<services::ViewSpec> views) const {
-    services::ImageRequest r;
+  render::ImageRequest request(const episode::WorldState& s, std::vector<render::ViewSpec> views) const {
+    render::ImageRequest r;
     r.scene = "render_room";
     r.data_dir = fx_->root().string();
     r.state_json = episode::state_delta_to_json(g(), s).dump();
@@ -75,8 +75,8 @@ class RenderTest : public ::testing::Test {
     return r;
   }
 
-  services::ViewSpec platform_view(int p, const std::string& marks) const {
-    return {"platform", g().platforms[static_cast<std::size_t>(p)].name, -1, "", marks};
+  render::ViewSpec platform_view(int p, render::MarkKind marks) const {
+    return {render::ViewKind::kPlatform, g().platforms[static_cast<std::size_t>(p)].name, -1, "", marks};
   }
 
   // Renders a plan with the renderer's GPU copy of the fixture.
@@ -87,16 +87,16 @@ class RenderTest : public ::testing::Test {
 
   static testing::FixtureDataset* fx_;
   static testing::BuiltScene* built_;
-  static services::Renderer* renderer_;
+  static render::ImageRenderer* renderer_;
 };
 
 testing::FixtureDataset* RenderTest::fx_ = nullptr;
 testing::BuiltScene* RenderTest::built_ = nullptr;
-services::Renderer* RenderTest::renderer_ = nullptr;
+render::ImageRenderer* RenderTest::renderer_ = nullptr;
 
 TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
   episode::WorldState s = at(table());
-  auto reply = renderer_->render(request(s, {platform_view(table(), "items")}));
+  auto reply = renderer_->render(request(s, {platform_view(table(), render::MarkKind::kItems)}));
   ASSERT_EQ(reply.images.size(), 2u);
   EXPECT_EQ(reply.images[0].role, "view");
   EXPECT_EQ(reply.images[1].role, "view_marked");
@@ -108,9 +108,10 @@ TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
   s.at_platform = empty_table();
   s.side = g().platforms[static_cast<std::size_t>(empty_table())].default_side;
   s.phase = episode::Phase::kPlacing;
-  reply = renderer_->render(request(s, {platform_view(empty_table(), "targets"),
-                                        {"item", "", -1, g().objects[static_cast<std::size_t>(s.held)].name, ""},
-                                        {"topdown", "", -1, "", "labels"}}));
+  reply = renderer_->render(request(s, {platform_view(empty_table(), render::MarkKind::kTargets),
+                                        {render::ViewKind::kItem, "", -1, g().objects[static_cast<std::size_t>(s.held)].name,
+                                         render::MarkKind::kNone},
+                                        {render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels}}));
   ASSERT_EQ(reply.images.size(), 5u);
   EXPECT_EQ(reply.images[2].role, "item");
   EXPECT_EQ(reply.images[4].role, "topdown_marked");
@@ -235,7 +236,7 @@ TEST_F(RenderTest, APickedItemVanishesAndAPlacedItemAppearsWhereTheStateSays) {
 
 TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
   const episode::WorldState s = at(table());
-  auto expect_error = [&](services::ImageRequest req, const std::string& what) {
+  auto expect_error = [&](render::ImageRequest req, const std::string& what) {
     try {
       renderer_->render(req);
       ADD_FAILURE() << "no error for " << what;
@@ -244,21 +245,21 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
   };
-  expect_error(request(s, {{"platform", "no_such_platform", -1, "", "items"}}), "no platform 'no_such_platform'");
-  auto zero = request(s, {platform_view(table(), "items")});
+  expect_error(request(s, {{render::ViewKind::kPlatform, "no_such_platform", -1, "", render::MarkKind::kItems}}), "no platform 'no_such_platform'");
+  auto zero = request(s, {platform_view(table(), render::MarkKind::kItems)});
   zero.height = 0;
   expect_error(zero, "image size 640x0");
   const int ghost = object_of(g(), "toy_ghost");
-  expect_error(request(s, {{"item", "", -1, g().objects[static_cast<std::size_t>(ghost)].name, ""}}),
+  expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[static_cast<std::size_t>(ghost)].name, render::MarkKind::kNone}}),
                "has no mesh to draw");
-  auto state = request(s, {platform_view(table(), "items")});
+  auto state = request(s, {platform_view(table(), render::MarkKind::kItems)});
   state.state_json = R"({"held": "nobody"})";
   expect_error(state, "'held' names no object");
-  auto encoding = request(s, {platform_view(table(), "items")});
+  auto encoding = request(s, {platform_view(table(), render::MarkKind::kItems)});
   encoding.encoding = "bmp";
   expect_error(encoding, "unknown encoding 'bmp'");
   // ... and the next good request is served as usual.
-  const auto reply = renderer_->render(request(s, {platform_view(table(), "items")}));
+  const auto reply = renderer_->render(request(s, {platform_view(table(), render::MarkKind::kItems)}));
   ASSERT_EQ(reply.images.size(), 2u);
   EXPECT_EQ(decode(reply.images[0]).cols, 640);
   EXPECT_GT(reply.triangles, 0);
@@ -266,15 +267,15 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
 
 TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) {
   MTG_REQUIRE_SHIPPED_DATA();
-  services::Renderer renderer;
+  render::ImageRenderer renderer;
   const std::string data = testing::shipped_dataset()->root.string();
   const graph::SceneGraph& g = renderer.scenes().load("apt_0", data).graph;
   const int shelf = g.find_platform("wall_cabinet_02_30_platform_3");
   ASSERT_GE(shelf, 0);
-  services::ImageRequest req;
+  render::ImageRequest req;
   req.scene = "apt_0";
   req.data_dir = data;
-  req.views = {{"platform", "wall_cabinet_02_30_platform_3", -1, "", "items"}};
+  req.views = {{render::ViewKind::kPlatform, "wall_cabinet_02_30_platform_3", -1, "", render::MarkKind::kItems}};
   const auto reply = renderer.render(req);
   ASSERT_EQ(reply.images.size(), 2u);
   EXPECT_EQ(testing::compare_golden_image("render/apt_0_wall_cabinet_shelf_marked.png", decode(reply.images[1])), "");

@@ -13,14 +13,14 @@
 #include <stdexcept>
 #include <thread>
 
-#include "core/util/subprocess.h"
+#include "bus/process/subprocess.h"
 
 namespace mtg::testing {
 
 std::string bin(const std::string& name) { return std::string(MTG_BIN_DIR) + "/" + name; }
 
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_file)
-    : pid_(spawn_process(argv, log_file, SIGKILL)) {}  // SIGKILL: never outlive the test
+    : pid_(process::spawn_process(argv, log_file, SIGKILL)) {}  // SIGKILL: never outlive the test
 
 ChildProcess::~ChildProcess() {
   if (!reaped_) kill(SIGKILL);

@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
   for (const auto& r : rows) {
     success += r.success;
     provider_errors += r.cause == "provider_error";
-    calls_made += r.model_calls;
+    calls_made += r.usage.model_calls;
   }
   std::printf("  governor: %d episodes, %d in flight, limit %d requests/min (server enforces the same):\n",
               static_cast<int>(rows.size()), parallel, rpm);
@@ -185,8 +185,8 @@ int main(int argc, char** argv) {
   const auto again = mtg::orchestrator::read_results(fs::path(work) / "rerun" / "results.sqlite");
   int hits = 0, rerun_calls = 0, same = 0;
   for (std::size_t i = 0; i < again.size(); ++i) {
-    hits += again[i].cache_hits;
-    rerun_calls += again[i].model_calls;
+    hits += again[i].usage.cache_hits;
+    rerun_calls += again[i].usage.model_calls;
     same += i < rows.size() &&
             mtg::orchestrator::verdict_fingerprint(again[i]) == mtg::orchestrator::verdict_fingerprint(rows[i]);
   }

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-namespace mtg {
+namespace mtg::process {
 
 /// Starts argv[0] (an absolute path) with `argv`; stdout and stderr are appended to `log_file`
 /// ("" = inherited). Returns the child's pid; the caller reaps it.
 /// @throws mtg::Error if the process cannot be forked. A failed exec exits the child with 127.
 pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal);
 
-}  // namespace mtg
+}  // namespace mtg::process

@@ -1,10 +1,10 @@
-#include "services/common/faults.h"
+#include "bus/process/faults.h"
 
 #include <cstdlib>
 #include <sstream>
 #include <string>
 
-namespace mtg::services {
+namespace mtg::process {
 
 int fault_setting(std::string_view name) {
   const char* env = std::getenv("MTG_FAULTS");
@@ -21,4 +21,4 @@ int fault_setting(std::string_view name) {
   return value;
 }
 
-}  // namespace mtg::services
+}  // namespace mtg::process

@@ -1,39 +1,13 @@
-#include "services/common/service_loop.h"
-
-#include <unistd.h>
+#include "bus/process/service_loop.h"
 
 #include <chrono>
-#include <csignal>
 
 #include "bus/channels.h"
+#include "bus/process/heartbeat.h"
 #include "core/util/log.h"
-#include "mtg/heartbeat_t.hpp"
 #include "mtg/run_control_t.hpp"
 
-namespace mtg::services {
-namespace {
-
-// Signal handlers can only touch a lock-free flag; this is the one process-wide state.
-volatile std::sig_atomic_t g_stop_signal = 0;
-
-void on_signal(int) { g_stop_signal = 1; }
-
-}  // namespace
-
-std::string host_name() {
-  char buf[256] = {0};
-  if (gethostname(buf, sizeof(buf) - 1) != 0) return "unknown";
-  return buf;
-}
-
-void install_stop_signals() {
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-}
-
-std::string sender_id(const std::string& role) {
-  return role + ":" + host_name() + ":" + std::to_string(::getpid());
-}
+namespace mtg::process {
 
 ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string role, int capacity,
                          bool obeys_shutdown)
@@ -50,20 +24,13 @@ ServiceLoop::ServiceLoop(bus::Bus& bus, bus::HeaderStamper& stamp, std::string r
   });
 }
 
-bool stop_signal_received() { return g_stop_signal != 0; }
-
 bool ServiceLoop::stopping() const { return stopping_ || stop_signal_received(); }
 
 void ServiceLoop::heartbeat() {
-  mtg::heartbeat_t hb{};
+  const HeartbeatStatus status =
+      stopping() ? HeartbeatStatus::kDraining : (in_flight_ > 0 ? HeartbeatStatus::kBusy : HeartbeatStatus::kReady);
+  mtg::heartbeat_t hb = heartbeat_message({role_, host_name(), capacity_, in_flight_, tick_++, status});
   hb.header = stamp_.next(-1, 0, "heartbeat");
-  hb.role = role_;
-  hb.host = host_name();
-  hb.pid = static_cast<int32_t>(::getpid());
-  hb.capacity = capacity_;
-  hb.in_flight = in_flight_;
-  hb.tick = tick_++;
-  hb.status = stopping() ? "draining" : (in_flight_ > 0 ? "busy" : "ready");
   bus_.publish(bus::kHeartbeat, hb);
 }
 
@@ -83,4 +50,4 @@ void ServiceLoop::run(const std::function<void()>& idle) {
   heartbeat();  // a last "draining" beat
 }
 
-}  // namespace mtg::services
+}  // namespace mtg::process

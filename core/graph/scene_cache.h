@@ -9,7 +9,7 @@
 #include "core/scene/mesh.h"
 #include "core/scene/scene.h"
 
-namespace mtg::services {
+namespace mtg::graph {
 
 class SceneCache {
  public:
@@ -36,4 +36,4 @@ class SceneCache {
   std::map<std::string, std::unique_ptr<Entry>> entries_;
 };
 
-}  // namespace mtg::services
+}  // namespace mtg::graph

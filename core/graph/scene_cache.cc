@@ -1,10 +1,10 @@
-#include "services/common/scene_cache.h"
+#include "core/graph/scene_cache.h"
 
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/util/log.h"
 
-namespace mtg::services {
+namespace mtg::graph {
 
 const SceneCache::Entry& SceneCache::load(const std::string& scene_name, const std::string& data_dir) {
   const std::string key = data_dir + "|" + scene_name;
@@ -24,4 +24,4 @@ const SceneCache::Entry& SceneCache::load(const std::string& scene_name, const s
   return *it->second;
 }
 
-}  // namespace mtg::services
+}  // namespace mtg::graph

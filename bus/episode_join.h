@@ -16,7 +16,7 @@
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
 
-namespace mtg::services {
+namespace mtg::bus {
 
 class EpisodeJoin {
  public:
@@ -46,4 +46,4 @@ class EpisodeJoin {
   std::map<std::pair<std::string, std::int64_t>, int> started_;  // last attempt handed out
 };
 
-}  // namespace mtg::services
+}  // namespace mtg::bus

@@ -4,9 +4,9 @@
 
 #include <string_view>
 
-namespace mtg::services {
+namespace mtg::process {
 
 /// The number given for `name` in $MTG_FAULTS, or -1 when it is not named.
 int fault_setting(std::string_view name);
 
-}  // namespace mtg::services
+}  // namespace mtg::process

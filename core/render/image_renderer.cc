@@ -1,4 +1,4 @@
-#include "services/renderer/renderer.h"
+#include "core/render/image_renderer.h"
 
 #include "core/episode/state_json.h"
 #include "core/render/image_codec.h"
@@ -6,15 +6,15 @@
 #include "core/util/error.h"
 #include "core/util/log.h"
 
-namespace mtg::services {
+namespace mtg::render {
 namespace {
 
-const char* role_of(render::ViewKind kind) {
+const char* role_of(ViewKind kind) {
   switch (kind) {
-    case render::ViewKind::kPlatform: return "view";
-    case render::ViewKind::kItem: return "item";
-    case render::ViewKind::kFocus: return "focus";
-    case render::ViewKind::kTopdown: return "topdown";
+    case ViewKind::kPlatform: return "view";
+    case ViewKind::kItem: return "item";
+    case ViewKind::kFocus: return "focus";
+    case ViewKind::kTopdown: return "topdown";
   }
   return "view";
 }
@@ -25,32 +25,30 @@ EncodedImage encode(const cv::Mat& image, const std::string& role, const std::st
   out.encoding = encoding == "jpg" ? "jpeg" : encoding;
   out.width = image.cols;
   out.height = image.rows;
-  out.bytes = render::encode_image(image, encoding);
+  out.bytes = encode_image(image, encoding);
   return out;
 }
 
 }  // namespace
 
-Renderer::Renderer(std::string profile, render::RendererOptions options)
+ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
     : scenes_(std::move(profile), /*with_textures=*/true), options_(options) {
   log::info("renderer: " + context_.description());
 }
 
-render::SceneRenderer& Renderer::scene_renderer(const SceneCache::Entry& entry) {
+SceneRenderer& ImageRenderer::scene_renderer(const graph::SceneCache::Entry& entry) {
   auto& slot = renderers_[entry.key];
-  if (!slot) slot = std::make_unique<render::SceneRenderer>(context_, entry.scene, entry.graph, options_);
+  if (!slot) slot = std::make_unique<SceneRenderer>(context_, entry.scene, entry.graph, options_);
   return *slot;
 }
 
-ImageReply Renderer::render(const ImageRequest& request) {
+ImageReply ImageRenderer::render(const ImageRequest& request) {
   // Everything that can be checked without the scene first, so a bad request costs nothing.
-  render::require_image_size(request.width, request.height);
-  render::require_encoding(request.encoding);
+  require_image_size(request.width, request.height);
+  require_encoding(request.encoding);
   if (request.views.empty()) throw Error("render: the request asks for no views");
-  std::vector<std::pair<render::ViewKind, render::MarkKind>> kinds;
-  for (const ViewSpec& v : request.views) kinds.emplace_back(render::parse_view_kind(v.view), render::parse_mark_kind(v.marks));
 
-  const SceneCache::Entry& entry = scenes_.load(request.scene, request.data_dir);
+  const graph::SceneCache::Entry& entry = scenes_.load(request.scene, request.data_dir);
   const graph::SceneGraph& g = entry.graph;
   nlohmann::json delta;
   if (!request.state_json.empty()) {
@@ -58,28 +56,27 @@ ImageReply Renderer::render(const ImageRequest& request) {
     if (delta.is_discarded()) throw Error("render: state_json is not valid JSON");
   }
   const episode::WorldState state = episode::state_from_delta_json(g, delta);
-  render::SceneRenderer& renderer = scene_renderer(entry);
+  SceneRenderer& renderer = scene_renderer(entry);
 
   ImageReply reply;
-  for (std::size_t k = 0; k < request.views.size(); ++k) {
-    const ViewSpec& v = request.views[k];
-    render::ViewRequest r;
-    r.view = kinds[k].first;
-    r.marks = kinds[k].second;
+  for (const ViewSpec& v : request.views) {
+    ViewRequest r;
+    r.view = v.view;
+    r.marks = v.marks;
     r.width = request.width;
     r.height = request.height;
     r.side = v.side;
     r.min_region_size = request.min_region_size;
-    if (r.view == render::ViewKind::kPlatform) {
+    if (r.view == ViewKind::kPlatform) {
       r.platform = g.find_platform(v.platform);
       if (r.platform < 0) throw Error("render: scene " + request.scene + " has no platform '" + v.platform + "'");
     }
-    if (r.view == render::ViewKind::kItem || r.view == render::ViewKind::kFocus) {
+    if (r.view == ViewKind::kItem || r.view == ViewKind::kFocus) {
       r.object = g.find_object(v.item);
       if (r.object < 0) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }
-    const render::ViewPlan plan = render::plan_view(g, state, r);
-    const render::ViewImages images = render::draw_view(renderer, g, state, plan, !v.marks.empty());
+    const ViewPlan plan = plan_view(g, state, r);
+    const ViewImages images = draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone);
     reply.triangles += images.triangles;
     const std::string role = role_of(r.view);
     reply.images.push_back(encode(images.plain, role, request.encoding));
@@ -88,4 +85,4 @@ ImageReply Renderer::render(const ImageRequest& request) {
   return reply;
 }
 
-}  // namespace mtg::services
+}  // namespace mtg::render

@@ -1,4 +1,4 @@
-#include "core/util/subprocess.h"
+#include "bus/process/subprocess.h"
 
 #include <fcntl.h>
 #include <sys/prctl.h>
@@ -6,7 +6,7 @@
 
 #include "core/util/error.h"
 
-namespace mtg {
+namespace mtg::process {
 
 pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal) {
   if (argv.empty()) throw Error("spawn_process: no program given");
@@ -34,4 +34,4 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log
   return pid;
 }
 
-}  // namespace mtg
+}  // namespace mtg::process

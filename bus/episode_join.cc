@@ -1,8 +1,8 @@
-#include "services/common/episode_join.h"
+#include "bus/episode_join.h"
 
 #include "bus/channels.h"
 
-namespace mtg::services {
+namespace mtg::bus {
 
 EpisodeJoin::EpisodeJoin(bus::Bus& bus, std::string run_id, Ready ready)
     : run_id_(std::move(run_id)), ready_(std::move(ready)) {
@@ -45,4 +45,4 @@ void EpisodeJoin::on_truth(const mtg::episode_truth_t& truth) {
   complete({truth.header.run_id, truth.header.episode_id});
 }
 
-}  // namespace mtg::services
+}  // namespace mtg::bus

@@ -9,8 +9,10 @@
 
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "bus/process/identity.h"
+#include "bus/process/stop_signals.h"
 
-namespace mtg::services {
+namespace mtg::process {
 
 class ServiceLoop {
  public:
@@ -38,15 +40,4 @@ class ServiceLoop {
   bool stopping_ = false;
 };
 
-/// Installs SIGINT/SIGTERM handlers that make ServiceLoop::stopping() true (once per process).
-void install_stop_signals();
-/// Whether SIGINT/SIGTERM arrived since install_stop_signals().
-bool stop_signal_received();
-
-/// This machine's host name ("unknown" if it has none).
-std::string host_name();
-
-/// "<role>:<host>:<pid>", unique per process.
-std::string sender_id(const std::string& role);
-
-}  // namespace mtg::services
+}  // namespace mtg::process

@@ -1,0 +1,48 @@
+#pragma once
+// What is asked of the renderer and what it answers, without GL: the renderer process converts
+// render_request_t to these (bus/convert) and `mtg render` builds them from its options. Objects
+// and platforms are named, because the asker's graph is not the renderer's; the names are resolved
+// against the renderer's own graph of the scene.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/render/view.h"
+
+namespace mtg::render {
+
+/// One view asked for by name (ViewRequest holds graph indices instead).
+struct ViewSpec {
+  ViewKind view = ViewKind::kPlatform;
+  std::string platform;  // platform views
+  int side = -1;
+  std::string item;      // item and focus views
+  MarkKind marks = MarkKind::kNone;  // kNone: no marked copy
+};
+
+struct ImageRequest {
+  std::string scene;
+  std::string data_dir;
+  int width = 640;
+  int height = 480;
+  std::string encoding = "png";
+  std::string state_json;        // "" = the scene as the graph found it
+  double min_region_size = 0.03;
+  std::vector<ViewSpec> views;
+};
+
+struct EncodedImage {
+  std::string role;  // view, view_marked, item, topdown, topdown_marked
+  std::string encoding;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> bytes;
+};
+
+struct ImageReply {
+  std::vector<EncodedImage> images;
+  std::int64_t triangles = 0;
+};
+
+}  // namespace mtg::render
