@@ -29,6 +29,12 @@ std::string fmt_cm(double metres) {
   return buf;
 }
 
+std::string fmt_mm(double metres) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g mm", metres * 1000.0);
+  return buf;
+}
+
 double yaw_of(const Eigen::Isometry3d& X) {
   const Eigen::Vector3d x = X.linear().col(0);
   return std::atan2(x.y(), x.x());
@@ -121,135 +127,169 @@ int find_support(int object, const ObjectGeometry& geometry, const std::vector<D
   return -1;
 }
 
-}  // namespace
+// Tolerances of the build that are not scene options (they are not tuned per dataset).
+constexpr double kCeilingGap = 0.005;          // a surface counts as above a platform from 5 mm up
+constexpr double kInterpenetration = 0.005;    // settled items may touch, not overlap by more than 5 mm
+constexpr double kUsefulClearance = 0.1;       // an empty platform is worth visiting with 10 cm above it
+constexpr double kCleanArea = 1e-4;            // polygon clean-up: slivers under 1 cm², ...
+constexpr double kCleanDistance = 1e-3;        // ... and vertices closer than 1 mm
+constexpr double kAboveTolerance = 1e-3;       // an object must rise 1 mm above a platform to cover it
 
-SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& options,
-                             BuildTimings* timings) {
-  Stopwatch total, watch;
-  BuildTimings t;
-  SceneGraph g;
-  g.scene = scene.name;
-  const std::size_t n = scene.objects.size();
-  g.objects.resize(n);
+// The build's phases, in order, over shared state (the graph being built and what it needs).
+class GraphBuilder {
+ public:
+  GraphBuilder(const scene::Scene& scene, const GraphOptions& options) : scene_(scene), options_(options) {}
 
-  std::vector<ObjectGeometry> geo(n);
-  for (std::size_t i = 0; i < n; ++i) geo[i] = object_geometry(scene.objects[i]);
-  classify(scene, geo, options, g);
-  t.geometry = watch.elapsed_ms();
+  SceneGraph build(BuildTimings& t) {
+    Stopwatch total, watch;
+    measure_and_classify();
+    t.geometry = watch.elapsed_ms();
+    watch.reset();
+    collect_platform_drafts();
+    t.platforms = watch.elapsed_ms();
+    watch.reset();
+    settle_bottom_up();
+    t.settle = watch.elapsed_ms();
+    make_platforms();
+    assign_headings();
+    frame_platforms();
+    watch.reset();
+    measure_clearance();
+    t.clearance = watch.elapsed_ms();
+    watch.reset();
+    check_interpenetration();
+    t.overlap = watch.elapsed_ms();
+    watch.reset();
+    find_standing_areas();
+    t.standing = watch.elapsed_ms();
+    t.total = total.elapsed_ms();
+    return std::move(g_);
+  }
+
+ private:
+  std::size_t size() const { return scene_.objects.size(); }
+
+  // Geometry in the world, classification, and whatever stands on the floor moved to z = 0.
+  void measure_and_classify() {
+    g_.scene = scene_.name;
+    g_.objects.resize(size());
+    geo_.resize(size());
+    for (std::size_t i = 0; i < size(); ++i) geo_[i] = object_geometry(scene_.objects[i]);
+    classify(scene_, geo_, options_, g_);
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (g_.objects[i].kind != ObjectKind::kUnsupported) settle(i, -geo_[i].bottom);
+    }
+  }
 
   // Moves object i (its geometry and its pose) up or down by dz.
-  auto settle = [&](std::size_t i, double dz) {
-    GraphObject& o = g.objects[i];
-    translate(geo[i], Eigen::Vector3d(0, 0, dz));
+  void settle(std::size_t i, double dz) {
+    GraphObject& o = g_.objects[i];
+    translate(geo_[i], Eigen::Vector3d(0, 0, dz));
     o.X_WO.translation().z() += dz;
     o.settle_dz = dz;
-    o.bottom = geo[i].bottom;
-    o.top = geo[i].top;
-  };
-  // Whatever stands on the floor drops (or rises) to z = 0.
-  for (std::size_t i = 0; i < n; ++i) {
-    if (g.objects[i].kind != ObjectKind::kUnsupported) settle(i, -geo[i].bottom);
+    o.bottom = geo_[i].bottom;
+    o.top = geo_[i].top;
   }
 
-  // Furniture platforms (candidates; declared-receptacle objects keep reserves).
-  watch.reset();
-  std::vector<Draft> drafts;
   // Furniture platforms are active (declared-receptacle furniture keeps reserves); surfaces of
   // items and scenery are reserves that only become platforms when something rests on them.
-  auto add_drafts = [&](std::size_t i, bool furniture) {
-    for (auto& c : platform_candidates(scene.objects[i], g.objects[i].X_WO, geo[i], options,
-                                      g.warnings)) {
-      drafts.push_back({static_cast<int>(i), std::move(c.surface),
-                        furniture ? std::move(c.source) : std::string("mesh:supports-item"),
-                        furniture && c.active});
+  void add_drafts(std::size_t i, bool furniture) {
+    for (auto& c : platform_candidates(scene_.objects[i], g_.objects[i].X_WO, geo_[i], options_, g_.warnings)) {
+      drafts_.push_back({static_cast<int>(i), std::move(c.surface),
+                         furniture ? std::move(c.source) : std::string("mesh:supports-item"), furniture && c.active});
     }
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (g.objects[i].kind == ObjectKind::kFurniture) add_drafts(i, true);
-    if (g.objects[i].kind == ObjectKind::kFixed) add_drafts(i, false);
   }
-  t.platforms = watch.elapsed_ms();
+
+  void collect_platform_drafts() {
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (g_.objects[i].kind == ObjectKind::kFurniture) add_drafts(i, true);
+      if (g_.objects[i].kind == ObjectKind::kFixed) add_drafts(i, false);
+    }
+  }
 
   // Settle everything else bottom-up: each object drops onto the highest platform below it
   // that supports its footprint; once settled, its own surfaces can support what lies above.
   // What rests on nothing is fixed to the structure (wall-mounted furniture or scenery) unless
   // it is a movable object: then it is reported.
-  watch.reset();
-  std::vector<int> pending;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (g.objects[i].kind == ObjectKind::kUnsupported && geo[i].has_geometry()) {
-      pending.push_back(static_cast<int>(i));
-    }
-  }
-  std::stable_sort(pending.begin(), pending.end(), [&](int a, int b) {
-    return geo[static_cast<size_t>(a)].bottom < geo[static_cast<size_t>(b)].bottom;
-  });
-  std::vector<int> parent_draft(n, -1);
-  int far_drops = 0;
-  double max_drop = 0.0;
-  for (const int oi : pending) {
-    const auto i = static_cast<std::size_t>(oi);
-    GraphObject& o = g.objects[i];
-    const bool falls = !scene.objects[i].articulated && scene.objects[i].motion != scene::MotionType::kStatic;
-    // Fixed objects (STATIC, articulated) do not fall: they attach only within the tolerance.
-    GraphOptions search = options;
-    if (!falls) search.max_settle_drop = options.contact_tolerance;
-    const int d = find_support(oi, geo[i], drafts, search);
-    if (d < 0) {
-      if (o.movable) {
-        o.note = "rests on no platform";
-        g.warnings.push_back("object " + o.name + " cannot be placed: no platform within " +
-                             fmt_cm(options.max_settle_drop) + " below it supports it");
-      } else if (o.excluded) {
-        o.kind = ObjectKind::kFixed;
-        o.note = "scenery fixed to the structure (excluded by scene profile " +
-                 options.profile_name + ")";
-        add_drafts(i, false);
-      } else {
-        o.kind = ObjectKind::kFurniture;
-        o.note = "fixed to the structure (wall-mounted)";
-        add_drafts(i, true);
+  void settle_bottom_up() {
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (g_.objects[i].kind == ObjectKind::kUnsupported && geo_[i].has_geometry()) {
+        pending_.push_back(static_cast<int>(i));
       }
-      continue;
     }
-    Draft& support = drafts[static_cast<std::size_t>(d)];
-    support.active = true;
-    o.kind = o.movable ? ObjectKind::kItem : ObjectKind::kFixed;
-    if (o.excluded) o.note = "scenery (excluded by scene profile " + options.profile_name + ")";
-    parent_draft[i] = d;
-    const double dz = support.surface.height - geo[i].bottom;
-    settle(i, dz);
-    if (std::abs(dz) > options.contact_tolerance) {
-      ++far_drops;
-      max_drop = std::max(max_drop, std::abs(dz));
-      o.note += std::string(o.note.empty() ? "" : "; ") + "settled " + fmt_cm(dz) +
-                " (beyond the " + fmt_cm(options.contact_tolerance) + " contact tolerance)";
+    std::stable_sort(pending_.begin(), pending_.end(), [&](int a, int b) {
+      return geo_[static_cast<size_t>(a)].bottom < geo_[static_cast<size_t>(b)].bottom;
+    });
+    parent_draft_.assign(size(), -1);
+    int far_drops = 0;
+    double max_drop = 0.0;
+    for (const int oi : pending_) {
+      const auto i = static_cast<std::size_t>(oi);
+      GraphObject& o = g_.objects[i];
+      const bool falls = !scene_.objects[i].articulated && scene_.objects[i].motion != scene::MotionType::kStatic;
+      // Fixed objects (STATIC, articulated) do not fall: they attach only within the tolerance.
+      GraphOptions search = options_;
+      if (!falls) search.max_settle_drop = options_.contact_tolerance;
+      const int d = find_support(oi, geo_[i], drafts_, search);
+      if (d < 0) {
+        rests_on_nothing(i);
+        continue;
+      }
+      Draft& support = drafts_[static_cast<std::size_t>(d)];
+      support.active = true;
+      o.kind = o.movable ? ObjectKind::kItem : ObjectKind::kFixed;
+      if (o.excluded) o.note = "scenery (excluded by scene profile " + options_.profile_name + ")";
+      parent_draft_[i] = d;
+      const double dz = support.surface.height - geo_[i].bottom;
+      settle(i, dz);
+      if (std::abs(dz) > options_.contact_tolerance) {
+        ++far_drops;
+        max_drop = std::max(max_drop, std::abs(dz));
+        o.note += std::string(o.note.empty() ? "" : "; ") + "settled " + fmt_cm(dz) + " (beyond the " +
+                  fmt_cm(options_.contact_tolerance) + " contact tolerance)";
+      }
+      add_drafts(i, false);
     }
-    add_drafts(i, false);
+    if (far_drops > 0) {
+      g_.warnings.push_back(std::to_string(far_drops) + " object(s) settled from more than " +
+                            fmt_cm(options_.contact_tolerance) + " above their platform (largest " +
+                            fmt_cm(max_drop) + "; see each object's note)");
+    }
   }
-  if (far_drops > 0) {
-    g.warnings.push_back(std::to_string(far_drops) + " object(s) settled from more than " +
-                         fmt_cm(options.contact_tolerance) + " above their platform (largest " +
-                         fmt_cm(max_drop) + "; see each object's note)");
-  }
-  t.settle = watch.elapsed_ms();
 
-  // Platforms: active drafts, per owner bottom-up.
-  std::vector<int> draft_to_platform(drafts.size(), -1);
-  {
-    std::vector<int> order(drafts.size());
+  void rests_on_nothing(std::size_t i) {
+    GraphObject& o = g_.objects[i];
+    if (o.movable) {
+      o.note = "rests on no platform";
+      g_.warnings.push_back("object " + o.name + " cannot be placed: no platform within " +
+                            fmt_cm(options_.max_settle_drop) + " below it supports it");
+    } else if (o.excluded) {
+      o.kind = ObjectKind::kFixed;
+      o.note = "scenery fixed to the structure (excluded by scene profile " + options_.profile_name + ")";
+      add_drafts(i, false);
+    } else {
+      o.kind = ObjectKind::kFurniture;
+      o.note = "fixed to the structure (wall-mounted)";
+      add_drafts(i, true);
+    }
+  }
+
+  // Platforms: active drafts, per owner bottom-up; then each settled object's parent.
+  void make_platforms() {
+    draft_to_platform_.assign(drafts_.size(), -1);
+    std::vector<int> order(drafts_.size());
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      const Draft& x = drafts[static_cast<size_t>(a)];
-      const Draft& y = drafts[static_cast<size_t>(b)];
+      const Draft& x = drafts_[static_cast<size_t>(a)];
+      const Draft& y = drafts_[static_cast<size_t>(b)];
       if (x.owner != y.owner) return x.owner < y.owner;
       if (x.surface.height != y.surface.height) return x.surface.height < y.surface.height;
       return x.surface.area > y.surface.area;
     });
     for (const int d : order) {
-      const Draft& draft = drafts[static_cast<size_t>(d)];
+      const Draft& draft = drafts_[static_cast<size_t>(d)];
       if (!draft.active) continue;
-      GraphObject& owner = g.objects[static_cast<size_t>(draft.owner)];
+      GraphObject& owner = g_.objects[static_cast<size_t>(draft.owner)];
       Platform p;
       p.owner = draft.owner;
       p.index = static_cast<int>(owner.platforms.size());
@@ -257,142 +297,158 @@ SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& opti
       p.height = draft.surface.height;
       p.source = draft.source;
       p.destination = owner.kind == ObjectKind::kFurniture;
-      draft_to_platform[static_cast<size_t>(d)] = static_cast<int>(g.platforms.size());
-      owner.platforms.push_back(static_cast<int>(g.platforms.size()));
-      g.platforms.push_back(std::move(p));
+      draft_to_platform_[static_cast<size_t>(d)] = static_cast<int>(g_.platforms.size());
+      owner.platforms.push_back(static_cast<int>(g_.platforms.size()));
+      g_.platforms.push_back(std::move(p));
     }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (parent_draft[i] < 0) continue;
-    const int p = draft_to_platform[static_cast<size_t>(parent_draft[i])];
-    g.objects[i].parent = p;
-    g.platforms[static_cast<size_t>(p)].items.push_back(static_cast<int>(i));
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (parent_draft_[i] < 0) continue;
+      const int p = draft_to_platform_[static_cast<size_t>(parent_draft_[i])];
+      g_.objects[i].parent = p;
+      g_.platforms[static_cast<size_t>(p)].items.push_back(static_cast<int>(i));
+    }
   }
 
   // Headings: furniture from its canonical minimum-area rectangle; everything on it inherits.
-  for (std::size_t i = 0; i < n; ++i) {
-    GraphObject& o = g.objects[i];
-    if (o.kind == ObjectKind::kFurniture && o.footprint.size() >= 3) {
-      o.heading = geom::min_area_rect(o.footprint, yaw_of(o.X_WO)).yaw;
+  void assign_headings() {
+    for (GraphObject& o : g_.objects) {
+      if (o.kind == ObjectKind::kFurniture && o.footprint.size() >= 3) {
+        o.heading = geom::min_area_rect(o.footprint, yaw_of(o.X_WO)).yaw;
+      }
     }
-  }
-  for (const int oi : pending) {  // bottom-up, so parents come first
-    GraphObject& o = g.objects[static_cast<size_t>(oi)];
-    if (o.parent >= 0) {
-      o.heading = g.objects[static_cast<size_t>(g.platforms[static_cast<size_t>(o.parent)].owner)].heading;
+    for (const int oi : pending_) {  // bottom-up, so parents come first
+      GraphObject& o = g_.objects[static_cast<size_t>(oi)];
+      if (o.parent >= 0) {
+        o.heading = g_.objects[static_cast<size_t>(g_.platforms[static_cast<size_t>(o.parent)].owner)].heading;
+      }
     }
   }
 
-  // Platform frames and polygons.
-  for (std::size_t d = 0; d < drafts.size(); ++d) {
-    const int pi = draft_to_platform[d];
-    if (pi < 0) continue;
-    Platform& p = g.platforms[static_cast<size_t>(pi)];
-    const double yaw = g.objects[static_cast<size_t>(p.owner)].heading;
-    const geom::Region region_W = geom::clean(drafts[d].surface.region, 1e-4, 1e-3);
-    const Eigen::Rotation2Dd R_HW(-yaw);
-    Eigen::AlignedBox2d box_H;
-    for (const auto& ring : region_W.rings) {
-      for (const auto& q : ring) box_H.extend(R_HW * q);
+  // Platform frames (aligned with the owner's heading, centred on the surface) and polygons.
+  void frame_platforms() {
+    for (std::size_t d = 0; d < drafts_.size(); ++d) {
+      const int pi = draft_to_platform_[d];
+      if (pi < 0) continue;
+      Platform& p = g_.platforms[static_cast<size_t>(pi)];
+      const double yaw = g_.objects[static_cast<size_t>(p.owner)].heading;
+      const geom::Region region_W = geom::clean(drafts_[d].surface.region, kCleanArea, kCleanDistance);
+      const Eigen::Rotation2Dd R_HW(-yaw);
+      Eigen::AlignedBox2d box_H;
+      for (const auto& ring : region_W.rings) {
+        for (const auto& q : ring) box_H.extend(R_HW * q);
+      }
+      p.X_WP = Eigen::Translation2d(Eigen::Rotation2Dd(yaw) * box_H.center()) * Eigen::Rotation2Dd(yaw);
+      p.polygon_P = geom::transform(region_W, p.X_WP.inverse());
+      p.box_P = geom::bounds(p.polygon_P);
     }
-    p.X_WP = Eigen::Translation2d(Eigen::Rotation2Dd(yaw) * box_H.center()) * Eigen::Rotation2Dd(yaw);
-    p.polygon_P = geom::transform(region_W, p.X_WP.inverse());
-    p.box_P = geom::bounds(p.polygon_P);
   }
 
-  // Clearance and interior layers: surfaces above covering most of the platform.
-  watch.reset();
   // Detected once per object and direction, and only when asked: an object's upward surfaces
   // matter only above its own platforms (interior layers), its downward ones above anyone's.
-  const SurfaceOptions surface_opts = surface_options(options);
-  std::map<std::pair<int, bool>, std::vector<Surface>> surfaces_of;
-  auto surfaces = [&](int oi, bool upward) -> const std::vector<Surface>& {
-    auto it = surfaces_of.find({oi, upward});
-    if (it == surfaces_of.end()) {
-      it = surfaces_of.emplace(std::make_pair(oi, upward),
-                               detect_surfaces(geo[static_cast<size_t>(oi)].soup, upward, surface_opts))
+  const std::vector<Surface>& surfaces(int oi, bool upward) {
+    auto it = surfaces_of_.find({oi, upward});
+    if (it == surfaces_of_.end()) {
+      it = surfaces_of_
+               .emplace(std::make_pair(oi, upward),
+                        detect_surfaces(geo_[static_cast<size_t>(oi)].soup, upward, surface_options(options_)))
                .first;
     }
     return it->second;
-  };
-  for (Platform& p : g.platforms) {
-    const geom::Region region_W = p.polygon_W();
-    const double area = geom::area(region_W);
-    const Eigen::AlignedBox2d box_W = geom::bounds(region_W);
-    auto covered_by = [&](const std::vector<Surface>& above_list, bool own) {
-      for (const Surface& above : above_list) {
-        if (above.height <= p.height + 0.005) continue;
-        if (geom::area(geom::intersect(region_W, above.region)) <= options.ceiling_coverage * area) continue;
-        p.clearance = std::min(p.clearance, above.height - p.height);
-        if (own) p.interior = true;
+  }
+
+  // Clearance and interior layers: surfaces above covering most of the platform.
+  void measure_clearance() {
+    for (Platform& p : g_.platforms) {
+      const geom::Region region_W = p.polygon_W();
+      const double area = geom::area(region_W);
+      const Eigen::AlignedBox2d box_W = geom::bounds(region_W);
+      auto covered_by = [&](const std::vector<Surface>& above_list, bool own) {
+        for (const Surface& above : above_list) {
+          if (above.height <= p.height + kCeilingGap) continue;
+          if (geom::area(geom::intersect(region_W, above.region)) <= options_.ceiling_coverage * area) continue;
+          p.clearance = std::min(p.clearance, above.height - p.height);
+          if (own) p.interior = true;
+        }
+      };
+      for (std::size_t i = 0; i < size(); ++i) {
+        const GraphObject& o = g_.objects[i];
+        const bool own = static_cast<int>(i) == p.owner;
+        // Static geometry only: items move, floor coverings lie below everything.
+        if (!own && o.kind != ObjectKind::kFurniture && o.kind != ObjectKind::kFixed) continue;
+        if (!geo_[i].has_geometry() || geo_[i].top <= p.height + kAboveTolerance) continue;
+        const Eigen::AlignedBox2d ob(Eigen::Vector2d(geo_[i].soup.bounds.min().head<2>()),
+                                     Eigen::Vector2d(geo_[i].soup.bounds.max().head<2>()));
+        if (!ob.intersects(box_W)) continue;
+        covered_by(surfaces(static_cast<int>(i), false), own);
+        if (own) covered_by(surfaces(static_cast<int>(i), true), own);
       }
-    };
-    for (std::size_t i = 0; i < n; ++i) {
-      const GraphObject& o = g.objects[i];
-      const bool own = static_cast<int>(i) == p.owner;
-      // Static geometry only: items move, floor coverings lie below everything.
-      if (!own && o.kind != ObjectKind::kFurniture && o.kind != ObjectKind::kFixed) continue;
-      if (!geo[i].has_geometry() || geo[i].top <= p.height + 1e-3) continue;
-      const Eigen::AlignedBox2d ob(Eigen::Vector2d(geo[i].soup.bounds.min().head<2>()),
-                                   Eigen::Vector2d(geo[i].soup.bounds.max().head<2>()));
-      if (!ob.intersects(box_W)) continue;
-      covered_by(surfaces(static_cast<int>(i), false), own);
-      if (own) covered_by(surfaces(static_cast<int>(i), true), own);
     }
   }
-  t.clearance = watch.elapsed_ms();
 
   // Settled items must not interpenetrate (FCL on their meshes).
-  watch.reset();
-  {
+  void check_interpenetration() {
     std::vector<const geom::TriangleSoup*> meshes;
-    for (const auto& gg : geo) meshes.push_back(&gg.soup);
+    for (const auto& gg : geo_) meshes.push_back(&gg.soup);
     std::vector<std::pair<int, int>> candidates;
-    for (const Platform& p : g.platforms) {
+    for (const Platform& p : g_.platforms) {
       for (std::size_t a = 0; a < p.items.size(); ++a) {
         for (std::size_t b = a + 1; b < p.items.size(); ++b) {
-          const auto& fa = g.objects[static_cast<size_t>(p.items[a])].footprint;
-          const auto& fb = g.objects[static_cast<size_t>(p.items[b])].footprint;
+          const auto& fa = g_.objects[static_cast<size_t>(p.items[a])].footprint;
+          const auto& fb = g_.objects[static_cast<size_t>(p.items[b])].footprint;
           if (geom::bounds(fa).intersects(geom::bounds(fb))) candidates.emplace_back(p.items[a], p.items[b]);
         }
       }
     }
-    for (const auto& [a, b] : interpenetrating_pairs(meshes, candidates, 0.005)) {
-      g.warnings.push_back("objects " + g.objects[static_cast<size_t>(a)].name + " and " +
-                           g.objects[static_cast<size_t>(b)].name +
-                           " interpenetrate by more than 5 mm in the settled state");
+    for (const auto& [a, b] : interpenetrating_pairs(meshes, candidates, kInterpenetration)) {
+      g_.warnings.push_back("objects " + g_.objects[static_cast<size_t>(a)].name + " and " +
+                            g_.objects[static_cast<size_t>(b)].name + " interpenetrate by more than " +
+                            fmt_mm(kInterpenetration) + " in the settled state");
     }
   }
-  t.overlap = watch.elapsed_ms();
 
   // Standing areas, visibility, navigability and the agent's numbering.
-  watch.reset();
-  // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
-  std::vector<const geom::TriangleSoup*> on_floor;
-  for (std::size_t i = 0; i < n; ++i) {
-    const GraphObject& o = g.objects[i];
-    const bool floor = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kFixed;
-    if (floor && o.parent < 0 && o.bottom <= options.contact_tolerance) on_floor.push_back(&geo[i].soup);
-  }
-  const FloorRaster raster(on_floor, options);
-  for (Platform& p : g.platforms) {
-    if (!p.destination) continue;
-    const auto owner = static_cast<size_t>(p.owner);
-    evaluate_sides(p, g.objects[owner].footprint, g.objects[owner].heading, geo[owner].soup, raster,
-                   options);
-    const bool useful = !p.items.empty() || p.clearance > 0.1;
-    p.navigable = p.height <= options.max_platform_height && useful && p.default_side >= 0;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (const int pi : g.objects[i].platforms) {
-      Platform& p = g.platforms[static_cast<size_t>(pi)];
-      if (!p.navigable) continue;
-      g.navigable.push_back(pi);
-      p.label = static_cast<int>(g.navigable.size());
+  void find_standing_areas() {
+    // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
+    std::vector<const geom::TriangleSoup*> on_floor;
+    for (std::size_t i = 0; i < size(); ++i) {
+      const GraphObject& o = g_.objects[i];
+      const bool floor = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kFixed;
+      if (floor && o.parent < 0 && o.bottom <= options_.contact_tolerance) on_floor.push_back(&geo_[i].soup);
+    }
+    const FloorRaster raster(on_floor, options_);
+    for (Platform& p : g_.platforms) {
+      if (!p.destination) continue;
+      const auto owner = static_cast<size_t>(p.owner);
+      evaluate_sides(p, g_.objects[owner].footprint, g_.objects[owner].heading, geo_[owner].soup, raster, options_);
+      const bool useful = !p.items.empty() || p.clearance > kUsefulClearance;
+      p.navigable = p.height <= options_.max_platform_height && useful && p.default_side >= 0;
+    }
+    for (const GraphObject& o : g_.objects) {
+      for (const int pi : o.platforms) {
+        Platform& p = g_.platforms[static_cast<size_t>(pi)];
+        if (!p.navigable) continue;
+        g_.navigable.push_back(pi);
+        p.label = static_cast<int>(g_.navigable.size());
+      }
     }
   }
-  t.standing = watch.elapsed_ms();
-  t.total = total.elapsed_ms();
+
+  const scene::Scene& scene_;
+  const GraphOptions& options_;
+  SceneGraph g_;
+  std::vector<ObjectGeometry> geo_;
+  std::vector<Draft> drafts_;
+  std::vector<int> pending_;            // objects settled bottom-up, in that order
+  std::vector<int> parent_draft_;       // per object: the draft it rests on (-1: none)
+  std::vector<int> draft_to_platform_;  // per draft: its platform (-1: not a platform)
+  std::map<std::pair<int, bool>, std::vector<Surface>> surfaces_of_;
+};
+
+}  // namespace
+
+SceneGraph build_scene_graph(const scene::Scene& scene, const GraphOptions& options, BuildTimings* timings) {
+  BuildTimings t;
+  SceneGraph g = GraphBuilder(scene, options).build(t);
   if (timings != nullptr) *timings = t;
   return g;
 }

@@ -69,6 +69,132 @@ std::string describe_scene(const graph::SceneGraph& g) {
   return out;
 }
 
+namespace {
+
+// Task ids count per level in the order tasks are accepted: "<scene>/L<level>/<index>".
+class TaskNumbering {
+ public:
+  explicit TaskNumbering(std::string scene) : scene_(std::move(scene)) {}
+  void add(Task t, TaskSet& set) {
+    t.scene = scene_;
+    t.id = task_id(scene_, t.level, next_[t.level]++);
+    set.tasks.push_back(std::move(t));
+  }
+  std::size_t peek(int level) { return next_[level]; }
+  void skip(int level) { ++next_[level]; }
+
+ private:
+  std::string scene_;
+  std::map<int, std::size_t> next_;
+};
+
+// Levels 1 and 2: each atomic task, named in the initial state; Level 2 when it has look-alikes.
+void add_atomic_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
+                      const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
+                      TaskSet& set) {
+  ReferenceMemo memo;  // every atomic task is named in the initial state
+  for (const AtomicTask& a : atomic) {
+    const auto words = identify(g, initial, a.goal, options.ambiguity, 0, &memo);
+    if (!words) {
+      set.dropped.add("unidentifiable", 2);
+      continue;
+    }
+    const int level = words->lookalikes.empty() ? 1 : 2;
+    if (options.levels.count(level) == 0) continue;
+    Task t;
+    t.level = level;
+    t.type = episode::to_string(a.goal.type);
+    t.text = atomic_text(g, a.goal, words->wording, options.seed);
+    fill_columns(g, a.goal, t);
+    t.goal = {{"atomic", to_json(g, a.goal)}};
+    t.identify = words->lookalikes;
+    t.placements.push_back(placement_of(g, 0, a));
+    t.oracle = a.oracle;
+    t.oracle.push_back("0");
+    t.step_limit = options.rules.step_limit;
+    numbering.add(std::move(t), set);
+  }
+}
+
+// Level 3: chains of atomic tasks, each part named in the state it starts from.
+void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
+                        const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
+                        TaskSet& set) {
+  const auto sequences =
+      generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped);
+  for (const Sequence& seq : sequences) {
+    Task t;
+    t.level = 3;
+    t.type = "sequence";
+    std::vector<std::string> texts;
+    nlohmann::json parts = nlohmann::json::array();
+    for (std::size_t k = 0; k < seq.parts.size(); ++k) {
+      const AtomicTask& p = seq.parts[k];
+      texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
+      parts.push_back(to_json(g, p.goal));
+      t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
+      t.placements.push_back(placement_of(g, static_cast<int>(k), p));
+      t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
+    }
+    t.text = sequence_text(texts);
+    fill_columns(g, seq.parts.front().goal, t);
+    t.goal = {{"sequence", parts}};
+    t.oracle.push_back("0");
+    t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+    numbering.add(std::move(t), set);
+  }
+}
+
+// Level 4: outcome candidates from the templates, then the votes (rules, live voters, recorded).
+void add_outcome_tasks(const graph::SceneGraph& g, const episode::WorldState& initial, const TaskOptions& options,
+                       const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
+                       TaskNumbering& numbering, GenerationResult& result) {
+  const auto templates = load_templates(options.level4_templates);
+  // Candidates first (ids are fixed by their order), then every voter on all of them at once.
+  std::vector<std::pair<std::string, Task>> candidates;
+  for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, result.set.warnings, result.set.dropped)) {
+    Task t;
+    t.level = 4;
+    t.scene = g.scene;
+    t.type = "outcome:" + o.tmpl->kind;
+    t.template_id = o.tmpl->id;
+    t.text = o.text;
+    t.goal = {{"outcome", to_json(g, o.goal)}};
+    t.identify = std::move(o.identify);
+    t.oracle = o.oracle;
+    t.oracle.push_back("0");
+    t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+    candidates.emplace_back(task_id(g.scene, 4, numbering.peek(4) + candidates.size()), std::move(t));
+  }
+  std::vector<Vote> all_votes;
+  for (const auto& [id, t] : candidates) all_votes.push_back({id, "rules", kFeasible});
+  if (!live_voters.empty() && !candidates.empty()) {
+    std::vector<VoteRequest> requests;
+    const std::string scene = describe_scene(g);
+    for (const auto& [id, t] : candidates) requests.push_back({id, g.scene, t.text, scene, t.step_limit});
+    for (const VoteBatch& voter : live_voters) {
+      const std::vector<Vote> cast = voter(requests);
+      all_votes.insert(all_votes.end(), cast.begin(), cast.end());
+    }
+  }
+  all_votes.insert(all_votes.end(), recorded_votes.begin(), recorded_votes.end());
+  auto votes_by_task = group_votes(all_votes);
+  std::size_t vetoed = 0;
+  for (auto& [id, t] : candidates) {
+    const std::vector<Vote>& votes = votes_by_task[id];
+    if (!accepted(votes)) {
+      ++vetoed;
+      numbering.skip(4);  // ids stay stable whether or not votes veto earlier tasks
+      continue;
+    }
+    result.votes.insert(result.votes.end(), votes.begin(), votes.end());
+    numbering.add(std::move(t), result.set);
+  }
+  if (vetoed > 0) result.set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by votes");
+}
+
+}  // namespace
+
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters) {
   for (const int level : options.levels) {
@@ -81,113 +207,15 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   TaskSet& set = result.set;
   set.scene = g.scene;
   const episode::WorldState initial = episode::initial_state(g);
-  std::map<int, std::size_t> next_index;
-  auto add = [&](Task t) {
-    t.scene = g.scene;
-    t.id = task_id(g.scene, t.level, next_index[t.level]++);
-    set.tasks.push_back(std::move(t));
-  };
+  TaskNumbering numbering(g.scene);
 
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
   const bool want_levels_1_2 = options.levels.count(1) || options.levels.count(2);
   if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr);
-
-  if (want_levels_1_2) {
-    ReferenceMemo memo;  // every atomic task is named in the initial state
-    for (const AtomicTask& a : atomic) {
-      const auto words = identify(g, initial, a.goal, options.ambiguity, 0, &memo);
-      if (!words) {
-        set.dropped.add("unidentifiable", 2);
-        continue;
-      }
-      const int level = words->lookalikes.empty() ? 1 : 2;
-      if (options.levels.count(level) == 0) continue;
-      Task t;
-      t.level = level;
-      t.type = episode::to_string(a.goal.type);
-      t.text = atomic_text(g, a.goal, words->wording, options.seed);
-      fill_columns(g, a.goal, t);
-      t.goal = {{"atomic", to_json(g, a.goal)}};
-      t.identify = words->lookalikes;
-      t.placements.push_back(placement_of(g, 0, a));
-      t.oracle = a.oracle;
-      t.oracle.push_back("0");
-      t.step_limit = options.rules.step_limit;
-      add(std::move(t));
-    }
-  }
-
-  if (options.levels.count(3)) {
-    const auto sequences =
-        generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped);
-    for (const Sequence& seq : sequences) {
-      Task t;
-      t.level = 3;
-      t.type = "sequence";
-      std::vector<std::string> texts;
-      nlohmann::json parts = nlohmann::json::array();
-      for (std::size_t k = 0; k < seq.parts.size(); ++k) {
-        const AtomicTask& p = seq.parts[k];
-        texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
-        parts.push_back(to_json(g, p.goal));
-        t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
-        t.placements.push_back(placement_of(g, static_cast<int>(k), p));
-        t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
-      }
-      t.text = sequence_text(texts);
-      fill_columns(g, seq.parts.front().goal, t);
-      t.goal = {{"sequence", parts}};
-      t.oracle.push_back("0");
-      t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
-      add(std::move(t));
-    }
-  }
-
-  if (options.levels.count(4)) {
-    const auto templates = load_templates(options.level4_templates);
-    // Candidates first (ids are fixed by their order), then every voter on all of them at once.
-    std::vector<std::pair<std::string, Task>> candidates;
-    for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, set.warnings, set.dropped)) {
-      Task t;
-      t.level = 4;
-      t.scene = g.scene;
-      t.type = "outcome:" + o.tmpl->kind;
-      t.template_id = o.tmpl->id;
-      t.text = o.text;
-      t.goal = {{"outcome", to_json(g, o.goal)}};
-      t.identify = std::move(o.identify);
-      t.oracle = o.oracle;
-      t.oracle.push_back("0");
-      t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
-      candidates.emplace_back(task_id(g.scene, 4, next_index[4] + candidates.size()), std::move(t));
-    }
-    std::vector<Vote> all_votes;
-    for (const auto& [id, t] : candidates) all_votes.push_back({id, "rules", kFeasible});
-    if (!live_voters.empty() && !candidates.empty()) {
-      std::vector<VoteRequest> requests;
-      const std::string scene = describe_scene(g);
-      for (const auto& [id, t] : candidates) requests.push_back({id, g.scene, t.text, scene, t.step_limit});
-      for (const VoteBatch& voter : live_voters) {
-        const std::vector<Vote> cast = voter(requests);
-        all_votes.insert(all_votes.end(), cast.begin(), cast.end());
-      }
-    }
-    all_votes.insert(all_votes.end(), recorded_votes.begin(), recorded_votes.end());
-    auto votes_by_task = group_votes(all_votes);
-    std::size_t vetoed = 0;
-    for (auto& [id, t] : candidates) {
-      const std::vector<Vote>& votes = votes_by_task[id];
-      if (!accepted(votes)) {
-        ++vetoed;
-        ++next_index[4];  // ids stay stable whether or not votes veto earlier tasks
-        continue;
-      }
-      result.votes.insert(result.votes.end(), votes.begin(), votes.end());
-      add(std::move(t));
-    }
-    if (vetoed > 0) set.warnings.push_back("level 4: " + std::to_string(vetoed) + " task(s) vetoed by votes");
-  }
+  if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
+  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set);
+  if (options.levels.count(4)) add_outcome_tasks(g, initial, options, recorded_votes, live_voters, numbering, result);
   return result;
 }
 

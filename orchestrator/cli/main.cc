@@ -5,7 +5,11 @@
 
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "core/util/error.h"
 #include "core/util/log.h"
@@ -18,7 +22,16 @@
 #include "orchestrator/cli/vlm_commands.h"
 #include "orchestrator/run/run_namespace.h"
 
+namespace mtg::cli {
 namespace {
+
+// A leaf command: its CLI11 node, and what runs when it was the one parsed. Options live in
+// shared structs the runner holds, so each group registers itself in one function.
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+using Commands = std::vector<Command>;
 
 // "mtg <subcommand>: <message>", once: a message that already names its command keeps its name.
 std::string where(const CLI::App& app, const std::string& message) {
@@ -32,212 +45,271 @@ std::string where(const CLI::App& app, const std::string& message) {
   return who + ": " + message;
 }
 
+// mtg scene list | info | graph
+void add_scene_commands(CLI::App& app, Commands& commands) {
+  CLI::App* scene = app.add_subcommand("scene", "Inspect scenes of the dataset");
+  scene->require_subcommand(1);
+  auto list_opts = std::make_shared<SceneListOptions>();
+  CLI::App* scene_list = scene->add_subcommand("list", "List the scenes found in the dataset");
+  scene_list->add_option("--data", list_opts->data_dir, "dataset root (default: search order)");
+  auto info_opts = std::make_shared<SceneInfoOptions>();
+  CLI::App* scene_info = scene->add_subcommand("info", "Load a scene and summarise it");
+  scene_info->add_option("--scene", info_opts->scene, "scene name, e.g. apt_0")->required();
+  scene_info->add_option("--data", info_opts->data_dir, "dataset root (default: search order)");
+  scene_info->add_flag("--json", info_opts->json, "print one JSON object");
+
+  auto graph_opts = std::make_shared<SceneGraphOptions>();
+  CLI::App* scene_graph = scene->add_subcommand("graph", "Build the scene graph of a scene");
+  scene_graph->add_option("--scene", graph_opts->scene, "scene name, e.g. apt_0")->required();
+  scene_graph->add_option("--data", graph_opts->data_dir, "dataset root (default: search order)");
+  scene_graph->add_option("--out", graph_opts->out, "write graph.json here");
+  scene_graph->add_option("--png", graph_opts->png, "write a top-down map (PNG) here");
+  scene_graph->add_option("--profile", graph_opts->profile,
+                          "scene profile: replica_cad (default), none, or a JSON file");
+  commands.push_back({scene_list, [list_opts] { return run_scene_list(*list_opts); }});
+  commands.push_back({scene_info, [info_opts] { return run_scene_info(*info_opts); }});
+  commands.push_back({scene_graph, [graph_opts] { return run_scene_graph(*graph_opts); }});
+}
+
+// mtg render | images
+void add_render_commands(CLI::App& app, Commands& commands) {
+  auto render_opts = std::make_shared<RenderOptions>();
+  CLI::App* render = app.add_subcommand("render", "Render one view of a scene as the agent sees it");
+  render->add_option("--scene", render_opts->scene, "scene name, e.g. apt_0")->required();
+  render->add_option("--data", render_opts->data_dir, "dataset root (default: search order)");
+  render->add_option("--profile", render_opts->profile, "scene profile (default replica_cad)");
+  render->add_option("--view", render_opts->view,
+                     "platform (default), item (alone), focus (in place, neighbours faded) or topdown")
+      ->check(CLI::IsMember({"platform", "item", "focus", "topdown"}));
+  render->add_option("--platform", render_opts->platform, "platform name (platform views)");
+  render->add_option("--side", render_opts->side, "0 rear, 1 left, 2 front, 3 right (default: the platform's default side)")
+      ->check(CLI::Range(-1, 3));
+  render->add_option("--item", render_opts->item, "object name (item views)");
+  render->add_option("--marks", render_opts->marks, "auto (default), items, targets, labels or none")
+      ->check(CLI::IsMember({"auto", "items", "targets", "labels", "none"}));
+  render->add_option("--width", render_opts->width, "pixels (default 640)");
+  render->add_option("--height", render_opts->height, "pixels (default 480)");
+  render->add_option("--out", render_opts->out, "image file (.png or .jpg); the marked copy goes to <stem>_marked")
+      ->required();
+
+  auto images_opts = std::make_shared<ImagesOptions>();
+  CLI::App* images = app.add_subcommand("images", "Write the images the agents saw in a run to files");
+  images->add_option("run", images_opts->run, "run folder")->required();
+  images->add_option("--out", images_opts->out, "folder for the image files")->required();
+  images->add_option("--episode", images_opts->episode, "only this episode id");
+  commands.push_back({render, [render_opts] { return run_render(*render_opts); }});
+  commands.push_back({images, [images_opts] { return run_images(*images_opts); }});
+}
+
+// mtg tasks [stats DB]
+void add_task_commands(CLI::App& app, Commands& commands) {
+  auto tasks_opts = std::make_shared<TasksOptions>();
+  CLI::App* tasks = app.add_subcommand("tasks", "Generate task sets (Levels 1-4) into SQLite/JSONL");
+  tasks->require_subcommand(0, 1);
+  tasks->add_option("--scene", tasks_opts->scenes, "scene name (repeat for several)");
+  tasks->add_option("--data", tasks_opts->data_dir, "dataset root (default: search order)");
+  tasks->add_option("--out", tasks_opts->out, "task database to write (SQLite)");
+  tasks->add_option("--jsonl", tasks_opts->jsonl, "also export one task per line here");
+  tasks->add_option("--seed", tasks_opts->seed, "seed (default 0)");
+  tasks->add_option("--levels", tasks_opts->levels, "levels to generate, e.g. 1,2,3,4");
+  tasks->add_option("--profile", tasks_opts->profile, "scene profile (replica_cad, none, or a file)");
+  tasks->add_option("--ambiguity", tasks_opts->ambiguity, "Look-alike rule: category (default: the same semantic class, for agents that see images) or name (the same model, for agents told object names)");
+  tasks->add_option("--l3-count", tasks_opts->level3_count, "Level 3 tasks per scene (default 10000)");
+  tasks->add_option("--l3-chain", tasks_opts->level3_chain, "sub-tasks per Level 3 task (default 2)");
+  tasks->add_option("--l4-max-moves", tasks_opts->level4_max_moves, "objects a Level 4 task may move (default 3)");
+  tasks->add_option("--l4-templates", tasks_opts->level4_templates, "Level 4 template library (builtin or a file)");
+  tasks->add_option("--votes", tasks_opts->votes, "recorded Level 4 feasibility votes (JSONL)");
+  tasks->add_option("--step-limit", tasks_opts->step_limit, "episode step limit (default 15)");
+  tasks->add_option("--voter", tasks_opts->voters, "model agent voting live on Level 4 candidates (repeatable)");
+  mtg::vlm::add_vlm_options(*tasks, tasks_opts->vlm, true);
+  auto stats_opts = std::make_shared<TaskStatsOptions>();
+  CLI::App* tasks_stats = tasks->add_subcommand("stats", "Counts per level, type and scene of a task database");
+  tasks_stats->add_option("db", stats_opts->db, "task database")->required();
+  tasks_stats->add_flag("--json", stats_opts->json, "print one JSON object");
+  // Before its parent: when `tasks stats` is given, both are parsed.
+  commands.push_back({tasks_stats, [stats_opts] { return run_task_stats(*stats_opts); }});
+  commands.push_back({tasks, [tasks_opts] { return run_tasks(*tasks_opts); }});
+}
+
+// mtg run | worker | status
+void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
+  auto run_opts = std::make_shared<RunOptions>();
+  CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
+  run->add_option("--tasks", run_opts->tasks, "task database (tasks.sqlite)");
+  run->add_option("--agent", run_opts->agents,
+                  "agent: oracle, random, replay:<run dir>, script:<file>, openai:<model>, anthropic:<model>, "
+                  "gemini:<model>, openai-compatible:<url>:<model> (repeat for several)");
+  run->add_option("--scene", run_opts->scenes, "only tasks of this scene (repeat for several; default all)");
+  run->add_option("--levels", run_opts->levels, "levels to run (default 1,2,3)");
+  run->add_option("--limit", run_opts->limit, "tasks per scene and level, drawn with the seed (default all)");
+  run->add_option("--parallel", run_opts->parallel,
+                  "episodes at once (default 4; with --remote: what the workers' capacities allow)");
+  run->add_option("--seed", run_opts->seed, "run seed (default 0)");
+  run->add_flag("--render", run_opts->render, "observations carry images (default: only for model agents)");
+  run->add_flag("--no-render", run_opts->no_render, "text-only observations, for any agent");
+  run->add_option("--image-size", run_opts->image_size, "observation images WIDTHxHEIGHT (default 640x480)");
+  run->add_option("--image-encoding", run_opts->image_encoding, "png (default) or jpeg")
+      ->check(CLI::IsMember({"png", "jpeg"}));
+  run->add_option("--object-names", run_opts->object_names,
+                  "name objects in the action space: on, off, or auto (default: on without images or for a "
+                  "task set of the name rule; the paper's numbered objects otherwise)")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  run->add_option("--out", run_opts->out, "run folder (a second run on it resumes)")->required();
+  run->add_option("--data", run_opts->data_dir, "dataset root (default: search order)");
+  run->add_flag("--allow-data-mismatch", run_opts->allow_data_mismatch,
+                "run even where the dataset differs from the one the task set was made from");
+  run->add_option("--profile", run_opts->profile, "scene profile (default replica_cad)");
+  run->add_option("--url,--bus", run_opts->url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  run->add_flag("--remote", run_opts->remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");
+  run->add_option("--bus-key", run_opts->remote_options.bus_key,
+                  "with --remote: the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
+  run->add_option("--min-workers", run_opts->remote_options.min_workers, "with --remote: workers to wait for (default 1)");
+  run->add_option("--worker-wait", run_opts->remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
+  run->add_option("--lease-ttl", run_opts->remote_options.lease_ttl_s,
+                  "with --remote: seconds without renewal before a lease is re-issued (default 5)");
+  run->add_option("--episode-timeout", run_opts->episode_timeout_s, "seconds without news before a retry (default 60)");
+  run->add_option("--step-limit", run_opts->step_limit, "steps per episode (default 15)");
+  run->add_flag("--no-progress", run_opts->no_progress, "no progress bar");
+  run->add_option("--recorder", run_opts->recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
+  mtg::vlm::add_vlm_options(*run, run_opts->vlm, true);
+  // mtg worker / mtg status
+  auto worker_opts = std::make_shared<WorkerCliOptions>();
+  CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
+  worker->add_option("--bus", worker_opts->worker.bus_url, "the shared LCM URL (udpm, ttl=1)")->required();
+  worker->add_option("--bus-key", worker_opts->worker.bus_key,
+                     "the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
+  worker->add_option("--local-url", worker_opts->worker.local_url, "this host's own bus (default $MTG_LCM_URL or the loopback group)");
+  worker->add_option("--capacity", worker_opts->worker.capacity, "episodes at once (default 2)");
+  worker->add_option("--name", worker_opts->worker.name, "name shown by mtg status (default: the host name)");
+  worker->add_option("--dir", worker_opts->worker.dir, "folder for process logs and this host's recordings (default ./mtg-worker)");
+  worker->add_option("--data", worker_opts->worker.data_dir, "dataset root on this host (default: the coordinator's path)");
+  worker->add_option("--recorder", worker_opts->worker.recorder, "mtg (default) or lcm-logger");
+  worker->add_option("--chunk-bytes", worker_opts->worker.chunk_bytes, "recording chunk size (default 32768)");
+  worker->add_flag("--once", worker_opts->worker.once, "exit after one run");
+  mtg::vlm::add_vlm_options(*worker, worker_opts->vlm, false);
+  auto status_opts = std::make_shared<StatusOptions>();
+  CLI::App* status = app.add_subcommand("status", "Hosts, episodes in flight, rates and SR/IP of the runs on a bus");
+  status->add_option("--bus", status_opts->bus_url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
+  status->add_option("--bus-key", status_opts->bus_key,
+                     "the shared bus's key file: only messages signed with it are shown (default $MTG_BUS_KEY)");
+  status->add_option("--listen", status_opts->listen_s, "seconds to listen (default 2.5)");
+  status->add_flag("--json", status_opts->json, "print one JSON object");
+  commands.push_back({run, [run, run_opts, argv]() -> int {
+                        for (const CLI::Option* opt : run->get_options()) {
+                          if (opt->count() > 0) run_opts->given.insert(opt->get_name());
+                        }
+                        // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
+                        if (run_opts->url.empty() && !run_opts->remote) {
+                          if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
+                        }
+                        return run_run(*run_opts);
+                      }});
+  commands.push_back({worker, [worker_opts] { return run_worker(*worker_opts); }});
+  commands.push_back({status, [status_opts] { return run_status(*status_opts); }});
+}
+
+// mtg vlm ask
+void add_vlm_commands(CLI::App& app, Commands& commands) {
+  CLI::App* vlm = app.add_subcommand("vlm", "Talk to a model agent directly");
+  vlm->require_subcommand(1);
+  auto ask_opts = std::make_shared<VlmAskOptions>();
+  CLI::App* vlm_ask = vlm->add_subcommand("ask", "Send one prompt (and images); check a key, a URL, the cache");
+  vlm_ask->add_option("--agent", ask_opts->agent, "openai:<model>, anthropic:<model>, gemini:<model>, "
+                      "openai-compatible:<url>:<model>")->required();
+  vlm_ask->add_option("--text", ask_opts->text, "the prompt");
+  vlm_ask->add_option("--image", ask_opts->images, "a PNG or JPEG file to attach (repeatable)");
+  vlm_ask->add_option("--repeat", ask_opts->repeat, "send it this many times");
+  vlm_ask->add_option("--parallel", ask_opts->parallel, "calls in flight at once");
+  vlm_ask->add_option("--bus", ask_opts->bus_url, "share the rate governor on this LCM URL");
+  vlm_ask->add_flag("--json", ask_opts->json, "one JSON line per call");
+  mtg::vlm::add_vlm_options(*vlm_ask, ask_opts->vlm, false);
+  commands.push_back({vlm_ask, [ask_opts] { return run_vlm_ask(*ask_opts); }});
+}
+
+// mtg report | replay | rejudge
+void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
+  auto report_opts = std::make_shared<ReportOptions>();
+  CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
+  report->add_option("run", report_opts->run, "run folder")->required();
+  report->add_option("--html", report_opts->html, "write the HTML report here");
+  report->add_flag("--json", report_opts->json, "print one JSON object");
+  auto replay_opts = std::make_shared<ReplayOptions>();
+  CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
+  replay->add_option("run", replay_opts->run, "run folder")->required();
+  replay->add_option("--out", replay_opts->out, "replay folder (default <run>/replay)");
+  replay->add_option("--url", replay_opts->url, "LCM URL");
+  replay->add_option("--parallel", replay_opts->parallel, "episodes at once (default 4)");
+  auto rejudge_run = std::make_shared<std::string>();
+  CLI::App* rejudge = app.add_subcommand("rejudge", "Re-score a run from its recorded actions (no agent)");
+  rejudge->add_option("run", *rejudge_run, "run folder")->required();
+  commands.push_back({report, [report_opts] { return run_report(*report_opts); }});
+  commands.push_back({replay, [replay_opts, argv]() -> int {
+                        if (replay_opts->url.empty()) {
+                          if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
+                        }
+                        return run_replay(*replay_opts);
+                      }});
+  commands.push_back({rejudge, [rejudge_run] { return run_rejudge(*rejudge_run); }});
+}
+
+// mtg bench ... (what scripts/bench prints)
+void add_bench_commands(CLI::App& app, Commands& commands) {
+  CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
+  bench->require_subcommand(1);
+  auto bench_load = std::make_shared<BenchSceneLoadOptions>();
+  CLI::App* bench_scene_load = bench->add_subcommand("scene-load", "Cold and warm scene loading");
+  bench_scene_load->add_option("--scene", bench_load->scene, "scene name");
+  bench_scene_load->add_option("--data", bench_load->data_dir, "dataset root");
+  bench_scene_load->add_option("--repeat", bench_load->repeat, "warm repetitions");
+
+  auto bench_graph = std::make_shared<BenchSceneGraphOptions>();
+  CLI::App* bench_scene_graph = bench->add_subcommand("scene-graph", "Scene-graph build time per apartment");
+  bench_scene_graph->add_option("--scene", bench_graph->scenes, "scene names (repeatable)");
+  bench_scene_graph->add_option("--data", bench_graph->data_dir, "dataset root");
+  bench_scene_graph->add_option("--repeat", bench_graph->repeat, "warm repetitions");
+
+  auto bench_tasks = std::make_shared<BenchTasksOptions>();
+  CLI::App* bench_tasks_cmd = bench->add_subcommand("tasks", "Task generation time per apartment and in all");
+  bench_tasks_cmd->add_option("--scene", bench_tasks->scenes, "scene names (repeatable)");
+  bench_tasks_cmd->add_option("--data", bench_tasks->data_dir, "dataset root");
+  bench_tasks_cmd->add_option("--out", bench_tasks->out, "where the benchmark's task database goes");
+  auto bench_runtime = std::make_shared<BenchRuntimeOptions>();
+  CLI::App* bench_runtime_cmd = bench->add_subcommand("runtime", "Oracle episodes per second over the bus, per-step latency");
+  bench_runtime_cmd->add_option("--scene", bench_runtime->scene, "scene name");
+  bench_runtime_cmd->add_option("--data", bench_runtime->data_dir, "dataset root");
+  bench_runtime_cmd->add_option("--work", bench_runtime->work, "scratch folder for tasks and runs (emptied first)");
+  bench_runtime_cmd->add_option("--per-level", bench_runtime->per_level, "tasks per level (Levels 1-3)");
+  bench_runtime_cmd->add_option("--parallel", bench_runtime->parallel, "episodes in flight (repeatable)");
+
+  auto bench_render = std::make_shared<BenchRenderOptions>();
+  CLI::App* bench_render_cmd = bench->add_subcommand("render", "Renderer: ms per annotated observation, episodes with images");
+  bench_render_cmd->add_option("--scene", bench_render->scene, "scene name");
+  bench_render_cmd->add_option("--data", bench_render->data_dir, "dataset root");
+  bench_render_cmd->add_option("--rounds", bench_render->rounds, "passes over every navigable platform");
+  bench_render_cmd->add_option("--episodes", bench_render->episodes, "oracle episodes rendered end to end");
+  commands.push_back({bench_scene_load, [bench_load] { return run_bench_scene_load(*bench_load); }});
+  commands.push_back({bench_tasks_cmd, [bench_tasks] { return run_bench_tasks(*bench_tasks); }});
+  commands.push_back({bench_scene_graph, [bench_graph] { return run_bench_scene_graph(*bench_graph); }});
+  commands.push_back({bench_runtime_cmd, [bench_runtime] { return run_bench_runtime(*bench_runtime); }});
+  commands.push_back({bench_render_cmd, [bench_render] { return run_bench_render(*bench_render); }});
+}
+
 }  // namespace
+}  // namespace mtg::cli
 
 int main(int argc, char** argv) {
   CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
   app.require_subcommand(1);
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "debug, info, warn, error or off");
-
-  // mtg scene ...
-  CLI::App* scene = app.add_subcommand("scene", "Inspect scenes of the dataset");
-  scene->require_subcommand(1);
-  mtg::cli::SceneListOptions list_opts;
-  CLI::App* scene_list = scene->add_subcommand("list", "List the scenes found in the dataset");
-  scene_list->add_option("--data", list_opts.data_dir, "dataset root (default: search order)");
-  mtg::cli::SceneInfoOptions info_opts;
-  CLI::App* scene_info = scene->add_subcommand("info", "Load a scene and summarise it");
-  scene_info->add_option("--scene", info_opts.scene, "scene name, e.g. apt_0")->required();
-  scene_info->add_option("--data", info_opts.data_dir, "dataset root (default: search order)");
-  scene_info->add_flag("--json", info_opts.json, "print one JSON object");
-
-  mtg::cli::SceneGraphOptions graph_opts;
-  CLI::App* scene_graph = scene->add_subcommand("graph", "Build the scene graph of a scene");
-  scene_graph->add_option("--scene", graph_opts.scene, "scene name, e.g. apt_0")->required();
-  scene_graph->add_option("--data", graph_opts.data_dir, "dataset root (default: search order)");
-  scene_graph->add_option("--out", graph_opts.out, "write graph.json here");
-  scene_graph->add_option("--png", graph_opts.png, "write a top-down map (PNG) here");
-  scene_graph->add_option("--profile", graph_opts.profile,
-                          "scene profile: replica_cad (default), none, or a JSON file");
-
-  // mtg render
-  mtg::cli::RenderOptions render_opts;
-  CLI::App* render = app.add_subcommand("render", "Render one view of a scene as the agent sees it");
-  render->add_option("--scene", render_opts.scene, "scene name, e.g. apt_0")->required();
-  render->add_option("--data", render_opts.data_dir, "dataset root (default: search order)");
-  render->add_option("--profile", render_opts.profile, "scene profile (default replica_cad)");
-  render->add_option("--view", render_opts.view,
-                     "platform (default), item (alone), focus (in place, neighbours faded) or topdown")
-      ->check(CLI::IsMember({"platform", "item", "focus", "topdown"}));
-  render->add_option("--platform", render_opts.platform, "platform name (platform views)");
-  render->add_option("--side", render_opts.side, "0 rear, 1 left, 2 front, 3 right (default: the platform's default side)")
-      ->check(CLI::Range(-1, 3));
-  render->add_option("--item", render_opts.item, "object name (item views)");
-  render->add_option("--marks", render_opts.marks, "auto (default), items, targets, labels or none")
-      ->check(CLI::IsMember({"auto", "items", "targets", "labels", "none"}));
-  render->add_option("--width", render_opts.width, "pixels (default 640)");
-  render->add_option("--height", render_opts.height, "pixels (default 480)");
-  render->add_option("--out", render_opts.out, "image file (.png or .jpg); the marked copy goes to <stem>_marked")
-      ->required();
-
-  mtg::cli::ImagesOptions images_opts;
-  CLI::App* images = app.add_subcommand("images", "Write the images the agents saw in a run to files");
-  images->add_option("run", images_opts.run, "run folder")->required();
-  images->add_option("--out", images_opts.out, "folder for the image files")->required();
-  images->add_option("--episode", images_opts.episode, "only this episode id");
-
-  // mtg tasks ... / mtg tasks stats DB
-  mtg::cli::TasksOptions tasks_opts;
-  CLI::App* tasks = app.add_subcommand("tasks", "Generate task sets (Levels 1-4) into SQLite/JSONL");
-  tasks->require_subcommand(0, 1);
-  tasks->add_option("--scene", tasks_opts.scenes, "scene name (repeat for several)");
-  tasks->add_option("--data", tasks_opts.data_dir, "dataset root (default: search order)");
-  tasks->add_option("--out", tasks_opts.out, "task database to write (SQLite)");
-  tasks->add_option("--jsonl", tasks_opts.jsonl, "also export one task per line here");
-  tasks->add_option("--seed", tasks_opts.seed, "seed (default 0)");
-  tasks->add_option("--levels", tasks_opts.levels, "levels to generate, e.g. 1,2,3,4");
-  tasks->add_option("--profile", tasks_opts.profile, "scene profile (replica_cad, none, or a file)");
-  tasks->add_option("--ambiguity", tasks_opts.ambiguity, "Look-alike rule: category (default: the same semantic class, for agents that see images) or name (the same model, for agents told object names)");
-  tasks->add_option("--l3-count", tasks_opts.level3_count, "Level 3 tasks per scene (default 10000)");
-  tasks->add_option("--l3-chain", tasks_opts.level3_chain, "sub-tasks per Level 3 task (default 2)");
-  tasks->add_option("--l4-max-moves", tasks_opts.level4_max_moves, "objects a Level 4 task may move (default 3)");
-  tasks->add_option("--l4-templates", tasks_opts.level4_templates, "Level 4 template library (builtin or a file)");
-  tasks->add_option("--votes", tasks_opts.votes, "recorded Level 4 feasibility votes (JSONL)");
-  tasks->add_option("--step-limit", tasks_opts.step_limit, "episode step limit (default 15)");
-  tasks->add_option("--voter", tasks_opts.voters, "model agent voting live on Level 4 candidates (repeatable)");
-  mtg::vlm::add_vlm_options(*tasks, tasks_opts.vlm, true);
-  mtg::cli::TaskStatsOptions stats_opts;
-  CLI::App* tasks_stats = tasks->add_subcommand("stats", "Counts per level, type and scene of a task database");
-  tasks_stats->add_option("db", stats_opts.db, "task database")->required();
-  tasks_stats->add_flag("--json", stats_opts.json, "print one JSON object");
-
-  // mtg run / report / replay / rejudge
-  mtg::cli::RunOptions run_opts;
-  CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
-  run->add_option("--tasks", run_opts.tasks, "task database (tasks.sqlite)");
-  run->add_option("--agent", run_opts.agents,
-                  "agent: oracle, random, replay:<run dir>, script:<file>, openai:<model>, anthropic:<model>, "
-                  "gemini:<model>, openai-compatible:<url>:<model> (repeat for several)");
-  run->add_option("--scene", run_opts.scenes, "only tasks of this scene (repeat for several; default all)");
-  run->add_option("--levels", run_opts.levels, "levels to run (default 1,2,3)");
-  run->add_option("--limit", run_opts.limit, "tasks per scene and level, drawn with the seed (default all)");
-  run->add_option("--parallel", run_opts.parallel,
-                  "episodes at once (default 4; with --remote: what the workers' capacities allow)");
-  run->add_option("--seed", run_opts.seed, "run seed (default 0)");
-  run->add_flag("--render", run_opts.render, "observations carry images (default: only for model agents)");
-  run->add_flag("--no-render", run_opts.no_render, "text-only observations, for any agent");
-  run->add_option("--image-size", run_opts.image_size, "observation images WIDTHxHEIGHT (default 640x480)");
-  run->add_option("--image-encoding", run_opts.image_encoding, "png (default) or jpeg")
-      ->check(CLI::IsMember({"png", "jpeg"}));
-  run->add_option("--object-names", run_opts.object_names,
-                  "name objects in the action space: on, off, or auto (default: on without images or for a "
-                  "task set of the name rule; the paper's numbered objects otherwise)")
-      ->check(CLI::IsMember({"auto", "on", "off"}));
-  run->add_option("--out", run_opts.out, "run folder (a second run on it resumes)")->required();
-  run->add_option("--data", run_opts.data_dir, "dataset root (default: search order)");
-  run->add_flag("--allow-data-mismatch", run_opts.allow_data_mismatch,
-                "run even where the dataset differs from the one the task set was made from");
-  run->add_option("--profile", run_opts.profile, "scene profile (default replica_cad)");
-  run->add_option("--url,--bus", run_opts.url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
-  run->add_flag("--remote", run_opts.remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");
-  run->add_option("--bus-key", run_opts.remote_options.bus_key,
-                  "with --remote: the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
-  run->add_option("--min-workers", run_opts.remote_options.min_workers, "with --remote: workers to wait for (default 1)");
-  run->add_option("--worker-wait", run_opts.remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
-  run->add_option("--lease-ttl", run_opts.remote_options.lease_ttl_s,
-                  "with --remote: seconds without renewal before a lease is re-issued (default 5)");
-  run->add_option("--episode-timeout", run_opts.episode_timeout_s, "seconds without news before a retry (default 60)");
-  run->add_option("--step-limit", run_opts.step_limit, "steps per episode (default 15)");
-  run->add_flag("--no-progress", run_opts.no_progress, "no progress bar");
-  run->add_option("--recorder", run_opts.recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
-  mtg::vlm::add_vlm_options(*run, run_opts.vlm, true);
-  // mtg worker / mtg status
-  mtg::cli::WorkerCliOptions worker_opts;
-  CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
-  worker->add_option("--bus", worker_opts.worker.bus_url, "the shared LCM URL (udpm, ttl=1)")->required();
-  worker->add_option("--bus-key", worker_opts.worker.bus_key,
-                     "the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
-  worker->add_option("--local-url", worker_opts.worker.local_url, "this host's own bus (default $MTG_LCM_URL or the loopback group)");
-  worker->add_option("--capacity", worker_opts.worker.capacity, "episodes at once (default 2)");
-  worker->add_option("--name", worker_opts.worker.name, "name shown by mtg status (default: the host name)");
-  worker->add_option("--dir", worker_opts.worker.dir, "folder for process logs and this host's recordings (default ./mtg-worker)");
-  worker->add_option("--data", worker_opts.worker.data_dir, "dataset root on this host (default: the coordinator's path)");
-  worker->add_option("--recorder", worker_opts.worker.recorder, "mtg (default) or lcm-logger");
-  worker->add_option("--chunk-bytes", worker_opts.worker.chunk_bytes, "recording chunk size (default 32768)");
-  worker->add_flag("--once", worker_opts.worker.once, "exit after one run");
-  mtg::vlm::add_vlm_options(*worker, worker_opts.vlm, false);
-  mtg::cli::StatusOptions status_opts;
-  CLI::App* status = app.add_subcommand("status", "Hosts, episodes in flight, rates and SR/IP of the runs on a bus");
-  status->add_option("--bus", status_opts.bus_url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
-  status->add_option("--bus-key", status_opts.bus_key,
-                     "the shared bus's key file: only messages signed with it are shown (default $MTG_BUS_KEY)");
-  status->add_option("--listen", status_opts.listen_s, "seconds to listen (default 2.5)");
-  status->add_flag("--json", status_opts.json, "print one JSON object");
-
-  // mtg vlm ask
-  CLI::App* vlm = app.add_subcommand("vlm", "Talk to a model agent directly");
-  vlm->require_subcommand(1);
-  mtg::cli::VlmAskOptions ask_opts;
-  CLI::App* vlm_ask = vlm->add_subcommand("ask", "Send one prompt (and images); check a key, a URL, the cache");
-  vlm_ask->add_option("--agent", ask_opts.agent, "openai:<model>, anthropic:<model>, gemini:<model>, "
-                      "openai-compatible:<url>:<model>")->required();
-  vlm_ask->add_option("--text", ask_opts.text, "the prompt");
-  vlm_ask->add_option("--image", ask_opts.images, "a PNG or JPEG file to attach (repeatable)");
-  vlm_ask->add_option("--repeat", ask_opts.repeat, "send it this many times");
-  vlm_ask->add_option("--parallel", ask_opts.parallel, "calls in flight at once");
-  vlm_ask->add_option("--bus", ask_opts.bus_url, "share the rate governor on this LCM URL");
-  vlm_ask->add_flag("--json", ask_opts.json, "one JSON line per call");
-  mtg::vlm::add_vlm_options(*vlm_ask, ask_opts.vlm, false);
-  mtg::cli::ReportOptions report_opts;
-  CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
-  report->add_option("run", report_opts.run, "run folder")->required();
-  report->add_option("--html", report_opts.html, "write the HTML report here");
-  report->add_flag("--json", report_opts.json, "print one JSON object");
-  mtg::cli::ReplayOptions replay_opts;
-  CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
-  replay->add_option("run", replay_opts.run, "run folder")->required();
-  replay->add_option("--out", replay_opts.out, "replay folder (default <run>/replay)");
-  replay->add_option("--url", replay_opts.url, "LCM URL");
-  replay->add_option("--parallel", replay_opts.parallel, "episodes at once (default 4)");
-  std::string rejudge_run;
-  CLI::App* rejudge = app.add_subcommand("rejudge", "Re-score a run from its recorded actions (no agent)");
-  rejudge->add_option("run", rejudge_run, "run folder")->required();
-
-  // mtg bench ... (what scripts/bench prints)
-  CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
-  bench->require_subcommand(1);
-  mtg::cli::BenchSceneLoadOptions bench_load;
-  CLI::App* bench_scene_load = bench->add_subcommand("scene-load", "Cold and warm scene loading");
-  bench_scene_load->add_option("--scene", bench_load.scene, "scene name");
-  bench_scene_load->add_option("--data", bench_load.data_dir, "dataset root");
-  bench_scene_load->add_option("--repeat", bench_load.repeat, "warm repetitions");
-
-  mtg::cli::BenchSceneGraphOptions bench_graph;
-  CLI::App* bench_scene_graph = bench->add_subcommand("scene-graph", "Scene-graph build time per apartment");
-  bench_scene_graph->add_option("--scene", bench_graph.scenes, "scene names (repeatable)");
-  bench_scene_graph->add_option("--data", bench_graph.data_dir, "dataset root");
-  bench_scene_graph->add_option("--repeat", bench_graph.repeat, "warm repetitions");
-
-  mtg::cli::BenchTasksOptions bench_tasks;
-  CLI::App* bench_tasks_cmd = bench->add_subcommand("tasks", "Task generation time per apartment and in all");
-  bench_tasks_cmd->add_option("--scene", bench_tasks.scenes, "scene names (repeatable)");
-  bench_tasks_cmd->add_option("--data", bench_tasks.data_dir, "dataset root");
-  bench_tasks_cmd->add_option("--out", bench_tasks.out, "where the benchmark's task database goes");
-  mtg::cli::BenchRuntimeOptions bench_runtime;
-  CLI::App* bench_runtime_cmd = bench->add_subcommand("runtime", "Oracle episodes per second over the bus, per-step latency");
-  bench_runtime_cmd->add_option("--scene", bench_runtime.scene, "scene name");
-  bench_runtime_cmd->add_option("--data", bench_runtime.data_dir, "dataset root");
-  bench_runtime_cmd->add_option("--work", bench_runtime.work, "scratch folder for tasks and runs (emptied first)");
-  bench_runtime_cmd->add_option("--per-level", bench_runtime.per_level, "tasks per level (Levels 1-3)");
-  bench_runtime_cmd->add_option("--parallel", bench_runtime.parallel, "episodes in flight (repeatable)");
-
-  mtg::cli::BenchRenderOptions bench_render;
-  CLI::App* bench_render_cmd = bench->add_subcommand("render", "Renderer: ms per annotated observation, episodes with images");
-  bench_render_cmd->add_option("--scene", bench_render.scene, "scene name");
-  bench_render_cmd->add_option("--data", bench_render.data_dir, "dataset root");
-  bench_render_cmd->add_option("--rounds", bench_render.rounds, "passes over every navigable platform");
-  bench_render_cmd->add_option("--episodes", bench_render.episodes, "oracle episodes rendered end to end");
+  mtg::cli::Commands commands;
+  mtg::cli::add_scene_commands(app, commands);
+  mtg::cli::add_render_commands(app, commands);
+  mtg::cli::add_task_commands(app, commands);
+  mtg::cli::add_run_commands(app, commands, argv);
+  mtg::cli::add_vlm_commands(app, commands);
+  mtg::cli::add_result_commands(app, commands, argv);
+  mtg::cli::add_bench_commands(app, commands);
 
   try {
     app.parse(argc, argv);
@@ -247,47 +319,17 @@ int main(int argc, char** argv) {
 
   try {
     mtg::log::set_level(mtg::log::parse_level(log_level));
-    if (scene_list->parsed()) return mtg::cli::run_scene_list(list_opts);
-    if (scene_info->parsed()) return mtg::cli::run_scene_info(info_opts);
-    if (scene_graph->parsed()) return mtg::cli::run_scene_graph(graph_opts);
-    if (run->parsed()) {
-      for (const CLI::Option* opt : run->get_options()) {
-        if (opt->count() > 0) run_opts.given.insert(opt->get_name());
-      }
-      // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
-      if (run_opts.url.empty() && !run_opts.remote) {
-        if (const auto isolated = mtg::orchestrator::run_in_own_namespace(argv)) return *isolated;
-      }
-      return mtg::cli::run_run(run_opts);
+    for (const mtg::cli::Command& c : commands) {
+      if (c.app->parsed()) return c.run();
     }
-    if (worker->parsed()) return mtg::cli::run_worker(worker_opts);
-    if (status->parsed()) return mtg::cli::run_status(status_opts);
-    if (render->parsed()) return mtg::cli::run_render(render_opts);
-    if (images->parsed()) return mtg::cli::run_images(images_opts);
-    if (report->parsed()) return mtg::cli::run_report(report_opts);
-    if (replay->parsed()) {
-      if (replay_opts.url.empty()) {
-        if (const auto isolated = mtg::orchestrator::run_in_own_namespace(argv)) return *isolated;
-      }
-      return mtg::cli::run_replay(replay_opts);
-    }
-    if (rejudge->parsed()) return mtg::cli::run_rejudge(rejudge_run);
-    if (vlm_ask->parsed()) return mtg::cli::run_vlm_ask(ask_opts);
-    if (tasks_stats->parsed()) return mtg::cli::run_task_stats(stats_opts);
-    if (tasks->parsed()) return mtg::cli::run_tasks(tasks_opts);
-    if (bench_scene_load->parsed()) return mtg::cli::run_bench_scene_load(bench_load);
-    if (bench_tasks_cmd->parsed()) return mtg::cli::run_bench_tasks(bench_tasks);
-    if (bench_scene_graph->parsed()) return mtg::cli::run_bench_scene_graph(bench_graph);
-    if (bench_runtime_cmd->parsed()) return mtg::cli::run_bench_runtime(bench_runtime);
-    if (bench_render_cmd->parsed()) return mtg::cli::run_bench_render(bench_render);
   } catch (const mtg::Error& e) {
-    std::cerr << where(app, e.what()) << '\n';
+    std::cerr << mtg::cli::where(app, e.what()) << '\n';
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << where(app, e.code().message() + ": " + e.path1().string()) << '\n';
+    std::cerr << mtg::cli::where(app, e.code().message() + ": " + e.path1().string()) << '\n';
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << where(app, std::string("unexpected failure: ") + e.what()) << '\n';
+    std::cerr << mtg::cli::where(app, std::string("unexpected failure: ") + e.what()) << '\n';
     return 1;
   }
   return 0;
