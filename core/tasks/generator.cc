@@ -156,7 +156,7 @@ void add_outcome_tasks(const graph::SceneGraph& g, const episode::WorldState& in
     Task t;
     t.level = 4;
     t.scene = g.scene;
-    t.type = "outcome:" + o.tmpl->kind;
+    t.type = std::string("outcome:") + to_string(o.tmpl->kind);
     t.template_id = o.tmpl->id;
     t.text = o.text;
     t.goal = {{"outcome", to_json(g, o.goal)}};

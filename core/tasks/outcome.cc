@@ -22,28 +22,40 @@ namespace {
 using episode::SetPredicate;
 using episode::WorldState;
 
+// Each kind's name and the placeholders its templates may and must use: the one table of kinds.
 struct KindSpec {
+  OutcomeKind kind;
+  const char* name;
   std::set<std::string> allowed;
   std::vector<std::set<std::string>> required;  // each: at least one of these
 };
 
-const std::map<std::string, KindSpec>& kinds() {
-  static const std::map<std::string, KindSpec> k = {
-      {"gather_category", {{"source", "target", "category", "categories", "count"},
-                           {{"source"}, {"target"}, {"category", "categories"}}}},
-      {"consolidate", {{"target", "category", "categories", "count"}, {{"target"}, {"category", "categories"}}}},
-      {"clear_platform", {{"source", "count"}, {{"source"}}}},
-      {"clear_category", {{"source", "category", "categories", "count"}, {{"source"}, {"category", "categories"}}}},
-      {"arrange_on", {{"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}}}},
-      {"together", {{"object", "object2"}, {{"object"}, {"object2"}}}},
-      {"set_up", {{"target", "category", "category2"}, {{"target"}, {"category"}, {"category2"}}}},
-      {"put_away", {{"object", "furniture"}, {{"object"}, {"furniture"}}}},
-      {"sort", {{"source", "target", "target2", "category", "categories", "category2", "categories2"},
-                {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}}}},
-      {"move_layer", {{"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}}}},
-      {"pair", {{"object", "object2"}, {{"object"}, {"object2"}}}},
+const std::vector<KindSpec>& kinds() {
+  using K = OutcomeKind;
+  static const std::vector<KindSpec> k = {
+      {K::kGatherCategory, "gather_category", {"source", "target", "category", "categories", "count"},
+       {{"source"}, {"target"}, {"category", "categories"}}},
+      {K::kConsolidate, "consolidate", {"target", "category", "categories", "count"}, {{"target"}, {"category", "categories"}}},
+      {K::kClearPlatform, "clear_platform", {"source", "count"}, {{"source"}}},
+      {K::kClearCategory, "clear_category", {"source", "category", "categories", "count"},
+       {{"source"}, {"category", "categories"}}},
+      {K::kArrangeOn, "arrange_on", {"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}}},
+      {K::kTogether, "together", {"object", "object2"}, {{"object"}, {"object2"}}},
+      {K::kSetUp, "set_up", {"target", "category", "category2"}, {{"target"}, {"category"}, {"category2"}}},
+      {K::kPutAway, "put_away", {"object", "furniture"}, {{"object"}, {"furniture"}}},
+      {K::kSort, "sort", {"source", "target", "target2", "category", "categories", "category2", "categories2"},
+       {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}}},
+      {K::kMoveLayer, "move_layer", {"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}}},
+      {K::kPair, "pair", {"object", "object2"}, {{"object"}, {"object2"}}},
   };
   return k;
+}
+
+const KindSpec* spec_named(const std::string& name) {
+  for (const KindSpec& k : kinds()) {
+    if (name == k.name) return &k;
+  }
+  return nullptr;
 }
 
 std::set<std::string> placeholders_of(const std::string& text) {
@@ -173,18 +185,19 @@ class Instantiator {
   void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
     tmpl_ = &t;
     out_ = &out;
-    const std::string& k = t.kind;
-    if (k == "gather_category") gather_category();
-    else if (k == "consolidate") consolidate();
-    else if (k == "clear_platform") clear_platform();
-    else if (k == "clear_category") clear_category();
-    else if (k == "arrange_on") arrange_on();
-    else if (k == "together") together();
-    else if (k == "set_up") set_up();
-    else if (k == "put_away") put_away();
-    else if (k == "sort") sort();
-    else if (k == "move_layer") move_layer();
-    else if (k == "pair") pair();
+    switch (t.kind) {
+      case OutcomeKind::kGatherCategory: return gather_category();
+      case OutcomeKind::kConsolidate: return consolidate();
+      case OutcomeKind::kClearPlatform: return clear_platform();
+      case OutcomeKind::kClearCategory: return clear_category();
+      case OutcomeKind::kArrangeOn: return arrange_on();
+      case OutcomeKind::kTogether: return together();
+      case OutcomeKind::kSetUp: return set_up();
+      case OutcomeKind::kPutAway: return put_away();
+      case OutcomeKind::kSort: return sort();
+      case OutcomeKind::kMoveLayer: return move_layer();
+      case OutcomeKind::kPair: return pair();
+    }
   }
 
  private:
@@ -570,6 +583,13 @@ class Instantiator {
 
 }  // namespace
 
+const char* to_string(OutcomeKind kind) {
+  for (const KindSpec& k : kinds()) {
+    if (k.kind == kind) return k.name;
+  }
+  return "unknown";
+}
+
 std::vector<OutcomeTemplate> load_templates(const std::string& source) {
   nlohmann::json doc;
   std::string origin = source;
@@ -585,18 +605,20 @@ std::vector<OutcomeTemplate> load_templates(const std::string& source) {
   std::set<std::string> ids;
   for (std::size_t i = 0; i < list.size(); ++i) {
     const JsonField t = list.at(i);
-    OutcomeTemplate tmpl{t.at("id").as_string(), t.at("family").as_string(), t.at("kind").as_string(),
+    OutcomeTemplate tmpl{t.at("id").as_string(), t.at("family").as_string(), OutcomeKind::kGatherCategory,
                          t.at("text").as_string()};
     if (!ids.insert(tmpl.id).second) t.at("id").fail("duplicate template id '" + tmpl.id + "'");
-    const auto spec = kinds().find(tmpl.kind);
-    if (spec == kinds().end()) t.at("kind").fail("template " + tmpl.id + ": unknown kind '" + tmpl.kind + "'");
+    const std::string kind = t.at("kind").as_string();
+    const KindSpec* spec = spec_named(kind);
+    if (spec == nullptr) t.at("kind").fail("template " + tmpl.id + ": unknown kind '" + kind + "'");
+    tmpl.kind = spec->kind;
     const auto used = placeholders_of(tmpl.text);
     for (const auto& ph : used) {
-      if (spec->second.allowed.count(ph) == 0) {
-        t.at("text").fail("template " + tmpl.id + ": unknown placeholder {" + ph + "} for kind " + tmpl.kind);
+      if (spec->allowed.count(ph) == 0) {
+        t.at("text").fail("template " + tmpl.id + ": unknown placeholder {" + ph + "} for kind " + kind);
       }
     }
-    for (const auto& alternatives : spec->second.required) {
+    for (const auto& alternatives : spec->required) {
       const bool present = std::any_of(alternatives.begin(), alternatives.end(),
                                        [&](const std::string& ph) { return used.count(ph) != 0; });
       if (!present) {

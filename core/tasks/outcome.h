@@ -31,10 +31,26 @@
 
 namespace mtg::tasks {
 
+enum class OutcomeKind {
+  kGatherCategory,
+  kConsolidate,
+  kClearPlatform,
+  kClearCategory,
+  kArrangeOn,
+  kTogether,
+  kSetUp,
+  kPutAway,
+  kSort,
+  kMoveLayer,
+  kPair,
+};
+/// The kind's name in template files and task types ("gather_category", ...).
+const char* to_string(OutcomeKind kind);
+
 struct OutcomeTemplate {
   std::string id;
   std::string family;  // arrange, gather, clear, set_up, sort, pair
-  std::string kind;    // one of the kinds above
+  OutcomeKind kind = OutcomeKind::kGatherCategory;
   std::string text;
 };
 

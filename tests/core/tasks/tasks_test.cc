@@ -187,7 +187,7 @@ TEST(TaskGeneration, TheBuiltInTemplateLibraryHasAtLeastAHundredTemplatesInSixFa
   std::set<std::string> families, kinds;
   for (const auto& t : templates) {
     families.insert(t.family);
-    kinds.insert(t.kind);
+    kinds.insert(to_string(t.kind));
   }
   EXPECT_EQ(families, (std::set<std::string>{"arrange", "clear", "gather", "pair", "set_up", "sort"}));
   EXPECT_EQ(kinds.size(), 11u);
