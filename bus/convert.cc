@@ -181,15 +181,15 @@ void set_usage(mtg::agent_action_t& a, const episode::AnswerUsage& u) {
 }
 
 episode::AnswerUsage answer_usage(const mtg::agent_action_t& a) {
-  return {a.input_tokens, a.output_tokens, a.images_sent, a.cost_usd, a.latency_ms, a.cache_hit};
+  return {a.input_tokens, a.output_tokens, a.images_sent, a.cost_usd, a.latency_ms, a.cache_hit != 0};
 }
 
 void set_usage(mtg::episode_result_t& r, const episode::EpisodeUsage& u) {
   r.input_tokens = static_cast<int32_t>(u.input_tokens);
   r.output_tokens = static_cast<int32_t>(u.output_tokens);
-  r.images_sent = u.images_sent;
-  r.model_calls = u.model_calls;
-  r.cache_hits = u.cache_hits;
+  r.images_sent = static_cast<int32_t>(u.images_sent);
+  r.model_calls = static_cast<int32_t>(u.model_calls);
+  r.cache_hits = static_cast<int32_t>(u.cache_hits);
   r.cost_usd = u.cost_usd;
   r.spent_usd = u.spent_usd;
   r.latency_ms = u.latency_ms;

@@ -40,7 +40,8 @@ mtg::heartbeat_t heartbeat_message(const HeartbeatFigures& f) {
   hb.capacity = f.capacity;
   hb.in_flight = f.in_flight;
   hb.tick = f.tick;
-  hb.status = to_string(f.status);
+  const bool busy = f.status == HeartbeatStatus::kReady && f.in_flight > 0;
+  hb.status = to_string(busy ? HeartbeatStatus::kBusy : f.status);
   return hb;
 }
 

@@ -32,7 +32,8 @@ struct HeartbeatFigures {
   HeartbeatStatus status = HeartbeatStatus::kReady;
 };
 
-/// The message for `figures` (header left to the caller); pid is this process's.
+/// The message for `figures` (header left to the caller); pid is this process's. A process that
+/// is ready and holds work reports busy.
 mtg::heartbeat_t heartbeat_message(const HeartbeatFigures& figures);
 
 }  // namespace mtg::process

@@ -1,7 +1,8 @@
 #pragma once
 // What an agent's answers cost: telemetry that travels beside the verdict and is never part of it.
 // One answer's figures (AnswerUsage: agent -> agent_action_t) add up to an episode's
-// (EpisodeUsage: judge -> episode_result_t -> results.sqlite -> report); bus/convert moves them
+// (EpisodeUsage: judge -> episode_result_t -> results.sqlite), and episodes add up to a run's
+// (the report); bus/convert moves them
 // across the bus, so the figures are copied in exactly one place per boundary.
 
 #include <cstdint>
@@ -21,9 +22,9 @@ struct AnswerUsage {
 struct EpisodeUsage {
   std::int64_t input_tokens = 0;
   std::int64_t output_tokens = 0;
-  int images_sent = 0;
-  int model_calls = 0;        // answers from a model (cached or not)
-  int cache_hits = 0;
+  std::int64_t images_sent = 0;
+  std::int64_t model_calls = 0;  // answers from a model (cached or not)
+  std::int64_t cache_hits = 0;
   double cost_usd = 0.0;      // list price of the answers used (equal on a cached rerun)
   double spent_usd = 0.0;     // what was really paid (cache hits cost nothing)
   double latency_ms = 0.0;    // summed call time
@@ -42,6 +43,19 @@ struct EpisodeUsage {
       spent_usd += answer.cache_hit ? 0.0 : answer.cost_usd;
     }
     if (!answer_prompt_version.empty()) prompt_version = answer_prompt_version;
+  }
+
+  /// Adds another episode's figures (a run's total); the prompt version is the last one given.
+  void add(const EpisodeUsage& other) {
+    input_tokens += other.input_tokens;
+    output_tokens += other.output_tokens;
+    images_sent += other.images_sent;
+    model_calls += other.model_calls;
+    cache_hits += other.cache_hits;
+    cost_usd += other.cost_usd;
+    spent_usd += other.spent_usd;
+    latency_ms += other.latency_ms;
+    if (!other.prompt_version.empty()) prompt_version = other.prompt_version;
   }
 };
 

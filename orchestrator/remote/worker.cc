@@ -248,10 +248,8 @@ class Worker final : public LaunchSink {
   }
 
   void heartbeat() {
-    const bool busy = status_ == process::HeartbeatStatus::kReady && !held_.empty();
-    mtg::heartbeat_t hb = process::heartbeat_message({"worker", host_, options_.capacity,
-                                                      static_cast<int>(held_.size()), tick_++,
-                                                      busy ? process::HeartbeatStatus::kBusy : status_});
+    mtg::heartbeat_t hb = process::heartbeat_message(
+        {"worker", host_, options_.capacity, static_cast<int>(held_.size()), tick_++, status_});
     hb.header = stamp_.next(-1, 0, "heartbeat");
     shared_.publish(bus::kHeartbeat, hb);
   }

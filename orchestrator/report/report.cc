@@ -33,30 +33,23 @@ struct Acc {
 // What a model agent's calls cost, over every episode of the run (spending happens whether or
 // not the episode was scored).
 struct Usage {
-  std::int64_t calls = 0, cache_hits = 0, input_tokens = 0, output_tokens = 0, images = 0;
-  double cost_usd = 0.0, spent_usd = 0.0, latency_ms = 0.0;
-  std::set<std::string> prompt_versions;
+  episode::EpisodeUsage total;
+  std::set<std::string> prompt_versions;  // every version used, not only the last
   void add(const EpisodeRow& r) {
-    calls += r.usage.model_calls;
-    cache_hits += r.usage.cache_hits;
-    input_tokens += r.usage.input_tokens;
-    output_tokens += r.usage.output_tokens;
-    images += r.usage.images_sent;
-    cost_usd += r.usage.cost_usd;
-    spent_usd += r.usage.spent_usd;
-    latency_ms += r.usage.latency_ms;
+    total.add(r.usage);
     if (!r.usage.prompt_version.empty()) prompt_versions.insert(r.usage.prompt_version);
   }
   nlohmann::json json() const {
     auto round6 = [](double v) { return std::round(v * 1e6) / 1e6; };
+    const std::int64_t calls = total.model_calls;
     return {{"calls", calls},
-            {"cache_hits", cache_hits},
-            {"input_tokens", input_tokens},
-            {"output_tokens", output_tokens},
-            {"images", images},
-            {"cost_usd", round6(cost_usd)},
-            {"spent_usd", round6(spent_usd)},
-            {"mean_latency_ms", calls ? std::round(latency_ms / static_cast<double>(calls)) : 0.0},
+            {"cache_hits", total.cache_hits},
+            {"input_tokens", total.input_tokens},
+            {"output_tokens", total.output_tokens},
+            {"images", total.images_sent},
+            {"cost_usd", round6(total.cost_usd)},
+            {"spent_usd", round6(total.spent_usd)},
+            {"mean_latency_ms", calls ? std::round(total.latency_ms / static_cast<double>(calls)) : 0.0},
             {"prompt_versions", prompt_versions}};
   }
 };

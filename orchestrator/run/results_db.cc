@@ -66,9 +66,9 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
     r.detail = q.column_text(19);
     r.status = q.column_text(20);
     r.usage.spent_usd = q.column_double(21);
-    r.usage.images_sent = static_cast<int>(q.column_int(22));
-    r.usage.model_calls = static_cast<int>(q.column_int(23));
-    r.usage.cache_hits = static_cast<int>(q.column_int(24));
+    r.usage.images_sent = q.column_int(22);
+    r.usage.model_calls = q.column_int(23);
+    r.usage.cache_hits = q.column_int(24);
     r.usage.prompt_version = q.column_text(25);
     r.worker = q.column_text(26);
     out.push_back(std::move(r));
@@ -86,7 +86,6 @@ void add_missing_columns(store::Database& db) {
 }
 
 }  // namespace
-
 
 void set_verdict(EpisodeRow& row, const mtg::episode_result_t& result) {
   row.success = result.success;
@@ -124,8 +123,8 @@ bool ResultsDb::insert(const EpisodeRow& r) {
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
   q.bind(14, r.usage.input_tokens).bind(15, r.usage.output_tokens).bind(16, r.usage.cost_usd).bind(17, r.usage.latency_ms);
   q.bind(18, r.wall_ms).bind(19, r.subtask_ip).bind(20, r.detail).bind(21, r.status);
-  q.bind(22, r.usage.spent_usd).bind(23, std::int64_t{r.usage.images_sent}).bind(24, std::int64_t{r.usage.model_calls});
-  q.bind(25, std::int64_t{r.usage.cache_hits}).bind(26, r.usage.prompt_version).bind(27, r.worker);
+  q.bind(22, r.usage.spent_usd).bind(23, r.usage.images_sent).bind(24, r.usage.model_calls);
+  q.bind(25, r.usage.cache_hits).bind(26, r.usage.prompt_version).bind(27, r.worker);
   q.run();
   return db_->changes() > 0;
 }
