@@ -15,4 +15,13 @@ namespace mtg::process {
 /// @throws mtg::Error if the process cannot be forked. A failed exec exits the child with 127.
 pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal);
 
+struct CommandOutput {
+  int exit_code = -1;  // -1 when it did not exit normally
+  std::string output;  // stdout and stderr, interleaved
+};
+
+/// Runs a short command (argv[0] is looked up on the PATH) to its end and returns what it printed.
+/// @throws mtg::Error if it cannot be started (exit code 127 from the child means not found).
+CommandOutput run_command(const std::vector<std::string>& argv);
+
 }  // namespace mtg::process

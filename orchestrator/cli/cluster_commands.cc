@@ -1,23 +1,28 @@
 #include "orchestrator/cli/cluster_commands.h"
 
-#include <cstdlib>
+#include <fcntl.h>
+#include <unistd.h>
 
-#include <nlohmann/json.hpp>
-
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/process/faults.h"
+#include "bus/process/identity.h"
 #include "bus/url.h"
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/run_info_t.hpp"
+#include "orchestrator/remote/tcp_hub.h"
 
 namespace mtg::cli {
 
@@ -25,7 +30,7 @@ int run_worker(WorkerCliOptions o) {
   auto& w = o.worker;
   if (w.bus_url.empty()) throw Error("mtg worker: --bus <shared LCM URL> is required");
   w.bus_url = bus::normalize_url(w.bus_url);
-  w.local_url = bus::normalize_url(w.local_url.empty() ? bus::default_url() : w.local_url);
+  if (!w.local_url.empty()) w.local_url = bus::normalize_url(w.local_url);
   if (w.local_url == w.bus_url) {
     throw Error("mtg worker: the host bus (--local-url " + w.local_url + ") must differ from the shared bus");
   }
@@ -90,6 +95,23 @@ int run_status(const StatusOptions& o) {
                 w.capacity, w.header.run_id.empty() ? "-" : w.header.run_id.c_str(), id.c_str());
   }
   return 0;
+}
+
+void run_hub(const HubOptions& o) {
+  const auto argv = orchestrator::remote::hub_command(o.port);
+  orchestrator::remote::check_hub_port(o.port);
+  std::printf("mtg hub: LCM TCP hub on port %d; every host joins with --bus %s (stop: Ctrl-C)\n", o.port,
+              orchestrator::remote::hub_url(process::host_name(), o.port).c_str());
+  std::fflush(stdout);
+  if (o.quiet) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) ::dup2(null, 1);
+  }
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  ::execv(args[0], args.data());
+  throw Error("cannot start " + argv[0] + " for the hub");
 }
 
 }  // namespace mtg::cli

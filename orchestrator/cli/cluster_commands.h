@@ -1,5 +1,5 @@
 #pragma once
-// `mtg worker` and `mtg status` (docs/multihost.md).
+// `mtg worker`, `mtg status` and `mtg hub` (docs/multihost.md).
 
 #include <string>
 
@@ -20,7 +20,14 @@ struct StatusOptions {
   bool json = false;
 };
 
+struct HubOptions {
+  int port = 7700;
+  bool quiet = false;  // without the hub's once-a-second throughput line
+};
+
 int run_worker(WorkerCliOptions options);
+/// Becomes the stock LCM TCP hub (exec); returns only by throwing.
+[[noreturn]] void run_hub(const HubOptions& options);
 int run_status(const StatusOptions& options);
 
 }  // namespace mtg::cli

@@ -167,6 +167,14 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   run->add_option("--worker-wait", run_opts->remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
   run->add_option("--lease-ttl", run_opts->remote_options.lease_ttl_s,
                   "with --remote: seconds without renewal before a lease is re-issued (default 5)");
+  run->add_option("--slurm", run_opts->slurm,
+                  "start the workers as a Slurm job array, with these sbatch options (\"\" for none); implies --remote")
+      ->expected(0, 1);
+  run->add_option("--slurm-workers", run_opts->slurm_workers, "with --slurm: workers, one array task each (default 1)");
+  run->add_option("--worker-capacity", run_opts->worker_capacity, "with --slurm: episodes at once per worker (default 2)");
+  run->add_option("--hub-port", run_opts->hub_port, "with --slurm and no --bus: port of the run's LCM hub (default 7700)");
+  run->add_option("--hub-host", run_opts->hub_host,
+                  "with --slurm and no --bus: this host's name or address as the nodes reach it (default: host name)");
   run->add_option("--episode-timeout", run_opts->episode_timeout_s, "seconds without news before a retry (default 60)");
   run->add_option("--step-limit", run_opts->step_limit, "steps per episode (default 15)");
   run->add_flag("--no-progress", run_opts->no_progress, "no progress bar");
@@ -175,10 +183,14 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   // mtg worker / mtg status
   auto worker_opts = std::make_shared<WorkerCliOptions>();
   CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
-  worker->add_option("--bus", worker_opts->worker.bus_url, "the shared LCM URL (udpm, ttl=1)")->required();
+  worker->add_option("--bus", worker_opts->worker.bus_url,
+                     "the shared LCM URL: udpm://<group>:<port>?ttl=1, or tcpq://<hub host>:<port> (mtg hub)")
+      ->required();
   worker->add_option("--bus-key", worker_opts->worker.bus_key,
                      "the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
-  worker->add_option("--local-url", worker_opts->worker.local_url, "this host's own bus (default $MTG_LCM_URL or the loopback group)");
+  worker->add_option("--local-url", worker_opts->worker.local_url,
+                     "this host's own bus (default: the loopback group on a port no other bus here uses)");
+  worker->add_option("--run", worker_opts->worker.run_id, "join only this run id (default: the first announced)");
   worker->add_option("--capacity", worker_opts->worker.capacity, "episodes at once (default 2)");
   worker->add_option("--name", worker_opts->worker.name, "name shown by mtg status (default: the host name)");
   worker->add_option("--dir", worker_opts->worker.dir, "folder for process logs and this host's recordings (default ./mtg-worker)");
@@ -198,12 +210,18 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
                         for (const CLI::Option* opt : run->get_options()) {
                           if (opt->count() > 0) run_opts->given.insert(opt->get_name());
                         }
+                        if (run_opts->given.count("--slurm")) run_opts->remote = true;
                         // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
                         if (run_opts->url.empty() && !run_opts->remote) {
                           if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
                         }
                         return run_run(*run_opts);
                       }});
+  auto hub_opts = std::make_shared<HubOptions>();
+  CLI::App* hub = app.add_subcommand("hub", "The shared bus without multicast: LCM's TCP hub (join with --bus tcpq://HOST:PORT)");
+  hub->add_option("--port", hub_opts->port, "TCP port (default 7700)");
+  hub->add_flag("--quiet", hub_opts->quiet, "without the once-a-second throughput line");
+  commands.push_back({hub, [hub_opts]() -> int { run_hub(*hub_opts); }});
   commands.push_back({worker, [worker_opts] { return run_worker(*worker_opts); }});
   commands.push_back({status, [status_opts] { return run_status(*status_opts); }});
 }

@@ -1,16 +1,23 @@
 #include "orchestrator/cli/run_commands.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <random>
 #include <set>
 #include <tuple>
-#include <unistd.h>
 
 #include "agents/builtin/policies.h"
 #include "agents/vlm/model_setup.h"
+#include "bus/authenticator.h"
+#include "bus/process/identity.h"
 #include "bus/url.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
@@ -19,6 +26,8 @@
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/util/log.h"
+#include "orchestrator/remote/slurm_workers.h"
+#include "orchestrator/remote/tcp_hub.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
 #include "orchestrator/run/results_db.h"
@@ -162,7 +171,13 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
   plan.data_dir = o.data_dir;
   plan.profile = o.profile;
-  plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
+  if (o.given.count("--slurm") && o.url.empty()) {
+    // Cluster networks rarely carry multicast: the run brings its own hub (started in run_run).
+    const std::string host = o.hub_host.empty() ? process::host_name() : o.hub_host;
+    plan.bus_url = orchestrator::remote::hub_url(host, o.hub_port);
+  } else {
+    plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
+  }
   plan.remote = o.remote;
   plan.allow_data_mismatch = o.allow_data_mismatch;
   return plan;
@@ -231,10 +246,77 @@ void write_bus_file(const fs::path& dir, const RunPlan& plan) {
                                      {"user_namespace", orchestrator::inside_run_namespace() && ::geteuid() != 0}});
 }
 
+// The key of a Slurm run's shared bus: the one given, else a fresh secret in the run folder
+// (which the nodes see at the same path), kept for a resume.
+std::string slurm_bus_key(const RunOptions& o, const fs::path& dir) {
+  if (!o.remote_options.bus_key.empty() || std::getenv("MTG_BUS_KEY") != nullptr) {
+    return fs::absolute(bus::shared_bus_key_file(o.remote_options.bus_key)).string();
+  }
+  const fs::path key = dir / "bus.key";
+  if (!fs::exists(key)) {
+    std::random_device urandom;
+    std::string secret;
+    for (int i = 0; i < 8; ++i) {
+      char word[9];
+      std::snprintf(word, sizeof word, "%08x", urandom());
+      secret += word;
+    }
+    const mode_t before = ::umask(077);
+    std::ofstream(key) << secret << '\n';
+    ::umask(before);
+    if (!fs::exists(key)) throw Error("cannot write the bus key " + key.string());
+  }
+  return key.string();
+}
+
+// What a Slurm run starts beside the engine, stopped (hub) and cancelled (job array) when the
+// run ends, is interrupted or fails.
+struct SlurmRun {
+  std::unique_ptr<orchestrator::remote::HubProcess> hub;
+  std::unique_ptr<orchestrator::remote::SlurmWorkers> workers;  // cancelled before the hub stops
+};
+
+SlurmRun start_slurm_run(const RunOptions& o, const RunPlan& plan, const fs::path& dir,
+                         orchestrator::remote::RemoteOptions& remote) {
+  namespace remote_ns = orchestrator::remote;
+  SlurmRun s;
+  const fs::path slurm_dir = dir / "slurm";
+  fs::create_directories(slurm_dir);
+  if (o.url.empty()) {
+    // The plan's URL names this run's hub (a resume keeps the port it was planned with).
+    const std::string url = plan.bus_url;
+    const int port = std::atoi(url.substr(url.rfind(':') + 1).c_str());
+    s.hub = std::make_unique<remote_ns::HubProcess>(port, (slurm_dir / "hub.log").string());
+    std::printf("LCM hub for the workers: %s\n", url.c_str());
+  }
+  remote.bus_key = slurm_bus_key(o, dir);
+  remote_ns::SlurmRequest request;
+  request.sbatch_options = o.slurm;
+  request.workers = o.slurm_workers;
+  request.capacity = o.worker_capacity;
+  request.mtg_binary = fs::read_symlink("/proc/self/exe").string();
+  request.bus_url = plan.bus_url;
+  request.bus_key = remote.bus_key;
+  request.run_id = plan.run_id;
+  request.data_dir = plan.data_dir.empty() ? "" : fs::absolute(plan.data_dir).string();
+  request.dir = slurm_dir.string();
+  s.workers = std::make_unique<remote_ns::SlurmWorkers>(request);
+  std::printf("Slurm job array %s: %d worker(s), logs in %s\n", s.workers->job_id().c_str(), o.slurm_workers,
+              slurm_dir.c_str());
+  return s;
+}
+
 }  // namespace
 
 int run_run(const RunOptions& o) {
   if (o.out.empty()) throw Error("--out <run dir> is required");
+  if (o.given.count("--slurm")) {
+    if (o.slurm_workers < 1) throw Error("--slurm-workers must be at least 1, not " + std::to_string(o.slurm_workers));
+    if (o.worker_capacity < 1) throw Error("--worker-capacity must be at least 1, not " + std::to_string(o.worker_capacity));
+  } else if (o.given.count("--slurm-workers") || o.given.count("--worker-capacity") || o.given.count("--hub-port") ||
+             o.given.count("--hub-host")) {
+    throw Error("--slurm-workers, --worker-capacity, --hub-port and --hub-host go with --slurm");
+  }
   const fs::path dir = fs::absolute(o.out).lexically_normal();
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("--out " + dir.string() + " is a file, not a run folder");
   RunPlan plan;
@@ -265,7 +347,11 @@ int run_run(const RunOptions& o) {
   engine.recorder = o.recorder;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;
+  SlurmRun slurm;
+  if (o.given.count("--slurm")) slurm = start_slurm_run(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
+  slurm.workers.reset();  // cancel what is left of the array
+  slurm.hub.reset();
   const nlohmann::json report = orchestrator::write_reports(dir);
   print_summary(summary, dir, report);
   if (summary.interrupted) {

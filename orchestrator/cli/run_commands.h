@@ -8,6 +8,7 @@
 
 #include "agents/vlm/options.h"
 #include "orchestrator/remote/remote_options.h"
+#include "orchestrator/remote/tcp_hub.h"
 
 namespace mtg::cli {
 
@@ -36,6 +37,12 @@ struct RunOptions {
   bool remote = false;               // episodes run on `mtg worker`s of the bus, by lease
   orchestrator::remote::RemoteOptions remote_options;
   bool allow_data_mismatch = false;  // run on a dataset other than the task set's
+  // --slurm "<sbatch options>" (given = on, even empty): the workers are a Slurm job array.
+  std::string slurm;
+  int slurm_workers = 1;             // with --slurm: array tasks, one worker each
+  int worker_capacity = 2;           // with --slurm: episodes at once per worker
+  int hub_port = orchestrator::remote::kDefaultHubPort;  // with --slurm and no --bus: this run's hub
+  std::string hub_host;              // ... as the nodes reach it ("" = this host's name)
   std::set<std::string> given;       // the options given on the command line ("--levels", ...)
 };
 

@@ -13,6 +13,7 @@
 #include "bus/channels.h"
 #include "bus/error_events.h"
 #include "bus/header.h"
+#include "bus/host_bus.h"
 #include "bus/process/heartbeat.h"
 #include "bus/process/identity.h"
 #include "bus/process/stop_signals.h"
@@ -75,6 +76,7 @@ class Worker final : public LaunchSink {
 
   int run() {
     process::install_stop_signals();
+    const auto started = Clock::now();
     log::info(stamp_.sender() + " on " + options_.bus_url + " (host bus " + options_.local_url + "), capacity " +
               std::to_string(options_.capacity));
     auto next_beat = Clock::now();
@@ -89,6 +91,12 @@ class Worker final : public LaunchSink {
       }
       if (leave_) leave();
       if (once_done_) break;
+      if (!options_.run_id.empty() && !heard_run_ &&
+          Clock::now() - started > std::chrono::duration<double>(kRunNotHeardS)) {
+        log::error("run " + options_.run_id + " was not announced on " + options_.bus_url + " within " +
+                   std::to_string(static_cast<int>(kRunNotHeardS)) + " s; is its coordinator running there?");
+        return 1;
+      }
       if (join_) join();
       if (runtime_) {
         runtime_->poll(0, *this);
@@ -159,6 +167,8 @@ class Worker final : public LaunchSink {
   }
 
   void on_run_info(const mtg::run_info_t& m) {
+    if (!options_.run_id.empty() && m.header.run_id != options_.run_id) return;
+    heard_run_ = true;
     if (run_id_.empty() && m.state == "running" && !join_) {
       // A run this host could not start is tried again after a while, not on every announcement.
       if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
@@ -367,6 +377,7 @@ class Worker final : public LaunchSink {
   std::optional<mtg::run_info_t> join_;
   bool leave_ = false;
   bool once_done_ = false;
+  bool heard_run_ = false;  // the run of options_.run_id has been announced
   Clock::time_point last_announcement_;
   std::string failed_run_;
   Clock::time_point retry_join_at_;
@@ -381,7 +392,13 @@ class Worker final : public LaunchSink {
 }  // namespace
 
 int run_worker(const WorkerOptions& options) {
-  Worker worker(options);
+  std::optional<bus::HostBusReservation> own_port;
+  WorkerOptions o = options;
+  if (o.local_url.empty()) {
+    own_port.emplace();
+    o.local_url = own_port->url();
+  }
+  Worker worker(std::move(o));
   return worker.run();
 }
 

@@ -19,7 +19,7 @@ namespace mtg::orchestrator::remote {
 struct WorkerOptions {
   std::string bus_url;            // the shared bus (udpm, ttl=1 across hosts)
   std::string bus_key;            // its key file ("" = $MTG_BUS_KEY): messages are signed
-  std::string local_url;          // this host's bus for the run's processes (ttl=0)
+  std::string local_url;          // this host's bus for the run's processes (ttl=0; "" = a loopback port of its own)
   std::string name;               // shown by `mtg status` ("" = host name)
   int capacity = 2;               // episodes at once
   std::string dir;                // per-run process logs and this host's recordings
@@ -29,6 +29,10 @@ struct WorkerOptions {
   int chunk_bytes = 32 * 1024;    // one datagram each
   int chunks_per_round = 16;      // paced: at most this many chunks per 10 ms round
   bool once = false;              // leave after one run (tests, batch jobs)
+  /// Join only this run ("" = the first announced). A worker started for one run (a Slurm array
+  /// task) must not serve another coordinator on the same bus, and gives up when that run is
+  /// not announced within kRunNotHeardS.
+  std::string run_id;
   /// Test hook (MTG_FAULTS="drop_chunk:<n>"): the first sending of a recording skips every n-th
   /// chunk, as a lossy network would, so the coordinator must wait for the resend.
   int drop_chunk_every = 0;
@@ -36,6 +40,9 @@ struct WorkerOptions {
   /// leases stay held until the host dies -- a host that crashes before delivering.
   bool hold_results = false;
 };
+
+/// How long a worker bound to one run (WorkerOptions::run_id) waits to hear it announced.
+inline constexpr double kRunNotHeardS = 120.0;
 
 /// Runs until SIGINT/SIGTERM (or after one run with `once`). @throws mtg::Error.
 int run_worker(const WorkerOptions& options);

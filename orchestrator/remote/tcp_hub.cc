@@ -1,0 +1,106 @@
+#include "orchestrator/remote/tcp_hub.h"
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include "bus/process/subprocess.h"
+#include "core/util/error.h"
+
+namespace mtg::orchestrator::remote {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string find_on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
+  std::size_t start = 0;
+  while (start <= dirs.size()) {
+    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
+    start = end + 1;
+  }
+  return "";
+}
+
+bool accepts_connections(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return false;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  const bool ok = ::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
+  ::close(fd);
+  return ok;
+}
+
+}  // namespace
+
+std::vector<std::string> hub_command(int port) {
+  const char* jar_env = std::getenv("MTG_LCM_JAR");
+  const std::string jar = jar_env != nullptr && *jar_env != '\0' ? jar_env : "/usr/share/java/lcm.jar";
+  if (!fs::exists(jar)) throw Error("the LCM hub needs " + jar + " (Debian package liblcm-java, or set $MTG_LCM_JAR)");
+  const std::string java = find_on_path("java");
+  if (java.empty()) throw Error("the LCM hub needs java on the PATH (Debian package default-jre-headless)");
+  return {java, "-Djava.net.preferIPv4Stack=true", "-cp", jar, "lcm.lcm.TCPService", std::to_string(port)};
+}
+
+void check_hub_port(int port) {
+  if (port < 1 || port > 65535) throw Error("hub port " + std::to_string(port) + " is not a TCP port (1..65535)");
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) throw Error(std::string("cannot check hub port: ") + std::strerror(errno));
+  const int one = 1;
+  ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);  // as the hub's ServerSocket does
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_ANY);
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  const bool ok = ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0 && ::listen(fd, 1) == 0;
+  const std::string why = ok ? "" : std::strerror(errno);
+  ::close(fd);
+  if (!ok) throw Error("cannot listen on TCP port " + std::to_string(port) + " for the hub: " + why + " (another hub? use --hub-port)");
+}
+
+std::string hub_url(const std::string& host, int port) { return "tcpq://" + host + ":" + std::to_string(port); }
+
+HubProcess::HubProcess(int port, const std::string& log_file) {
+  check_hub_port(port);
+  pid_ = process::spawn_process(hub_command(port), log_file, SIGTERM);
+  // The JVM takes a fraction of a second to listen.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!accepts_connections(port)) {
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      throw Error("the LCM hub on port " + std::to_string(port) + " exited at once; see " + log_file);
+    }
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, &status, 0);
+      pid_ = -1;
+      throw Error("the LCM hub on port " + std::to_string(port) + " did not listen within 20 s; see " + log_file);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+HubProcess::~HubProcess() {
+  if (pid_ <= 0) return;
+  ::kill(pid_, SIGTERM);
+  int status = 0;
+  ::waitpid(pid_, &status, 0);
+}
+
+}  // namespace mtg::orchestrator::remote

@@ -1,0 +1,43 @@
+#pragma once
+// The shared bus where hosts have no multicast between them: LCM's own TCP hub (the stock
+// `lcm.lcm.TCPService` of lcm.jar), which every participant reaches with a `tcpq://host:port`
+// URL. The hub relays each message to the clients subscribed to its channel (docs/multihost.md,
+// "Without multicast").
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace mtg::orchestrator::remote {
+
+inline constexpr int kDefaultHubPort = 7700;
+
+/// The java command line of the stock hub on `port`. lcm.jar is $MTG_LCM_JAR, else Debian's
+/// /usr/share/java/lcm.jar (package liblcm-java). @throws mtg::Error naming what is missing.
+std::vector<std::string> hub_command(int port);
+
+/// @throws mtg::Error when `port` cannot be listened on (taken, or privileged), before the hub
+/// would fail with a Java stack trace.
+void check_hub_port(int port);
+
+/// The URL that reaches a hub on `host`:`port`.
+std::string hub_url(const std::string& host, int port);
+
+/// A hub started for one run (`mtg run --slurm` without --bus): stopped when this object goes,
+/// and by the kernel if this process dies.
+class HubProcess {
+ public:
+  /// Starts the hub and waits until it accepts connections. @throws mtg::Error.
+  HubProcess(int port, const std::string& log_file);
+  ~HubProcess();
+  HubProcess(const HubProcess&) = delete;
+  HubProcess& operator=(const HubProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+}  // namespace mtg::orchestrator::remote
