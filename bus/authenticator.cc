@@ -2,8 +2,12 @@
 
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
+#include <openssl/rand.h>
+#include <sys/stat.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include "bus/header.h"
 #include "core/util/error.h"
@@ -99,6 +103,24 @@ std::string shared_bus_key_file(const std::string& key_file) {
                 "host (e.g. `head -c 32 /dev/urandom | base64 > bus.key; chmod 600 bus.key`; docs/multihost.md)");
   }
   return file;
+}
+
+void create_key_file(const std::filesystem::path& file) {
+  if (std::filesystem::exists(file)) return;
+  unsigned char bytes[32];
+  if (RAND_bytes(bytes, sizeof bytes) != 1) throw Error("cannot draw a bus key: OpenSSL RAND_bytes failed");
+  std::string secret;
+  for (const unsigned char b : bytes) {
+    char hex[3];
+    std::snprintf(hex, sizeof hex, "%02x", b);
+    secret += hex;
+  }
+  const mode_t before = ::umask(077);
+  std::ofstream out(file);
+  out << secret << '\n';
+  out.close();
+  ::umask(before);
+  if (!out) throw Error("cannot write the bus key " + file.string());
 }
 
 std::shared_ptr<const Authenticator> shared_bus_authenticator(const std::string& key_file) {

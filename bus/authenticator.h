@@ -56,6 +56,9 @@ class Authenticator {
 /// The key file of a shared bus: `key_file` if given, else $MTG_BUS_KEY.
 /// @throws mtg::Error with the fix when there is neither.
 std::string shared_bus_key_file(const std::string& key_file);
+/// Writes a fresh secret (32 random bytes from OpenSSL, hex) to `file`, readable by its owner
+/// only, unless the file exists. @throws mtg::Error when it cannot be written.
+void create_key_file(const std::filesystem::path& file);
 /// The authenticator of that key file. @throws mtg::Error as above, or naming an unusable file.
 std::shared_ptr<const Authenticator> shared_bus_authenticator(const std::string& key_file);
 

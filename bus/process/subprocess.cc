@@ -10,13 +10,22 @@
 #include "core/util/error.h"
 
 namespace mtg::process {
+namespace {
 
-pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal) {
-  if (argv.empty()) throw Error("spawn_process: no program given");
-  // Everything the child needs is prepared before fork: after it only async-signal-safe calls.
+// execv's argument vector over `argv`'s strings (which must outlive it).
+std::vector<char*> c_argv(const std::vector<std::string>& argv) {
+  if (argv.empty()) throw Error("no program given to start");
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  return args;
+}
+
+}  // namespace
+
+pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal) {
+  // Everything the child needs is prepared before fork: after it only async-signal-safe calls.
+  std::vector<char*> args = c_argv(argv);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw Error("cannot start " + argv[0] + ": fork failed");
@@ -37,11 +46,14 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log
   return pid;
 }
 
+void exec_process(const std::vector<std::string>& argv) {
+  std::vector<char*> args = c_argv(argv);
+  ::execv(args[0], args.data());
+  throw Error("cannot start " + argv[0]);
+}
+
 CommandOutput run_command(const std::vector<std::string>& argv) {
-  if (argv.empty()) throw Error("run_command: no program given");
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
+  std::vector<char*> args = c_argv(argv);
   int pipe_fds[2];
   if (::pipe(pipe_fds) != 0) throw Error("cannot run " + argv[0] + ": pipe failed");
   const pid_t pid = ::fork();

@@ -20,6 +20,9 @@ struct CommandOutput {
   std::string output;  // stdout and stderr, interleaved
 };
 
+/// Replaces this process with argv[0] (an absolute path). @throws mtg::Error if exec fails.
+[[noreturn]] void exec_process(const std::vector<std::string>& argv);
+
 /// Runs a short command (argv[0] is looked up on the PATH) to its end and returns what it printed.
 /// @throws mtg::Error if it cannot be started (exit code 127 from the child means not found).
 CommandOutput run_command(const std::vector<std::string>& argv);

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +17,7 @@
 #include "bus/channels.h"
 #include "bus/process/faults.h"
 #include "bus/process/identity.h"
+#include "bus/process/subprocess.h"
 #include "bus/url.h"
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
@@ -107,11 +107,7 @@ void run_hub(const HubOptions& o) {
     const int null = ::open("/dev/null", O_WRONLY);
     if (null >= 0) ::dup2(null, 1);
   }
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  ::execv(args[0], args.data());
-  throw Error("cannot start " + argv[0] + " for the hub");
+  process::exec_process(argv);
 }
 
 }  // namespace mtg::cli

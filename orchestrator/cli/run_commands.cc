@@ -1,16 +1,14 @@
 #include "orchestrator/cli/run_commands.h"
 
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <random>
 #include <set>
 #include <tuple>
 
@@ -253,19 +251,7 @@ std::string slurm_bus_key(const RunOptions& o, const fs::path& dir) {
     return fs::absolute(bus::shared_bus_key_file(o.remote_options.bus_key)).string();
   }
   const fs::path key = dir / "bus.key";
-  if (!fs::exists(key)) {
-    std::random_device urandom;
-    std::string secret;
-    for (int i = 0; i < 8; ++i) {
-      char word[9];
-      std::snprintf(word, sizeof word, "%08x", urandom());
-      secret += word;
-    }
-    const mode_t before = ::umask(077);
-    std::ofstream(key) << secret << '\n';
-    ::umask(before);
-    if (!fs::exists(key)) throw Error("cannot write the bus key " + key.string());
-  }
+  bus::create_key_file(key);
   return key.string();
 }
 
@@ -285,6 +271,9 @@ SlurmRun start_slurm_run(const RunOptions& o, const RunPlan& plan, const fs::pat
   if (o.url.empty()) {
     // The plan's URL names this run's hub (a resume keeps the port it was planned with).
     const std::string url = plan.bus_url;
+    if (url.rfind("tcpq://", 0) != 0) {
+      throw Error(dir.string() + " was planned on the bus " + url + ", not a hub; resume it with --bus " + url);
+    }
     const int port = std::atoi(url.substr(url.rfind(':') + 1).c_str());
     s.hub = std::make_unique<remote_ns::HubProcess>(port, (slurm_dir / "hub.log").string());
     std::printf("LCM hub for the workers: %s\n", url.c_str());

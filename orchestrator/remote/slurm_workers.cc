@@ -89,8 +89,6 @@ SlurmWorkers::SlurmWorkers(const SlurmRequest& r) {
     throw Error("sbatch answered '" + out + "', not a job id");
   }
   std::ofstream(fs::path(r.dir) / "job_id") << job_id_ << '\n';
-  log::info("submitted " + std::to_string(r.workers) + " worker(s) as Slurm job array " + job_id_ + " (logs in " +
-            r.dir + ")");
 }
 
 SlurmWorkers::~SlurmWorkers() {
