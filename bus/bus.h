@@ -104,6 +104,7 @@ class Bus {
   const std::string& url() const { return url_; }
 
  private:
+  void quick_ack();
   // Drops typed messages of another schema version, saying so once per bus.
   struct SchemaGate {
     std::int64_t dropped = 0;
@@ -165,6 +166,7 @@ class Bus {
 
   std::string url_;
   bool is_log_ = false;
+  bool tcp_ = false;  // a tcpq bus (LCM hub)
   bool end_of_log_ = false;
   std::unique_ptr<lcm::LCM> lcm_;
   std::exception_ptr pending_;

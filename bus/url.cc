@@ -1,10 +1,14 @@
 #include "bus/url.h"
 
 #include <arpa/inet.h>
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "core/util/error.h"
 
@@ -89,6 +93,51 @@ void check_multicast_route(const std::string& url) {
   if (udpm->ttl == 0 && iface != "lo") {
     throw Error("multicast group " + udpm->group + " is routed through " + iface +
                 ", not lo: LCM would join the group on " + iface + "; " + fix);
+  }
+}
+
+std::optional<TcpqAddress> parse_tcpq(const std::string& url) {
+  if (url.rfind("tcpq://", 0) != 0) return std::nullopt;
+  const std::string rest = url.substr(7);
+  const std::string hostport = rest.substr(0, rest.find('?'));
+  const auto colon = hostport.rfind(':');
+  TcpqAddress a;
+  a.host = hostport.substr(0, colon);
+  a.port = colon == std::string::npos ? 7700 : std::atoi(hostport.c_str() + colon + 1);
+  if (a.host.empty() || a.port <= 0 || a.port > 65535) {
+    throw Error("malformed LCM URL '" + url + "' (expected tcpq://<hub host>:<port>)");
+  }
+  return a;
+}
+
+bool accepts_tcp(const std::string& host, int port) {
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return false;
+  bool ok = false;
+  for (const addrinfo* a = found; a != nullptr && !ok; a = a->ai_next) {
+    const int fd = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+    if (fd < 0) continue;
+    ok = ::connect(fd, a->ai_addr, a->ai_addrlen) == 0;
+    ::close(fd);
+  }
+  ::freeaddrinfo(found);
+  return ok;
+}
+
+void check_hub_reachable(const std::string& url, std::chrono::milliseconds patience) {
+  const auto hub = parse_tcpq(url);
+  if (!hub) return;
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  while (!accepts_tcp(hub->host, hub->port)) {
+    if (std::chrono::steady_clock::now() >= deadline) {
+      throw Error("no LCM hub answers at " + url + ": start one there with `mtg hub --port " +
+                  std::to_string(hub->port) + "`, or open TCP port " + std::to_string(hub->port) +
+                  " to it (docs/multihost.md)");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
 }
 

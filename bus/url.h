@@ -2,6 +2,7 @@
 // LCM URLs and the loopback multicast check (toolchain-notes §4): every udpm URL carries
 // recv_buf_size=4194304, and udpm is refused when the multicast route would go out of eth0.
 
+#include <chrono>
 #include <optional>
 #include <string>
 
@@ -33,5 +34,22 @@ std::string multicast_interface(const std::string& group);
 /// For udpm URLs: throws mtg::Error with the fix when the group is not routed through lo
 /// (ttl=0) or only through the default route (ttl>0). No-op for other providers.
 void check_multicast_route(const std::string& url);
+
+struct TcpqAddress {
+  std::string host;  // name or dotted quad
+  int port = 0;
+};
+
+/// The hub host and port of a tcpq URL, nullopt for other providers.
+/// @throws mtg::Error for a malformed tcpq URL.
+std::optional<TcpqAddress> parse_tcpq(const std::string& url);
+
+/// Whether something accepts a TCP connection at host:port now (a name is resolved first).
+bool accepts_tcp(const std::string& host, int port);
+
+/// For tcpq URLs: waits up to `patience` for the hub to accept a connection, then throws
+/// mtg::Error naming the URL and the fix. liblcm itself would only print "Unable to connect"
+/// and fail later, at the first publish. No-op for other providers.
+void check_hub_reachable(const std::string& url, std::chrono::milliseconds patience);
 
 }  // namespace mtg::bus

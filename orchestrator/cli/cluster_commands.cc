@@ -38,7 +38,11 @@ int run_worker(WorkerCliOptions o) {
   w.dir = std::filesystem::absolute(w.dir).lexically_normal().string();
   w.vlm_args = o.vlm.to_args();
   w.drop_chunk_every = std::max(0, process::fault_setting("drop_chunk"));
-  w.hold_results = process::fault_setting("hold_results") > 0;
+  // hold_results_in_array_task:K holds only in Slurm array task K (the Slurm test's lost node).
+  const int held_task = process::fault_setting("hold_results_in_array_task");
+  const char* array_task = std::getenv("SLURM_ARRAY_TASK_ID");
+  w.hold_results = process::fault_setting("hold_results") > 0 ||
+                   (held_task >= 0 && array_task != nullptr && std::atoi(array_task) == held_task);
   return orchestrator::remote::run_worker(w);
 }
 
@@ -61,7 +65,8 @@ int run_status(const StatusOptions& o) {
     const std::string rejected =
         bus.rejected() > 0 ? "; " + std::to_string(bus.rejected()) + " message(s) were not signed with this key" : "";
     throw Error("nothing heard on " + url + " in " + std::to_string(o.listen_s).substr(0, 3) +
-                " s: no coordinator or worker (same URL? multicast routed? same --bus-key? docs/multihost.md)" + rejected);
+                " s: no coordinator or worker (same URL? " +
+                (bus::parse_tcpq(url) ? "" : "multicast routed? ") + "same --bus-key? docs/multihost.md)" + rejected);
   }
   auto sr = [](const mtg::run_info_t& r) { return r.scored > 0 ? 100.0 * static_cast<double>(r.successes) / static_cast<double>(r.scored) : 0.0; };
   auto ip = [](const mtg::run_info_t& r) { return r.scored > 0 ? r.ip_sum / static_cast<double>(r.scored) : 0.0; };

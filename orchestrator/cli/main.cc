@@ -172,7 +172,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
       ->expected(0, 1);
   run->add_option("--slurm-workers", run_opts->slurm_workers, "with --slurm: workers, one array task each (default 1)");
   run->add_option("--worker-capacity", run_opts->worker_capacity, "with --slurm: episodes at once per worker (default 2)");
-  run->add_option("--hub-port", run_opts->hub_port, "with --slurm and no --bus: port of the run's LCM hub (default 7700)");
+  run->add_option("--hub-port", run_opts->hub_port, "with --slurm and no --bus: port of the run's LCM hub (default: the first free from 7700)");
   run->add_option("--hub-host", run_opts->hub_host,
                   "with --slurm and no --bus: this host's name or address as the nodes reach it (default: host name)");
   run->add_option("--episode-timeout", run_opts->episode_timeout_s, "seconds without news before a retry (default 60)");

@@ -172,6 +172,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   if (o.given.count("--slurm") && o.url.empty()) {
     // Cluster networks rarely carry multicast: the run brings its own hub (started in run_run).
     const std::string host = o.hub_host.empty() ? process::host_name() : o.hub_host;
+    // The port is the one given, else the first free one, chosen when the hub starts (run_run).
     plan.bus_url = orchestrator::remote::hub_url(host, o.hub_port);
   } else {
     plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
@@ -262,22 +263,34 @@ struct SlurmRun {
   std::unique_ptr<orchestrator::remote::SlurmWorkers> workers;  // cancelled before the hub stops
 };
 
-SlurmRun start_slurm_run(const RunOptions& o, const RunPlan& plan, const fs::path& dir,
-                         orchestrator::remote::RemoteOptions& remote) {
+// The run's own hub (a --slurm run without --bus). A new run without --hub-port takes the first
+// free port and writes it into the plan's URL; a resumed run keeps the port it was planned with.
+std::unique_ptr<orchestrator::remote::HubProcess> start_run_hub(const RunOptions& o, RunPlan& plan,
+                                                                const fs::path& dir, bool resuming) {
   namespace remote_ns = orchestrator::remote;
-  SlurmRun s;
+  const std::string url = plan.bus_url;
+  if (url.rfind("tcpq://", 0) != 0) {
+    throw Error(dir.string() + " was planned on the bus " + url + ", not a hub; resume it with --bus " + url);
+  }
+  fs::create_directories(dir / "slurm");
+  const std::string log_file = (dir / "slurm" / "hub.log").string();
+  std::unique_ptr<remote_ns::HubProcess> hub;
+  if (resuming || o.given.count("--hub-port")) {
+    hub = std::make_unique<remote_ns::HubProcess>(std::atoi(url.substr(url.rfind(':') + 1).c_str()), log_file);
+  } else {
+    hub = remote_ns::HubProcess::on_free_port(log_file);
+    plan.bus_url = url.substr(0, url.rfind(':') + 1) + std::to_string(hub->port());
+  }
+  std::printf("LCM hub for the workers: %s\n", plan.bus_url.c_str());
+  return hub;
+}
+
+std::unique_ptr<orchestrator::remote::SlurmWorkers> submit_slurm_workers(const RunOptions& o, const RunPlan& plan,
+                                                                         const fs::path& dir,
+                                                                         orchestrator::remote::RemoteOptions& remote) {
+  namespace remote_ns = orchestrator::remote;
   const fs::path slurm_dir = dir / "slurm";
   fs::create_directories(slurm_dir);
-  if (o.url.empty()) {
-    // The plan's URL names this run's hub (a resume keeps the port it was planned with).
-    const std::string url = plan.bus_url;
-    if (url.rfind("tcpq://", 0) != 0) {
-      throw Error(dir.string() + " was planned on the bus " + url + ", not a hub; resume it with --bus " + url);
-    }
-    const int port = std::atoi(url.substr(url.rfind(':') + 1).c_str());
-    s.hub = std::make_unique<remote_ns::HubProcess>(port, (slurm_dir / "hub.log").string());
-    std::printf("LCM hub for the workers: %s\n", url.c_str());
-  }
   remote.bus_key = slurm_bus_key(o, dir);
   remote_ns::SlurmRequest request;
   request.sbatch_options = o.slurm;
@@ -289,10 +302,10 @@ SlurmRun start_slurm_run(const RunOptions& o, const RunPlan& plan, const fs::pat
   request.run_id = plan.run_id;
   request.data_dir = plan.data_dir.empty() ? "" : fs::absolute(plan.data_dir).string();
   request.dir = slurm_dir.string();
-  s.workers = std::make_unique<remote_ns::SlurmWorkers>(request);
-  std::printf("Slurm job array %s: %d worker(s), logs in %s\n", s.workers->job_id().c_str(), o.slurm_workers,
+  auto workers = std::make_unique<remote_ns::SlurmWorkers>(request);
+  std::printf("Slurm job array %s: %d worker(s), logs in %s\n", workers->job_id().c_str(), o.slurm_workers,
               slurm_dir.c_str());
-  return s;
+  return workers;
 }
 
 }  // namespace
@@ -323,6 +336,8 @@ int run_run(const RunOptions& o) {
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
   const auto fingerprints = fingerprints_of(plan, tasks);
   if (!plan.remote) check_dataset(plan, fingerprints);
+  SlurmRun slurm;
+  if (o.given.count("--slurm") && o.url.empty()) slurm.hub = start_run_hub(o, plan, dir, resuming);
   if (resuming) {
     std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
   } else {
@@ -336,8 +351,7 @@ int run_run(const RunOptions& o) {
   engine.recorder = o.recorder;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;
-  SlurmRun slurm;
-  if (o.given.count("--slurm")) slurm = start_slurm_run(o, plan, dir, engine.remote);
+  if (o.given.count("--slurm")) slurm.workers = submit_slurm_workers(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   slurm.workers.reset();  // cancel what is left of the array
   slurm.hub.reset();

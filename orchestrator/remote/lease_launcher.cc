@@ -62,6 +62,7 @@ void LeaseLauncher::subscribe() {
     w.capacity = m.header.run_id == run_.run_id && takes_work ? m.capacity : 0;
     w.status = m.status;
     w.last_seen = Clock::now();
+    w.live = true;
   });
   bus_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
     if (m.header.run_id == run_.run_id && m.action == "renew") on_renew(m);
@@ -135,19 +136,21 @@ std::vector<AdoptedAttempt> LeaseLauncher::open() {
       next_announce_ += std::chrono::seconds(1);
     }
     bus_.handle_once(50);
+    mark_silent_workers();
   }
   log::info(std::to_string(live_workers()) + " worker(s) joined");
   return adopted;
 }
 
-bool LeaseLauncher::heard_lately(const Worker& w) const {
-  return seconds_between(w.last_seen, Clock::now()) < options_.lease_ttl_s;
+void LeaseLauncher::mark_silent_workers() {
+  const auto now = Clock::now();
+  for (auto& [id, w] : workers_) w.live = w.live && seconds_between(w.last_seen, now) < options_.lease_ttl_s;
 }
 
 int LeaseLauncher::live_workers() const {
   int n = 0;
   for (const auto& [id, w] : workers_) {
-    if (w.capacity > 0 && heard_lately(w)) ++n;
+    if (w.capacity > 0 && w.live) ++n;
   }
   return n;
 }
@@ -161,7 +164,7 @@ int LeaseLauncher::held_by(const std::string& worker) const {
 int LeaseLauncher::free_slots() const {
   int free = 0;
   for (const auto& [id, w] : workers_) {
-    if (heard_lately(w)) free += std::max(0, w.capacity - held_by(id));
+    if (w.live) free += std::max(0, w.capacity - held_by(id));
   }
   return free;
 }
@@ -193,7 +196,7 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   std::string best;
   int best_free = 0;
   for (const auto& [id, w] : workers_) {
-    if (!heard_lately(w)) continue;
+    if (!w.live) continue;
     const int free = w.capacity - held_by(id);
     if (free > best_free) {
       best = id;
@@ -307,6 +310,7 @@ void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
     while (bus_.handle_once(0)) {
     }
   }
+  mark_silent_workers();
   expire_leases(sink);
   for (const auto& died : supervisor_.poll()) log::warn(died + " restarted");
   if (Clock::now() >= next_announce_) {

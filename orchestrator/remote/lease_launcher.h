@@ -60,6 +60,9 @@ class LeaseLauncher final : public Launcher {
     int capacity = 0;
     std::string status;
     Clock::time_point last_seen;
+    // Heard within the lease TTL as of the last poll. Decided there, not at each question, so
+    // free_slots() and the launch() that follows it agree on who is there.
+    bool live = false;
   };
   struct Lease {
     int attempt = 0;
@@ -80,7 +83,7 @@ class LeaseLauncher final : public Launcher {
   void subscribe();
   void announce(const std::string& state);
   /// A worker heard from within the lease ttl.
-  bool heard_lately(const Worker& w) const;
+  void mark_silent_workers();
   int live_workers() const;
   int held_by(const std::string& worker) const;
   void send_lease(const std::string& action, std::int64_t episode_id, int attempt, const std::string& worker,

@@ -1,6 +1,9 @@
 #include "orchestrator/remote/tcp_hub.h"
 
+#include <fcntl.h>
 #include <netinet/in.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -14,6 +17,7 @@
 #include <thread>
 
 #include "bus/process/subprocess.h"
+#include "bus/url.h"
 #include "core/util/error.h"
 
 namespace mtg::orchestrator::remote {
@@ -34,18 +38,6 @@ std::string find_on_path(const std::string& program) {
   return "";
 }
 
-bool accepts_connections(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return false;
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  const bool ok = ::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
-  ::close(fd);
-  return ok;
-}
-
 }  // namespace
 
 std::vector<std::string> hub_command(int port) {
@@ -57,10 +49,12 @@ std::vector<std::string> hub_command(int port) {
   return {java, "-Djava.net.preferIPv4Stack=true", "-cp", jar, "lcm.lcm.TCPService", std::to_string(port)};
 }
 
-void check_hub_port(int port) {
-  if (port < 1 || port > 65535) throw Error("hub port " + std::to_string(port) + " is not a TCP port (1..65535)");
+namespace {
+
+// Why a hub could not listen on `port` now; "" when it could.
+std::string listen_error(int port) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) throw Error(std::string("cannot check hub port: ") + std::strerror(errno));
+  if (fd < 0) return std::strerror(errno);
   const int one = 1;
   ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);  // as the hub's ServerSocket does
   sockaddr_in a{};
@@ -70,17 +64,65 @@ void check_hub_port(int port) {
   const bool ok = ::bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0 && ::listen(fd, 1) == 0;
   const std::string why = ok ? "" : std::strerror(errno);
   ::close(fd);
-  if (!ok) throw Error("cannot listen on TCP port " + std::to_string(port) + " for the hub: " + why + " (another hub? use --hub-port)");
+  return why;
 }
+
+}  // namespace
+
+void check_hub_port(int port) {
+  if (port < 1 || port > 65535) throw Error("hub port " + std::to_string(port) + " is not a TCP port (1..65535)");
+  const std::string why = listen_error(port);
+  if (!why.empty()) {
+    throw Error("cannot listen on TCP port " + std::to_string(port) + " for the hub: " + why + " (another hub? use --hub-port)");
+  }
+}
+
+namespace {
+
+// Held while a run picks its hub's port and until that hub listens: two runs starting at once on
+// one machine would otherwise both see the same port free. Shared by every user of the machine
+// (flock needs only a read-only descriptor, whoever created the file).
+class PortChoiceLock {
+ public:
+  PortChoiceLock() {
+    const mode_t old = ::umask(0);
+    fd_ = ::open("/tmp/mtg-hub-ports.lock", O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
+    ::umask(old);
+    if (fd_ >= 0) ::flock(fd_, LOCK_EX);  // without the file, no lock: a clash then fails loudly
+  }
+  ~PortChoiceLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  PortChoiceLock(const PortChoiceLock&) = delete;
+  PortChoiceLock& operator=(const PortChoiceLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+int first_free_hub_port() {
+  for (int port = kDefaultHubPort; port < kDefaultHubPort + kHubPortRange; ++port) {
+    if (listen_error(port).empty()) return port;
+  }
+  throw Error("no free TCP port for the hub in " + std::to_string(kDefaultHubPort) + ".." +
+              std::to_string(kDefaultHubPort + kHubPortRange - 1) + " (name one with --hub-port)");
+}
+
+}  // namespace
 
 std::string hub_url(const std::string& host, int port) { return "tcpq://" + host + ":" + std::to_string(port); }
 
-HubProcess::HubProcess(int port, const std::string& log_file) {
+std::unique_ptr<HubProcess> HubProcess::on_free_port(const std::string& log_file) {
+  const PortChoiceLock lock;
+  return std::make_unique<HubProcess>(first_free_hub_port(), log_file);
+}
+
+HubProcess::HubProcess(int port, const std::string& log_file) : port_(port) {
   check_hub_port(port);
   pid_ = process::spawn_process(hub_command(port), log_file, SIGTERM);
   // The JVM takes a fraction of a second to listen.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!accepts_connections(port)) {
+  while (!bus::accepts_tcp("127.0.0.1", port)) {
     int status = 0;
     if (::waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;

@@ -6,12 +6,14 @@
 
 #include <sys/types.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace mtg::orchestrator::remote {
 
 inline constexpr int kDefaultHubPort = 7700;
+inline constexpr int kHubPortRange = 100;  // a run's own hub takes the first free port from the default
 
 /// The java command line of the stock hub on `port`. lcm.jar is $MTG_LCM_JAR, else Debian's
 /// /usr/share/java/lcm.jar (package liblcm-java). @throws mtg::Error naming what is missing.
@@ -30,14 +32,19 @@ class HubProcess {
  public:
   /// Starts the hub and waits until it accepts connections. @throws mtg::Error.
   HubProcess(int port, const std::string& log_file);
+  /// A hub on the first port from kDefaultHubPort that no other hub holds, chosen under a
+  /// machine-wide lock so that two runs starting at once get two hubs.
+  static std::unique_ptr<HubProcess> on_free_port(const std::string& log_file);
   ~HubProcess();
   HubProcess(const HubProcess&) = delete;
   HubProcess& operator=(const HubProcess&) = delete;
 
   pid_t pid() const { return pid_; }
+  int port() const { return port_; }
 
  private:
   pid_t pid_ = -1;
+  int port_ = 0;
 };
 
 }  // namespace mtg::orchestrator::remote

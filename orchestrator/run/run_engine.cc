@@ -153,7 +153,10 @@ class Engine final : public LaunchSink {
            (plan_.parallel <= 0 || static_cast<int>(in_flight_.size()) < plan_.parallel)) {
       const std::int64_t id = pending_.front();
       pending_.pop_front();
-      send_start(id, launcher_.next_attempt(id));  // retries do not queue: retry() sends the next attempt itself
+      const auto queued = retry_attempt_.find(id);
+      const int attempt = queued == retry_attempt_.end() ? launcher_.next_attempt(id) : queued->second;
+      if (queued != retry_attempt_.end()) retry_attempt_.erase(queued);
+      send_start(id, attempt);
     }
   }
 
@@ -196,7 +199,13 @@ class Engine final : public LaunchSink {
     log::info("episode " + std::to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
     ++retries_;
     if (progress_ != nullptr) progress_->retry();
-    send_start(id, attempt);
+    if (launcher_.free_slots() > 0) {
+      send_start(id, attempt);
+    } else {
+      // No slot now (a lost host took its slots with it): the retry goes first in the queue.
+      retry_attempt_[id] = attempt;
+      pending_.push_front(id);
+    }
   }
 
   EpisodeRow base_row(std::int64_t id, int attempt) const {
@@ -245,6 +254,7 @@ class Engine final : public LaunchSink {
   bus::HeaderStamper stamp_;
   std::map<std::int64_t, const PlannedEpisode*> by_id_;
   std::deque<std::int64_t> pending_;
+  std::map<std::int64_t, int> retry_attempt_;  // the attempt a queued retry will be
   std::map<std::int64_t, Flight> in_flight_;
   Progress* progress_ = nullptr;
   std::int64_t completed_ = 0, errors_ = 0, retries_ = 0, not_run_ = 0;

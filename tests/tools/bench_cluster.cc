@@ -5,7 +5,10 @@
 //      coordinator's and workers' own CPU time per episode and the shared bus's bytes per episode;
 //   2. a host killed mid-run: time until its leases expire (detection) and until its episodes
 //      are stored from other hosts (recovery);
-//   3. bytes on the shared bus per episode with and without images, by channel.
+//   3. bytes on the shared bus per episode with and without images, by channel;
+//   4. the same over LCM's TCP hub (`mtg hub`) with no multicast between the hosts: episodes/s,
+//      bytes, and the hub's CPU per message; then 4 to 16 hosts on one hub, to see how close
+//      the hub comes to being the bottleneck.
 
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -32,6 +35,11 @@ using Clock = std::chrono::steady_clock;
 using mtg::testing::ChildProcess;
 
 constexpr const char* kShared = "udpm://239.255.77.1:7701?ttl=1";
+constexpr const char* kHubPort = "7790";
+constexpr const char* kHubUrl = "tcpq://10.77.0.254:7790";  // the bridge, where every host reaches the caller
+constexpr const char* kSharedRoutes = "239.255.77.0/24";     // scripts/netns-hosts routes these between hosts
+
+enum class SharedBus { kMulticast, kHub };
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -58,24 +66,36 @@ class Bench {
   std::string script() const { return root_ + "/scripts/netns-hosts"; }
   std::string mtg() const { return root_ + "/build/bin/mtg"; }
 
-  void up(int n) {
+  void up(int n, SharedBus bus = SharedBus::kMulticast, int capacity = 4) {
     down();
-    ChildProcess clean({script(), "down", "bh", "3"}, (work_ / "netns.log").string());  // left by an aborted bench
+    ChildProcess clean({script(), "down", "bh", "16"}, (work_ / "netns.log").string());  // left by an aborted bench
     clean.wait(60000);
     ChildProcess p({script(), "up", "bh", std::to_string(n)}, (work_ / "netns.log").string());
     if (p.wait(60000) != 0) throw std::runtime_error("netns-hosts up failed (root? see " + (work_ / "netns.log").string() + ")");
     hosts_ = n;
+    url_ = kShared;
+    if (bus == SharedBus::kHub) {
+      // No multicast between the hosts, as on a cloud or HPC network: the groups stay on each lo.
+      std::string cut = std::string("ip route del ") + kSharedRoutes;
+      for (int i = 0; i < n; ++i) cut += " && ip -n bh" + std::to_string(i) + " route del " + kSharedRoutes;
+      ChildProcess c({"/bin/sh", "-c", cut}, (work_ / "netns.log").string());
+      if (c.wait(60000) != 0) throw std::runtime_error("cannot remove the multicast routes: " + cut);
+      hub_ = std::make_unique<ChildProcess>(std::vector<std::string>{mtg(), "hub", "--port", kHubPort},
+                                            (work_ / "hub.log").string());
+      url_ = kHubUrl;
+    }
     for (int i = 0; i < n; ++i) {
       workers_.push_back(std::make_unique<ChildProcess>(
           std::vector<std::string>{script(), "exec", "bh" + std::to_string(i), mtg(), "--log-level", "warn", "worker",
-                                   "--bus", kShared, "--name", "host" + std::to_string(i), "--capacity", "4", "--dir",
-                                   (work_ / ("worker" + std::to_string(i))).string()},
+                                   "--bus", url_, "--name", "host" + std::to_string(i), "--capacity",
+                                   std::to_string(capacity), "--dir", (work_ / ("worker" + std::to_string(i))).string()},
           (work_ / ("worker" + std::to_string(i) + ".log")).string()));
     }
   }
 
   void down() {
     workers_.clear();
+    hub_.reset();
     if (hosts_ > 0) {
       ChildProcess p({script(), "down", "bh", std::to_string(hosts_)}, (work_ / "netns.log").string());
       p.wait(60000);
@@ -83,13 +103,12 @@ class Bench {
     hosts_ = 0;
   }
 
-  std::vector<std::string> run_args(const std::string& out, int limit, bool remote, bool render) const {
+  std::vector<std::string> run_args(const std::string& out, int limit, bool remote, bool render, int parallel = 4) const {
     std::vector<std::string> a = {mtg(), "--log-level", "warn", "run", "--tasks", tasks_, "--agent", "oracle",
-                                  "--levels", "1,2,3", "--limit", std::to_string(limit), "--parallel", "4",
-                                  "--out", (work_ / out).string(), "--no-progress"};
+                                  "--levels", "1,2,3", "--limit", std::to_string(limit), "--parallel",
+                                  std::to_string(parallel), "--out", (work_ / out).string(), "--no-progress"};
     if (remote) {
-      for (const char* s : {"--remote", "--bus", kShared, "--min-workers"}) a.emplace_back(s);
-      a.push_back(std::to_string(hosts_));
+      a.insert(a.end(), {"--remote", "--bus", url_, "--min-workers", std::to_string(hosts_)});
     }
     if (render) {
       for (const char* s : {"--render", "--image-size", "640x480"}) a.emplace_back(s);
@@ -100,25 +119,28 @@ class Bench {
   struct RunFigures {
     double seconds = 0, episodes = 0, coordinator_cpu = 0, worker_cpu = 0;
     double steady_seconds = 0;  // from the first stored result on (scenes loaded, processes up)
+    double hub_cpu = 0;         // the hub's user + system seconds during the run (0 without a hub)
     std::map<std::string, std::pair<std::int64_t, std::int64_t>> shared_bytes;  // channel -> (messages, bytes)
   };
 
-  // One run; with `record_shared`, a recorder on the shared bus counts its traffic.
-  RunFigures run(const std::string& out, int limit, bool remote, bool render) {
+  // One run; `record` puts a recorder on the shared bus to count its traffic (over a hub it is
+  // one more client the hub relays everything to).
+  RunFigures run(const std::string& out, int limit, bool remote, bool render, int parallel = 4, bool record = true) {
     fs::remove_all(work_ / out);
     const fs::path shared_log = work_ / (out + "-shared.lcmlog");
     fs::remove(shared_log);
     std::unique_ptr<ChildProcess> recorder;
-    if (remote) {
+    if (remote && record) {
       recorder = std::make_unique<ChildProcess>(
-          std::vector<std::string>{root_ + "/build/bin/mtg_recorder", "--url", kShared, shared_log.string()},
+          std::vector<std::string>{root_ + "/build/bin/mtg_recorder", "--url", url_, shared_log.string()},
           (work_ / "shared-recorder.log").string());
       while (!fs::exists(shared_log)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     std::vector<double> worker_cpu_before;
     for (const auto& w : workers_) worker_cpu_before.push_back(cpu_seconds(w->pid()));
+    const double hub_before = hub_ ? cpu_seconds(hub_->pid()) : 0.0;
     const auto start = Clock::now();
-    ChildProcess p(run_args(out, limit, remote, render), (work_ / (out + ".log")).string());
+    ChildProcess p(run_args(out, limit, remote, render, parallel), (work_ / (out + ".log")).string());
     // The coordinator's CPU from its first stored result on: planning and loading the task set
     // happen once per run, whatever the number of episodes.
     double coordinator_cpu = 0.0, cpu_at_first = -1.0;
@@ -147,6 +169,7 @@ class Bench {
                                          : (coordinator_cpu - cpu_at_first) * f.episodes /
                                                std::max(1.0, f.episodes - static_cast<double>(stored_at_first));
     for (std::size_t i = 0; i < workers_.size(); ++i) f.worker_cpu += cpu_seconds(workers_[i]->pid()) - worker_cpu_before[i];
+    if (hub_) f.hub_cpu = cpu_seconds(hub_->pid()) - hub_before;
     if (recorder) {
       recorder->kill(SIGINT);
       lcm::LogFile log(shared_log.string(), "r");
@@ -231,6 +254,8 @@ class Bench {
   fs::path work_;
   std::string tasks_;
   int hosts_ = 0;
+  std::string url_ = kShared;  // the shared bus of the hosts now up
+  std::unique_ptr<ChildProcess> hub_;
   std::vector<std::unique_ptr<ChildProcess>> workers_;
 };
 
@@ -243,6 +268,23 @@ void print_bytes(const char* what, const Bench::RunFigures& f) {
                 static_cast<double>(nb.first) / f.episodes, static_cast<double>(nb.second) / f.episodes);
   }
 }
+
+std::int64_t messages(const Bench::RunFigures& f) {
+  std::int64_t n = 0;
+  for (const auto& [ch, nb] : f.shared_bytes) n += nb.first;
+  return n;
+}
+
+// What the hub cost in one run: per episode, per message published on it (`per_episode`
+// messages, counted by a recorder in this run or a like one), and its share of a core.
+void print_hub(const Bench::RunFigures& f, double per_episode) {
+  std::printf("      hub: %.2f ms CPU per episode, %.1f us per message published (%.1f messages/episode), "
+              "%.0f %% of one core; at that cost one hub core carries %.0f episodes/s\n",
+              1000.0 * f.hub_cpu / f.episodes, 1e6 * f.hub_cpu / (per_episode * f.episodes), per_episode,
+              100.0 * f.hub_cpu / f.seconds, f.hub_cpu > 0 ? f.episodes / f.hub_cpu : 0.0);
+}
+
+double messages_per_episode(const Bench::RunFigures& f) { return static_cast<double>(messages(f)) / f.episodes; }
 
 }  // namespace
 
@@ -297,6 +339,47 @@ int main(int argc, char** argv) {
     print_bytes("without images (2 hosts)", two);
     const auto images = bench.run("images", 4, true, true);
     print_bytes("with 640x480 PNG images (2 hosts)", images);
+
+    std::printf("over LCM's TCP hub (mtg hub in the coordinator's namespace), no multicast route between the hosts;\n"
+                "a recorder on the hub counts the bytes (the hub relays everything to it as well):\n");
+    Bench::RunFigures hub_two;
+    for (int hosts = 1; hosts <= 3; ++hosts) {
+      bench.up(hosts, SharedBus::kHub);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      const auto f = bench.run("hub" + std::to_string(hosts), limit, true, false);
+      std::int64_t shared = 0;
+      for (const auto& [ch, nb] : f.shared_bytes) shared += nb.second;
+      std::printf("  %d host%s (--bus tcpq://):  %5.0f episodes in %5.2f s = %6.1f episodes/s (%.1f after the first "
+                  "result), per-core efficiency %.2f; shared bus %.0f B/episode\n",
+                  hosts, hosts == 1 ? " " : "s", f.episodes, f.seconds, f.episodes / f.seconds,
+                  f.episodes / f.steady_seconds, f.episodes / f.seconds / base, static_cast<double>(shared) / f.episodes);
+      print_hub(f, messages_per_episode(f));
+      if (hosts == 2) {
+        print_bytes("without images, over the hub (2 hosts)", f);
+        hub_two = f;
+      }
+    }
+    std::printf("  the hub alone (2 hosts, no recorder on the hub):\n");
+    const auto bare = bench.run("hub-bare", limit, true, false, 4, false);
+    std::printf("    %5.0f episodes in %5.2f s = %6.1f episodes/s\n", bare.episodes, bare.seconds, bare.episodes / bare.seconds);
+    print_hub(bare, messages_per_episode(hub_two));
+    bench.up(2, SharedBus::kHub);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const auto hub_images = bench.run("hub-images", 4, true, true);
+    print_bytes("with 640x480 PNG images, over the hub (2 hosts)", hub_images);
+    print_hub(hub_images, messages_per_episode(hub_images));
+    const auto bare_images = bench.run("hub-images-bare", 4, true, true, 4, false);
+    std::printf("    the same without the recorder:\n");
+    print_hub(bare_images, messages_per_episode(hub_images));
+    std::printf("  one hub, many hosts (capacity 1 each, as many episodes in flight as hosts):\n");
+    for (const int hosts : {4, 8, 16}) {
+      bench.up(hosts, SharedBus::kHub, 1);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      const auto f = bench.run("hub-many" + std::to_string(hosts), limit, true, false, hosts, false);
+      std::printf("    %2d hosts: %5.0f episodes in %5.2f s = %6.1f episodes/s\n", hosts, f.episodes, f.seconds,
+                  f.episodes / f.seconds);
+      print_hub(f, messages_per_episode(hub_two));
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mtg_bench_cluster: %s\n", e.what());
     return 1;
