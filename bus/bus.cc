@@ -26,13 +26,7 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
                 " (for udpm: is the multicast route set? `ip route replace 224.0.0.0/4 dev lo`)");
   }
   tcp_ = parse_tcpq(url_).has_value();
-  if (tcp_) {
-    // liblcm leaves Nagle on; our small messages (a lease, a result) go out at once instead.
-    const int on = 1;
-    if (::setsockopt(lcm_->getFileno(), IPPROTO_TCP, TCP_NODELAY, &on, sizeof on) != 0) {
-      log::warn("cannot turn Nagle off on " + url_ + ": " + std::strerror(errno));
-    }
-  }
+  if (tcp_) tune_tcp();
 }
 
 void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler) {
@@ -57,12 +51,15 @@ void Bus::rethrow_pending() {
 }
 
 // LCM's hub (TCPService) writes each message in five small unbuffered writes with Nagle on, so
-// every write after the first waits for our ACK: up to 40 ms of delayed ACK per message, which
-// made a hub run 4x slower than multicast. Linux drops quick-ACK mode by itself, so it is
-// re-armed before every receive.
-void Bus::quick_ack() {
+// every write after the first waited for our delayed ACK: up to 40 ms per message, which made a
+// hub run 3.5x slower than multicast. Linux leaves quick-ACK mode by itself, so it is re-armed
+// before every receive. Nagle goes off on our side too (liblcm leaves it on), set here rather
+// than once because liblcm opens a new socket when it reconnects.
+void Bus::tune_tcp() {
   const int on = 1;
-  ::setsockopt(lcm_->getFileno(), IPPROTO_TCP, TCP_QUICKACK, &on, sizeof on);
+  const int fd = lcm_->getFileno();
+  ::setsockopt(fd, IPPROTO_TCP, TCP_QUICKACK, &on, sizeof on);
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
 }
 
 bool Bus::handle_once(int timeout_ms) {
@@ -76,7 +73,7 @@ bool Bus::handle_once(int timeout_ms) {
     rethrow_pending();
     return true;
   }
-  if (tcp_) quick_ack();
+  if (tcp_) tune_tcp();
   const int rc = lcm_->handleTimeout(timeout_ms);
   rethrow_pending();
   // A signal (SIGINT, SIGTERM: the caller's stop request) interrupts the wait: nothing handled.

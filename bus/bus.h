@@ -104,7 +104,7 @@ class Bus {
   const std::string& url() const { return url_; }
 
  private:
-  void quick_ack();
+  void tune_tcp();
   // Drops typed messages of another schema version, saying so once per bus.
   struct SchemaGate {
     std::int64_t dropped = 0;

@@ -2,13 +2,18 @@
 
 #include <arpa/inet.h>
 #include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include "core/util/error.h"
 
@@ -110,28 +115,59 @@ std::optional<TcpqAddress> parse_tcpq(const std::string& url) {
   return a;
 }
 
-bool accepts_tcp(const std::string& host, int port) {
+namespace {
+
+// The IPv4 addresses of `host`, empty when the name does not resolve.
+std::vector<sockaddr_in> resolve(const std::string& host, int port) {
   addrinfo hints{};
   hints.ai_family = AF_INET;
   hints.ai_socktype = SOCK_STREAM;
   addrinfo* found = nullptr;
-  if (::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return false;
-  bool ok = false;
-  for (const addrinfo* a = found; a != nullptr && !ok; a = a->ai_next) {
-    const int fd = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
-    if (fd < 0) continue;
-    ok = ::connect(fd, a->ai_addr, a->ai_addrlen) == 0;
-    ::close(fd);
+  std::vector<sockaddr_in> out;
+  if (::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return out;
+  for (const addrinfo* a = found; a != nullptr; a = a->ai_next) {
+    out.push_back(*reinterpret_cast<const sockaddr_in*>(a->ai_addr));
   }
   ::freeaddrinfo(found);
+  return out;
+}
+
+// A connect that gives up after `timeout`: a firewall that drops packets would otherwise hold a
+// blocking connect for the kernel's SYN retries (about two minutes).
+bool connects(const sockaddr_in& address, std::chrono::milliseconds timeout) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) return false;
+  bool ok = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  if (!ok && errno == EINPROGRESS) {
+    pollfd p{fd, POLLOUT, 0};
+    int error = 0;
+    socklen_t len = sizeof error;
+    ok = ::poll(&p, 1, static_cast<int>(timeout.count())) == 1 &&
+         ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &len) == 0 && error == 0;
+  }
+  ::close(fd);
   return ok;
+}
+
+}  // namespace
+
+bool accepts_tcp(const std::string& host, int port, std::chrono::milliseconds timeout) {
+  for (const sockaddr_in& a : resolve(host, port)) {
+    if (connects(a, timeout)) return true;
+  }
+  return false;
 }
 
 void check_hub_reachable(const std::string& url, std::chrono::milliseconds patience) {
   const auto hub = parse_tcpq(url);
   if (!hub) return;
+  if (resolve(hub->host, hub->port).empty()) {
+    throw Error("the hub host '" + hub->host + "' of " + url + " does not resolve (a typo? use a name or address every host knows)");
+  }
   const auto deadline = std::chrono::steady_clock::now() + patience;
-  while (!accepts_tcp(hub->host, hub->port)) {
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (accepts_tcp(hub->host, hub->port, std::max(left, std::chrono::milliseconds(200)))) return;
     if (std::chrono::steady_clock::now() >= deadline) {
       throw Error("no LCM hub answers at " + url + ": start one there with `mtg hub --port " +
                   std::to_string(hub->port) + "`, or open TCP port " + std::to_string(hub->port) +

@@ -44,11 +44,12 @@ struct TcpqAddress {
 /// @throws mtg::Error for a malformed tcpq URL.
 std::optional<TcpqAddress> parse_tcpq(const std::string& url);
 
-/// Whether something accepts a TCP connection at host:port now (a name is resolved first).
-bool accepts_tcp(const std::string& host, int port);
+/// Whether something accepts a TCP connection at host:port within `timeout` (a name is
+/// resolved first).
+bool accepts_tcp(const std::string& host, int port, std::chrono::milliseconds timeout);
 
 /// For tcpq URLs: waits up to `patience` for the hub to accept a connection, then throws
-/// mtg::Error naming the URL and the fix. liblcm itself would only print "Unable to connect"
+/// mtg::Error naming the URL and the fix (at once for a host name that does not resolve). liblcm itself would only print "Unable to connect"
 /// and fail later, at the first publish. No-op for other providers.
 void check_hub_reachable(const std::string& url, std::chrono::milliseconds patience);
 

@@ -263,24 +263,22 @@ struct SlurmRun {
   std::unique_ptr<orchestrator::remote::SlurmWorkers> workers;  // cancelled before the hub stops
 };
 
-// The run's own hub (a --slurm run without --bus). A new run without --hub-port takes the first
-// free port and writes it into the plan's URL; a resumed run keeps the port it was planned with.
+// The run's own hub (a --slurm run without --bus) on --hub-port, else on the first free port;
+// the plan's URL follows it. A resumed run may get another port than it was planned with: its
+// old hub and workers went with the old coordinator, and the new array is given the new URL.
 std::unique_ptr<orchestrator::remote::HubProcess> start_run_hub(const RunOptions& o, RunPlan& plan,
-                                                                const fs::path& dir, bool resuming) {
+                                                                const fs::path& dir) {
   namespace remote_ns = orchestrator::remote;
-  const std::string url = plan.bus_url;
-  if (url.rfind("tcpq://", 0) != 0) {
-    throw Error(dir.string() + " was planned on the bus " + url + ", not a hub; resume it with --bus " + url);
+  const auto planned = bus::parse_tcpq(plan.bus_url);
+  if (!planned) {
+    throw Error(dir.string() + " was planned on the bus " + plan.bus_url + ", not a hub; resume it with --bus " +
+                plan.bus_url);
   }
+  // The hub's log beside the run: kept even when the hub fails to start, to say why.
   fs::create_directories(dir / "slurm");
-  const std::string log_file = (dir / "slurm" / "hub.log").string();
-  std::unique_ptr<remote_ns::HubProcess> hub;
-  if (resuming || o.given.count("--hub-port")) {
-    hub = std::make_unique<remote_ns::HubProcess>(std::atoi(url.substr(url.rfind(':') + 1).c_str()), log_file);
-  } else {
-    hub = remote_ns::HubProcess::on_free_port(log_file);
-    plan.bus_url = url.substr(0, url.rfind(':') + 1) + std::to_string(hub->port());
-  }
+  auto hub = std::make_unique<remote_ns::HubProcess>(
+      o.given.count("--hub-port") ? o.hub_port : remote_ns::HubProcess::kAnyPort, (dir / "slurm" / "hub.log").string());
+  plan.bus_url = remote_ns::hub_url(planned->host, hub->port());
   std::printf("LCM hub for the workers: %s\n", plan.bus_url.c_str());
   return hub;
 }
@@ -337,10 +335,10 @@ int run_run(const RunOptions& o) {
   const auto fingerprints = fingerprints_of(plan, tasks);
   if (!plan.remote) check_dataset(plan, fingerprints);
   SlurmRun slurm;
-  if (o.given.count("--slurm") && o.url.empty()) slurm.hub = start_run_hub(o, plan, dir, resuming);
-  if (resuming) {
-    std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
-  } else {
+  const std::string planned_bus = plan.bus_url;
+  if (o.given.count("--slurm") && o.url.empty()) slurm.hub = start_run_hub(o, plan, dir);
+  if (resuming) std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
+  if (!resuming || plan.bus_url != planned_bus) {
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
   }

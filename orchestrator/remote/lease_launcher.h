@@ -82,7 +82,7 @@ class LeaseLauncher final : public Launcher {
 
   void subscribe();
   void announce(const std::string& state);
-  /// A worker heard from within the lease ttl.
+  /// Clears `live` of the workers not heard within the lease ttl (a heartbeat sets it again).
   void mark_silent_workers();
   int live_workers() const;
   int held_by(const std::string& worker) const;

@@ -19,6 +19,7 @@
 #include "bus/process/subprocess.h"
 #include "bus/url.h"
 #include "core/util/error.h"
+#include "core/util/log.h"
 
 namespace mtg::orchestrator::remote {
 namespace {
@@ -79,16 +80,23 @@ void check_hub_port(int port) {
 
 namespace {
 
-// Held while a run picks its hub's port and until that hub listens: two runs starting at once on
-// one machine would otherwise both see the same port free. Shared by every user of the machine
-// (flock needs only a read-only descriptor, whoever created the file).
+// Held from checking a hub's port until that hub listens, by every hub a run starts: two runs
+// starting at once on one machine would otherwise both see the same port free, and the loser's
+// probe would reach the winner's hub. One file for every user of the machine: it is opened
+// read-only (all flock needs), and made world-readable by whoever creates it first.
 class PortChoiceLock {
  public:
   PortChoiceLock() {
-    const mode_t old = ::umask(0);
-    fd_ = ::open("/tmp/mtg-hub-ports.lock", O_RDONLY | O_CREAT | O_CLOEXEC, 0666);
-    ::umask(old);
-    if (fd_ >= 0) ::flock(fd_, LOCK_EX);  // without the file, no lock: a clash then fails loudly
+    const char* path = "/tmp/mtg-hub-ports.lock";
+    fd_ = ::open(path, O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0 && errno == ENOENT) {
+      fd_ = ::open(path, O_RDONLY | O_CREAT | O_CLOEXEC, 0644);
+      if (fd_ >= 0) ::fchmod(fd_, 0644);
+    }
+    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0) {
+      log::warn(std::string("no lock on ") + path + " (" + std::strerror(errno) +
+                "): a hub started at the same moment by another run could take the same port");
+    }
   }
   ~PortChoiceLock() {
     if (fd_ >= 0) ::close(fd_);
@@ -112,29 +120,36 @@ int first_free_hub_port() {
 
 std::string hub_url(const std::string& host, int port) { return "tcpq://" + host + ":" + std::to_string(port); }
 
-std::unique_ptr<HubProcess> HubProcess::on_free_port(const std::string& log_file) {
+HubProcess::HubProcess(int port, const std::string& log_file) {
   const PortChoiceLock lock;
-  return std::make_unique<HubProcess>(first_free_hub_port(), log_file);
-}
-
-HubProcess::HubProcess(int port, const std::string& log_file) : port_(port) {
-  check_hub_port(port);
-  pid_ = process::spawn_process(hub_command(port), log_file, SIGTERM);
+  port_ = port == kAnyPort ? first_free_hub_port() : port;
+  check_hub_port(port_);
+  pid_ = process::spawn_process(hub_command(port_), log_file, SIGTERM);
+  const std::string hub = "the LCM hub on port " + std::to_string(port_);
+  auto exited = [this] {
+    int status = 0;
+    return ::waitpid(pid_, &status, WNOHANG) == pid_;
+  };
   // The JVM takes a fraction of a second to listen.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!bus::accepts_tcp("127.0.0.1", port)) {
-    int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+  while (!bus::accepts_tcp("127.0.0.1", port_, std::chrono::milliseconds(500))) {
+    if (exited()) {
       pid_ = -1;
-      throw Error("the LCM hub on port " + std::to_string(port) + " exited at once; see " + log_file);
+      throw Error(hub + " exited at once; see " + log_file);
     }
     if (std::chrono::steady_clock::now() > deadline) {
       ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, &status, 0);
+      ::waitpid(pid_, nullptr, 0);
       pid_ = -1;
-      throw Error("the LCM hub on port " + std::to_string(port) + " did not listen within 20 s; see " + log_file);
+      throw Error(hub + " did not listen within 20 s; see " + log_file);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // Something listens; if our JVM died meanwhile (it could not bind), that is another's hub.
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  if (exited()) {
+    pid_ = -1;
+    throw Error(hub + " exited (is another program on that port?); see " + log_file);
   }
 }
 

@@ -6,7 +6,6 @@
 
 #include <sys/types.h>
 
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,11 +29,11 @@ std::string hub_url(const std::string& host, int port);
 /// and by the kernel if this process dies.
 class HubProcess {
  public:
-  /// Starts the hub and waits until it accepts connections. @throws mtg::Error.
+  static constexpr int kAnyPort = 0;
+  /// Starts the hub on `port` (kAnyPort: the first free one from kDefaultHubPort) and waits
+  /// until it accepts connections. The port is checked and taken under a machine-wide lock, so
+  /// two runs starting at once get two hubs. @throws mtg::Error.
   HubProcess(int port, const std::string& log_file);
-  /// A hub on the first port from kDefaultHubPort that no other hub holds, chosen under a
-  /// machine-wide lock so that two runs starting at once get two hubs.
-  static std::unique_ptr<HubProcess> on_free_port(const std::string& log_file);
   ~HubProcess();
   HubProcess(const HubProcess&) = delete;
   HubProcess& operator=(const HubProcess&) = delete;

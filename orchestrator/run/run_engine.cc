@@ -68,7 +68,7 @@ class Engine final : public LaunchSink {
     const auto episodes_started = Clock::now();
     process::install_stop_signals();
 
-    while (!pending_.empty() || !in_flight_.empty()) {
+    while (!pending_.empty() || !waiting_retries_.empty() || !in_flight_.empty()) {
       if (process::stop_signal_received()) {
         summary.interrupted = true;
         break;
@@ -132,6 +132,11 @@ class Engine final : public LaunchSink {
       }
     }
     pending_.swap(keep);
+    const auto before = waiting_retries_.size();
+    waiting_retries_.erase(std::remove_if(waiting_retries_.begin(), waiting_retries_.end(),
+                                  [&](const auto& r) { return by_id_.at(r.first)->agent == spec; }),
+                   waiting_retries_.end());
+    not_run_ += static_cast<std::int64_t>(before - waiting_retries_.size());
     for (auto it = in_flight_.begin(); it != in_flight_.end();) {
       const bool theirs = by_id_.at(it->first)->agent == spec;
       if (theirs) {
@@ -149,15 +154,25 @@ class Engine final : public LaunchSink {
   };
 
   void dispatch() {
-    while (!pending_.empty() && launcher_.free_slots() > 0 &&
+    while ((!waiting_retries_.empty() || !pending_.empty()) && launcher_.free_slots() > 0 &&
            (plan_.parallel <= 0 || static_cast<int>(in_flight_.size()) < plan_.parallel)) {
-      const std::int64_t id = pending_.front();
-      pending_.pop_front();
-      const auto queued = retry_attempt_.find(id);
-      const int attempt = queued == retry_attempt_.end() ? launcher_.next_attempt(id) : queued->second;
-      if (queued != retry_attempt_.end()) retry_attempt_.erase(queued);
-      send_start(id, attempt);
+      // Retries first, oldest first: they have waited longest.
+      if (!waiting_retries_.empty()) {
+        const auto [id, attempt] = waiting_retries_.front();
+        waiting_retries_.pop_front();
+        send_start(id, attempt);
+      } else {
+        const std::int64_t id = pending_.front();
+        pending_.pop_front();
+        send_start(id, launcher_.next_attempt(id));
+      }
     }
+    const bool stuck = in_flight_.empty() && (!waiting_retries_.empty() || !pending_.empty());
+    if (stuck && !said_stuck_) {
+      log::warn(std::to_string(waiting_retries_.size() + pending_.size()) +
+                " episode(s) wait for a free slot and none is in flight (all workers lost?); waiting for one");
+    }
+    said_stuck_ = stuck;
   }
 
   void send_start(std::int64_t id, int attempt) {
@@ -199,13 +214,8 @@ class Engine final : public LaunchSink {
     log::info("episode " + std::to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
     ++retries_;
     if (progress_ != nullptr) progress_->retry();
-    if (launcher_.free_slots() > 0) {
-      send_start(id, attempt);
-    } else {
-      // No slot now (a lost host took its slots with it): the retry goes first in the queue.
-      retry_attempt_[id] = attempt;
-      pending_.push_front(id);
-    }
+    // Sent by dispatch() when a slot is free: a lost host may have taken its slots with it.
+    waiting_retries_.emplace_back(id, attempt);
   }
 
   EpisodeRow base_row(std::int64_t id, int attempt) const {
@@ -254,7 +264,8 @@ class Engine final : public LaunchSink {
   bus::HeaderStamper stamp_;
   std::map<std::int64_t, const PlannedEpisode*> by_id_;
   std::deque<std::int64_t> pending_;
-  std::map<std::int64_t, int> retry_attempt_;  // the attempt a queued retry will be
+  std::deque<std::pair<std::int64_t, int>> waiting_retries_;  // (episode, attempt), sent before pending_
+  bool said_stuck_ = false;
   std::map<std::int64_t, Flight> in_flight_;
   Progress* progress_ = nullptr;
   std::int64_t completed_ = 0, errors_ = 0, retries_ = 0, not_run_ = 0;
@@ -294,6 +305,13 @@ RunSummary run_plan(const RunPlan& plan, const fs::path& run_dir, const std::map
     return summary;
   }
   LocalRuntime launcher(runtime_config(plan, options), run_dir);
+  Engine engine(plan, run_dir, tasks, launcher, counts, options);
+  return engine.run();
+}
+
+RunSummary run_plan_with(const RunPlan& plan, const fs::path& run_dir, const std::map<std::string, tasks::Task>& tasks,
+                         Launcher& launcher, const EngineOptions& options) {
+  RunCounts counts;
   Engine engine(plan, run_dir, tasks, launcher, counts, options);
   return engine.run();
 }

@@ -56,4 +56,10 @@ struct EngineOptions {
 RunSummary run_plan(const RunPlan& plan, const std::filesystem::path& run_dir,
                     const std::map<std::string, tasks::Task>& tasks, const EngineOptions& options = {});
 
+class Launcher;
+/// The engine alone over `launcher` (run_plan picks the launcher; tests script one).
+RunSummary run_plan_with(const RunPlan& plan, const std::filesystem::path& run_dir,
+                         const std::map<std::string, tasks::Task>& tasks, Launcher& launcher,
+                         const EngineOptions& options = {});
+
 }  // namespace mtg::orchestrator

@@ -10,10 +10,13 @@
 #include <chrono>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <set>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "bus/recording.h"
 #include "bus/channels.h"
@@ -34,6 +37,11 @@ namespace fs = std::filesystem;
 using orchestrator::EpisodeRow;
 
 constexpr const char* kSharedUrl = "udpm://239.255.77.1:7701?ttl=1";  // the hosts' multicast group
+
+inline std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 inline std::string script(const std::string& name) { return (fs::path(MTG_SOURCE_DIR) / "scripts" / name).string(); }
 
@@ -115,9 +123,7 @@ class MultiHostTest : public ::testing::Test {
   std::string log_text() const {
     std::string all;
     for (const auto& entry : fs::directory_iterator(fx_.root())) {
-      if (entry.path().extension() != ".log") continue;
-      std::ifstream in(entry.path());
-      all += "== " + entry.path().filename().string() + "\n" + std::string(std::istreambuf_iterator<char>(in), {});
+      if (entry.path().extension() == ".log") all += "== " + entry.path().filename().string() + "\n" + read_text(entry.path());
     }
     return all;
   }

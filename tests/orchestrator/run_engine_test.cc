@@ -1,0 +1,157 @@
+// The run engine over a scripted launcher: what it does with retries when slots vanish (a lost
+// host takes its slots with it) and when an agent stops while retries wait. No processes, no bus.
+
+#include "orchestrator/run/run_engine.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <map>
+#include <set>
+
+#include "orchestrator/run/launcher.h"
+#include "orchestrator/run/results_db.h"
+#include "tests/support/fixture_dataset.h"
+
+namespace mtg::orchestrator {
+namespace {
+
+// Runs attempts on `capacity` slots; each poll() calls `script` once with what is in flight.
+class ScriptedLauncher final : public Launcher {
+ public:
+  using Script = std::function<void(ScriptedLauncher&, LaunchSink&)>;
+  explicit ScriptedLauncher(Script script) : script_(std::move(script)) {}
+
+  std::vector<AdoptedAttempt> open() override { return {}; }
+  int free_slots() const override { return capacity - static_cast<int>(in_flight.size()); }
+  int next_attempt(std::int64_t) const override { return 0; }
+  void launch(const EpisodeLaunch& l) override {
+    const auto key = std::make_pair(l.start.header.episode_id, static_cast<int>(l.start.header.attempt));
+    ASSERT_GT(free_slots(), 0) << "launched without a free slot";
+    launched.push_back(key);
+    in_flight.insert(key);
+  }
+  void drop(std::int64_t id, int attempt) override { in_flight.erase({id, attempt}); }
+  void poll(int, LaunchSink& sink) override {
+    ++polls;
+    script_(*this, sink);
+  }
+  void close() override {}
+  int restarts() const override { return 0; }
+
+  // The attempt ends with a verdict (success) or is lost without one.
+  void finish(std::pair<std::int64_t, int> key, LaunchSink& sink) {
+    in_flight.erase(key);
+    mtg::episode_result_t m{};
+    m.header.episode_id = key.first;
+    m.header.attempt = key.second;
+    m.success = true;
+    m.ip = 1.0;
+    m.stage = "done";
+    m.cause = "";
+    sink.on_result(m, "host");
+  }
+  void lose(std::pair<std::int64_t, int> key, LaunchSink& sink) {
+    in_flight.erase(key);
+    sink.on_failure(key.first, key.second, "host lost");
+  }
+
+  int capacity = 2;
+  int polls = 0;
+  std::set<std::pair<std::int64_t, int>> in_flight;
+  std::vector<std::pair<std::int64_t, int>> launched;
+
+ private:
+  Script script_;
+};
+
+struct Fixture {
+  testing::FixtureDataset fx;
+  RunPlan plan;
+  std::map<std::string, tasks::Task> tasks;
+
+  explicit Fixture(int episodes) {
+    plan.run_id = "engine-test";
+    plan.agents = {"oracle"};
+    plan.parallel = 0;
+    plan.max_attempts = 3;
+    plan.episode_timeout_s = 600;
+    tasks::Task t;
+    t.id = "s/L1/000000";
+    t.scene = "s";
+    t.type = "surface";
+    t.goal = nlohmann::json::object();
+    tasks[t.id] = t;
+    for (int i = 0; i < episodes; ++i) plan.episodes.push_back({i, t.id, "oracle", 7});
+  }
+  RunSummary run(Launcher& launcher) {
+    EngineOptions options;
+    options.progress = false;
+    return run_plan_with(plan, fx.root(), tasks, launcher, options);
+  }
+};
+
+TEST(RunEngine, ARetryWithoutAFreeSlotWaitsAndGoesBeforeNewEpisodes) {
+  Fixture f(3);
+  ScriptedLauncher launcher([](ScriptedLauncher& l, LaunchSink& sink) {
+    if (l.polls == 1) {
+      // One of two hosts is lost with episode 0 on it: its slot goes too.
+      l.capacity = 1;
+      l.lose({0, 0}, sink);
+      return;
+    }
+    if (!l.in_flight.empty()) l.finish(*l.in_flight.begin(), sink);
+  });
+  const RunSummary summary = f.run(launcher);
+  EXPECT_EQ(summary.completed, 3);
+  EXPECT_EQ(summary.retries, 1);
+  const std::vector<std::pair<std::int64_t, int>> order = {{0, 0}, {1, 0}, {0, 1}, {2, 0}};
+  EXPECT_EQ(launcher.launched, order) << "the retry waited for a slot and went before episode 2";
+  std::map<std::int64_t, int> stored;
+  for (const auto& row : read_results(f.fx.root() / "results.sqlite")) {
+    EXPECT_EQ(stored.count(row.episode_id), 0u) << "episode " << row.episode_id << " stored twice";
+    stored[row.episode_id] = row.attempt;
+  }
+  EXPECT_EQ(stored, (std::map<std::int64_t, int>{{0, 1}, {1, 0}, {2, 0}}));
+}
+
+TEST(RunEngine, RetriesWaitInTheOrderTheyFailed) {
+  Fixture f(3);
+  ScriptedLauncher launcher([](ScriptedLauncher& l, LaunchSink& sink) {
+    if (l.polls == 1) {
+      l.capacity = 0;  // every host lost, episode 2 first, then 0 and 1
+      for (const auto& key : {std::make_pair<std::int64_t, int>(2, 0), {0, 0}, {1, 0}}) l.lose(key, sink);
+      return;
+    }
+    if (l.polls < 4) return;
+    l.capacity = 1;  // one host back
+    if (!l.in_flight.empty()) l.finish(*l.in_flight.begin(), sink);
+  });
+  launcher.capacity = 3;  // all three start at once
+  const RunSummary summary = f.run(launcher);
+  EXPECT_EQ(summary.completed, 3);
+  ASSERT_EQ(launcher.launched.size(), 6u);
+  const std::vector<std::pair<std::int64_t, int>> retries(launcher.launched.begin() + 3, launcher.launched.end());
+  EXPECT_EQ(retries, (std::vector<std::pair<std::int64_t, int>>{{2, 1}, {0, 1}, {1, 1}}));
+}
+
+TEST(RunEngine, AnAgentThatStopsTakesItsWaitingRetriesWithIt) {
+  Fixture f(2);
+  ScriptedLauncher launcher([](ScriptedLauncher& l, LaunchSink& sink) {
+    if (l.polls == 1) {
+      l.capacity = 0;
+      l.lose({0, 0}, sink);  // both lost with every slot: their retries wait
+      l.lose({1, 0}, sink);
+      return;
+    }
+    if (l.polls == 2) sink.on_agent_stopped("oracle", "quota exhausted");
+  });
+  const RunSummary summary = f.run(launcher);
+  EXPECT_EQ(summary.completed, 0);
+  EXPECT_EQ(summary.not_run, 2);
+  EXPECT_EQ(launcher.launched.size(), 2u) << "no retry was sent after the agent stopped";
+  EXPECT_EQ(summary.stopped_agents.count("oracle"), 1u);
+}
+
+}  // namespace
+}  // namespace mtg::orchestrator
