@@ -32,14 +32,19 @@ struct AtomicTask {
 struct AtomicFilter {
   std::vector<int> items;         // only these items (empty: all)
   std::vector<int> destinations;  // only these destination platforms (empty: all)
+  // Level 3 asks for a part of the set, and skips the work for the rest; what it gets is
+  // exactly what the whole enumeration would hold for that part:
+  std::string goal_key;           // only the goal with this AtomicTask::key ("": all)
+  int anchor = -1;                // only goals relative to this object (-1: all)
 };
 
 /// All atomic tasks of state `s` (nothing held), in a deterministic order: source platforms by
 /// label, items in o-order, destinations by label, placement keys in order.
 /// `dropped`, when given, counts the goals left out by the rules above (per level, by look-alikes).
+/// Items are enumerated on up to `jobs` threads; the result does not depend on it.
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
                                          const TaskOptions& options, const AtomicFilter& filter = {},
-                                         DropCounts* dropped = nullptr);
+                                         DropCounts* dropped = nullptr, int jobs = 1);
 
 /// Leaves `s` as the task's oracle plan would, without replaying its keys: the item picked and
 /// put down where the plan's target resolved when the task was enumerated, the robot at the

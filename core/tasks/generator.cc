@@ -119,9 +119,9 @@ void add_atomic_tasks(const graph::SceneGraph& g, const episode::WorldState& ini
 // Level 3: chains of atomic tasks, each part named in the state it starts from.
 void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
-                        TaskSet& set) {
+                        TaskSet& set, int jobs) {
   const auto sequences =
-      generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped);
+      generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs);
   for (const Sequence& seq : sequences) {
     Task t;
     t.level = 3;
@@ -196,7 +196,8 @@ void add_outcome_tasks(const graph::SceneGraph& g, const episode::WorldState& in
 }  // namespace
 
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
-                                const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters) {
+                                const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
+                                int jobs) {
   for (const int level : options.levels) {
     if (level < 1 || level > 4) throw Error("unknown level " + std::to_string(level) + " (levels are 1..4)");
   }
@@ -212,9 +213,9 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
   const bool want_levels_1_2 = options.levels.count(1) || options.levels.count(2);
-  if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr);
+  if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr, jobs);
   if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
-  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set);
+  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs);
   if (options.levels.count(4)) add_outcome_tasks(g, initial, options, recorded_votes, live_voters, numbering, result);
   return result;
 }

@@ -18,9 +18,10 @@ struct GenerationResult {
 
 /// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template
 /// library that does not load.
+/// `jobs` threads share the work of Levels 1-3; the result is the same for any number.
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes = {},
-                                const std::vector<VoteBatch>& live_voters = {});
+                                const std::vector<VoteBatch>& live_voters = {}, int jobs = 1);
 
 /// The platforms an agent can go to and what stands on them, one line each (for voters).
 std::string describe_scene(const graph::SceneGraph& g);

@@ -9,7 +9,7 @@
 
 namespace mtg::tasks {
 
-GenerationReport run_generation(const GenerationJob& job) {
+GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_scene) {
   if (job.scenes.empty()) throw Error("no scene given");
   if (job.out.empty()) throw Error("no output database given");
   const Stopwatch total;
@@ -25,7 +25,7 @@ GenerationReport run_generation(const GenerationJob& job) {
     const Stopwatch watch;
     const scene::Scene loaded = scene::load_scene(dataset, name, cache);
     const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
-    GenerationResult result = generate_tasks(g, job.options, job.votes, job.voters);
+    GenerationResult result = generate_tasks(g, job.options, job.votes, job.voters, job.jobs);
     SceneReport sr;
     sr.scene = name;
     for (const Task& t : result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;
@@ -35,6 +35,7 @@ GenerationReport run_generation(const GenerationJob& job) {
     report.total += sr.total;
     for (const auto& w : result.set.warnings) report.warnings.push_back(name + ": " + w);
     report.scenes.push_back(sr);
+    if (on_scene) on_scene(sr);
     votes.insert(votes.end(), result.votes.begin(), result.votes.end());
     result.set.dataset = scene::fingerprint_files(dataset.root, loaded.source_files);
     sets.push_back(std::move(result.set));

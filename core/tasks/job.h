@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,12 @@ struct GenerationJob {
   TaskOptions options;
   std::vector<Vote> votes;     // recorded Level 4 votes
   std::vector<VoteBatch> voters;  // live Level 4 voters (model adapters)
+  int jobs = 1;                // threads; the output is the same for any number
 };
+
+struct SceneReport;
+/// Told of each scene as soon as it is generated (a long job is not silent).
+using SceneDone = std::function<void(const SceneReport&)>;
 
 struct SceneReport {
   std::string scene;
@@ -40,7 +46,7 @@ struct GenerationReport {
 
 /// Loads each scene, builds its graph, generates, and writes the database (and JSONL) only when
 /// everything succeeded. @throws mtg::Error (nothing is written then).
-GenerationReport run_generation(const GenerationJob& job);
+GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_scene = {});
 
 /// Applies generator overrides from JSON (keys: levels, seed, ambiguity, l3_count, l3_chain,
 /// l4_max_moves, l4_templates, step_limit, profile). @throws mtg::Error naming an unknown key.

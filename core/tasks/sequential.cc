@@ -5,6 +5,7 @@
 
 #include "core/util/hash.h"
 #include "core/tasks/referring.h"
+#include "core/util/parallel.h"
 #include "core/util/rng.h"
 
 namespace mtg::tasks {
@@ -15,11 +16,109 @@ constexpr int kAttemptsPerChain = 25;
 // Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
 std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,
                                  const AtomicTask& task, const TaskOptions& options) {
-  AtomicFilter filter{{task.goal.item}, {task.goal.platform}};
-  for (AtomicTask& t : enumerate_atomic(g, s, options, filter)) {
-    if (t.key == task.key) return std::move(t);
+  // A goal relative to an object has that object among its anchors: the rest need no look.
+  AtomicFilter filter{{task.goal.item}, {task.goal.platform}, task.key, task.goal.anchor};
+  auto found = enumerate_atomic(g, s, options, filter);
+  if (found.empty()) return std::nullopt;
+  return std::move(found.front());
+}
+
+// Chain n as the attempts from `from` on draw it: the first that gives a valid chain (which may
+// still duplicate another chain; the caller decides), with what its attempts dropped.
+struct Drawn {
+  std::optional<Sequence> sequence;
+  std::string key;   // the parts' keys: identity for de-duplication
+  int attempt = 0;   // the attempt that gave it
+  DropCounts dropped;
+};
+
+Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial, const std::vector<AtomicTask>& atomic,
+                 int n, int from, const TaskOptions& options) {
+  Drawn drawn;
+  const int chain = std::max(2, options.level3_chain);
+  for (int attempt = from; attempt < kAttemptsPerChain; ++attempt) {
+    Rng rng(derive_seed(options.seed, fnv1a64("L3/" + std::to_string(n) + "/" + std::to_string(attempt))));
+    Sequence seq;
+    episode::WorldState s = initial;
+    std::set<int> moved, changed;  // objects moved, platforms whose contents changed
+    for (int part = 0; part < chain; ++part) {
+      // A step must be worth asking and nameable where it starts (cheap tests, made before
+      // any re-planning).
+      auto wording = [&](const episode::AtomicGoal& goal) -> std::optional<Identified> {
+        if (episode::goal_met_from_any_side(g, s, goal, options.goals)) {
+          drawn.dropped.add("trivial", 3);
+          return std::nullopt;
+        }
+        auto words = identify(g, s, goal, options.ambiguity, part);
+        if (!words) drawn.dropped.add("unidentifiable", 3);
+        return words;
+      };
+      std::optional<AtomicTask> next;
+      std::optional<Identified> words;
+      const bool chained = part > 0 && rng.uniform01() >= 0.5;
+      if (chained) {
+        // Something next to (or relative to) an object already moved.
+        const int last_item = seq.parts.back().goal.item;
+        const int platform = seq.parts.back().goal.platform;
+        std::vector<int> items;
+        for (const int p : g.navigable) {
+          for (const int o : episode::pickable_on(g, s, p)) {
+            if (moved.count(o) == 0) items.push_back(o);
+          }
+        }
+        if (!items.empty()) {
+          const int item = items[rng.uniform_index(items.size())];
+          // An item the text could not name is not worth enumerating.
+          if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
+            const std::vector<AtomicTask> options_here =
+                enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}, "", last_item});
+            if (!options_here.empty()) {
+              next = options_here[rng.uniform_index(options_here.size())];
+              words = wording(next->goal);
+              if (!words) break;
+            }
+          }
+        }
+      }
+      if (!next) {
+        const AtomicTask& pick = atomic[rng.uniform_index(atomic.size())];
+        if (moved.count(pick.goal.item) != 0) break;
+        words = wording(pick.goal);  // re-planning keeps the goal
+        if (!words) break;
+        bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
+        for (const int a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
+        next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
+        if (!next) break;
+      }
+      apply_effect(g, s, *next);
+      next->placed_at = s.objects[static_cast<std::size_t>(next->goal.item)].position;
+      next->margin = episode::goal_margin(g, s, next->goal, options.goals);
+      seq.words.push_back(std::move(*words));
+      moved.insert(next->goal.item);
+      changed.insert(next->goal.source);
+      changed.insert(next->goal.platform);
+      seq.parts.push_back(std::move(*next));
+    }
+    if (static_cast<int>(seq.parts.size()) < chain) continue;  // a step could not be drawn
+    // Every goal must still hold at the end, as robustly as when it was placed.
+    bool ok = true, robust = true;
+    for (AtomicTask& p : seq.parts) {
+      p.margin = std::min(p.margin, episode::goal_margin(g, s, p.goal, options.goals));
+      ok = ok && p.margin > 0.0;
+      robust = robust && p.margin >= options.min_margin;
+    }
+    if (!ok) continue;
+    if (!robust) {
+      drawn.dropped.add("fragile", 3);
+      continue;
+    }
+    drawn.key.clear();
+    for (const AtomicTask& p : seq.parts) drawn.key += p.key + "|";
+    drawn.sequence = std::move(seq);
+    drawn.attempt = attempt;
+    return drawn;
   }
-  return std::nullopt;
+  return drawn;
 }
 
 }  // namespace
@@ -27,102 +126,29 @@ std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::Worl
 std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                                          const std::vector<AtomicTask>& atomic, int count,
                                          const TaskOptions& options, std::vector<std::string>& warnings,
-                                         DropCounts& dropped) {
+                                         DropCounts& dropped, int jobs) {
   std::vector<Sequence> out;
   if (atomic.empty() || count <= 0) return out;
+  // Each chain's attempts depend only on its number, so chains are drawn in parallel; taking
+  // them in order, with a duplicate drawn on from its next attempt, gives the one-thread result.
+  std::vector<Drawn> first(static_cast<std::size_t>(count));
+  parallel_for(first.size(), jobs, [&](std::size_t n) {
+    first[n] = draw_chain(g, initial, atomic, static_cast<int>(n), 0, options);
+  });
   std::set<std::string> seen;
-  const int chain = std::max(2, options.level3_chain);
   int failures = 0;
   for (int n = 0; n < count; ++n) {
-    bool made = false;
-    for (int attempt = 0; attempt < kAttemptsPerChain && !made; ++attempt) {
-      Rng rng(derive_seed(options.seed, fnv1a64("L3/" + std::to_string(n) + "/" + std::to_string(attempt))));
-      Sequence seq;
-      episode::WorldState s = initial;
-      std::set<int> moved, changed;  // objects moved, platforms whose contents changed
-      for (int part = 0; part < chain; ++part) {
-        // A step must be worth asking and nameable where it starts (cheap tests, made before
-        // any re-planning).
-        auto wording = [&](const episode::AtomicGoal& goal) -> std::optional<Identified> {
-          if (episode::goal_met_from_any_side(g, s, goal, options.goals)) {
-            dropped.add("trivial", 3);
-            return std::nullopt;
-          }
-          auto words = identify(g, s, goal, options.ambiguity, part);
-          if (!words) dropped.add("unidentifiable", 3);
-          return words;
-        };
-        std::optional<AtomicTask> next;
-        std::optional<Identified> words;
-        const bool chained = part > 0 && rng.uniform01() >= 0.5;
-        if (chained) {
-          // Something next to (or relative to) an object already moved.
-          const int last_item = seq.parts.back().goal.item;
-          const int platform = seq.parts.back().goal.platform;
-          std::vector<int> items;
-          for (const int p : g.navigable) {
-            for (const int o : episode::pickable_on(g, s, p)) {
-              if (moved.count(o) == 0) items.push_back(o);
-            }
-          }
-          if (!items.empty()) {
-            const int item = items[rng.uniform_index(items.size())];
-            // An item the text could not name is not worth enumerating.
-            if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
-              std::vector<AtomicTask> options_here;
-              for (AtomicTask& t : enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}})) {
-                const auto anchors = t.goal.anchors();
-                if (std::find(anchors.begin(), anchors.end(), last_item) != anchors.end()) {
-                  options_here.push_back(std::move(t));
-                }
-              }
-              if (!options_here.empty()) {
-                next = options_here[rng.uniform_index(options_here.size())];
-                words = wording(next->goal);
-                if (!words) break;
-              }
-            }
-          }
-        }
-        if (!next) {
-          const AtomicTask& pick = atomic[rng.uniform_index(atomic.size())];
-          if (moved.count(pick.goal.item) != 0) break;
-          words = wording(pick.goal);  // re-planning keeps the goal
-          if (!words) break;
-          bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
-          for (const int a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
-          next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
-          if (!next) break;
-        }
-        apply_effect(g, s, *next);
-        next->placed_at = s.objects[static_cast<std::size_t>(next->goal.item)].position;
-        next->margin = episode::goal_margin(g, s, next->goal, options.goals);
-        seq.words.push_back(std::move(*words));
-        moved.insert(next->goal.item);
-        changed.insert(next->goal.source);
-        changed.insert(next->goal.platform);
-        seq.parts.push_back(std::move(*next));
-      }
-      if (static_cast<int>(seq.parts.size()) < chain) continue;  // a step could not be drawn
-      // Every goal must still hold at the end, as robustly as when it was placed.
-      bool ok = true, robust = true;
-      for (AtomicTask& p : seq.parts) {
-        p.margin = std::min(p.margin, episode::goal_margin(g, s, p.goal, options.goals));
-        ok = ok && p.margin > 0.0;
-        robust = robust && p.margin >= options.min_margin;
-      }
-      if (!ok) continue;
-      if (!robust) {
-        dropped.add("fragile", 3);
-        continue;
-      }
-      std::string key;
-      for (const AtomicTask& p : seq.parts) key += p.key + "|";
-      if (!seen.insert(key).second) continue;
-      out.push_back(std::move(seq));
-      made = true;
+    Drawn drawn = std::move(first[static_cast<std::size_t>(n)]);
+    dropped.merge(drawn.dropped);
+    while (drawn.sequence && !seen.insert(drawn.key).second) {
+      drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options);
+      dropped.merge(drawn.dropped);
     }
-    if (!made) ++failures;
+    if (drawn.sequence) {
+      out.push_back(std::move(*drawn.sequence));
+    } else {
+      ++failures;
+    }
   }
   if (failures > 0) {
     warnings.push_back("level 3: " + std::to_string(failures) + " of " + std::to_string(count) +

@@ -25,10 +25,11 @@ struct Sequence {
   std::vector<Identified> words;   // how each part's text names its objects, in its start state
 };
 
-/// `count` distinct chains of `options.level3_chain` parts, deterministic in options.seed.
+/// `count` distinct chains of `options.level3_chain` parts, deterministic in options.seed and
+/// the same for any number of `jobs` (threads drawing chains).
 std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                                          const std::vector<AtomicTask>& atomic, int count,
                                          const TaskOptions& options, std::vector<std::string>& warnings,
-                                         DropCounts& dropped);
+                                         DropCounts& dropped, int jobs = 1);
 
 }  // namespace mtg::tasks

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "core/util/parallel.h"
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/tasks/generator.h"
@@ -102,11 +103,23 @@ int run_bench_tasks(const BenchTasksOptions& options) {
     Stopwatch watch;
     const auto r = tasks::generate_tasks(g, atomic);
     std::printf("  %-8s L1+L2 %6zu tasks in %6.0f ms\n", name.c_str(), r.set.tasks.size(), watch.elapsed_ms());
+    if (name != options.scenes.front()) continue;
+    // Level 3 alone (its atomic set included), on one thread and on every core: same tasks.
+    tasks::TaskOptions chains;
+    chains.levels = {3};
+    for (const int jobs : {1, default_jobs()}) {
+      Stopwatch l3;
+      const auto c = tasks::generate_tasks(g, chains, {}, {}, jobs);
+      std::printf("  %-8s L3 %zu chains in %6.0f ms on %d thread%s\n", name.c_str(), c.set.tasks.size(),
+                  l3.elapsed_ms(), jobs, jobs == 1 ? "" : "s");
+    }
   }
   tasks::GenerationJob job;
   job.scenes = options.scenes;
   job.data_dir = options.data_dir;
   job.out = options.out;
+  job.jobs = default_jobs();
+  std::printf("  all four levels on %d thread%s (mtg tasks' default):\n", job.jobs, job.jobs == 1 ? "" : "s");
   const auto report = tasks::run_generation(job);
   for (const auto& sc : report.scenes) {
     std::printf("  %-8s all levels: L1 %ld  L2 %ld  L3 %ld  L4 %ld  (%ld tasks, %.1f s incl. load + graph)\n",

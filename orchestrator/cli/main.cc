@@ -111,6 +111,7 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks->add_option("--out", tasks_opts->out, "task database to write (SQLite)");
   tasks->add_option("--jsonl", tasks_opts->jsonl, "also export one task per line here");
   tasks->add_option("--seed", tasks_opts->seed, "seed (default 0)");
+  tasks->add_option("--jobs", tasks_opts->jobs, "threads (default: the machine's cores); the tasks do not depend on it");
   tasks->add_option("--levels", tasks_opts->levels, "levels to generate, e.g. 1,2,3,4");
   tasks->add_option("--profile", tasks_opts->profile, "scene profile (replica_cad, none, or a file)");
   tasks->add_option("--ambiguity", tasks_opts->ambiguity, "Look-alike rule: category (default: the same semantic class, for agents that see images) or name (the same model, for agents told object names)");

@@ -8,6 +8,7 @@
 #include "agents/vlm/voter.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
+#include "core/util/parallel.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
@@ -24,6 +25,7 @@ int run_tasks(const TasksOptions& o) {
   job.profile = o.profile;
   job.out = o.out;
   job.jsonl = o.jsonl;
+  job.jobs = o.jobs > 0 ? o.jobs : default_jobs();
   job.options.levels = tasks::parse_levels(o.levels);
   job.options.seed = o.seed;
   job.options.ambiguity = tasks::ambiguity_from_string(o.ambiguity);
@@ -59,14 +61,16 @@ int run_tasks(const TasksOptions& o) {
     }
   }
 
-  const tasks::GenerationReport report = tasks::run_generation(job);
-  for (const auto& w : report.warnings) log::warn(w);
+  // A row as each scene is done: a job over several apartments takes a while.
   std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
-  for (const auto& s : report.scenes) {
+  std::fflush(stdout);
+  const tasks::GenerationReport report = tasks::run_generation(job, [](const tasks::SceneReport& s) {
     std::printf("%-8s %8ld %8ld %8ld %8ld %9ld %7.1f s\n", s.scene.c_str(), static_cast<long>(s.levels[0]),
                 static_cast<long>(s.levels[1]), static_cast<long>(s.levels[2]), static_cast<long>(s.levels[3]),
                 static_cast<long>(s.total), s.seconds);
-  }
+    std::fflush(stdout);
+  });
+  for (const auto& w : report.warnings) log::warn(w);
   std::printf("wrote %s (%.1f s in all, peak RSS %.0f MiB)\n", o.out.c_str(), report.seconds, peak_rss_mib());
   if (!o.jsonl.empty()) std::printf("wrote %s\n", o.jsonl.c_str());
   for (const auto& v : voters) {

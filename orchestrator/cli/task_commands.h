@@ -19,6 +19,7 @@ struct TasksOptions {
   std::string profile = "replica_cad";
   std::string ambiguity = "category";
   int level3_count = 10000;
+  int jobs = 0;  // threads (0: the machine's cores); the output does not depend on it
   int level3_chain = 2;
   int level4_max_moves = 3;
   std::string level4_templates = "builtin";

@@ -10,6 +10,7 @@
 #include "bus/channels.h"
 #include "bus/process/service_loop.h"
 #include "bus/url.h"
+#include "core/util/parallel.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/util/error.h"
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
             mtg::tasks::apply_overrides(job, overrides);
           }
           loop.set_in_flight(1);
+          job.jobs = mtg::default_jobs();
           const auto report = mtg::tasks::run_generation(job);
           for (int l = 0; l < 4; ++l) reply.level_counts[l] = static_cast<int32_t>(report.levels[static_cast<size_t>(l)]);
           reply.total = report.total;
