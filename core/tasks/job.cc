@@ -1,10 +1,13 @@
 #include "core/tasks/job.h"
 
+#include <mutex>
+
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
+#include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::tasks {
@@ -16,29 +19,55 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   const auto dataset = scene::index_dataset(scene::resolve_data_root(job.data_dir));
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
-  scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+
+  // Scenes run side by side (each also spreads its own levels over the threads); what they give
+  // is joined in scene order, and each is reported once every scene before it is done, so the
+  // output and the report read the same for any number of threads. Live voters (model calls)
+  // are not made for concurrent use: with them, one scene at a time.
+  struct SceneOutput {
+    SceneReport report;
+    GenerationResult result;
+    bool done = false;
+  };
+  std::vector<SceneOutput> outputs(job.scenes.size());
+  std::mutex reporting;
+  std::size_t next_report = 0;
+  const int scene_jobs = job.voters.empty() ? job.jobs : 1;
+  parallel_for(job.scenes.size(), scene_jobs, [&](std::size_t i) {
+    const Stopwatch watch;
+    const std::string& name = job.scenes[i];
+    scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+    scene::Scene loaded = scene::load_scene(dataset, name, cache);
+    const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
+    const auto source_files = std::move(loaded.source_files);
+    loaded = {};  // the meshes are not needed for tasks
+    SceneOutput& out = outputs[i];
+    out.result = generate_tasks(g, job.options, job.votes, job.voters, job.jobs);
+    out.result.set.dataset = scene::fingerprint_files(dataset.root, source_files);
+    SceneReport& sr = out.report;
+    sr.scene = name;
+    for (const Task& t : out.result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+    sr.total = static_cast<std::int64_t>(out.result.set.tasks.size());
+    sr.seconds = watch.elapsed_ms() / 1000.0;
+    const std::lock_guard<std::mutex> lock(reporting);
+    out.done = true;
+    for (; next_report < outputs.size() && outputs[next_report].done; ++next_report) {
+      if (on_scene) on_scene(outputs[next_report].report);
+    }
+  });
 
   GenerationReport report;
   std::vector<TaskSet> sets;
   std::vector<Vote> votes;
-  for (const std::string& name : job.scenes) {
-    const Stopwatch watch;
-    const scene::Scene loaded = scene::load_scene(dataset, name, cache);
-    const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
-    GenerationResult result = generate_tasks(g, job.options, job.votes, job.voters, job.jobs);
-    SceneReport sr;
-    sr.scene = name;
-    for (const Task& t : result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;
-    sr.total = static_cast<std::int64_t>(result.set.tasks.size());
-    sr.seconds = watch.elapsed_ms() / 1000.0;
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    SceneOutput& out = outputs[i];
+    const SceneReport& sr = out.report;
     for (std::size_t l = 0; l < 4; ++l) report.levels[l] += sr.levels[l];
     report.total += sr.total;
-    for (const auto& w : result.set.warnings) report.warnings.push_back(name + ": " + w);
+    for (const auto& w : out.result.set.warnings) report.warnings.push_back(job.scenes[i] + ": " + w);
     report.scenes.push_back(sr);
-    if (on_scene) on_scene(sr);
-    votes.insert(votes.end(), result.votes.begin(), result.votes.end());
-    result.set.dataset = scene::fingerprint_files(dataset.root, loaded.source_files);
-    sets.push_back(std::move(result.set));
+    votes.insert(votes.end(), out.result.votes.begin(), out.result.votes.end());
+    sets.push_back(std::move(out.result.set));
   }
   write_task_db(job.out, sets, votes, job.options);
   if (!job.jsonl.empty()) write_jsonl(job.jsonl, sets);
