@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numbers>
 #include <mutex>
+#include <numbers>
 #include <set>
 
 #include "core/episode/placement.h"
 #include "core/graph/free_space.h"
 #include "core/tasks/identify.h"
+#include "core/util/error.h"
 #include "core/util/parallel.h"
 
 namespace mtg::tasks {
@@ -132,6 +133,8 @@ class TrialPlacement {
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
                                          const TaskOptions& options, const AtomicFilter& filter, DropCounts* dropped,
                                          int jobs) {
+  MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && filter.anchor < 0),
+             "drop counts of a partial enumeration would be partial");
   auto wanted = [](const std::vector<int>& list, int v) {
     return list.empty() || std::find(list.begin(), list.end(), v) != list.end();
   };
@@ -268,7 +271,9 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
         if (!filter.goal_key.empty()) {
           std::erase_if(j.goals, [&](const AtomicGoal& goal) { return goal_key(goal) != filter.goal_key; });
         }
-        for (const AtomicGoal& goal : j.goals) j.margins.push_back(episode::goal_margin(g, placing, goal, options.goals));
+        for (const AtomicGoal& goal : j.goals) {  // a key already taken is skipped after: no need to judge it
+          j.margins.push_back(seen.count(goal_key(goal)) != 0 ? 0.0 : episode::goal_margin(g, placing, goal, options.goals));
+        }
         return j;
       };
       for (const episode::PlaceTarget& t : targets) {
@@ -322,7 +327,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
   for (Found& f : found) {
     for (AtomicTask& t : f.tasks) out.push_back(std::move(t));
     if (dropped != nullptr) dropped->merge(f.dropped);
-    if (!filter.goal_key.empty() && !out.empty()) break;  // the first achiever, as one thread finds it
+    if (!filter.goal_key.empty() && !out.empty()) break;  // a key names one item: at most one has it
   }
   return out;
 }

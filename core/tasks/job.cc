@@ -1,6 +1,8 @@
 #include "core/tasks/job.h"
 
+#include <filesystem>
 #include <mutex>
+#include <set>
 
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
@@ -20,29 +22,40 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
 
-  // Scenes run side by side (each also spreads its own levels over the threads); what they give
-  // is joined in scene order, and each is reported once every scene before it is done, so the
-  // output and the report read the same for any number of threads. Live voters (model calls)
-  // are not made for concurrent use: with them, one scene at a time.
+  // Scenes run side by side (each also spreads its own levels over the threads). A scene's tasks
+  // go into the database, and its row is reported, once every scene before it is in; then they
+  // are let go. So the files and the report are the same for any number of threads, and a job
+  // over many apartments holds few sets at once. Live voters (model calls) are not made for
+  // concurrent use: with them, one scene at a time.
   struct SceneOutput {
     SceneReport report;
     GenerationResult result;
     bool done = false;
   };
   std::vector<SceneOutput> outputs(job.scenes.size());
+  TaskDbWriter writer(job.out, job.options, job.jsonl);
+  GenerationReport report;
+  std::vector<Vote> votes;
   std::mutex reporting;
   std::size_t next_report = 0;
-  const int scene_jobs = job.voters.empty() ? job.jobs : 1;
+  // The threads go to scenes first, and each scene's levels get twice its share: when scenes
+  // finish unevenly (three scenes on two cores) the last ones still use every core. At most
+  // twice the threads asked for, never jobs x jobs.
+  const int scene_jobs = job.voters.empty() ? std::min<int>(job.jobs, static_cast<int>(job.scenes.size())) : 1;
+  const int level_jobs = std::min(job.jobs, std::max(1, 2 * job.jobs / std::max(1, scene_jobs)));
   parallel_for(job.scenes.size(), scene_jobs, [&](std::size_t i) {
     const Stopwatch watch;
     const std::string& name = job.scenes[i];
-    scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-    scene::Scene loaded = scene::load_scene(dataset, name, cache);
-    const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
-    const auto source_files = std::move(loaded.source_files);
-    loaded = {};  // the meshes are not needed for tasks
+    graph::SceneGraph g;
+    std::set<std::filesystem::path> source_files;
+    {  // the meshes (scene and cache) are not needed for tasks: gone before generation
+      scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+      scene::Scene loaded = scene::load_scene(dataset, name, cache);
+      g = graph::build_scene_graph(loaded, graph_options);
+      source_files = std::move(loaded.source_files);
+    }
     SceneOutput& out = outputs[i];
-    out.result = generate_tasks(g, job.options, job.votes, job.voters, job.jobs);
+    out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs);
     out.result.set.dataset = scene::fingerprint_files(dataset.root, source_files);
     SceneReport& sr = out.report;
     sr.scene = name;
@@ -52,25 +65,19 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     const std::lock_guard<std::mutex> lock(reporting);
     out.done = true;
     for (; next_report < outputs.size() && outputs[next_report].done; ++next_report) {
-      if (on_scene) on_scene(outputs[next_report].report);
+      SceneOutput& ready = outputs[next_report];
+      writer.add(ready.result.set);
+      const SceneReport& done = ready.report;
+      for (std::size_t l = 0; l < 4; ++l) report.levels[l] += done.levels[l];
+      report.total += done.total;
+      for (const auto& w : ready.result.set.warnings) report.warnings.push_back(done.scene + ": " + w);
+      report.scenes.push_back(done);
+      votes.insert(votes.end(), ready.result.votes.begin(), ready.result.votes.end());
+      ready.result = {};
+      if (on_scene) on_scene(done);
     }
   });
-
-  GenerationReport report;
-  std::vector<TaskSet> sets;
-  std::vector<Vote> votes;
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    SceneOutput& out = outputs[i];
-    const SceneReport& sr = out.report;
-    for (std::size_t l = 0; l < 4; ++l) report.levels[l] += sr.levels[l];
-    report.total += sr.total;
-    for (const auto& w : out.result.set.warnings) report.warnings.push_back(job.scenes[i] + ": " + w);
-    report.scenes.push_back(sr);
-    votes.insert(votes.end(), out.result.votes.begin(), out.result.votes.end());
-    sets.push_back(std::move(out.result.set));
-  }
-  write_task_db(job.out, sets, votes, job.options);
-  if (!job.jsonl.empty()) write_jsonl(job.jsonl, sets);
+  writer.finish(votes);
   report.seconds = total.elapsed_ms() / 1000.0;
   return report;
 }

@@ -26,7 +26,8 @@ struct GenerationJob {
 };
 
 struct SceneReport;
-/// Told of each scene as soon as it is generated (a long job is not silent).
+/// Told of each scene once it and every scene before it are generated (a long job is not
+/// silent), in scene order. Called from a generating thread, under a lock: keep it short.
 using SceneDone = std::function<void(const SceneReport&)>;
 
 struct SceneReport {

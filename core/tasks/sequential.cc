@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <set>
 
-#include "core/util/hash.h"
 #include "core/tasks/referring.h"
+#include "core/util/hash.h"
 #include "core/util/parallel.h"
 #include "core/util/rng.h"
 

@@ -1,5 +1,6 @@
 #include "core/tasks/task_db.h"
 
+#include <fstream>
 #include <optional>
 #include <ostream>
 
@@ -97,57 +98,104 @@ nlohmann::json task_to_json(const Task& t) {
           {"identify", to_json(t.identify)}, {"placements", to_json(t.placements)}};
 }
 
+struct TaskDbWriter::Open {
+  store::Database db;
+  store::Transaction tx;
+  store::Statement insert;
+  std::vector<std::string> scenes;
+  nlohmann::json dropped = nlohmann::json::object();
+  std::map<std::string, scene::DatasetFingerprint> dataset;
+  std::string hash;
+  std::ofstream jsonl;
+
+  Open(const fs::path& tmp, const TaskOptions& options)
+      : db(fresh(tmp), store::Database::Mode::kCreate),
+        tx(with_schema(db)),
+        insert(db,
+               "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
+               "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
+               "identify_json, placements_json, generator_version, config_hash, seed) "
+               "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        hash(options.config_hash()) {}
+
+  // A stale .partial of an interrupted run goes first; the schema goes in before the transaction.
+  static const fs::path& fresh(const fs::path& tmp) {
+    fs::remove(tmp);
+    return tmp;
+  }
+  static store::Database& with_schema(store::Database& db) {
+    db.exec(kSchema);
+    return db;
+  }
+};
+
+TaskDbWriter::TaskDbWriter(const fs::path& file, const TaskOptions& options, const fs::path& jsonl)
+    : file_(file), jsonl_(jsonl), options_(options), open_(std::make_unique<Open>(partial_path(file), options)) {
+  if (!jsonl_.empty()) {
+    open_->jsonl.open(partial_path(jsonl_), std::ios::binary | std::ios::trunc);
+    if (!open_->jsonl) throw Error(jsonl_.string() + ": cannot write");
+  }
+}
+
+TaskDbWriter::~TaskDbWriter() {
+  if (!open_) return;
+  open_.reset();  // rolls back
+  std::error_code ignored;
+  fs::remove(partial_path(file_), ignored);
+  if (!jsonl_.empty()) fs::remove(partial_path(jsonl_), ignored);
+}
+
+void TaskDbWriter::add(const TaskSet& set) {
+  Open& o = *open_;
+  o.scenes.push_back(set.scene);
+  o.dropped[set.scene] = set.dropped.to_json();
+  o.dataset[set.scene] = set.dataset;
+  for (const Task& t : set.tasks) {
+    store::Statement& insert = o.insert;
+    insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
+    insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
+    insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
+    insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
+    insert.bind(15, t.template_id).bind(16, to_json(t.identify).dump()).bind(17, to_json(t.placements).dump());
+    insert.bind(18, std::string(kGeneratorVersion)).bind(19, o.hash);
+    insert.bind(20, static_cast<std::int64_t>(options_.seed));
+    insert.run();
+    if (!jsonl_.empty()) o.jsonl << task_to_json(t).dump() << '\n';
+  }
+  if (!jsonl_.empty() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");
+}
+
+void TaskDbWriter::finish(const std::vector<Vote>& votes) {
+  Open& o = *open_;
+  store::Statement meta(o.db, "INSERT INTO meta (key, value) VALUES (?, ?)");
+  for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
+           {"format", kFormat},
+           {"dropped", o.dropped.dump()},
+           {"dataset", scene::to_json(o.dataset).dump()},
+           {"generator_version", kGeneratorVersion},
+           {"config_json", options_.to_json().dump()},
+           {"config_hash", o.hash},
+           {"seed", std::to_string(options_.seed)},
+           {"scenes", join(o.scenes)}}) {
+    meta.bind(1, k).bind(2, v).run();
+  }
+  store::Statement vote(o.db, "INSERT INTO votes (task_id, voter, verdict) VALUES (?, ?, ?)");
+  for (const Vote& v : votes) vote.bind(1, v.task_id).bind(2, v.voter).bind(3, v.verdict).run();
+  o.tx.commit();
+  if (!jsonl_.empty()) {
+    o.jsonl.close();
+    if (!o.jsonl) throw Error(jsonl_.string() + ": write failed");
+  }
+  open_.reset();
+  fs::rename(partial_path(file_), file_);
+  if (!jsonl_.empty()) fs::rename(partial_path(jsonl_), jsonl_);
+}
+
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
                    const TaskOptions& options) {
-  const fs::path tmp = partial_path(file);  // SQLite writes it; renamed once committed
-  fs::remove(tmp);
-  {
-    store::Database db(tmp, store::Database::Mode::kCreate);
-    db.exec(kSchema);
-    store::Transaction tx(db);
-    store::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?, ?)");
-    std::vector<std::string> scenes;
-    nlohmann::json dropped = nlohmann::json::object();
-    std::map<std::string, scene::DatasetFingerprint> dataset;
-    for (const auto& s : sets) {
-      scenes.push_back(s.scene);
-      dropped[s.scene] = s.dropped.to_json();
-      dataset[s.scene] = s.dataset;
-    }
-    const std::string hash = options.config_hash();
-    for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
-             {"format", kFormat},
-             {"dropped", dropped.dump()},
-             {"dataset", scene::to_json(dataset).dump()},
-             {"generator_version", kGeneratorVersion},
-             {"config_json", options.to_json().dump()},
-             {"config_hash", hash},
-             {"seed", std::to_string(options.seed)},
-             {"scenes", join(scenes)}}) {
-      meta.bind(1, k).bind(2, v).run();
-    }
-    store::Statement insert(db,
-                            "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
-                            "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
-                            "identify_json, placements_json, generator_version, config_hash, seed) "
-                            "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-    for (const TaskSet& set : sets) {
-      for (const Task& t : set.tasks) {
-        insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
-        insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
-        insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
-        insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
-        insert.bind(15, t.template_id).bind(16, to_json(t.identify).dump()).bind(17, to_json(t.placements).dump());
-        insert.bind(18, std::string(kGeneratorVersion)).bind(19, hash);
-        insert.bind(20, static_cast<std::int64_t>(options.seed));
-        insert.run();
-      }
-    }
-    store::Statement vote(db, "INSERT INTO votes (task_id, voter, verdict) VALUES (?, ?, ?)");
-    for (const Vote& v : votes) vote.bind(1, v.task_id).bind(2, v.voter).bind(3, v.verdict).run();
-    tx.commit();
-  }
-  fs::rename(tmp, file);
+  TaskDbWriter writer(file, options);
+  for (const TaskSet& set : sets) writer.add(set);
+  writer.finish(votes);
 }
 
 void write_jsonl(const fs::path& file, const std::vector<TaskSet>& sets) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -14,6 +15,29 @@
 #include "core/tasks/task.h"
 
 namespace mtg::tasks {
+
+/// Writes a task database set by set, so that a job over many scenes need not hold every set:
+/// each set's rows go in when it is added, the metadata and votes at finish(), and the file
+/// appears (renamed from `<file>.partial`) only then. Without finish() nothing is left behind.
+/// With `jsonl` not empty, the same tasks also go there, one per line, keys sorted.
+class TaskDbWriter {
+ public:
+  TaskDbWriter(const std::filesystem::path& file, const TaskOptions& options, const std::filesystem::path& jsonl = {});
+  ~TaskDbWriter();
+  TaskDbWriter(const TaskDbWriter&) = delete;
+  TaskDbWriter& operator=(const TaskDbWriter&) = delete;
+
+  /// @throws mtg::Error naming the file.
+  void add(const TaskSet& set);
+  /// @throws mtg::Error naming the file.
+  void finish(const std::vector<Vote>& votes);
+
+ private:
+  struct Open;
+  std::filesystem::path file_, jsonl_;
+  TaskOptions options_;
+  std::unique_ptr<Open> open_;
+};
 
 /// Writes every task of `sets` (and the Level 4 votes). @throws mtg::Error naming the file.
 void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>& sets,

@@ -4,11 +4,12 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/util/parallel.h"
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
+#include "core/tasks/task_db.h"
+#include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::cli {
@@ -104,14 +105,19 @@ int run_bench_tasks(const BenchTasksOptions& options) {
     const auto r = tasks::generate_tasks(g, atomic);
     std::printf("  %-8s L1+L2 %6zu tasks in %6.0f ms\n", name.c_str(), r.set.tasks.size(), watch.elapsed_ms());
     if (name != options.scenes.front()) continue;
-    // Level 3 alone (its atomic set included), on one thread and on every core: same tasks.
+    // Level 3 alone (its atomic set included), on one thread and on every core.
     tasks::TaskOptions chains;
     chains.levels = {3};
+    std::string first;
     for (const int jobs : {1, default_jobs()}) {
       Stopwatch l3;
       const auto c = tasks::generate_tasks(g, chains, {}, {}, jobs);
-      std::printf("  %-8s L3 %zu chains in %6.0f ms on %d thread%s\n", name.c_str(), c.set.tasks.size(),
-                  l3.elapsed_ms(), jobs, jobs == 1 ? "" : "s");
+      const double ms = l3.elapsed_ms();
+      std::string all;
+      for (const auto& t : c.set.tasks) all += tasks::task_to_json(t).dump() + "\n";
+      if (first.empty()) first = all;
+      std::printf("  %-8s L3 %zu chains in %6.0f ms on %d thread%s%s\n", name.c_str(), c.set.tasks.size(), ms, jobs,
+                  jobs == 1 ? "" : "s", jobs == 1 ? "" : (all == first ? " (the same tasks)" : " (OTHER TASKS: a bug)"));
     }
   }
   tasks::GenerationJob job;

@@ -8,10 +8,10 @@
 #include "agents/vlm/voter.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
-#include "core/util/parallel.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::cli {

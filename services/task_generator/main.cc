@@ -10,11 +10,11 @@
 #include "bus/channels.h"
 #include "bus/process/service_loop.h"
 #include "bus/url.h"
-#include "core/util/parallel.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
 

@@ -12,6 +12,7 @@
 #include "core/episode/world_state.h"
 #include "core/tasks/atomic.h"
 #include "core/tasks/generator.h"
+#include "core/tasks/job.h"
 #include "core/tasks/outcome.h"
 #include "core/tasks/task_db.h"
 #include "core/tasks/validate.h"
@@ -154,6 +155,69 @@ TEST(TaskGeneration, AnyNumberOfThreadsWritesTheSameBytes) {
   }
   EXPECT_EQ(read_file(dir / "jobs1.jsonl"), read_file(dir / "jobs4.jsonl"));
   EXPECT_EQ(read_file(dir / "jobs1.sqlite"), read_file(dir / "jobs4.sqlite"));
+}
+
+// Scenes side by side: the files and the order scenes are reported in are those of one thread.
+TEST(TaskGeneration, ScenesSideBySideWriteTheBytesOfOneThread) {
+  testing::FixtureDataset fx;
+  testing::two_tables(fx);
+  testing::render_room(fx);
+  const std::vector<std::string> scenes = {"two_tables", "render_room"};
+  for (const int jobs : {1, 3}) {
+    GenerationJob job;
+    job.scenes = scenes;
+    job.data_dir = fx.root().string();
+    job.profile = "none";
+    job.options = small_options();
+    job.out = (fx.root() / ("jobs" + std::to_string(jobs) + ".sqlite")).string();
+    job.jsonl = (fx.root() / ("jobs" + std::to_string(jobs) + ".jsonl")).string();
+    job.jobs = jobs;
+    std::vector<std::string> reported;
+    run_generation(job, [&](const SceneReport& r) { reported.push_back(r.scene); });
+    EXPECT_EQ(reported, scenes) << "jobs " << jobs;
+  }
+  EXPECT_EQ(read_file(fx.root() / "jobs1.jsonl"), read_file(fx.root() / "jobs3.jsonl"));
+  EXPECT_EQ(read_file(fx.root() / "jobs1.sqlite"), read_file(fx.root() / "jobs3.sqlite"));
+  EXPECT_FALSE(fs::exists(fx.root() / "jobs3.sqlite.partial"));
+}
+
+// Level 3 asks for part of the set (one goal; goals about one object): it must get exactly
+// that part of the whole enumeration, with the same plans.
+TEST(AtomicTasks, APartialEnumerationHoldsExactlyItsPartOfTheWhole) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const TaskOptions options = small_options();
+  const episode::WorldState s = episode::initial_state(b.graph);
+  const auto all = enumerate_atomic(b.graph, s, options);
+  ASSERT_FALSE(all.empty());
+  auto plan_of = [](const std::vector<AtomicTask>& tasks) {
+    std::vector<std::string> out;
+    for (const auto& t : tasks) {
+      std::string line = t.key;
+      for (const auto& k : t.oracle) line += " " + k;
+      out.push_back(line);
+    }
+    return out;
+  };
+  int anchored = 0;
+  for (const AtomicTask& t : all) {
+    const auto one = enumerate_atomic(b.graph, s, options, {{t.goal.item}, {t.goal.platform}, t.key});
+    EXPECT_EQ(plan_of(one), plan_of({t}));
+    for (const int anchor : t.goal.anchors()) {
+      ++anchored;
+      std::vector<AtomicTask> expected;
+      for (const AtomicTask& u : all) {
+        const auto a = u.goal.anchors();
+        if (u.goal.item == t.goal.item && u.goal.platform == t.goal.platform &&
+            std::find(a.begin(), a.end(), anchor) != a.end()) {
+          expected.push_back(u);
+        }
+      }
+      const auto about = enumerate_atomic(b.graph, s, options, {{t.goal.item}, {t.goal.platform}, "", anchor});
+      EXPECT_EQ(plan_of(about), plan_of(expected)) << "anchor " << anchor;
+    }
+  }
+  EXPECT_GT(anchored, 0) << "the fixture has goals relative to objects";
 }
 
 TEST(TaskGeneration, NoDuplicateGoals) {
