@@ -2,6 +2,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/render/png_writer.h"
 #include "core/util/error.h"
 
 namespace mtg::render {
@@ -17,8 +18,8 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& 
   std::vector<std::uint8_t> out;
   bool ok = false;
   if (encoding == "png") {
-    // Level 1: rendered images have large flat areas, so the fastest level is already small.
-    ok = cv::imencode(".png", image, out, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    out = encode_png(image);  // our settings (png_writer.h); OpenCV's filter choice is slow
+    ok = !out.empty();
   } else {
     ok = cv::imencode(".jpg", image, out, {cv::IMWRITE_JPEG_QUALITY, 90});
   }
