@@ -1,13 +1,15 @@
 #include "bus/authenticator.h"
 
+#include <fcntl.h>
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
 #include <openssl/rand.h>
-#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <cstring>
 
 #include "bus/header.h"
 #include "core/util/error.h"
@@ -106,7 +108,6 @@ std::string shared_bus_key_file(const std::string& key_file) {
 }
 
 void create_key_file(const std::filesystem::path& file) {
-  if (std::filesystem::exists(file)) return;
   unsigned char bytes[32];
   if (RAND_bytes(bytes, sizeof bytes) != 1) throw Error("cannot draw a bus key: OpenSSL RAND_bytes failed");
   std::string secret;
@@ -115,12 +116,15 @@ void create_key_file(const std::filesystem::path& file) {
     std::snprintf(hex, sizeof hex, "%02x", b);
     secret += hex;
   }
-  const mode_t before = ::umask(077);
-  std::ofstream out(file);
-  out << secret << '\n';
-  out.close();
-  ::umask(before);
-  if (!out) throw Error("cannot write the bus key " + file.string());
+  secret += '\n';
+  // Owner-only from its creation, and only if absent (a resume keeps its key). No umask: that is
+  // the whole process's.
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0 && errno == EEXIST) return;
+  if (fd < 0) throw Error("cannot write the bus key " + file.string() + ": " + std::strerror(errno));
+  const bool written = ::write(fd, secret.data(), secret.size()) == static_cast<ssize_t>(secret.size());
+  ::close(fd);
+  if (!written) throw Error("cannot write the bus key " + file.string());
 }
 
 std::shared_ptr<const Authenticator> shared_bus_authenticator(const std::string& key_file) {

@@ -234,11 +234,15 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
       base.item = item;
       base.source = ps;
       base.platform = pd;
-      // The goals a placement at xy achieves and their margins, judged with the item put down
-      // there; the item is back in hand when this returns.
+      // The goals a placement at xy may achieve, with their keys and margins, judged with the
+      // item put down there; the item is back in hand when this returns.
+      struct Candidate {
+        AtomicGoal goal;
+        std::string key;
+        double margin = 0.0;  // 0 for a key already taken (skipped after, so not judged)
+      };
       struct Judged {
-        std::vector<AtomicGoal> goals;
-        std::vector<double> margins;
+        std::vector<Candidate> candidates;
         geom::Point2 c_P;
         Eigen::Vector3d placed_at;
       };
@@ -248,45 +252,43 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
         const auto& moved = placing.objects[static_cast<std::size_t>(item)];
         j.c_P = X_PW * episode::footprint_centre(moved);
         j.placed_at = moved.position;
+        std::vector<AtomicGoal> goals;
         if (pd != ps) {
           AtomicGoal surface = base;
-          j.goals.push_back(surface);
+          goals.push_back(surface);
         }
         if (anchors.empty()) {
           for (int rel = 0; rel <= graph::kCentre; ++rel) {
             AtomicGoal part = base;
             part.type = GoalType::kSurfacePart;
             part.direction = rel;
-            j.goals.push_back(part);
+            goals.push_back(part);
           }
         } else {
-          candidate_goals(anchors, j.c_P, moved.footprint, side, options, base, filter.anchor, j.goals);
+          candidate_goals(anchors, j.c_P, moved.footprint, side, options, base, filter.anchor, goals);
         }
-        if (filter.anchor >= 0) {  // the surface and its parts have no anchor
-          std::erase_if(j.goals, [&](const AtomicGoal& goal) {
+        for (const AtomicGoal& goal : goals) {
+          if (filter.anchor >= 0) {  // the surface and its parts have no anchor
             const auto a = goal.anchors();
-            return std::find(a.begin(), a.end(), filter.anchor) == a.end();
-          });
-        }
-        if (!filter.goal_key.empty()) {
-          std::erase_if(j.goals, [&](const AtomicGoal& goal) { return goal_key(goal) != filter.goal_key; });
-        }
-        for (const AtomicGoal& goal : j.goals) {  // a key already taken is skipped after: no need to judge it
-          j.margins.push_back(seen.count(goal_key(goal)) != 0 ? 0.0 : episode::goal_margin(g, placing, goal, options.goals));
+            if (std::find(a.begin(), a.end(), filter.anchor) == a.end()) continue;
+          }
+          std::string key = goal_key(goal);
+          if (!filter.goal_key.empty() && key != filter.goal_key) continue;
+          const double margin = seen.count(key) != 0 ? 0.0 : episode::goal_margin(g, placing, goal, options.goals);
+          j.candidates.push_back({goal, std::move(key), margin});
         }
         return j;
       };
       for (const episode::PlaceTarget& t : targets) {
         const auto xy = episode::resolve_target(g, placing, pd, t, feasible);
         if (!xy) continue;
-        const Judged judged = judge_at(*xy);
-        const std::vector<AtomicGoal>& goals = judged.goals;
+        Judged judged = judge_at(*xy);
         const geom::Point2& c_P = judged.c_P;
-        for (std::size_t gi = 0; gi < goals.size(); ++gi) {
-          const AtomicGoal& goal = goals[gi];
-          std::string key = goal_key(goal);
+        for (Candidate& candidate : judged.candidates) {
+          const AtomicGoal& goal = candidate.goal;
+          std::string& key = candidate.key;
           if (seen.count(key) != 0) continue;
-          const double margin = judged.margins[gi];
+          const double margin = candidate.margin;
           if (margin <= 0.0) continue;  // not a goal of this placement: the judge decides
           const char* why = nullptr;
           if (too_tall) {

@@ -160,9 +160,9 @@ void TaskDbWriter::add(const TaskSet& set) {
     insert.bind(18, std::string(kGeneratorVersion)).bind(19, o.hash);
     insert.bind(20, static_cast<std::int64_t>(options_.seed));
     insert.run();
-    if (!jsonl_.empty()) o.jsonl << task_to_json(t).dump() << '\n';
+    if (o.jsonl.is_open()) o.jsonl << task_to_json(t).dump() << '\n';
   }
-  if (!jsonl_.empty() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");
+  if (o.jsonl.is_open() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");
 }
 
 void TaskDbWriter::finish(const std::vector<Vote>& votes) {
@@ -182,7 +182,7 @@ void TaskDbWriter::finish(const std::vector<Vote>& votes) {
   store::Statement vote(o.db, "INSERT INTO votes (task_id, voter, verdict) VALUES (?, ?, ?)");
   for (const Vote& v : votes) vote.bind(1, v.task_id).bind(2, v.voter).bind(3, v.verdict).run();
   o.tx.commit();
-  if (!jsonl_.empty()) {
+  if (o.jsonl.is_open()) {
     o.jsonl.close();
     if (!o.jsonl) throw Error(jsonl_.string() + ": write failed");
   }
@@ -192,18 +192,10 @@ void TaskDbWriter::finish(const std::vector<Vote>& votes) {
 }
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,
-                   const TaskOptions& options) {
-  TaskDbWriter writer(file, options);
+                   const TaskOptions& options, const fs::path& jsonl) {
+  TaskDbWriter writer(file, options, jsonl);
   for (const TaskSet& set : sets) writer.add(set);
   writer.finish(votes);
-}
-
-void write_jsonl(const fs::path& file, const std::vector<TaskSet>& sets) {
-  write_file_atomically(file, [&](std::ostream& out) {
-    for (const TaskSet& set : sets) {
-      for (const Task& t : set.tasks) out << task_to_json(t).dump() << '\n';
-    }
-  });
 }
 
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {

@@ -39,12 +39,11 @@ class TaskDbWriter {
   std::unique_ptr<Open> open_;
 };
 
-/// Writes every task of `sets` (and the Level 4 votes). @throws mtg::Error naming the file.
+/// Writes every task of `sets` (and the Level 4 votes), and with `jsonl` the same tasks one per
+/// line, keys sorted. @throws mtg::Error naming the file.
 void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>& sets,
-                   const std::vector<Vote>& votes, const TaskOptions& options);
-
-/// One task per line, keys sorted (the same content as the database).
-void write_jsonl(const std::filesystem::path& file, const std::vector<TaskSet>& sets);
+                   const std::vector<Vote>& votes, const TaskOptions& options,
+                   const std::filesystem::path& jsonl = {});
 
 nlohmann::json task_to_json(const Task& task);
 

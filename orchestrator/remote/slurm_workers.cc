@@ -83,7 +83,8 @@ SlurmWorkers::SlurmWorkers(const SlurmRequest& r) {
   if (submitted.exit_code == 127) throw Error("--slurm needs sbatch on the PATH (Slurm's client commands)");
   if (submitted.exit_code != 0 || out.empty()) throw Error("sbatch refused the workers: " + out);
   // --parsable prints "<job id>" or "<job id>;<cluster>", after any warnings.
-  const std::string last = out.substr(out.find_last_of('\n') == std::string::npos ? 0 : out.find_last_of('\n') + 1);
+  const auto newline = out.find_last_of('\n');
+  const std::string last = newline == std::string::npos ? out : out.substr(newline + 1);
   job_id_ = last.substr(0, last.find(';'));
   if (job_id_.empty() || job_id_.find_first_not_of("0123456789") != std::string::npos) {
     throw Error("sbatch answered '" + out + "', not a job id");

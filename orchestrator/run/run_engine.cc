@@ -123,20 +123,10 @@ class Engine final : public LaunchSink {
   void on_agent_stopped(const std::string& spec, const std::string& why) override {
     if (!stopped_agents_.emplace(spec, why).second) return;
     log::error("agent " + spec + " stopped: " + why);
-    std::deque<std::int64_t> keep;
-    for (const auto id : pending_) {
-      if (by_id_.at(id)->agent == spec) {
-        ++not_run_;
-      } else {
-        keep.push_back(id);
-      }
-    }
-    pending_.swap(keep);
-    const auto before = waiting_retries_.size();
-    waiting_retries_.erase(std::remove_if(waiting_retries_.begin(), waiting_retries_.end(),
-                                  [&](const auto& r) { return by_id_.at(r.first)->agent == spec; }),
-                   waiting_retries_.end());
-    not_run_ += static_cast<std::int64_t>(before - waiting_retries_.size());
+    const auto theirs_id = [&](std::int64_t id) { return by_id_.at(id)->agent == spec; };
+    not_run_ += static_cast<std::int64_t>(std::erase_if(pending_, theirs_id));
+    not_run_ += static_cast<std::int64_t>(
+        std::erase_if(waiting_retries_, [&](const auto& retry) { return theirs_id(retry.first); }));
     for (auto it = in_flight_.begin(); it != in_flight_.end();) {
       const bool theirs = by_id_.at(it->first)->agent == spec;
       if (theirs) {
@@ -296,8 +286,8 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
 
 RunSummary run_plan(const RunPlan& plan, const fs::path& run_dir, const std::map<std::string, tasks::Task>& tasks,
                     const EngineOptions& options) {
-  RunCounts counts;
   if (plan.remote) {
+    RunCounts counts;  // the launcher announces them to the workers
     remote::LeaseLauncher launcher(runtime_config(plan, options), run_dir, counts, options.remote);
     Engine engine(plan, run_dir, tasks, launcher, counts, options);
     const RunSummary summary = engine.run();
@@ -305,8 +295,7 @@ RunSummary run_plan(const RunPlan& plan, const fs::path& run_dir, const std::map
     return summary;
   }
   LocalRuntime launcher(runtime_config(plan, options), run_dir);
-  Engine engine(plan, run_dir, tasks, launcher, counts, options);
-  return engine.run();
+  return run_plan_with(plan, run_dir, tasks, launcher, options);
 }
 
 RunSummary run_plan_with(const RunPlan& plan, const fs::path& run_dir, const std::map<std::string, tasks::Task>& tasks,

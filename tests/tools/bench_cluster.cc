@@ -259,10 +259,15 @@ class Bench {
   std::vector<std::unique_ptr<ChildProcess>> workers_;
 };
 
+// Bytes on the shared bus in one run, all channels.
+std::int64_t bytes(const Bench::RunFigures& f) {
+  std::int64_t n = 0;
+  for (const auto& [ch, nb] : f.shared_bytes) n += nb.second;
+  return n;
+}
+
 void print_bytes(const char* what, const Bench::RunFigures& f) {
-  std::int64_t total = 0;
-  for (const auto& [ch, nb] : f.shared_bytes) total += nb.second;
-  std::printf("  %s: %.0f bytes per episode on the shared bus\n", what, static_cast<double>(total) / f.episodes);
+  std::printf("  %s: %.0f bytes per episode on the shared bus\n", what, static_cast<double>(bytes(f)) / f.episodes);
   for (const auto& [ch, nb] : f.shared_bytes) {
     std::printf("    %-18s %8.1f messages  %10.0f bytes per episode\n", ch.c_str(),
                 static_cast<double>(nb.first) / f.episodes, static_cast<double>(nb.second) / f.episodes);
@@ -317,8 +322,7 @@ int main(int argc, char** argv) {
       bench.up(hosts);
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
       const auto f = bench.run("hosts" + std::to_string(hosts), limit, true, false);
-      std::int64_t shared = 0;
-      for (const auto& [ch, nb] : f.shared_bytes) shared += nb.second;
+      const std::int64_t shared = bytes(f);
       const double rate = f.episodes / f.seconds;
       const double steady = f.episodes / f.steady_seconds;
       std::printf("  %d host%s (mtg run --remote):     %5.0f episodes in %5.2f s = %6.1f episodes/s (%.1f after the "
@@ -347,8 +351,7 @@ int main(int argc, char** argv) {
       bench.up(hosts, SharedBus::kHub);
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
       const auto f = bench.run("hub" + std::to_string(hosts), limit, true, false);
-      std::int64_t shared = 0;
-      for (const auto& [ch, nb] : f.shared_bytes) shared += nb.second;
+      const std::int64_t shared = bytes(f);
       std::printf("  %d host%s (--bus tcpq://):  %5.0f episodes in %5.2f s = %6.1f episodes/s (%.1f after the first "
                   "result), per-core efficiency %.2f; shared bus %.0f B/episode\n",
                   hosts, hosts == 1 ? " " : "s", f.episodes, f.seconds, f.episodes / f.seconds,

@@ -127,8 +127,7 @@ TEST(TaskGeneration, SameSeedSameBytesOtherSeedOtherChoices) {
     TaskOptions o = small_options();
     o.seed = seed;
     const auto r = generate_tasks(b.graph, o);
-    write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o);
-    write_jsonl(dir / (tag + ".jsonl"), {r.set});
+    write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o, dir / (tag + ".jsonl"));
   };
   write(7, "a");
   write(7, "b");
@@ -150,8 +149,7 @@ TEST(TaskGeneration, AnyNumberOfThreadsWritesTheSameBytes) {
   for (const int jobs : {1, 4}) {
     const auto r = generate_tasks(b.graph, o, {}, {}, jobs);
     const std::string tag = "jobs" + std::to_string(jobs);
-    write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o);
-    write_jsonl(dir / (tag + ".jsonl"), {r.set});
+    write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o, dir / (tag + ".jsonl"));
   }
   EXPECT_EQ(read_file(dir / "jobs1.jsonl"), read_file(dir / "jobs4.jsonl"));
   EXPECT_EQ(read_file(dir / "jobs1.sqlite"), read_file(dir / "jobs4.sqlite"));
