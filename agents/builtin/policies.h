@@ -12,6 +12,9 @@
 
 namespace mtg::agents {
 
+/// A person playing in the browser (agents/human, `mtg play`): its own process, not built in.
+inline constexpr const char* kHumanAgent = "human";
+
 /// Whether `spec` names one of the agents above (their files are not checked).
 bool is_builtin_agent(const std::string& spec);
 

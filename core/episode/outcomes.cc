@@ -20,6 +20,29 @@ constexpr std::array<std::pair<Cause, const char*>, 14> kCauses = {
      {Cause::kStepLimit, "step_limit"}, {Cause::kEarlyEnd, "early_end"}, {Cause::kTransportError, "transport_error"},
      {Cause::kInfrastructure, "infrastructure"}}};
 
+constexpr std::array<std::pair<Stage, const char*>, 6> kStageWords = {
+    {{Stage::kStart, "did not reach the source platform"},
+     {Stage::kSource, "reached the source platform, did not pick the item"},
+     {Stage::kPicked, "picked the item, did not reach the destination"},
+     {Stage::kDestination, "reached the destination, did not place the item as asked"},
+     {Stage::kPlaced, "placed the item as asked, the task was not complete"},
+     {Stage::kDone, "completed the task"}}};
+constexpr std::array<std::pair<Cause, const char*>, 14> kCauseWords = {
+    {{Cause::kNone, "success"},
+     {Cause::kProviderError, "the model provider failed (the call returned an error)"},
+     {Cause::kFormatError, "at least half of the replies named no offered action"},
+     {Cause::kInvalidActionLoop, "ran out of steps after three or more invalid actions in a row"},
+     {Cause::kNoCallEnd, "the goal was met but the agent never called the end (action 0)"},
+     {Cause::kOutcomeUnmet, "ended, but the scene does not show the asked outcome"},
+     {Cause::kNavigation, "never reached the platform the item stands on"},
+     {Cause::kWrongItem, "picked up the wrong object"},
+     {Cause::kWrongRegion, "placed the item on the right platform, in the wrong place"},
+     {Cause::kWrongPlatform, "placed the item on another platform"},
+     {Cause::kStepLimit, "ran out of steps"},
+     {Cause::kEarlyEnd, "called the end (action 0) before the task was complete"},
+     {Cause::kTransportError, "the judge missed a message (infrastructure; retried, not the agent's)"},
+     {Cause::kInfrastructure, "the attempt was lost without a verdict (infrastructure; not the agent's)"}}};
+
 template <class E, std::size_t N>
 const char* name_of(const std::array<std::pair<E, const char*>, N>& table, E value) {
   for (const auto& [v, name] : table) {
@@ -41,6 +64,8 @@ std::optional<E> value_of(const std::array<std::pair<E, const char*>, N>& table,
 const char* to_string(EndReason r) { return name_of(kEndReasons, r); }
 const char* to_string(Stage s) { return name_of(kStages, s); }
 const char* to_string(Cause c) { return name_of(kCauses, c); }
+const char* explain(Stage s) { return name_of(kStageWords, s); }
+const char* explain(Cause c) { return name_of(kCauseWords, c); }
 std::optional<EndReason> end_reason_from_string(std::string_view name) { return value_of(kEndReasons, name); }
 std::optional<Stage> stage_from_string(std::string_view name) { return value_of(kStages, name); }
 std::optional<Cause> cause_from_string(std::string_view name) { return value_of(kCauses, name); }

@@ -29,6 +29,11 @@ const char* to_string(Stage s);
 /// "", "provider_error", "format_error", ... (docs/episode.md).
 const char* to_string(Cause c);
 
+/// The same in plain words for people reading a report or the viewer, e.g. "picked up the wrong
+/// object". Stages say how far the agent got: "reached the source platform".
+const char* explain(Stage s);
+const char* explain(Cause c);
+
 /// The enum with that name, or nullopt.
 std::optional<EndReason> end_reason_from_string(std::string_view name);
 std::optional<Stage> stage_from_string(std::string_view name);

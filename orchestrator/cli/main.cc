@@ -19,6 +19,7 @@
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
 #include "orchestrator/cli/task_commands.h"
+#include "orchestrator/cli/view_commands.h"
 #include "orchestrator/cli/vlm_commands.h"
 #include "orchestrator/run/run_namespace.h"
 
@@ -138,7 +139,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts->tasks, "task database (tasks.sqlite)");
   run->add_option("--agent", run_opts->agents,
-                  "agent: oracle, random, replay:<run dir>, script:<file>, openai:<model>, anthropic:<model>, "
+                  "agent: oracle, random, replay:<run dir>, script:<file>, human, openai:<model>, anthropic:<model>, "
                   "gemini:<model>, openai-compatible:<url>:<model> (repeat for several)");
   run->add_option("--scene", run_opts->scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts->levels, "levels to run (default 1,2,3)");
@@ -313,6 +314,32 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   commands.push_back({bench_render_cmd, [bench_render] { return run_bench_render(*bench_render); }});
 }
 
+// mtg view | play
+void add_view_commands(CLI::App& app, Commands& commands) {
+  auto view_opts = std::make_shared<ViewOptions>();
+  CLI::App* view = app.add_subcommand("view", "Look inside runs in the browser: results, Sankey, every step");
+  view->add_option("runs", view_opts->runs, "run folders")->required();
+  view->add_option("--host", view_opts->host, "address to listen on (default 127.0.0.1: this machine only)");
+  view->add_option("--port", view_opts->port, "port (default 8770; 0 = any free port)");
+  commands.push_back({view, [view_opts] { return run_view(*view_opts); }});
+
+  auto play_opts = std::make_shared<PlayOptions>();
+  CLI::App* play = app.add_subcommand("play", "Play episodes yourself in the browser (the human agent)");
+  play->add_option("--tasks", play_opts->tasks, "task database (tasks.sqlite)")->required();
+  play->add_option("--scene", play_opts->scenes, "only tasks of this scene (repeat for several)");
+  play->add_option("--levels", play_opts->levels, "levels to play (default 1,2,3)");
+  play->add_option("--limit", play_opts->limit, "tasks per scene and level (default 1)");
+  play->add_option("--seed", play_opts->seed, "run seed (default 0)");
+  play->add_option("--out", play_opts->out, "run folder (default ./play; the same command resumes)");
+  play->add_option("--data", play_opts->data_dir, "dataset root (default: search order)");
+  play->add_option("--profile", play_opts->profile, "scene profile (default replica_cad)");
+  play->add_option("--bus", play_opts->url, "LCM URL (default: the host-local bus)");
+  play->add_option("--step-limit", play_opts->step_limit, "steps per episode, at least (default 15)");
+  play->add_option("--host", play_opts->host, "address of the play page (default 127.0.0.1)");
+  play->add_option("--port", play_opts->port, "port of the play page (default 8780)");
+  commands.push_back({play, [play_opts] { return run_play(*play_opts); }});
+}
+
 }  // namespace
 }  // namespace mtg::cli
 
@@ -329,6 +356,7 @@ int main(int argc, char** argv) {
   mtg::cli::add_vlm_commands(app, commands);
   mtg::cli::add_result_commands(app, commands, argv);
   mtg::cli::add_bench_commands(app, commands);
+  mtg::cli::add_view_commands(app, commands);
 
   try {
     app.parse(argc, argv);

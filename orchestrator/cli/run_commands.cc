@@ -133,8 +133,10 @@ void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions&
   for (const std::string& spec : agents) {
     if (vlm::is_model_spec(spec)) {
       if (!remote) (void)vlm::ModelSetup::make(spec, vlm.resolve());
+    } else if (spec == agents::kHumanAgent) {
+      if (remote) throw Error("the human agent plays on this machine (mtg play), not on workers");
     } else if (!agents::is_builtin_agent(spec)) {
-      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, "
+      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, human, "
                   "openai:<model>, anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
     }
   }
@@ -158,7 +160,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   // With workers their capacities decide, unless --parallel caps the whole run.
   plan.parallel = o.given.count("--parallel") ? o.parallel : (o.remote ? 0 : 4);
   plan.step_limit = o.step_limit;
-  // Built-in agents read only the text; images are for model agents unless asked for.
+  // Built-in agents read only the text; images are for model agents (and people) unless asked for.
   const bool model_agent = std::any_of(o.agents.begin(), o.agents.end(),
                                        [](const std::string& a) { return !agents::is_builtin_agent(a); });
   plan.render = o.render || (model_agent && !o.no_render);
@@ -349,6 +351,8 @@ int run_run(const RunOptions& o) {
   engine.recorder = o.recorder;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;
+  engine.play_host = o.play_host;
+  engine.play_port = o.play_port;
   if (o.given.count("--slurm")) slurm.workers = submit_slurm_workers(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   slurm.workers.reset();  // cancel what is left of the array

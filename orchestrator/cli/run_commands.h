@@ -43,6 +43,8 @@ struct RunOptions {
   int worker_capacity = 2;           // with --slurm: episodes at once per worker
   int hub_port = orchestrator::remote::kDefaultHubPort;  // with --slurm and no --bus: this run's hub
   std::string hub_host;              // ... as the nodes reach it ("" = this host's name)
+  std::string play_host = "127.0.0.1";  // the human agent's play page (mtg play)
+  int play_port = 8780;
   std::set<std::string> given;       // the options given on the command line ("--levels", ...)
 };
 

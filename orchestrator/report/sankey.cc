@@ -45,9 +45,10 @@ std::array<int, 3> colour_of(const Node& n) {  // RGB
   if (n.column == 1) return n.label == "done" ? std::array<int, 3>{70, 160, 90} : std::array<int, 3>{220, 140, 60};
   if (n.label == "success") return {70, 160, 90};
   if (n.column == 3) return {200, 70, 70};
-  static const std::array<std::array<int, 3>, 8> kPalette = {{{200, 90, 90}, {150, 90, 180}, {90, 150, 170},
+  // Causes are failures: no green among them, so none reads as the success band.
+  static const std::array<std::array<int, 3>, 8> kPalette = {{{200, 90, 90}, {150, 90, 180}, {90, 120, 190},
                                                              {190, 160, 60}, {120, 120, 120}, {210, 110, 160},
-                                                             {100, 170, 120}, {160, 110, 80}}};
+                                                             {230, 130, 50}, {160, 110, 80}}};
   std::size_t h = 0;
   for (const char c : n.label) h = h * 31 + static_cast<unsigned char>(c);
   return kPalette[h % kPalette.size()];
@@ -193,7 +194,8 @@ std::string sankey_svg(const nlohmann::json& graph, int width, int height) {
     s << "<path d=\"M" << b.x0 << "," << b.y0 << " C" << xm << "," << b.y0 << " " << xm << "," << b.y1 << " " << b.x1 << ","
       << b.y1 << " L" << b.x1 << "," << b.y1 + b.t << " C" << xm << "," << b.y1 + b.t << " " << xm << "," << b.y0 + b.t
       << " " << b.x0 << "," << b.y0 + b.t << " Z\" fill=\"" << rgb(colour_of(L.nodes[static_cast<size_t>(b.source)]))
-      << "\" fill-opacity=\"0.35\"><title>" << L.nodes[static_cast<size_t>(b.source)].label << " &#8594; "
+      << "\" fill-opacity=\"0.35\" class=\"flow\" data-source=\"" << L.nodes[static_cast<size_t>(b.source)].id
+      << "\" data-target=\"" << L.nodes[static_cast<size_t>(b.target)].id << "\"><title>" << L.nodes[static_cast<size_t>(b.source)].label << " &#8594; "
       << L.nodes[static_cast<size_t>(b.target)].label << ": " << b.value << "</title></path>";
   }
   for (const Node& n : L.nodes) {

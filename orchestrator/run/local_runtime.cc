@@ -131,6 +131,9 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     const std::string name = "agent-" + std::to_string(i);
     if (agents::is_builtin_agent(spec)) {
       supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
+    } else if (spec == agents::kHumanAgent) {
+      supervisor_.start(name, with({(bin / "mtg_human_agent").string(), "--host", config_.play_host, "--port",
+                                    std::to_string(config_.play_port)}));
     } else if (vlm::is_model_spec(spec)) {
       // As many calls in flight as episodes, unless the settings say otherwise.
       std::vector<std::string> argv = {(bin / "mtg_vlm_agent").string(), "--agent", spec, "--workers",
@@ -139,7 +142,7 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
       supervisor_.start(name, with(argv));
       model_agents = true;
     } else {
-      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, openai:<model>, "
+      throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, human, openai:<model>, "
                   "anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
     }
     agent_process_[spec] = name;

@@ -47,6 +47,8 @@ struct RuntimeConfig {
   std::string dataset_json;
   bool allow_data_mismatch = false;
   std::string data_dir;  // the run's dataset path ("" = the default search), as in episode starts
+  std::string play_host = "127.0.0.1";  // the human agent's play page (`mtg play`)
+  int play_port = 8780;
 };
 
 class LocalRuntime final : public Launcher {

@@ -281,6 +281,8 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.dataset_json = options.dataset_json;
   c.allow_data_mismatch = plan.allow_data_mismatch;
   c.data_dir = plan.data_dir;
+  c.play_host = options.play_host;
+  c.play_port = options.play_port;
   return c;
 }
 

@@ -50,6 +50,9 @@ struct EngineOptions {
   remote::RemoteOptions remote;
   /// The task set's dataset fingerprints of the plan's scenes (scene::to_json), for workers.
   std::string dataset_json;
+  /// Where the human agent serves its play page (`mtg play`).
+  std::string play_host = "127.0.0.1";
+  int play_port = 8780;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

@@ -1,0 +1,104 @@
+#include "agents/human/play_desk.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace mtg::agents {
+
+using nlohmann::json;
+
+AgentReply PlayDesk::reply(const mtg::episode_start_t& /*start*/, const mtg::observation_t& observation) {
+  std::unique_lock lock(mutex_);
+  current_ = observation;
+  answer_.reset();
+  between_steps_ = false;
+  ++version_;
+  changed_.notify_all();
+  changed_.wait(lock, [&] { return answer_.has_value() || stopping_; });
+  AgentReply reply;
+  reply.provider = "human";
+  if (answer_) {
+    reply.raw = *answer_;
+  } else {
+    reply.error = "the human agent stopped before answering";
+  }
+  current_.reset();
+  answer_.reset();
+  between_steps_ = !stopping_;
+  ++version_;
+  changed_.notify_all();
+  return reply;
+}
+
+void PlayDesk::end(const mtg::episode_start_t& /*start*/) {
+  const std::lock_guard lock(mutex_);
+  ++episodes_done_;
+  between_steps_ = false;
+  ++version_;
+  changed_.notify_all();
+}
+
+json PlayDesk::observation_locked() const {
+  if (!current_) return {{"waiting", true}, {"episodes_done", episodes_done_}, {"version", version_}};
+  const mtg::observation_t& o = *current_;
+  json actions = json::array();
+  for (const auto& a : o.actions) actions.push_back({{"key", a.key}, {"description", a.description}});
+  json images = json::array();
+  for (std::size_t i = 0; i < o.images.size(); ++i) {
+    // The version in the URL keeps the browser from showing a cached image of an earlier step.
+    images.push_back({{"role", o.images[i].role}, {"width", o.images[i].width}, {"height", o.images[i].height},
+                      {"url", "/api/play/image/" + std::to_string(i) + "?v=" + std::to_string(version_)}});
+  }
+  return {{"waiting", false},
+          {"version", version_},
+          {"episode", o.header.episode_id},
+          {"attempt", o.header.attempt},
+          {"task_text", o.task_text},
+          {"step", o.step},
+          {"step_limit", o.step_limit},
+          {"text", o.text},
+          {"hint", o.hint},
+          {"actions", actions},
+          {"images", images},
+          {"done", o.done != 0},
+          {"episodes_done", episodes_done_}};
+}
+
+json PlayDesk::observation() const {
+  const std::lock_guard lock(mutex_);
+  return observation_locked();
+}
+
+std::string PlayDesk::act(const std::string& key) {
+  const std::lock_guard lock(mutex_);
+  if (!current_ || answer_) return "no observation is waiting for an action";
+  const auto& offered = current_->actions;
+  if (std::none_of(offered.begin(), offered.end(), [&](const auto& a) { return a.key == key; })) {
+    return "'" + key + "' is not one of the offered actions";
+  }
+  answer_ = key;
+  changed_.notify_all();
+  return "";
+}
+
+json PlayDesk::wait_change(std::int64_t version, int timeout_ms) const {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
+                    [&] { return stopping_ || (version_ != version && !between_steps_); });
+  return observation_locked();
+}
+
+std::optional<std::pair<std::string, std::vector<std::uint8_t>>> PlayDesk::image(int index) const {
+  const std::lock_guard lock(mutex_);
+  if (!current_ || index < 0 || index >= static_cast<int>(current_->images.size())) return std::nullopt;
+  const auto& img = current_->images[static_cast<std::size_t>(index)];
+  return std::make_pair(img.encoding, img.data);
+}
+
+void PlayDesk::shutdown() {
+  const std::lock_guard lock(mutex_);
+  stopping_ = true;
+  changed_.notify_all();
+}
+
+}  // namespace mtg::agents

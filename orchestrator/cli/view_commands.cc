@@ -1,0 +1,60 @@
+#include "orchestrator/cli/view_commands.h"
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "agents/builtin/policies.h"
+#include "bus/process/stop_signals.h"
+#include "core/util/error.h"
+#include "orchestrator/cli/run_commands.h"
+#include "orchestrator/view/view_server.h"
+
+namespace mtg::cli {
+
+int run_view(const ViewOptions& o) {
+  if (o.runs.empty()) throw Error("name at least one run folder");
+  if (o.port < 0 || o.port > 65535) throw Error("--port must be 0..65535, not " + std::to_string(o.port));
+  std::vector<std::filesystem::path> dirs(o.runs.begin(), o.runs.end());
+  orchestrator::view::ViewServer server(dirs);
+  const int port = server.bind(o.host, o.port);
+  std::printf("viewing %zu run(s) at http://%s:%d/ (Ctrl-C stops)\n", dirs.size(), o.host.c_str(), port);
+  std::fflush(stdout);
+  process::install_stop_signals();
+  std::thread watcher([&server] {
+    while (!process::stop_signal_received()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    server.stop();
+  });
+  server.serve();
+  watcher.join();
+  return 0;
+}
+
+int run_play(const PlayOptions& o) {
+  RunOptions r;
+  r.tasks = o.tasks;
+  r.agents = {agents::kHumanAgent};
+  r.scenes = o.scenes;
+  r.levels = o.levels;
+  r.limit = o.limit;
+  r.seed = o.seed;
+  r.out = o.out;
+  r.data_dir = o.data_dir;
+  r.profile = o.profile;
+  r.url = o.url;
+  r.step_limit = o.step_limit;
+  // One episode at a time, with the images a model sees, and time to think: an episode is
+  // retried only after an hour without a move.
+  r.parallel = 1;
+  r.render = true;
+  r.episode_timeout_s = 3600;
+  r.play_host = o.host;
+  r.play_port = o.port;
+  r.given = {"--parallel", "--render"};
+  std::printf("play in the browser: http://%s:%d/ (the run is %s; Ctrl-C stops, the same command resumes)\n",
+              o.host.c_str(), o.port, o.out.c_str());
+  std::fflush(stdout);
+  return run_run(r);
+}
+
+}  // namespace mtg::cli

@@ -1,0 +1,35 @@
+#pragma once
+// `mtg view` (the web viewer over run folders) and `mtg play` (a person plays episodes in the
+// browser as the `human` agent) (docs/view.md).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mtg::cli {
+
+struct ViewOptions {
+  std::vector<std::string> runs;  // run folders
+  std::string host = "127.0.0.1";
+  int port = 8770;                // 0 = any free port
+};
+
+struct PlayOptions {
+  std::string tasks;
+  std::vector<std::string> scenes;
+  std::string levels = "1,2,3";
+  int limit = 1;                  // tasks per (scene, level)
+  std::uint64_t seed = 0;
+  std::string out = "play";       // run folder (resumable)
+  std::string data_dir;
+  std::string profile = "replica_cad";
+  std::string url;                // LCM URL ("" = default)
+  std::string host = "127.0.0.1";
+  int port = 8780;
+  int step_limit = 15;
+};
+
+int run_view(const ViewOptions& options);
+int run_play(const PlayOptions& options);
+
+}  // namespace mtg::cli

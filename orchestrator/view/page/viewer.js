@@ -1,0 +1,322 @@
+// The viewer's single page: a hash router over the JSON API of `mtg view` (docs/view.md).
+//   #/                                runs
+//   #/run/<run>                       overview: Table 3, paper rows, Sankey (click a flow), causes
+//   #/run/<run>/episodes?<filters>    episode list
+//   #/run/<run>/episode/<id>[?attempt=k]  every step of one episode
+//   #/compare?a=<run>/<id>&b=<run>/<id>   two episodes side by side
+'use strict';
+
+const main = document.getElementById('main');
+let refreshTimer = null;
+
+// Replaces the page's content (skipping absent parts) and notes when it was drawn: tests and the
+// first-paint figure read window.mtgRendered.
+function show(...parts) {
+  main.replaceChildren(...parts.filter((p) => p !== null && p !== undefined));
+  window.mtgRendered = performance.now();
+}
+
+async function api(path) {
+  const res = await fetch(path);
+  const body = res.headers.get('Content-Type').startsWith('application/json') ? await res.json() : await res.text();
+  if (!res.ok) throw new Error(body.error || res.statusText);
+  return body;
+}
+
+const fmt = (v) => (v === null || v === undefined ? '–' : (Math.round(v * 10) / 10).toString());
+const enc = encodeURIComponent;
+
+function crumbs(...parts) {
+  document.getElementById('crumbs').replaceChildren(...parts.flatMap((p, i) => (i ? [' › ', p] : [p])));
+}
+
+function link(href, text) { return el('a', {href}, text); }
+
+// ---- runs ----
+async function showRuns() {
+  const runs = await api('/api/runs');
+  if (runs.length === 1) { location.replace('#/run/' + enc(runs[0].name)); return; }
+  crumbs('runs');
+  const t = el('table', {class: 'runs'}, el('tr', {}, el('th', {class: 'l'}, 'run'), el('th', {class: 'l'}, 'agents'),
+    el('th', {}, 'episodes'), el('th', {class: 'l'}, 'folder')));
+  for (const r of runs) {
+    t.append(el('tr', {class: 'clickable run-row', onclick: () => { location.hash = '#/run/' + enc(r.name); }},
+      el('td', {class: 'l'}, r.name), el('td', {class: 'l'}, r.agents.join(', ')),
+      el('td', {}, r.finished + ' / ' + r.planned + (r.live ? ' (running)' : '')), el('td', {class: 'l muted'}, r.dir)));
+  }
+  show(el('h2', {}, 'Runs'), t);
+}
+
+// ---- overview ----
+function levelsOf(report) { return Object.keys(report.by_level).sort(); }
+
+function table3(o) {
+  const report = o.report;
+  const levels = levelsOf(report).filter((l) => l !== '4');
+  const head1 = el('tr', {}, el('th', {class: 'l', rowspan: 2}, 'agent'),
+    ...levels.map((l) => el('th', {colspan: 2}, 'Level ' + l)), el('th', {colspan: 2}, 'Avg'), el('th', {rowspan: 2}, 'episodes'));
+  const head2 = el('tr', {}, ...[...levels, 'avg'].flatMap(() => [el('th', {}, 'IP'), el('th', {}, 'SR (%)')]));
+  const t = el('table', {class: 'results'}, head1, head2);
+  for (const [agent, a] of Object.entries(report.by_agent)) {
+    const cells = levels.flatMap((l) => {
+      const v = (a.by_level || {})[l];
+      return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
+    });
+    t.append(el('tr', {class: 'clickable agent-row', onclick: () => go(o.name, {agent})},
+      el('td', {class: 'l'}, agent), ...cells, el('td', {}, fmt(a.ip)), el('td', {}, fmt(a.sr)), el('td', {}, a.episodes)));
+  }
+  t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * levels.length + 4}, 'The paper’s Table 3, for reference:')));
+  for (const p of o.paper) {
+    const cells = levels.flatMap((l) => {
+      const v = p.by_level[l];
+      return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
+    });
+    t.append(el('tr', {class: 'paper'}, el('td', {class: 'l'}, p.agent), ...cells, el('td', {}, fmt(p.ip)),
+      el('td', {}, fmt(p.sr)), el('td', {})));
+  }
+  return t;
+}
+
+const CAUSE_WORDS = {};  // filled from episode rows as they are seen (the API explains each cause)
+
+function go(run, filters) {
+  const q = Object.entries(filters).filter(([, v]) => v !== undefined && v !== '').map(([k, v]) => k + '=' + enc(v));
+  location.hash = '#/run/' + enc(run) + '/episodes' + (q.length ? '?' + q.join('&') : '');
+}
+
+// A Sankey node id is "<column>:<label>" (level, stage, cause, outcome): each end of a flow
+// becomes a filter of the episode list.
+function filterOfNode(id, filters) {
+  const column = id.slice(0, id.indexOf(':')), label = id.slice(id.indexOf(':') + 1);
+  if (column === '0') filters.level = label.replace('Level ', '');
+  if (column === '1') filters.stage = label;
+  if (column === '2') filters.cause = label;
+  if (column === '3') filters.success = label === 'success' ? '1' : '0';
+  return filters;
+}
+
+async function showOverview(run) {
+  const o = await api('/api/runs/' + enc(run));
+  crumbs(link('#/', 'runs'), o.name);
+  const r = o.report;
+  const parts = [];
+  parts.push(el('p', {id: 'summary'}, o.finished + ' of ' + o.planned + ' episodes finished' +
+    (o.live ? ' (running: this page refreshes as results arrive)' : '') + '. ' + r.scored + ' scored' +
+    (r.errors ? ', ' + r.errors + ' given up (infrastructure)' : '') + '. SR ' + fmt(r.sr) + ' %, IP ' + fmt(r.ip) + '. ',
+    link('#/run/' + enc(run) + '/episodes', 'All episodes →')));
+  if (o.model_agents) {
+    parts.push(el('p', {id: 'usage'}, 'Tokens: ' + r.tokens.input + ' in, ' + r.tokens.output + ' out; cost $' +
+      r.cost_usd.toFixed(4) + '. Prompt version: ' + (o.prompt_versions.join(', ') || '–') + '.'));
+  }
+  parts.push(el('h2', {}, 'Results by level (click an agent for its episodes)'), table3(o),
+    el('p', {class: 'note'}, 'IP: intermediate points (25 per milestone: source reached, item picked, destination ' +
+      'reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.'));
+  const sankey = el('div', {id: 'sankey'}, 'Loading the Sankey…');
+  parts.push(el('h2', {}, 'Failure Sankey: task level → stage reached → cause → outcome (click a flow for its episodes)'), sankey);
+  const causes = el('table', {class: 'causes'}, el('tr', {}, el('th', {class: 'l'}, 'cause'), el('th', {class: 'l'}, 'meaning'),
+    el('th', {}, 'episodes')));
+  for (const [cause, n] of Object.entries(r.causes).sort((a, b) => b[1] - a[1])) {
+    causes.append(el('tr', {class: 'clickable', onclick: () => go(run, {cause})}, el('td', {class: 'l'}, cause),
+      el('td', {class: 'l cause-text', 'data-cause': cause}, ''), el('td', {}, n)));
+  }
+  parts.push(el('h2', {}, 'Failure causes'), Object.keys(r.causes).length ? causes : el('p', {}, 'No failures.'));
+  show(...parts);
+  fillCauseWords(run);
+  const svg = await api('/api/runs/' + enc(run) + '/sankey.svg');
+  sankey.innerHTML = svg;
+  for (const path of sankey.querySelectorAll('path.flow')) {
+    path.addEventListener('click', () => go(run, filterOfNode(path.dataset.target, filterOfNode(path.dataset.source, {}))));
+  }
+  scheduleRefresh(o.live);
+}
+
+async function fillCauseWords(run) {
+  for (const cell of document.querySelectorAll('.cause-text')) {
+    const cause = cell.dataset.cause;
+    if (!CAUSE_WORDS[cause]) {
+      const page = await api('/api/runs/' + enc(run) + '/episodes?limit=1&cause=' + enc(cause));
+      if (page.rows.length) CAUSE_WORDS[cause] = page.rows[0].cause_text;
+    }
+    cell.textContent = CAUSE_WORDS[cause] || '';
+  }
+}
+
+function scheduleRefresh(live) {
+  clearTimeout(refreshTimer);
+  document.getElementById('live').textContent = live ? 'live' : '';
+  if (live) refreshTimer = setTimeout(route, 2000);
+}
+
+// ---- episode list ----
+const FILTERS = ['agent', 'level', 'scene', 'task', 'stage', 'cause', 'success', 'status'];
+
+async function showEpisodes(run, params) {
+  const o = await api('/api/runs/' + enc(run));
+  crumbs(link('#/', 'runs'), link('#/run/' + enc(run), o.name), 'episodes');
+  const offset = Number(params.get('offset') || 0), limit = 100;
+  const q = new URLSearchParams();
+  for (const f of FILTERS) if (params.get(f)) q.set(f, params.get(f));
+  q.set('offset', offset);
+  q.set('limit', limit);
+  const page = await api('/api/runs/' + enc(run) + '/episodes?' + q);
+  const r = o.report;
+  const choices = {
+    agent: Object.keys(r.by_agent), level: levelsOf(r), stage: Object.keys(r.stages),
+    cause: ['success', ...Object.keys(r.causes)], success: ['1', '0'], status: ['scored', 'error'],
+  };
+  const form = el('form', {class: 'filters'});
+  for (const f of FILTERS) {
+    let input;
+    if (choices[f]) {
+      input = el('select', {name: f}, el('option', {value: ''}, 'any'),
+        ...choices[f].map((v) => el('option', {value: v}, f === 'success' ? (v === '1' ? 'yes' : 'no') : v)));
+    } else {
+      input = el('input', {name: f, size: 14});
+    }
+    input.value = params.get(f) || '';
+    form.append(el('label', {}, f, input));
+  }
+  form.append(el('button', {}, 'Filter'));
+  form.addEventListener('submit', (ev) => {
+    ev.preventDefault();
+    const filters = {};
+    for (const f of FILTERS) filters[f] = form.elements[f].value;
+    go(run, filters);
+  });
+  const t = el('table', {class: 'episodes'}, el('tr', {}, ...['episode', 'agent', 'level', 'scene', 'task', 'verdict', 'IP',
+    'stage reached', 'cause', 'steps'].map((h) => el('th', {class: 'l'}, h))));
+  for (const e of page.rows) {
+    CAUSE_WORDS[e.cause] = e.cause_text;
+    t.append(el('tr', {class: 'clickable episode-row', 'data-episode': e.episode_id,
+      onclick: () => { location.hash = '#/run/' + enc(run) + '/episode/' + e.episode_id; }},
+      el('td', {class: 'l'}, e.episode_id), el('td', {class: 'l'}, e.agent), el('td', {class: 'l'}, e.level),
+      el('td', {class: 'l'}, e.scene), el('td', {class: 'l'}, e.task_id),
+      el('td', {class: 'l ' + (e.status !== 'scored' ? 'muted' : e.success ? 'ok' : 'fail')},
+        e.status !== 'scored' ? 'error' : e.success ? 'success' : 'failure'),
+      el('td', {}, fmt(e.ip)), el('td', {class: 'l'}, e.stage), el('td', {class: 'l', title: e.cause_text}, e.cause),
+      el('td', {}, e.steps)));
+  }
+  const pager = el('div', {class: 'pager'});
+  const pageTo = (off) => { params.set('offset', off); location.hash = '#/run/' + enc(run) + '/episodes?' + params; };
+  if (offset > 0) pager.append(el('button', {onclick: () => pageTo(Math.max(0, offset - limit))}, '← previous'));
+  if (offset + limit < page.total) pager.append(el('button', {onclick: () => pageTo(offset + limit)}, 'next →'));
+  show(form, el('p', {id: 'count'}, page.total + ' episode(s)' +
+    (page.total > limit ? ', ' + (offset + 1) + '–' + Math.min(offset + limit, page.total) + ' shown' : '')), t, pager);
+  scheduleRefresh(o.live);
+}
+
+// ---- one episode ----
+function verdictBanner(e) {
+  const v = e.result;
+  if (!v) return el('div', {class: 'banner', id: 'verdict'}, 'No verdict recorded for this attempt (yet).');
+  return el('div', {class: 'banner ' + (v.success ? 'ok' : 'fail'), id: 'verdict'},
+    el('b', {}, v.success ? 'Success' : 'Failure'), ' · IP ' + fmt(v.ip) + ' · ' + v.steps + ' step(s), ' +
+    v.invalid_actions + ' invalid. ',
+    v.success ? '' : el('span', {}, 'Cause: ', el('b', {}, v.cause), ' — ' + v.cause_text + '. '),
+    'Furthest stage: ' + v.stage + ' (' + v.stage_text + ').',
+    v.subtasks.length > 1 ? el('div', {class: 'muted'}, 'Sub-tasks: ' +
+      v.subtasks.map((s, i) => (i + 1) + ': IP ' + fmt(s.ip) + (s.success ? ' ✓' : '')).join(', ')) : null,
+    v.detail ? el('div', {class: 'muted'}, v.detail) : null);
+}
+
+function stepBlock(s) {
+  const a = s.action;
+  return el('div', {class: 'step', 'data-step': s.step},
+    el('h3', {}, s.done ? 'Final state (step ' + s.step + ')' : 'Step ' + (s.step + 1)),
+    s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key}) : el('div', {class: 'muted'}, 'no observation recorded'),
+    a ? el('div', {class: 'reply'},
+      el('div', {}, 'Answer: ', el('b', {class: 'parsed-key'}, a.parsed_key || '(no key)'),
+        a.format_ok ? '' : el('span', {class: 'fail'}, ' unreadable'),
+        a.error ? el('span', {class: 'fail'}, ' provider error: ' + a.error) : '',
+        a.provider !== 'builtin' ? el('span', {class: 'muted'}, ' · ' + a.provider + (a.model ? ' ' + a.model : '') +
+          ' · ' + a.input_tokens + '+' + a.output_tokens + ' tokens' + (a.cache_hit ? ' (cache)' : '')) : ''),
+      a.raw_reply !== a.parsed_key ? el('pre', {class: 'raw-reply'}, a.raw_reply) : null) : null,
+    ...s.judge.map((j) => el('div', {class: 'judge'}, '⚑ ' + (j.text || j.kind) + (j.kind === 'milestone' ? ' (IP ' + fmt(j.ip) + ')' : ''))));
+}
+
+function episodeHeader(e) {
+  const t = e.task || {};
+  return el('div', {},
+    el('h2', {}, 'Episode ' + e.episode_id + ' · ' + (e.agent || (e.row && e.row.agent) || '')),
+    el('div', {class: 'muted'}, 'Level ' + t.level + ' · ' + t.scene + ' · ' + t.task_id + ' · ' + t.task_type +
+      ' · attempt ' + e.attempt + (e.attempts.length > 1 ? ' of ' + e.attempts.length : '')),
+    el('pre', {class: 'task-text'}, t.text || ''),
+    verdictBanner(e));
+}
+
+async function showEpisode(run, id, params) {
+  const attempt = params.get('attempt');
+  const e = await api('/api/runs/' + enc(run) + '/episodes/' + id + (attempt ? '?attempt=' + attempt : ''));
+  crumbs(link('#/', 'runs'), link('#/run/' + enc(run), run), link('#/run/' + enc(run) + '/episodes', 'episodes'), 'episode ' + id);
+  const truthBox = el('div', {id: 'truth'});
+  const truthButton = el('button', {onclick: async () => {
+    const t = await api('/api/runs/' + enc(run) + '/episodes/' + id + '/truth?attempt=' + e.attempt);
+    truthBox.replaceChildren(el('div', {class: 'muted'}, 'Never shown to the agent:'),
+      el('div', {}, 'Oracle plan: ', el('b', {}, t.oracle_plan.join(' → '))),
+      el('pre', {}, 'Goal: ' + JSON.stringify(t.goal, null, 1)));
+  }}, 'Show the goal and the oracle plan');
+  const compare = el('div', {id: 'others'});
+  const attempts = e.attempts.length > 1 ? el('div', {}, 'Attempts: ', ...e.attempts.map((k) =>
+    el('a', {href: '#/run/' + enc(run) + '/episode/' + id + '?attempt=' + k, style: 'margin-right:6px'}, String(k)))) : null;
+  show(episodeHeader(e), attempts, el('div', {}, truthButton), truthBox, compare,
+    ...e.steps.map(stepBlock),
+    e.errors.length ? el('div', {}, el('h2', {}, 'Errors reported during the episode'),
+      ...e.errors.map((x) => el('div', {class: 'error'}, x.severity + ' from ' + x.source + ': ' + x.message))) : null);
+  if (e.task) listOthers(run, id, e.task.task_id, compare);
+}
+
+// Other episodes of the same task, in every run served: links to compare side by side.
+async function listOthers(run, id, taskId, box) {
+  const runs = await api('/api/runs');
+  const links = [];
+  for (const r of runs) {
+    const page = await api('/api/runs/' + enc(r.name) + '/episodes?limit=20&task=' + enc(taskId));
+    for (const other of page.rows) {
+      if (r.name === run && String(other.episode_id) === String(id)) continue;
+      links.push(el('a', {class: 'compare-link', href: '#/compare?a=' + enc(run + '/' + id) + '&b=' +
+        enc(r.name + '/' + other.episode_id), style: 'margin-right:10px'},
+        (runs.length > 1 ? r.name + ': ' : '') + other.agent + ' (episode ' + other.episode_id + ', ' +
+        (other.success ? 'success' : other.cause || 'failure') + ')'));
+    }
+  }
+  if (links.length) box.replaceChildren('Same task, side by side with: ', ...links);
+}
+
+async function showCompare(params) {
+  const sides = ['a', 'b'].map((k) => {
+    const v = params.get(k) || '';
+    const cut = v.lastIndexOf('/');
+    return {run: v.slice(0, cut), id: v.slice(cut + 1)};
+  });
+  const episodes = await Promise.all(sides.map((s) => api('/api/runs/' + enc(s.run) + '/episodes/' + s.id)));
+  crumbs(link('#/', 'runs'), 'side by side');
+  const steps = Math.max(...episodes.map((e) => e.steps.length));
+  const grid = el('div', {class: 'compare'});
+  episodes.forEach((e, i) => grid.append(el('div', {}, el('div', {class: 'muted'}, sides[i].run),
+    link('#/run/' + enc(sides[i].run) + '/episode/' + e.episode_id, 'open'), episodeHeader(e))));
+  for (let k = 0; k < steps; ++k) {
+    for (const e of episodes) grid.append(e.steps[k] ? stepBlock(e.steps[k]) : el('div'));
+  }
+  show(grid);
+}
+
+async function route() {
+  clearTimeout(refreshTimer);
+  const hash = location.hash.slice(1) || '/';
+  const [path, query] = hash.split('?');
+  const params = new URLSearchParams(query || '');
+  const parts = path.split('/').filter(Boolean).map(decodeURIComponent);
+  try {
+    if (parts.length === 0) await showRuns();
+    else if (parts[0] === 'compare') await showCompare(params);
+    else if (parts[0] === 'run' && parts.length === 2) await showOverview(parts[1]);
+    else if (parts[0] === 'run' && parts[2] === 'episodes') await showEpisodes(parts[1], params);
+    else if (parts[0] === 'run' && parts[2] === 'episode') await showEpisode(parts[1], parts[3], params);
+    else show(el('p', {}, 'Nothing here: ' + hash));
+  } catch (err) {
+    show(el('p', {class: 'error'}, 'Error: ' + err.message));
+  }
+}
+
+window.addEventListener('hashchange', route);
+route();

@@ -1,0 +1,102 @@
+#include "orchestrator/view/recording_index.h"
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <span>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "core/util/error.h"
+
+namespace mtg::orchestrator::view {
+
+namespace fs = std::filesystem;
+
+bool viewer_reads_channel(const std::string& channel) {
+  using bus::EpisodeStream;
+  return channel == bus::kEpisodeStart || channel == bus::kEpisodeTruth || channel == bus::kEpisodeResult ||
+         channel == bus::kError || bus::is_episode_channel(channel, EpisodeStream::kObservation) ||
+         bus::is_episode_channel(channel, EpisodeStream::kAction) ||
+         bus::is_episode_channel(channel, EpisodeStream::kJudge);
+}
+
+RecordingIndex::RecordingIndex(fs::path run_dir) : run_dir_(std::move(run_dir)) {}
+
+std::size_t RecordingIndex::refresh() {
+  std::vector<fs::path> logs;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(run_dir_, ec)) {
+    if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
+  }
+  std::sort(logs.begin(), logs.end());
+
+  const std::lock_guard lock(mutex_);
+  for (const auto& log : logs) {
+    if (std::none_of(files_.begin(), files_.end(), [&](const File& f) { return f.path == log; })) {
+      files_.push_back({log, 0});
+    }
+  }
+  std::size_t added = 0;
+  for (std::size_t i = 0; i < files_.size(); ++i) {
+    File& file = files_[i];
+    if (static_cast<long>(fs::file_size(file.path, ec)) <= file.indexed_to || ec) continue;
+    lcm::LogFile log(file.path.string(), "r");
+    if (!log.good()) throw Error(file.path.string() + ": cannot read the recording");
+    std::FILE* fp = log.getFilePtr();
+    if (std::fseek(fp, file.indexed_to, SEEK_SET) != 0) continue;
+    for (;;) {
+      const long offset = std::ftell(fp);
+      const lcm::LogEvent* ev = log.readNextEvent();
+      if (ev == nullptr) break;  // the end, or an event the recorder is still writing
+      file.indexed_to = std::ftell(fp);
+      if (!viewer_reads_channel(ev->channel)) continue;
+      const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev->data),
+                                            static_cast<std::size_t>(ev->datalen)});
+      if (!header || header->episode_id < 0) continue;
+      places_[header->episode_id].push_back(place(i, offset));
+      ++added;
+    }
+  }
+  size_ += added;
+  return added;
+}
+
+std::vector<RecordedMessage> RecordingIndex::messages_of(std::int64_t episode_id) const {
+  std::vector<std::uint64_t> places;
+  std::vector<fs::path> paths;
+  {
+    const std::lock_guard lock(mutex_);
+    const auto it = places_.find(episode_id);
+    if (it == places_.end()) return {};
+    places = it->second;
+    for (const File& f : files_) paths.push_back(f.path);
+  }
+  std::vector<RecordedMessage> out;
+  out.reserve(places.size());
+  std::size_t open_file = paths.size();
+  std::unique_ptr<lcm::LogFile> log;
+  for (const std::uint64_t p : places) {
+    const std::size_t file = static_cast<std::size_t>(p >> 48);
+    const long offset = static_cast<long>(p & ((std::uint64_t{1} << 48) - 1));
+    if (file != open_file) {
+      log = std::make_unique<lcm::LogFile>(paths[file].string(), "r");
+      if (!log->good()) throw Error(paths[file].string() + ": cannot read the recording");
+      open_file = file;
+    }
+    std::fseek(log->getFilePtr(), offset, SEEK_SET);
+    const lcm::LogEvent* ev = log->readNextEvent();
+    if (ev == nullptr) throw Error(paths[file].string() + ": no event at byte " + std::to_string(offset));
+    const auto* bytes = static_cast<const std::uint8_t*>(ev->data);
+    out.push_back({ev->channel, std::vector<std::uint8_t>(bytes, bytes + ev->datalen)});
+  }
+  return out;
+}
+
+std::size_t RecordingIndex::size() const {
+  const std::lock_guard lock(mutex_);
+  return size_;
+}
+
+}  // namespace mtg::orchestrator::view

@@ -1,0 +1,54 @@
+#pragma once
+// Where each episode's messages lie in a run's recordings (bus-<k>.lcmlog), so the viewer reads
+// one episode without decoding the whole run. The index grows as a live run's recorder appends:
+// refresh() reads only the bytes added since the last call and stops before a half-written event.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace mtg::orchestrator::view {
+
+/// One recorded message, copied out of the log.
+struct RecordedMessage {
+  std::string channel;
+  std::vector<std::uint8_t> data;
+};
+
+class RecordingIndex {
+ public:
+  explicit RecordingIndex(std::filesystem::path run_dir);
+
+  /// Indexes what was appended to the recordings since the last call (new files included).
+  /// Thread-safe; returns the number of messages added.
+  std::size_t refresh();
+  /// The episode's messages of the channels the viewer reads, in recording order.
+  std::vector<RecordedMessage> messages_of(std::int64_t episode_id) const;
+  /// Messages indexed so far (all episodes).
+  std::size_t size() const;
+
+ private:
+  struct File {
+    std::filesystem::path path;
+    long indexed_to = 0;  // byte offset of the first event not yet indexed
+  };
+  // An event's place: file number in the high 16 bits, byte offset below.
+  static std::uint64_t place(std::size_t file, long offset) {
+    return (static_cast<std::uint64_t>(file) << 48) | static_cast<std::uint64_t>(offset);
+  }
+
+  std::filesystem::path run_dir_;
+  mutable std::mutex mutex_;
+  std::vector<File> files_;
+  std::map<std::int64_t, std::vector<std::uint64_t>> places_;
+  std::size_t size_ = 0;
+};
+
+/// Whether the viewer keeps messages of this channel (episode streams, starts, truths, results,
+/// errors; not renders, heartbeats or state updates).
+bool viewer_reads_channel(const std::string& channel);
+
+}  // namespace mtg::orchestrator::view

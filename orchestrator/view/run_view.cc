@@ -1,0 +1,180 @@
+#include "orchestrator/view/run_view.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <set>
+
+#include "core/episode/outcomes.h"
+#include "core/util/error.h"
+#include "core/util/log.h"
+#include "orchestrator/report/paper_table3.h"
+#include "orchestrator/report/report.h"
+
+namespace mtg::orchestrator::view {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+bool EpisodeFilter::matches(const EpisodeRow& r) const {
+  if (agent && r.agent != *agent) return false;
+  if (scene && r.scene != *scene) return false;
+  if (task && r.task_id != *task) return false;
+  if (stage && r.stage != *stage) return false;
+  if (status && r.status != *status) return false;
+  if (level && r.level != *level) return false;
+  if (success && r.success != *success) return false;
+  if (cause) {
+    // "success" names the successes' band of the Sankey, where the cause column is empty.
+    const std::string wanted = *cause == "success" ? "" : *cause;
+    if (r.cause != wanted || (*cause == "success") != r.success) return false;
+  }
+  return true;
+}
+
+json row_json(const EpisodeRow& r) {
+  const auto stage = episode::stage_from_string(r.stage);
+  const auto cause = episode::cause_from_string(r.cause);
+  return {{"episode_id", r.episode_id},
+          {"task_id", r.task_id},
+          {"scene", r.scene},
+          {"level", r.level},
+          {"task_type", r.task_type},
+          {"agent", r.agent},
+          {"attempt", r.attempt},
+          {"status", r.status},
+          {"success", r.success},
+          {"ip", r.ip},
+          {"stage", r.stage},
+          {"stage_text", stage ? episode::explain(*stage) : r.stage},
+          {"cause", r.cause},
+          {"cause_text", r.success ? "" : (cause ? episode::explain(*cause) : r.cause)},
+          {"steps", r.steps},
+          {"invalid_actions", r.invalid_actions},
+          {"input_tokens", r.usage.input_tokens},
+          {"output_tokens", r.usage.output_tokens},
+          {"cost_usd", r.usage.cost_usd},
+          {"model_calls", r.usage.model_calls},
+          {"prompt_version", r.usage.prompt_version},
+          {"worker", r.worker},
+          {"detail", r.detail}};
+}
+
+RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(std::move(dir)), index_(dir_) {
+  const fs::path plan_file = dir_ / "plan.json";
+  std::ifstream in(plan_file);
+  if (!in) throw Error(dir_.string() + ": not a run folder (no plan.json)");
+  const json plan = json::parse(in, nullptr, false);
+  if (plan.is_discarded() || !plan.is_object()) throw Error(plan_file.string() + ": not valid JSON");
+  planned_ = plan.value("episodes", json::array()).size();
+  plan_summary_ = {{"run_id", plan.value("run_id", "")},
+                   {"agents", plan.value("agents", json::array())},
+                   {"levels", plan.value("levels", json::array())},
+                   {"render", plan.value("render", false)}};
+  indexer_ = std::thread([this] {
+    while (!stop_) {
+      try {
+        index_.refresh();
+      } catch (const std::exception& e) {
+        log::warn(name_ + ": " + e.what());
+      }
+      for (int i = 0; i < 10 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+}
+
+RunView::~RunView() {
+  stop_ = true;
+  if (indexer_.joinable()) indexer_.join();
+}
+
+RunView::Rows RunView::rows() {
+  const fs::path db = dir_ / "results.sqlite";
+  std::string stamp;
+  for (const fs::path& f : {db, fs::path(db.string() + "-wal")}) {
+    std::error_code ec;
+    const auto size = fs::file_size(f, ec);
+    if (ec) continue;
+    stamp += std::to_string(size) + ":" + std::to_string(fs::last_write_time(f, ec).time_since_epoch().count()) + ";";
+  }
+  const std::lock_guard lock(rows_mutex_);
+  if (stamp != rows_stamp_) {
+    auto fresh = fs::exists(db) ? read_results(db) : std::vector<EpisodeRow>{};
+    std::sort(fresh.begin(), fresh.end(),
+              [](const EpisodeRow& a, const EpisodeRow& b) { return a.episode_id < b.episode_id; });
+    rows_ = std::make_shared<const std::vector<EpisodeRow>>(std::move(fresh));
+    rows_stamp_ = stamp;
+  }
+  return rows_;
+}
+
+json RunView::summary() {
+  const std::size_t finished = rows()->size();
+  json s = plan_summary_;
+  s["name"] = name_;
+  s["dir"] = fs::absolute(dir_).string();
+  s["planned"] = planned_;
+  s["finished"] = finished;
+  s["live"] = finished < planned_;
+  return s;
+}
+
+json RunView::overview() {
+  const Rows all = rows();
+  json o = summary();
+  o["report"] = make_report(*all, plan_summary_["run_id"].get<std::string>());
+  o["paper"] = paper_table3();
+  std::set<std::string> prompt_versions;
+  bool model_agents = false;
+  for (const EpisodeRow& r : *all) {
+    if (!r.usage.prompt_version.empty()) prompt_versions.insert(r.usage.prompt_version);
+    model_agents = model_agents || r.usage.model_calls > 0;
+  }
+  o["prompt_versions"] = prompt_versions;
+  o["model_agents"] = model_agents;
+  return o;
+}
+
+json RunView::episodes(const EpisodeFilter& filter, std::size_t offset, std::size_t limit) {
+  const Rows all = rows();
+  json list = json::array();
+  std::size_t total = 0;
+  for (const EpisodeRow& r : *all) {
+    if (!filter.matches(r)) continue;
+    if (total >= offset && list.size() < limit) list.push_back(row_json(r));
+    ++total;
+  }
+  return {{"total", total}, {"offset", offset}, {"rows", list}};
+}
+
+std::vector<RecordedMessage> RunView::messages_of(std::int64_t id) {
+  auto messages = index_.messages_of(id);
+  if (messages.empty()) {  // not indexed yet (a live run, or the first scan still going)
+    index_.refresh();
+    messages = index_.messages_of(id);
+  }
+  return messages;
+}
+
+json RunView::episode(std::int64_t id, int attempt) {
+  json row = nullptr;
+  const Rows all = rows();
+  const auto it = std::lower_bound(all->begin(), all->end(), id,
+                                   [](const EpisodeRow& r, std::int64_t v) { return r.episode_id < v; });
+  if (it != all->end() && it->episode_id == id) row = row_json(*it);
+  const auto messages = messages_of(id);
+  if (row.is_null() && messages.empty()) return nullptr;
+  if (attempt < 0 && !row.is_null()) attempt = row["attempt"].get<int>();
+  json out = episode_trace(id, messages, attempt);
+  out["row"] = row;
+  out["run"] = name_;
+  return out;
+}
+
+json RunView::truth(std::int64_t id, int attempt) { return episode_truth(messages_of(id), attempt); }
+
+std::optional<RecordedImage> RunView::image(std::int64_t id, int attempt, int step, int index) {
+  return observation_image(messages_of(id), attempt, step, index);
+}
+
+}  // namespace mtg::orchestrator::view

@@ -1,0 +1,76 @@
+#pragma once
+// One run folder as the viewer serves it: its plan, its results (read again whenever the database
+// changes, so a running run shows its progress) and its recordings (indexed in the background).
+// Every answer is JSON for the page (docs/view.md).
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "orchestrator/run/results_db.h"
+#include "orchestrator/view/episode_trace.h"
+#include "orchestrator/view/recording_index.h"
+
+namespace mtg::orchestrator::view {
+
+/// Which episodes a list shows; an unset field matches every episode.
+struct EpisodeFilter {
+  std::optional<std::string> agent, scene, task, cause, stage, status;
+  std::optional<int> level;
+  std::optional<bool> success;
+
+  bool matches(const EpisodeRow& row) const;
+};
+
+class RunView {
+ public:
+  /// @throws mtg::Error when `dir` holds no plan.json (not a run folder).
+  RunView(std::string name, std::filesystem::path dir);
+  ~RunView();
+  RunView(const RunView&) = delete;
+  RunView& operator=(const RunView&) = delete;
+
+  const std::string& name() const { return name_; }
+  const std::filesystem::path& dir() const { return dir_; }
+
+  /// {name, run_id, dir, agents, levels, planned, finished, live}
+  nlohmann::json summary();
+  /// summary() plus {report (make_report), paper (Table 3), prompt_versions, model_agents}.
+  nlohmann::json overview();
+  /// {total, offset, rows[...]} of the matching episodes in id order.
+  nlohmann::json episodes(const EpisodeFilter& filter, std::size_t offset, std::size_t limit);
+  /// The episode's result row and its recorded trace (episode_trace), or null if unknown.
+  nlohmann::json episode(std::int64_t id, int attempt);
+  nlohmann::json truth(std::int64_t id, int attempt);
+  std::optional<RecordedImage> image(std::int64_t id, int attempt, int step, int index);
+
+ private:
+  using Rows = std::shared_ptr<const std::vector<EpisodeRow>>;
+  Rows rows();  // re-read when results.sqlite changes; shared, so a request never copies them
+  std::vector<RecordedMessage> messages_of(std::int64_t id);
+
+  std::string name_;
+  std::filesystem::path dir_;
+  nlohmann::json plan_summary_;
+  std::size_t planned_ = 0;
+
+  std::mutex rows_mutex_;
+  std::string rows_stamp_;  // sizes and times of the database files last read
+  Rows rows_ = std::make_shared<const std::vector<EpisodeRow>>();
+
+  RecordingIndex index_;
+  std::atomic<bool> stop_{false};
+  std::thread indexer_;  // refreshes the index about once a second
+};
+
+/// The JSON of one results row, as lists and the episode page show it.
+nlohmann::json row_json(const EpisodeRow& row);
+
+}  // namespace mtg::orchestrator::view

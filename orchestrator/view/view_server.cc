@@ -1,0 +1,179 @@
+#include "orchestrator/view/view_server.h"
+
+#include <httplib.h>
+
+#include "agents/human/exclusive_port.h"
+
+#include <functional>
+#include <map>
+
+#include "orchestrator/view/viewer_assets.h"
+#include "core/util/error.h"
+#include "orchestrator/report/sankey.h"
+
+namespace mtg::orchestrator::view {
+namespace {
+
+using nlohmann::json;
+
+void send_json(httplib::Response& res, const json& body, int status = 200) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+void send_error(httplib::Response& res, int status, const std::string& message) {
+  send_json(res, {{"error", message}}, status);
+}
+
+std::optional<std::string> param(const httplib::Request& req, const char* name) {
+  if (!req.has_param(name) || req.get_param_value(name).empty()) return std::nullopt;
+  return req.get_param_value(name);
+}
+
+int int_param(const httplib::Request& req, const char* name, int fallback) {
+  const auto v = param(req, name);
+  if (!v) return fallback;
+  try {
+    std::size_t used = 0;
+    const int n = std::stoi(*v, &used);
+    if (used == v->size()) return n;
+  } catch (const std::exception&) {
+  }
+  throw Error(std::string("query parameter '") + name + "' is not a number: " + *v);
+}
+
+EpisodeFilter filter_of(const httplib::Request& req) {
+  EpisodeFilter f;
+  f.agent = param(req, "agent");
+  f.scene = param(req, "scene");
+  f.task = param(req, "task");
+  f.cause = param(req, "cause");
+  f.stage = param(req, "stage");
+  f.status = param(req, "status");
+  if (param(req, "level")) f.level = int_param(req, "level", 0);
+  if (const auto s = param(req, "success")) {
+    if (*s != "1" && *s != "0" && *s != "true" && *s != "false") {
+      throw Error("query parameter 'success' must be 1 or 0, not " + *s);
+    }
+    f.success = *s == "1" || *s == "true";
+  }
+  return f;
+}
+
+// Every handler answers a bad request with one JSON error line instead of a dropped connection.
+httplib::Server::Handler guarded(std::function<void(const httplib::Request&, httplib::Response&)> fn) {
+  return [fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {
+    try {
+      fn(req, res);
+    } catch (const std::exception& e) {
+      send_error(res, 400, e.what());
+    }
+  };
+}
+
+}  // namespace
+
+ViewServer::ViewServer(const std::vector<std::filesystem::path>& run_dirs) : http_(std::make_unique<httplib::Server>()) {
+  web::bind_exclusively(*http_);
+  std::map<std::string, int> seen;
+  for (const auto& dir : run_dirs) {
+    std::string name = std::filesystem::absolute(dir).lexically_normal().filename().string();
+    if (name.empty()) name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
+    if (const int n = ++seen[name]; n > 1) name += "-" + std::to_string(n);
+    runs_.push_back(std::make_unique<RunView>(name, dir));
+  }
+  add_routes();
+}
+
+ViewServer::~ViewServer() = default;
+
+RunView* ViewServer::run(const std::string& name) {
+  for (const auto& r : runs_) {
+    if (r->name() == name) return r.get();
+  }
+  return nullptr;
+}
+
+void ViewServer::add_routes() {
+  for (const web::Asset& asset : web::viewer_assets()) {
+    const std::string path = asset.path == "index.html" ? "/" : "/" + asset.path;
+    http_->Get(path, [&asset](const httplib::Request&, httplib::Response& res) {
+      res.set_content(asset.content.data(), asset.content.size(), asset.mime.c_str());
+    });
+  }
+  http_->Get("/api/runs", guarded([this](const httplib::Request&, httplib::Response& res) {
+    json list = json::array();
+    for (const auto& r : runs_) list.push_back(r->summary());
+    send_json(res, list);
+  }));
+  // Every other route names a run first; an unknown one is a 404 with its name.
+  auto with_run = [this](std::function<void(RunView&, const httplib::Request&, httplib::Response&)> fn) {
+    return guarded([this, fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {
+      RunView* r = run(req.matches[1]);
+      if (r == nullptr) return send_error(res, 404, "no run named '" + std::string(req.matches[1]) + "'");
+      fn(*r, req, res);
+    });
+  };
+  http_->Get(R"(/api/runs/([^/]+))", with_run([](RunView& r, const httplib::Request&, httplib::Response& res) {
+    send_json(res, r.overview());
+  }));
+  http_->Get(R"(/api/runs/([^/]+)/sankey\.svg)",
+             with_run([](RunView& r, const httplib::Request&, httplib::Response& res) {
+               res.set_content(sankey_svg(r.overview()["report"]["sankey"], 1000, 520), "image/svg+xml");
+             }));
+  http_->Get(R"(/api/runs/([^/]+)/episodes)", with_run([](RunView& r, const httplib::Request& req,
+                                                           httplib::Response& res) {
+    const int offset = int_param(req, "offset", 0), limit = int_param(req, "limit", 100);
+    if (offset < 0 || limit < 0) throw Error("offset and limit must not be negative");
+    send_json(res, r.episodes(filter_of(req), static_cast<std::size_t>(offset), static_cast<std::size_t>(limit)));
+  }));
+  http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+))", with_run([](RunView& r, const httplib::Request& req,
+                                                                 httplib::Response& res) {
+    const std::int64_t id = std::stoll(req.matches[2]);
+    json e = r.episode(id, int_param(req, "attempt", -1));
+    if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + std::to_string(id));
+    const std::string base = "/api/runs/" + r.name() + "/episodes/" + std::to_string(id) + "/images/" +
+                             std::to_string(e["attempt"].get<int>()) + "/";
+    for (json& step : e["steps"]) {
+      if (step["observation"].is_null()) continue;
+      for (json& img : step["observation"]["images"]) {
+        img["url"] = img["bytes"].get<int>() > 0 ? json(base + std::to_string(step["step"].get<int>()) + "/" +
+                                                        std::to_string(img["index"].get<int>()))
+                                                 : json(nullptr);
+      }
+    }
+    send_json(res, e);
+  }));
+  http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/truth)", with_run([](RunView& r, const httplib::Request& req,
+                                                                       httplib::Response& res) {
+    const json t = r.truth(std::stoll(req.matches[2]), int_param(req, "attempt", -1));
+    if (t.is_null()) return send_error(res, 404, "no goal recorded for that episode");
+    send_json(res, t);
+  }));
+  http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/images/(\d+)/(\d+)/(\d+))",
+             with_run([](RunView& r, const httplib::Request& req, httplib::Response& res) {
+               const auto img = r.image(std::stoll(req.matches[2]), std::stoi(req.matches[3]),
+                                        std::stoi(req.matches[4]), std::stoi(req.matches[5]));
+               if (!img) return send_error(res, 404, "no such image in the recording");
+               res.set_header("Cache-Control", "max-age=86400");
+               res.set_content(reinterpret_cast<const char*>(img->bytes.data()), img->bytes.size(),
+                               img->encoding == "jpeg" ? "image/jpeg" : "image/png");
+             }));
+}
+
+int ViewServer::bind(const std::string& host, int port) {
+  if (port == 0) {
+    const int bound = http_->bind_to_any_port(host);
+    if (bound <= 0) throw Error("cannot listen on " + host);
+    return bound;
+  }
+  if (!http_->bind_to_port(host, port)) {
+    throw Error("cannot listen on " + host + ":" + std::to_string(port) + " (taken? choose another with --port)");
+  }
+  return port;
+}
+
+void ViewServer::serve() { http_->listen_after_bind(); }
+void ViewServer::stop() { http_->stop(); }
+
+}  // namespace mtg::orchestrator::view

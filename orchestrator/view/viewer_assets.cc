@@ -1,0 +1,19 @@
+#include "orchestrator/view/viewer_assets.h"
+
+namespace mtg::web {
+
+// Generated from orchestrator/view/page/ (mtg_embed_text, orchestrator/CMakeLists.txt).
+extern const char* const kViewerHtml;
+extern const char* const kViewerJs;
+
+const std::vector<Asset>& viewer_assets() {
+  static const std::vector<Asset> assets = [] {
+    std::vector<Asset> a = shared_assets();
+    a.push_back({"index.html", "text/html; charset=utf-8", kViewerHtml});
+    a.push_back({"viewer.js", "text/javascript", kViewerJs});
+    return a;
+  }();
+  return assets;
+}
+
+}  // namespace mtg::web

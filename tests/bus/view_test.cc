@@ -1,0 +1,226 @@
+// The viewer and the play page in a real browser (headless Chromium over the DevTools pipe):
+// `mtg view` over a run made here with real processes, and `mtg play` played to the end by
+// clicking the oracle plan's keys. Screenshots go to <build>/test-artifacts/view/ for a person
+// to look at.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <thread>
+
+#include "core/tasks/task_db.h"
+#include "tests/support/browser.h"
+#include "tests/support/run_fixture.h"
+
+namespace mtg {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kArtifacts = fs::path(MTG_ARTIFACT_DIR) / "view";
+
+// Waits for "http://127.0.0.1:<port>/" in a child's log; returns the port or -1.
+int port_in_log(const fs::path& log, int timeout_ms) {
+  const std::regex url(R"(http://127\.0\.0\.1:(\d+)/)");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::ifstream in(log);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::smatch m;
+    if (std::regex_search(text, m, url)) return std::stoi(m[1]);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return -1;
+}
+
+class BrowserTest : public testing::RunFixture {
+ protected:
+  void SetUp() override {
+    if (testing::HeadlessBrowser::executable().empty()) GTEST_SKIP() << "no chromium (scripts/install-deps installs it)";
+    RunFixture::SetUp();
+  }
+  std::unique_ptr<testing::HeadlessBrowser> browser() {
+    return std::make_unique<testing::HeadlessBrowser>(fx_.root() / "chromium-profile");
+  }
+};
+
+using ViewerTest = BrowserTest;
+using PlayTest = BrowserTest;
+
+TEST_F(ViewerTest, OverviewSankeyEpisodeAndSideBySideShowWhatTheRunRecorded) {
+  std::vector<std::string> args = run_args("run", {"oracle", "random"}, 2, 4);
+  args.push_back("--render");
+  args.push_back("--image-size");
+  args.push_back("320x240");
+  ASSERT_EQ(mtg(args, 300000), 0) << log_text();
+  const auto rows = results("run");
+  ASSERT_FALSE(rows.empty());
+
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0) << "mtg view never said where it listens";
+  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  auto b = browser();
+
+  // Overview: one row per agent, the paper's rows, a Sankey whose flows can be clicked.
+  b->navigate(base);
+  ASSERT_TRUE(b->wait_for("document.querySelectorAll('#sankey path.flow').length > 0", 20000));
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('tr.agent-row').length").get<int>(), 2);
+  EXPECT_GE(b->evaluate("document.querySelectorAll('tr.paper').length").get<int>(), 10);
+  EXPECT_NE(b->evaluate("document.getElementById('summary').textContent").get<std::string>().find(
+                std::to_string(rows.size()) + " of " + std::to_string(rows.size()) + " episodes finished"),
+            std::string::npos);
+  EXPECT_FALSE(b->evaluate("!!document.getElementById('usage')").get<bool>()) << "no token line for built-in agents";
+  b->screenshot(kArtifacts / "overview.png", true);
+
+  // A click on the flow into a failure cause lists exactly that cause's episodes.
+  std::map<std::string, int> causes;
+  for (const auto& r : rows) {
+    if (!r.success) causes[r.cause] += 1;
+  }
+  ASSERT_FALSE(causes.empty()) << "the random agent should fail somewhere";
+  const auto& [cause, count] = *causes.begin();
+  ASSERT_TRUE(b->evaluate("(() => { const p = [...document.querySelectorAll('#sankey path.flow')].find("
+                          "(p) => p.dataset.source === '2:" + cause + "'); if (!p) return false; "
+                          "p.dispatchEvent(new MouseEvent('click', {bubbles: true})); return true; })()")
+                  .get<bool>());
+  ASSERT_TRUE(b->wait_for("document.getElementById('count')", 10000));
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('tr.episode-row').length").get<int>(), count);
+  EXPECT_EQ(b->evaluate("document.getElementById('count').textContent").get<std::string>(),
+            std::to_string(count) + " episode(s)");
+  b->screenshot(kArtifacts / "episodes.png");
+
+  // An episode page: every image loaded, each step's answer, the verdict in plain words.
+  const auto failed = std::find_if(rows.begin(), rows.end(), [](const auto& r) { return !r.success; });
+  b->navigate(base + "#/run/run/episode/" + std::to_string(failed->episode_id));
+  ASSERT_TRUE(b->wait_for("document.getElementById('verdict')", 10000));
+  ASSERT_TRUE(b->wait_for("[...document.querySelectorAll('.step img')].every((i) => i.complete) && "
+                          "document.querySelectorAll('.step img').length > 0", 20000));
+  EXPECT_EQ(b->evaluate("[...document.querySelectorAll('.step img')].filter((i) => i.naturalWidth === 320 && "
+                        "i.naturalHeight === 240).length === document.querySelectorAll('.step img').length")
+                .get<bool>(),
+            true);
+  const std::string verdict = b->evaluate("document.getElementById('verdict').textContent");
+  EXPECT_NE(verdict.find("Failure"), std::string::npos) << verdict;
+  EXPECT_NE(verdict.find("Cause: " + failed->cause), std::string::npos) << verdict;
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('.step').length").get<int>(), failed->steps + 1)
+      << "one block per step and the final state";
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('.parsed-key').length").get<int>(), failed->steps);
+  // The goal and the oracle plan appear only when asked for.
+  EXPECT_EQ(b->evaluate("document.getElementById('truth').textContent").get<std::string>(), "");
+  b->evaluate("document.querySelector('#truth').previousElementSibling.querySelector('button').click()");
+  ASSERT_TRUE(b->wait_for("document.getElementById('truth').textContent.includes('Oracle plan')", 10000));
+  b->screenshot(kArtifacts / "episode.png", true);
+
+  // The oracle ran the same task: side by side.
+  ASSERT_TRUE(b->wait_for("document.querySelector('a.compare-link')", 10000));
+  b->evaluate("document.querySelector('a.compare-link').click()");
+  ASSERT_TRUE(b->wait_for("document.querySelectorAll('.compare #verdict').length === 2", 10000));
+  const std::string both = b->evaluate("[...document.querySelectorAll('.compare #verdict')].map((v) => "
+                                       "v.textContent.split(' ')[0]).sort().join(',')");
+  EXPECT_EQ(both, "Failure,Success");
+  b->screenshot(kArtifacts / "compare.png");
+}
+
+TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle"}, 1, 2)), 0) << log_text();
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  auto b = browser();
+  b->navigate("http://127.0.0.1:" + std::to_string(port) + "/");
+  auto status = [&](const std::string& path) {
+    return b->evaluate("fetch('" + path + "').then(async (r) => [r.status, (await r.json()).error || ''])");
+  };
+  EXPECT_EQ(status("/api/runs/nope")[0], 404);
+  EXPECT_EQ(status("/api/runs/run/episodes/99999")[0], 404);
+  const json bad = status("/api/runs/run/episodes?level=two");
+  EXPECT_EQ(bad[0], 400);
+  EXPECT_EQ(bad[1], "query parameter 'level' is not a number: two");
+  EXPECT_EQ(status("/api/runs/run/episodes?success=1")[0], 200);
+
+  // A second viewer on the same port gets one line, not a crash.
+  testing::ChildProcess second({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port",
+                                std::to_string(port)},
+                               (fx_.root() / "view2.log").string());
+  EXPECT_EQ(second.wait(10000), 1);
+  std::ifstream in(fx_.root() / "view2.log");
+  const std::string said((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(said.find("cannot listen on 127.0.0.1:" + std::to_string(port)), std::string::npos) << said;
+  // A folder that is not a run.
+  testing::ChildProcess wrong({testing::bin("mtg"), "view", fx_.root().string()}, (fx_.root() / "view3.log").string());
+  EXPECT_EQ(wrong.wait(10000), 1);
+}
+
+TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
+  // What a person would click: the oracle plan of each task, found by the task's text.
+  std::map<std::string, std::vector<std::string>> plan_of_text;
+  for (const auto& t : tasks::read_tasks(tasks_db_)) plan_of_text[t.text] = t.oracle;
+
+  const int port = 18780 + static_cast<int>(::getpid() % 1000);
+  testing::ChildProcess play({testing::bin("mtg"), "play", "--tasks", tasks_db_, "--levels", "1,2,3", "--limit", "1",
+                              "--out", (fx_.root() / "play").string(), "--data", fx_.root().string(), "--profile",
+                              "none", "--port", std::to_string(port)},
+                             log());
+  auto b = browser();
+  ASSERT_GT(port_in_log(log(), 10000), 0) << log_text();
+  // The human agent's page answers once the run's processes are up.
+  bool loaded = false;
+  for (int i = 0; i < 100 && !loaded; ++i) {
+    try {
+      b->navigate("http://127.0.0.1:" + std::to_string(port) + "/");
+      loaded = b->evaluate("!!document.getElementById('keyform')").get<bool>();
+    } catch (const std::exception&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
+  ASSERT_TRUE(loaded) << log_text();
+
+  int clicks = 0, screenshots = 0;
+  std::set<std::string> attempts;  // "<episode>/<attempt>" seen
+  while (play.running()) {
+    if (!b->wait_for("document.querySelectorAll('.actions button:not([disabled])').length > 0", 2000)) continue;
+    const std::string task = b->evaluate("document.getElementById('task').textContent");
+    ASSERT_TRUE(plan_of_text.count(task)) << "the page shows a task the set does not have: " << task;
+    attempts.insert(b->evaluate("document.getElementById('status').dataset.episode").get<std::string>());
+    const auto step = std::stoul(b->evaluate("document.getElementById('status').dataset.step").get<std::string>());
+    const auto& plan = plan_of_text[task];
+    ASSERT_LT(step, plan.size()) << "more steps than the oracle plan of: " << task;
+    ASSERT_TRUE(b->wait_for("document.querySelectorAll('.obs-images img').length > 0 && "
+                            "[...document.querySelectorAll('.obs-images img')].every((i) => i.complete && "
+                            "i.naturalWidth > 0)", 10000))
+        << "the person sees the images a model sees";
+    if (screenshots++ < 2) b->screenshot(kArtifacts / ("play-" + std::to_string(screenshots) + ".png"), true);
+    const std::string& key = plan[step];
+    ASSERT_TRUE(b->evaluate("(() => { const k = document.querySelector('.actions button[data-key=\"" + key +
+                            "\"]:not([disabled])'); if (!k) return false; k.click(); return true; })()")
+                    .get<bool>())
+        << "key " << key << " is not offered";
+    ++clicks;
+  }
+  EXPECT_EQ(play.wait(60000), 0) << log_text();
+  const auto rows = results("play");
+  ASSERT_EQ(rows.size(), planned("play"));
+  EXPECT_GE(attempts.size(), rows.size());
+  int steps = 0;
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.agent, "human");
+    EXPECT_TRUE(r.success) << r.task_id << ": " << r.cause << " " << r.detail;
+    steps += r.steps;
+  }
+  if (attempts.size() == rows.size()) {
+    EXPECT_EQ(steps, clicks);  // no retried attempt
+  }
+  std::ifstream report(fx_.root() / "play" / "report.json");
+  const json j = json::parse(report);
+  EXPECT_EQ(j["by_agent"]["human"]["sr"], 100.0);
+}
+
+}  // namespace
+}  // namespace mtg
