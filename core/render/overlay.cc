@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
@@ -35,8 +36,8 @@ struct Style {
   int thickness;
 };
 
-Style style_for(const cv::Mat& image) {
-  const double s = std::min(image.cols, image.rows) / 480.0;
+Style style_for(int width, int height) {
+  const double s = std::min(width, height) / 480.0;
   return {std::max(9, static_cast<int>(std::lround(13 * s))), 0.5 * s, std::max(1, static_cast<int>(std::lround(1.6 * s)))};
 }
 
@@ -157,21 +158,71 @@ void draw_items(cv::Mat& image, const Camera& camera, const std::vector<ItemMark
   draw_discs(image, discs, st, true);
 }
 
-void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+// Overview labels never cover each other: each tries its anchor, then points on rings around it
+// (8 directions on the first rings, 16 farther out), and keeps the first box that is inside the
+// image and clear of the labels already placed. A label moved off its anchor gets a dot on the
+// anchor and a leader line, so stacked platforms (shelves, cabinet levels) each get a readable
+// label pointing at the same place. Deterministic: labels are placed in their order (l1, l2, ...).
+std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+  const cv::Rect frame(0, 0, camera.width, camera.height);
+  std::vector<PlacedLabel> placed;
+  auto clear = [&](const cv::Rect& box) {
+    if ((box & frame) != box) return false;
+    const cv::Rect padded(box.x - 1, box.y - 1, box.width + 2, box.height + 2);
+    return std::none_of(placed.begin(), placed.end(),
+                        [&](const PlacedLabel& p) { return (p.box & padded).area() > 0; });
+  };
+  constexpr int kRings = 14;
   for (const LabelMark& l : labels) {
     const auto at = camera.project(l.anchor_W);
-    if (!at) continue;
+    if (!at || !frame.contains(to_cv(*at))) continue;
     int baseline = 0;
     const cv::Size size = cv::getTextSize(l.text, cv::FONT_HERSHEY_SIMPLEX, st.font, st.thickness, &baseline);
-    const cv::Point c = to_cv(*at);
-    const cv::Rect box(c.x - size.width / 2 - 3, c.y - size.height / 2 - 3, size.width + 6, size.height + 6);
-    cv::rectangle(image, box, cv::Scalar(255, 255, 255), cv::FILLED);
-    cv::rectangle(image, box, cv::Scalar(0, 0, 0), 1);
-    centred_text(image, l.text, c, st, cv::Scalar(0, 0, 0));
+    const cv::Point anchor = to_cv(*at);
+    const cv::Size box_size(size.width + 6, size.height + 6);
+    auto box_at = [&](cv::Point c) {
+      return cv::Rect(c.x - box_size.width / 2, c.y - box_size.height / 2, box_size.width, box_size.height);
+    };
+    std::optional<cv::Rect> chosen;
+    for (int ring = 0; ring <= kRings && !chosen; ++ring) {
+      const int directions = ring == 0 ? 1 : (ring < 4 ? 8 : 16);
+      const double step = box_size.height + 2.0;
+      for (int d = 0; d < directions && !chosen; ++d) {
+        // Up first (labels above their platform read best), then clockwise.
+        const double angle = -M_PI / 2 + 2 * M_PI * d / directions;
+        const cv::Point c(anchor.x + static_cast<int>(std::lround(std::cos(angle) * ring * step * 1.4)),
+                          anchor.y + static_cast<int>(std::lround(std::sin(angle) * ring * step)));
+        if (clear(box_at(c))) chosen = box_at(c);
+      }
+    }
+    placed.push_back({l.text, anchor, chosen.value_or(box_at(anchor))});
+  }
+  return placed;
+}
+
+void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+  const std::vector<PlacedLabel> placed = place_labels(camera, labels, st);
+  const cv::Scalar black(0, 0, 0), white(255, 255, 255);
+  for (const PlacedLabel& p : placed) {
+    if (p.box.contains(p.anchor)) continue;
+    const cv::Point near(std::clamp(p.anchor.x, p.box.x, p.box.x + p.box.width - 1),
+                         std::clamp(p.anchor.y, p.box.y, p.box.y + p.box.height - 1));
+    cv::line(image, p.anchor, near, white, 3, cv::LINE_AA);
+    cv::line(image, p.anchor, near, black, 1, cv::LINE_AA);
+    cv::circle(image, p.anchor, 3, black, cv::FILLED, cv::LINE_AA);
+  }
+  for (const PlacedLabel& p : placed) {
+    cv::rectangle(image, p.box, white, cv::FILLED);
+    cv::rectangle(image, p.box, black, 1);
+    centred_text(image, p.text, {p.box.x + p.box.width / 2, p.box.y + p.box.height / 2}, st, black);
   }
 }
 
 }  // namespace
+
+std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels) {
+  return place_labels(camera, labels, style_for(camera.width, camera.height));
+}
 
 cv::Scalar mark_colour(int n) {
   const auto& c = kPalette[static_cast<std::size_t>(std::max(0, n - 1)) % kPalette.size()];
@@ -180,7 +231,7 @@ cv::Scalar mark_colour(int n) {
 
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks) {
   cv::Mat out = image.clone();
-  const Style st = style_for(out);
+  const Style st = style_for(out.cols, out.rows);
   DiscPlacer placer(out, st);
   if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, placer);
   if (!marks.items.empty()) draw_items(out, camera, marks.items, st, placer);

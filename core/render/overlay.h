@@ -5,6 +5,8 @@
 // labels as boxed l<N> keys. Deterministic: a fixed palette and a fixed label-placement order.
 
 #include <opencv2/core.hpp>
+#include <string>
+#include <vector>
 
 #include "core/render/camera.h"
 #include "core/render/marks.h"
@@ -13,6 +15,16 @@ namespace mtg::render {
 
 /// A copy of `image` (8-bit BGR, the camera's size) with `marks` drawn on it.
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks);
+
+/// Where the overview's labels go on the image: each label's box, clear of the others and inside
+/// the image, and the projected anchor it points at (labels whose anchor is out of view are left
+/// out). draw order = placement order = the labels' order, so the result is deterministic.
+struct PlacedLabel {
+  std::string text;
+  cv::Point anchor;
+  cv::Rect box;
+};
+std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels);
 
 /// The colour of mark number `n` (1-based) in the fixed high-contrast palette, BGR.
 cv::Scalar mark_colour(int n);

@@ -247,9 +247,14 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
   cam.orthographic = true;
   const Eigen::Vector2d c = box.center();
   const Eigen::Vector2d half = box.sizes() / 2.0;
-  cam.ortho_half_height = 1.04 * std::max(half.y(), half.x() / cam.aspect());
+  // The scene's long side goes along the image's long side: a tall apartment in a wide image
+  // would otherwise fill ~40 % of it and its labels would crowd. Turned, east is up; no text the
+  // agent reads names a compass direction, and the marks are drawn after the turn.
+  const bool turn = (half.y() > half.x()) != (cam.height > cam.width);
+  const double across = turn ? half.y() : half.x(), along = turn ? half.x() : half.y();
+  cam.ortho_half_height = 1.04 * std::max(along, across / cam.aspect());
   cam.X_WC = look_at(Eigen::Vector3d(c.x(), c.y(), top + 2.0), Eigen::Vector3d(c.x(), c.y(), 0.0),
-                     Eigen::Vector3d::UnitY());
+                     turn ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY());
   cam.near = 0.1;
   cam.far = top + 3.0;
   if (s.held >= 0) plan.hidden.push_back(s.held);

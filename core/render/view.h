@@ -10,7 +10,7 @@
 //   focus     a close-up of one object where it stands, seen from its platform's arrival side,
 //             with every other item faded to 20 % (the paper's task-provided image of an object
 //             that has look-alikes, official-impl-spec §7.4); what it rests on stays solid
-//   topdown   an orthographic overview of the whole scene, north up
+//   topdown   an orthographic overview of the whole scene, its long side along the image's
 
 #include <string>
 #include <vector>

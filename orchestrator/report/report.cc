@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/episode/outcomes.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
@@ -83,6 +84,7 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   std::map<std::string, Acc> by_agent;
   std::map<std::string, std::map<std::string, Acc>> by_agent_level;
   std::map<std::string, std::int64_t> causes, stages;
+  std::map<std::string, std::map<std::string, std::int64_t>> causes_by_agent;
   std::int64_t errors = 0, in_tokens = 0, out_tokens = 0;
   double cost = 0.0;
   std::vector<SankeyFlow> flows;
@@ -99,7 +101,10 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
     by_agent[r.agent].add(r);
     by_agent_level[r.agent][level].add(r);
     stages[r.stage] += 1;
-    if (!r.success) causes[r.cause] += 1;
+    if (!r.success) {
+      causes[r.cause] += 1;
+      causes_by_agent[r.agent][r.cause] += 1;
+    }
     in_tokens += r.usage.input_tokens;
     out_tokens += r.usage.output_tokens;
     cost += r.usage.cost_usd;
@@ -119,6 +124,7 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   for (const auto& [agent, acc] : by_agent) {
     nlohmann::json a = acc.json();
     for (const auto& [l, la] : by_agent_level[agent]) a["by_level"][l] = la.json();
+    a["causes"] = causes_by_agent[agent];
     j["by_agent"][agent] = a;
   }
   j["causes"] = causes;
@@ -166,10 +172,39 @@ std::string report_html(const nlohmann::json& r) {
   }
   h << "</table><p class=note>IP: intermediate points (25 per milestone: source reached, item picked, "
        "destination reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.</p>";
-  h << "<h2>Failure taxonomy</h2><table><tr><th>cause</th><th>episodes</th></tr>";
-  for (const auto& [cause, n] : r["causes"].items()) h << "<tr><td>" << escape(cause) << "</td><td>" << n << "</td></tr>";
-  h << "</table><table><tr><th>stage reached</th><th>episodes</th></tr>";
-  for (const auto& [stage, n] : r["stages"].items()) h << "<tr><td>" << escape(stage) << "</td><td>" << n << "</td></tr>";
+  h << "<h2>Failure taxonomy</h2><table><tr><th>cause</th><th style=\"text-align:left\">meaning</th><th>episodes</th></tr>";
+  std::vector<std::pair<std::string, std::int64_t>> causes;
+  for (const auto& [cause, n] : r["causes"].items()) causes.emplace_back(cause, n.get<std::int64_t>());
+  std::stable_sort(causes.begin(), causes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  for (const auto& [cause, n] : causes) {
+    const auto c = episode::cause_from_string(cause);
+    h << "<tr><td>" << escape(cause) << "</td><td style=\"text-align:left\">" << escape(c ? episode::explain(*c) : "")
+      << "</td><td>" << n << "</td></tr>";
+  }
+  h << "</table>";
+  // Failures per agent: one column per cause, in the order above.
+  if (!causes.empty()) {
+    h << "<table><tr><th>agent</th>";
+    for (const auto& [cause, n] : causes) h << "<th>" << escape(cause) << "</th>";
+    h << "</tr>";
+    for (const auto& [agent, a] : r["by_agent"].items()) {
+      h << "<tr><td>" << escape(agent) << "</td>";
+      for (const auto& [cause, n] : causes) {
+        h << "<td>" << (a.contains("causes") && a["causes"].contains(cause) ? a["causes"][cause].get<std::int64_t>() : 0)
+          << "</td>";
+      }
+      h << "</tr>";
+    }
+    h << "</table>";
+  }
+  // Stages in the order an episode passes them, not alphabetically.
+  h << "<table><tr><th>stage reached</th><th style=\"text-align:left\">meaning</th><th>episodes</th></tr>";
+  for (const episode::Stage stage : episode::kStagesInOrder) {
+    const char* name = episode::to_string(stage);
+    if (!r["stages"].contains(name)) continue;
+    h << "<tr><td>" << name << "</td><td style=\"text-align:left\">" << episode::explain(stage) << "</td><td>"
+      << r["stages"][name] << "</td></tr>";
+  }
   h << "</table>";
   h << "<h2>Failure Sankey: task level &rarr; stage reached &rarr; cause &rarr; outcome</h2>";
   h << sankey_svg(r["sankey"], 1000, 520);
@@ -188,8 +223,12 @@ std::string report_html(const nlohmann::json& r) {
     h << "</table><p class=note>List price: what the answers used would cost at the price table's rates (the "
          "same on a cached rerun). Spent: what this run paid (answers from the response cache cost nothing).</p>";
   }
-  h << "<p class=note>tokens in " << r["tokens"]["input"] << ", out " << r["tokens"]["output"] << "; estimated cost $"
-    << r["cost_usd"] << "</p></body></html>\n";
+  // Built-in agents call no model: a line of zero tokens and $0 would only look like a missing figure.
+  if (r.contains("usage")) {
+    h << "<p class=note>tokens in " << r["tokens"]["input"] << ", out " << r["tokens"]["output"]
+      << "; estimated cost $" << r["cost_usd"] << "</p>";
+  }
+  h << "</body></html>\n";
   return h.str();
 }
 

@@ -121,6 +121,11 @@ json RunView::summary() {
 
 json RunView::overview() {
   const Rows all = rows();
+  {
+    // The report is recomputed only when the results changed (a live page asks every 2 s).
+    const std::lock_guard lock(rows_mutex_);
+    if (overview_rows_ == all) return overview_;
+  }
   json o = summary();
   o["report"] = make_report(*all, plan_summary_["run_id"].get<std::string>());
   o["paper"] = paper_table3();
@@ -132,6 +137,9 @@ json RunView::overview() {
   }
   o["prompt_versions"] = prompt_versions;
   o["model_agents"] = model_agents;
+  const std::lock_guard lock(rows_mutex_);
+  overview_rows_ = all;
+  overview_ = o;
   return o;
 }
 

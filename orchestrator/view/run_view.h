@@ -64,6 +64,8 @@ class RunView {
   std::mutex rows_mutex_;
   std::string rows_stamp_;  // sizes and times of the database files last read
   Rows rows_ = std::make_shared<const std::vector<EpisodeRow>>();
+  Rows overview_rows_;  // the rows overview_ was made from
+  nlohmann::json overview_;
 
   RecordingIndex index_;
   std::atomic<bool> stop_{false};

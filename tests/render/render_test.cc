@@ -16,6 +16,7 @@
 #include "core/util/error.h"
 #include "tests/support/golden_image.h"
 #include "tests/support/graph_fixtures.h"
+#include "core/render/overlay.h"
 #include "tests/support/shipped_data.h"
 
 namespace mtg {
@@ -296,6 +297,34 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
   }
   EXPECT_GT(items, 50);
   EXPECT_EQ(in_frame, items);
+}
+
+TEST(ShippedRender, Apt0OverviewShowsEveryPlatformLabelWithoutOverlapAndFillsTheFrame) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  render::ImageRenderer renderer;
+  const graph::SceneGraph& g = renderer.scenes().load("apt_0", testing::shipped_dataset()->root.string()).graph;
+  const episode::WorldState s = episode::initial_state(g);
+  render::ViewRequest r;
+  r.view = render::ViewKind::kTopdown;
+  r.marks = render::MarkKind::kLabels;
+  const render::ViewPlan plan = render::plan_view(g, s, r);
+  const auto placed = render::place_labels(plan.camera, plan.marks.labels);
+  // Every navigable platform has its label, in the image, covering no other label.
+  ASSERT_EQ(placed.size(), g.navigable.size());
+  const cv::Rect frame(0, 0, 640, 480);
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    EXPECT_EQ(placed[i].box & frame, placed[i].box) << placed[i].text;
+    for (std::size_t j = i + 1; j < placed.size(); ++j) {
+      EXPECT_EQ((placed[i].box & placed[j].box).area(), 0) << placed[i].text << " covers " << placed[j].text;
+    }
+  }
+  // The platforms' anchors span most of the image's long side (the map is turned to fit).
+  int lo = 640, hi = 0;
+  for (const auto& p : placed) {
+    lo = std::min(lo, p.anchor.x);
+    hi = std::max(hi, p.anchor.x);
+  }
+  EXPECT_GT(hi - lo, 0.75 * 640) << "platforms span x " << lo << ".." << hi;
 }
 
 }  // namespace

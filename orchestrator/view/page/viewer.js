@@ -124,6 +124,7 @@ async function showOverview(run) {
   fillCauseWords(run);
   const svg = await api('/api/runs/' + enc(run) + '/sankey.svg');
   sankey.innerHTML = svg;
+  window.mtgSankey = performance.now();
   for (const path of sankey.querySelectorAll('path.flow')) {
     path.addEventListener('click', () => go(run, filterOfNode(path.dataset.target, filterOfNode(path.dataset.source, {}))));
   }
