@@ -51,8 +51,8 @@ int run_play(const PlayOptions& o) {
   r.play_host = o.host;
   r.play_port = o.port;
   r.given = {"--parallel", "--render"};
-  std::printf("play in the browser: http://%s:%d/ (the run is %s; Ctrl-C stops, the same command resumes)\n",
-              o.host.c_str(), o.port, o.out.c_str());
+  // The page's address is printed once the human agent serves it (LocalRuntime::open).
+  std::printf("playing into %s (Ctrl-C stops; the same command resumes)\n", o.out.c_str());
   std::fflush(stdout);
   return run_run(r);
 }

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <fstream>
 #include <thread>
 
@@ -153,6 +154,11 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     names_.push_back("governor");
   }
   wait_ready(names_, 60.0);
+  if (std::find(config_.agents.begin(), config_.agents.end(), agents::kHumanAgent) != config_.agents.end()) {
+    // Now the page answers: say where it is (mtg play).
+    std::printf("play in the browser: http://%s:%d/\n", config_.play_host.c_str(), config_.play_port);
+    std::fflush(stdout);
+  }
   return {};
 }
 
