@@ -40,22 +40,21 @@ AgentHost::~AgentHost() {
 
 void AgentHost::on_start(const mtg::episode_start_t& start) {
   if (start.agent != spec_ || (!run_id_.empty() && start.header.run_id != run_id_)) return;
-  const auto key = std::make_pair(start.header.run_id, start.header.episode_id);
-  const auto it = episodes_.find(key);
-  if (it != episodes_.end() && it->second.start.header.attempt >= start.header.attempt) return;
-  if (it != episodes_.end()) policy_->end(it->second.start);
-  episodes_[key] = Episode{start, -1};
+  if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
+  if (const Episode* older = episodes_.find(Episodes::key_of(start.header)); older != nullptr) {
+    policy_->end(older->start);
+  }
+  episodes_.start(start.header, Episode{0, start, -1});
   policy_->begin(start);
 }
 
 void AgentHost::on_observation(const mtg::observation_t& obs) {
-  const auto key = std::make_pair(obs.header.run_id, obs.header.episode_id);
-  const auto it = episodes_.find(key);
-  if (it == episodes_.end() || it->second.start.header.attempt != obs.header.attempt) return;
-  Episode& e = it->second;
+  Episode* found = episodes_.current(obs.header);
+  if (found == nullptr) return;
+  Episode& e = *found;
   if (obs.done) {
     policy_->end(e.start);
-    episodes_.erase(it);
+    episodes_.erase(Episodes::key_of(obs.header));
     return;
   }
   if (obs.step <= e.last_step) return;  // answered already (a duplicate observation)

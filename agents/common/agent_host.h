@@ -20,6 +20,7 @@
 
 #include "agents/common/policy.h"
 #include "bus/bus.h"
+#include "bus/episode_table.h"
 #include "bus/header.h"
 
 namespace mtg::agents {
@@ -39,6 +40,7 @@ class AgentHost {
 
  private:
   struct Episode {
+    int attempt = 0;  // set by the table
     mtg::episode_start_t start{};
     int last_step = -1;
   };
@@ -60,7 +62,8 @@ class AgentHost {
   std::string spec_;
   std::unique_ptr<Policy> policy_;
   std::string run_id_;
-  std::map<std::pair<std::string, std::int64_t>, Episode> episodes_;
+  using Episodes = bus::EpisodeTable<Episode>;
+  Episodes episodes_;
   bool stop_reported_ = false;
 
   std::mutex mutex_;

@@ -25,11 +25,8 @@ JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache
 }
 
 void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
-  const Key key{start.header.run_id, start.header.episode_id};
-  const auto existing = episodes_.find(key);
-  if (existing != episodes_.end() && existing->second.attempt >= start.header.attempt) return;
+  if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
   Episode e;
-  e.attempt = start.header.attempt;
   e.task_id = start.task.task_id;
   e.agent = start.agent;
   e.level = start.task.level;
@@ -39,16 +36,16 @@ void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_t
     e.judge = std::make_unique<episode::EpisodeJudge>(*e.graph, episode::task_goal_from_json(*e.graph, task.goal),
                                                       task.level);
   } catch (const Error& err) {
-    log::error("episode " + std::to_string(key.second) + ": " + err.what());
+    log::error("episode " + std::to_string(start.header.episode_id) + ": " + err.what());
     return;
   }
-  episodes_[key] = std::move(e);
+  episodes_.start(start.header, std::move(e));
 }
 
 void JudgeHost::on_action(const mtg::agent_action_t& action) {
-  const auto it = episodes_.find({action.header.run_id, action.header.episode_id});
-  if (it == episodes_.end() || it->second.attempt != action.header.attempt) return;
-  Episode& e = it->second;
+  Episode* found = episodes_.current(action.header);
+  if (found == nullptr) return;
+  Episode& e = *found;
   if (e.actions_seen[action.step]) return;
   e.actions_seen[action.step] = true;
   e.usage.add(bus::answer_usage(action), action.provider != "builtin", action.prompt_version);
@@ -56,17 +53,16 @@ void JudgeHost::on_action(const mtg::agent_action_t& action) {
 }
 
 void JudgeHost::on_state(const mtg::state_update_t& m) {
-  const Key key{m.header.run_id, m.header.episode_id};
-  const auto it = episodes_.find(key);
-  if (it == episodes_.end() || it->second.attempt != m.header.attempt) return;
-  Episode& e = it->second;
+  Episode* found = episodes_.current(m.header);
+  if (found == nullptr) return;
+  Episode& e = *found;
   if (e.source.empty()) e.source = m.header.sender;
   if (m.header.sender != e.source) return;  // another scene-graph service's copy
   switch (sequence_.observe(m.header)) {
     case bus::SequenceTracker::Verdict::kDuplicate:
       return;
     case bus::SequenceTracker::Verdict::kGap:
-      finish(key, e, "lost state update(s) before seq " + std::to_string(m.header.seq));
+      finish(m.header, e, "lost state update(s) before seq " + std::to_string(m.header.seq));
       return;
     case bus::SequenceTracker::Verdict::kInOrder:
       break;
@@ -75,28 +71,28 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
   try {
     u = bus::from_message(*e.graph, m);
   } catch (const Error& err) {
-    finish(key, e, err.what());
+    finish(m.header, e, err.what());
     return;
   }
   for (const episode::JudgeEvent& ev : e.judge->observe(u)) {
     mtg::judge_event_t out{};
-    out.header = stamp_.next(key.second, e.attempt, "judge");
-    out.header.run_id = key.first;
+    out.header = stamp_.next(m.header.episode_id, m.header.attempt, "judge");
+    out.header.run_id = m.header.run_id;
     out.step = ev.step;
     out.kind = "milestone";
     out.subtask = static_cast<int8_t>(ev.part);
     out.milestone = static_cast<int8_t>(ev.milestone);
     out.ip = ev.ip;
     out.text = ev.text;
-    bus_.publish(bus::episode_channel(bus::EpisodeStream::kJudge, key.second), out);
+    bus_.publish(bus::episode_channel(bus::EpisodeStream::kJudge, m.header.episode_id), out);
   }
-  if (e.judge->done()) finish(key, e);
+  if (e.judge->done()) finish(m.header, e);
 }
 
-void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_error) {
+void JudgeHost::finish(const mtg::header_t& h, Episode& e, const std::string& transport_error) {
   mtg::episode_result_t r{};
-  r.header = stamp_.next(key.second, e.attempt, "result");
-  r.header.run_id = key.first;
+  r.header = stamp_.next(h.episode_id, h.attempt, "result");
+  r.header.run_id = h.run_id;
   r.task_id = e.task_id;
   r.agent = e.agent;
   r.level = static_cast<int8_t>(e.level);
@@ -109,13 +105,13 @@ void JudgeHost::finish(const Key& key, Episode& e, const std::string& transport_
     r.stage = episode::to_string(episode::Stage::kStart);
     r.cause = episode::to_string(episode::Cause::kTransportError);
     r.detail = transport_error;
-    log::warn("episode " + std::to_string(key.second) + " attempt " + std::to_string(e.attempt) + ": " +
+    log::warn("episode " + std::to_string(h.episode_id) + " attempt " + std::to_string(h.attempt) + ": " +
               transport_error + " (to be retried)");
   }
   bus::set_usage(r, e.usage);
   bus_.publish(bus::kEpisodeResult, r);
-  sequence_.forget_episode(key.first, key.second);
-  episodes_.erase(key);
+  sequence_.forget_episode(h.run_id, h.episode_id);
+  episodes_.erase(EpisodeTable::key_of(h));
 }
 
 }  // namespace mtg::services

@@ -12,6 +12,7 @@
 
 #include "bus/bus.h"
 #include "bus/episode_join.h"
+#include "bus/episode_table.h"
 #include "bus/header.h"
 #include "core/episode/judge.h"
 #include "core/episode/usage.h"
@@ -35,7 +36,7 @@ class JudgeHost {
 
  private:
   struct Episode {
-    int attempt = 0;
+    int attempt = 0;  // set by the table
     std::string task_id;
     std::string agent;
     int level = 0;
@@ -46,15 +47,16 @@ class JudgeHost {
     std::string provider_error;  // the agent's last provider error, for the verdict's detail
     std::map<int, bool> actions_seen;  // step -> counted (duplicates of agent actions ignored)
   };
-  using Key = std::pair<std::string, std::int64_t>;
+  using EpisodeTable = bus::EpisodeTable<Episode>;
 
-  void finish(const Key& key, Episode& e, const std::string& transport_error = "");
+  /// Publishes the verdict of the episode whose message `h` ended it, and forgets it.
+  void finish(const mtg::header_t& h, Episode& e, const std::string& transport_error = "");
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
   graph::SceneCache& scenes_;
   std::string run_id_;
-  std::map<Key, Episode> episodes_;
+  EpisodeTable episodes_;
   bus::SequenceTracker sequence_;  // state updates per (run, sender, episode, attempt)
   bus::EpisodeJoin starts_;
 };

@@ -36,12 +36,11 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneC
 }
 
 void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
-  const Key key{start.header.run_id, start.header.episode_id};
-  const auto existing = episodes_.find(key);
-  if (existing != episodes_.end() && existing->second.attempt >= start.header.attempt) return;  // duplicate
+  if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
+  const Key key = Episodes::key_of(start.header);
+  Episode* started = nullptr;
   try {
     Episode e;
-    e.attempt = start.header.attempt;
     e.task = bus::from_messages(start.task, truth);
     e.graph = &scenes_.get(e.task.scene, start.data_dir);
     e.constraints.protected_objects = episode::task_goal_from_json(*e.graph, e.task.goal).protected_objects();
@@ -51,12 +50,12 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode
     e.data_dir = start.data_dir;
     // The first observation tells which look-alikes the text means (and shows them, with images).
     e.hint = tasks::lookalike_hint(e.task.identify, e.render);
-    episodes_[key] = std::move(e);
+    started = &episodes_.start(start.header, std::move(e));
   } catch (const Error& err) {
     report_error(key, start.header.attempt, err.what());
     return;
   }
-  Episode& e = episodes_[key];
+  Episode& e = *started;
   // Step 0: the initial world for the judge, then the first observation for the agent.
   episode::StateUpdate initial;
   initial.side = -1;
@@ -65,12 +64,11 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode
 }
 
 void EpisodeHost::on_action(const mtg::agent_action_t& action) {
-  const Key key{action.header.run_id, action.header.episode_id};
-  const auto it = episodes_.find(key);
-  if (it == episodes_.end()) return;
-  Episode& e = it->second;
-  if (action.header.attempt != e.attempt || action.step != e.state.steps ||
-      e.state.phase == episode::Phase::kDone || e.awaiting_images) {
+  const Key key = Episodes::key_of(action.header);
+  Episode* found = episodes_.current(action.header);
+  if (found == nullptr) return;
+  Episode& e = *found;
+  if (action.step != e.state.steps || e.state.phase == episode::Phase::kDone || e.awaiting_images) {
     return;  // stale, duplicate or late: never applied twice
   }
   const episode::EpisodeStep step =
@@ -181,11 +179,11 @@ void EpisodeHost::finish_observation(const Key& key, Episode& e) {
 }
 
 void EpisodeHost::on_render_result(const mtg::render_result_t& result) {
-  const Key key{result.header.run_id, result.header.episode_id};
-  const auto it = episodes_.find(key);
-  if (it == episodes_.end()) return;
-  Episode& e = it->second;
-  if (!e.awaiting_images || result.header.attempt != e.attempt || result.request_id != e.request.request_id) {
+  const Key key = Episodes::key_of(result.header);
+  Episode* found = episodes_.current(result.header);
+  if (found == nullptr) return;
+  Episode& e = *found;
+  if (!e.awaiting_images || result.request_id != e.request.request_id) {
     return;  // for another step or attempt, or a second answer to a resent request
   }
   if (result.ok) {
@@ -212,7 +210,7 @@ void EpisodeHost::check_render_timeouts() {
     }
   }
   for (const Key& key : expired) {
-    Episode& e = episodes_.at(key);
+    Episode& e = *episodes_.find(key);
     report_error(key, e.attempt, "no renderer answered for step " + std::to_string(e.request.request_id) +
                                      "; the observation goes without images");
     finish_observation(key, e);

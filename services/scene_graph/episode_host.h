@@ -14,6 +14,7 @@
 
 #include "bus/bus.h"
 #include "bus/episode_join.h"
+#include "bus/episode_table.h"
 #include "bus/header.h"
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
@@ -62,7 +63,7 @@ class EpisodeHost {
 
  private:
   struct Episode {
-    int attempt = 0;
+    int attempt = 0;  // set by the table
     const graph::SceneGraph* graph = nullptr;
     tasks::Task task;
     episode::TaskConstraints constraints;
@@ -78,7 +79,8 @@ class EpisodeHost {
     std::chrono::steady_clock::time_point requested_at;
     bool resent = false;
   };
-  using Key = std::pair<std::string, std::int64_t>;
+  using Episodes = bus::EpisodeTable<Episode>;
+  using Key = Episodes::Key;
 
   /// `step` (null for the initial state) adds how the action was applied.
   void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u,
@@ -95,7 +97,7 @@ class EpisodeHost {
   std::string run_id_;
   FaultInjection faults_;
   ImageOptions images_;
-  std::map<Key, Episode> episodes_;
+  Episodes episodes_;
   bus::EpisodeJoin starts_;
 };
 

@@ -52,7 +52,7 @@ function levelsOf(report) { return Object.keys(report.by_level).sort(); }
 
 function table3(o) {
   const report = o.report;
-  const levels = levelsOf(report).filter((l) => l !== '4');
+  const levels = levelsOf(report);
   const head1 = el('tr', {}, el('th', {class: 'l', rowspan: 2}, 'agent'),
     ...levels.map((l) => el('th', {colspan: 2}, 'Level ' + l)), el('th', {colspan: 2}, 'Avg'), el('th', {rowspan: 2}, 'episodes'));
   const head2 = el('tr', {}, ...[...levels, 'avg'].flatMap(() => [el('th', {}, 'IP'), el('th', {}, 'SR (%)')]));
@@ -65,7 +65,8 @@ function table3(o) {
     t.append(el('tr', {class: 'clickable agent-row', onclick: () => go(o.name, {agent})},
       el('td', {class: 'l'}, agent), ...cells, el('td', {}, fmt(a.ip)), el('td', {}, fmt(a.sr)), el('td', {}, a.episodes)));
   }
-  t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * levels.length + 4}, 'The paper’s Table 3, for reference:')));
+  t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * levels.length + 4},
+    'The paper’s Table 3, for reference (Levels 1–3; its averages cover those three):')));
   for (const p of o.paper) {
     const cells = levels.flatMap((l) => {
       const v = p.by_level[l];
