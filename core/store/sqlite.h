@@ -26,6 +26,8 @@ class Statement {
   Statement& bind(int index, std::int64_t value);
   Statement& bind(int index, double value);
   Statement& bind(int index, std::string_view value);
+  /// Binds bytes as a BLOB (not text: no encoding is implied).
+  Statement& bind_blob(int index, std::string_view bytes);
 
   /// Steps once: true while a row is available.
   bool step();
@@ -36,6 +38,7 @@ class Statement {
   std::int64_t column_int(int index) const;
   double column_double(int index) const;
   std::string column_text(int index) const;
+  std::string column_blob(int index) const;
 
  private:
   Database& db_;

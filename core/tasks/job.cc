@@ -33,7 +33,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     bool done = false;
   };
   std::vector<SceneOutput> outputs(job.scenes.size());
-  TaskDbWriter writer(job.out, job.options, job.jsonl);
+  TaskDbWriter writer(job.out, job.options, job.jsonl, job.jobs);
   GenerationReport report;
   std::vector<Vote> votes;
   std::mutex reporting;

@@ -1,5 +1,6 @@
 #include "core/tasks/task_db.h"
 
+#include <algorithm>
 #include <fstream>
 #include <optional>
 #include <ostream>
@@ -7,12 +8,21 @@
 #include "core/store/sqlite.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/parallel.h"
+#include "core/util/zlib_bytes.h"
 
 namespace mtg::tasks {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr const char* kFormat = "mtg-task-db/2";
+constexpr const char* kFormat = "mtg-task-db/3";
+
+// Tasks are stored 64 to a chunk, as one zlib-compressed JSON array (each element the task's
+// JSONL object): about 110 B a task against 1,470 B as plain columns, since the names, phrases
+// and keys repeat across neighbouring tasks. `tasks` keeps what queries filter on, uncompressed.
+// The view gives each task's JSON back in the stock sqlite3 shell (its sqlar_uncompress); mtg
+// itself reads the chunks.
+constexpr std::size_t kTasksPerChunk = 64;
 
 constexpr const char* kSchema = R"sql(
 CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
@@ -21,24 +31,18 @@ CREATE TABLE tasks (
   scene TEXT NOT NULL,
   level INTEGER NOT NULL,
   type TEXT NOT NULL,
-  text TEXT NOT NULL,
-  item TEXT NOT NULL,
-  source TEXT NOT NULL,
-  destination TEXT NOT NULL,
-  anchors TEXT NOT NULL,
-  direction TEXT NOT NULL,
-  goal_json TEXT NOT NULL,
-  subtasks_json TEXT NOT NULL,
-  oracle_json TEXT NOT NULL,
-  step_limit INTEGER NOT NULL,
-  template_id TEXT NOT NULL,
-  identify_json TEXT NOT NULL,
-  placements_json TEXT NOT NULL,
-  generator_version TEXT NOT NULL,
-  config_hash TEXT NOT NULL,
-  seed INTEGER NOT NULL
+  chunk INTEGER NOT NULL,
+  slot INTEGER NOT NULL
+) WITHOUT ROWID;
+CREATE TABLE task_chunks (
+  chunk INTEGER PRIMARY KEY,
+  size INTEGER NOT NULL,
+  body BLOB NOT NULL
 );
-CREATE INDEX tasks_by_level ON tasks (scene, level);
+CREATE VIEW task_json AS
+  SELECT t.id AS id, t.scene AS scene, t.level AS level, t.type AS type,
+         json_extract(CAST(sqlar_uncompress(c.body, c.size) AS TEXT), '$[' || t.slot || ']') AS task
+  FROM tasks t JOIN task_chunks c ON c.chunk = t.chunk;
 CREATE TABLE votes (
   task_id TEXT NOT NULL REFERENCES tasks (id),
   voter TEXT NOT NULL,
@@ -52,19 +56,6 @@ std::string join(const std::vector<std::string>& v) {
   for (const auto& s : v) out += (out.empty() ? "" : ",") + s;
   return out;
 }
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (!s.empty() && start <= s.size()) {
-    const std::size_t end = s.find(',', start);
-    out.push_back(s.substr(start, end == std::string::npos ? std::string::npos : end - start));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
-}
-
 
 // One line for a database this version cannot use: which file, what it is, what to do.
 void require_format(store::Database& db, const fs::path& file) {
@@ -81,12 +72,6 @@ void require_format(store::Database& db, const fs::path& file) {
   }
 }
 
-nlohmann::json subtasks_of(const Task& t) {
-  if (t.goal.contains("sequence")) return t.goal["sequence"];
-  if (t.goal.contains("outcome")) return t.goal["outcome"]["all"];
-  return nlohmann::json::array();
-}
-
 }  // namespace
 
 nlohmann::json task_to_json(const Task& t) {
@@ -98,10 +83,41 @@ nlohmann::json task_to_json(const Task& t) {
           {"identify", to_json(t.identify)}, {"placements", to_json(t.placements)}};
 }
 
+Task task_from_json(const nlohmann::json& j) {
+  for (const char* key : {"id", "scene", "level", "type", "text", "item", "source", "destination", "anchors",
+                          "direction", "goal", "oracle", "step_limit", "template_id", "identify", "placements"}) {
+    if (!j.contains(key)) throw Error(std::string("task: missing field '") + key + "'");
+  }
+  Task t;
+  try {
+    t.id = j["id"].get<std::string>();
+    t.scene = j["scene"].get<std::string>();
+    t.level = j["level"].get<int>();
+    t.type = j["type"].get<std::string>();
+    t.text = j["text"].get<std::string>();
+    t.item = j["item"].get<std::string>();
+    t.source = j["source"].get<std::string>();
+    t.destination = j["destination"].get<std::string>();
+    t.anchors = j["anchors"].get<std::vector<std::string>>();
+    t.direction = j["direction"].get<std::string>();
+    t.goal = j["goal"];
+    t.oracle = j["oracle"].get<std::vector<std::string>>();
+    t.step_limit = j["step_limit"].get<int>();
+    t.template_id = j["template_id"].get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("task " + j.value("id", std::string("?")) + ": a field has the wrong type (" + e.what() + ")");
+  }
+  t.identify = identifications_from_json(j["identify"]);
+  t.placements = oracle_placements_from_json(j["placements"]);
+  return t;
+}
+
 struct TaskDbWriter::Open {
   store::Database db;
   store::Transaction tx;
-  store::Statement insert;
+  store::Statement insert_task;
+  store::Statement insert_chunk;
+  std::int64_t next_chunk = 0;
   std::vector<std::string> scenes;
   nlohmann::json dropped = nlohmann::json::object();
   std::map<std::string, scene::DatasetFingerprint> dataset;
@@ -111,11 +127,8 @@ struct TaskDbWriter::Open {
   Open(const fs::path& tmp, const TaskOptions& options)
       : db(fresh(tmp), store::Database::Mode::kCreate),
         tx(with_schema(db)),
-        insert(db,
-               "INSERT INTO tasks (id, scene, level, type, text, item, source, destination, anchors, "
-               "direction, goal_json, subtasks_json, oracle_json, step_limit, template_id, "
-               "identify_json, placements_json, generator_version, config_hash, seed) "
-               "VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)"),
+        insert_task(db, "INSERT INTO tasks (id, scene, level, type, chunk, slot) VALUES (?,?,?,?,?,?)"),
+        insert_chunk(db, "INSERT INTO task_chunks (chunk, size, body) VALUES (?,?,?)"),
         hash(options.config_hash()) {}
 
   // A stale .partial of an interrupted run goes first; the schema goes in before the transaction.
@@ -129,8 +142,12 @@ struct TaskDbWriter::Open {
   }
 };
 
-TaskDbWriter::TaskDbWriter(const fs::path& file, const TaskOptions& options, const fs::path& jsonl)
-    : file_(file), jsonl_(jsonl), options_(options), open_(std::make_unique<Open>(partial_path(file), options)) {
+TaskDbWriter::TaskDbWriter(const fs::path& file, const TaskOptions& options, const fs::path& jsonl, int jobs)
+    : file_(file),
+      jsonl_(jsonl),
+      options_(options),
+      jobs_(jobs),
+      open_(std::make_unique<Open>(partial_path(file), options)) {
   if (!jsonl_.empty()) {
     open_->jsonl.open(partial_path(jsonl_), std::ios::binary | std::ios::trunc);
     if (!open_->jsonl) throw Error(jsonl_.string() + ": cannot write");
@@ -150,17 +167,39 @@ void TaskDbWriter::add(const TaskSet& set) {
   o.scenes.push_back(set.scene);
   o.dropped[set.scene] = set.dropped.to_json();
   o.dataset[set.scene] = set.dataset;
-  for (const Task& t : set.tasks) {
-    store::Statement& insert = o.insert;
-    insert.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type).bind(5, t.text);
-    insert.bind(6, t.item).bind(7, t.source).bind(8, t.destination).bind(9, join(t.anchors));
-    insert.bind(10, t.direction).bind(11, t.goal.dump()).bind(12, subtasks_of(t).dump());
-    insert.bind(13, nlohmann::json(t.oracle).dump()).bind(14, std::int64_t{t.step_limit});
-    insert.bind(15, t.template_id).bind(16, to_json(t.identify).dump()).bind(17, to_json(t.placements).dump());
-    insert.bind(18, std::string(kGeneratorVersion)).bind(19, o.hash);
-    insert.bind(20, static_cast<std::int64_t>(options_.seed));
-    insert.run();
-    if (o.jsonl.is_open()) o.jsonl << task_to_json(t).dump() << '\n';
+  // A set's chunks are made on the writer's threads (each alone, so the bytes do not depend on
+  // how many), then go in in order; a chunk never spans two sets.
+  struct Chunk {
+    std::vector<std::string> lines;  // each task's JSON
+    std::string json;                // the array of them, uncompressed
+    std::string body;                // what is stored
+  };
+  std::vector<Chunk> chunks((set.tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk);
+  parallel_for(chunks.size(), jobs_, [&](std::size_t c) {
+    Chunk& chunk = chunks[c];
+    const std::size_t end = std::min(set.tasks.size(), (c + 1) * kTasksPerChunk);
+    for (std::size_t i = c * kTasksPerChunk; i < end; ++i) chunk.lines.push_back(task_to_json(set.tasks[i]).dump());
+    std::string& json = chunk.json;
+    json = "[";
+    for (const std::string& line : chunk.lines) json += (json.size() > 1 ? "," : "") + line;
+    json += ']';
+    chunks[c].body = zlib_compress(json);
+    // sqlar's convention: a body as long as the text is the text itself.
+    if (chunks[c].body.size() >= json.size()) chunks[c].body = json;
+  });
+  for (std::size_t c = 0; c < chunks.size(); ++c) {
+    const std::int64_t chunk = o.next_chunk++;
+    o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(chunks[c].json.size()));
+    o.insert_chunk.bind_blob(3, chunks[c].body).run();
+    const std::size_t end = std::min(set.tasks.size(), (c + 1) * kTasksPerChunk);
+    for (std::size_t i = c * kTasksPerChunk; i < end; ++i) {
+      const Task& t = set.tasks[i];
+      o.insert_task.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type);
+      o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(i - c * kTasksPerChunk)).run();
+    }
+    if (o.jsonl.is_open()) {
+      for (const std::string& line : chunks[c].lines) o.jsonl << line << '\n';
+    }
   }
   if (o.jsonl.is_open() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");
 }
@@ -201,37 +240,39 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
-  store::Statement q(db,
-                     "SELECT id, scene, level, type, text, item, source, destination, anchors, direction, "
-                     "goal_json, oracle_json, step_limit, template_id, identify_json, placements_json "
-                     "FROM tasks ORDER BY id");
+  store::Statement q(db, "SELECT id, level, chunk, slot FROM tasks ORDER BY id");
+  store::Statement body(db, "SELECT size, body FROM task_chunks WHERE chunk = ?");
+  // Ids run through a set's chunks in order, so one chunk at hand decompresses each once.
+  std::int64_t open_chunk = -1;
+  nlohmann::json chunk_tasks;
   std::vector<Task> out;
   while (q.step()) {
-    Task t;
-    t.level = static_cast<int>(q.column_int(2));
-    if (!levels.empty() && levels.count(t.level) == 0) continue;
-    t.id = q.column_text(0);
-    t.scene = q.column_text(1);
-    t.type = q.column_text(3);
-    t.text = q.column_text(4);
-    t.item = q.column_text(5);
-    t.source = q.column_text(6);
-    t.destination = q.column_text(7);
-    t.anchors = split(q.column_text(8));
-    t.direction = q.column_text(9);
+    if (!levels.empty() && levels.count(static_cast<int>(q.column_int(1))) == 0) continue;
+    const std::string id = q.column_text(0);
+    const std::int64_t chunk = q.column_int(2);
+    const std::int64_t slot = q.column_int(3);
     try {
-      t.goal = nlohmann::json::parse(q.column_text(10));
-      t.oracle = nlohmann::json::parse(q.column_text(11)).get<std::vector<std::string>>();
-      t.identify = identifications_from_json(nlohmann::json::parse(q.column_text(14)));
-      t.placements = oracle_placements_from_json(nlohmann::json::parse(q.column_text(15)));
+      if (chunk != open_chunk) {
+        body.reset();
+        body.bind(1, chunk);
+        if (!body.step()) throw Error("chunk " + std::to_string(chunk) + " is missing");
+        const auto size = static_cast<std::size_t>(body.column_int(0));
+        const std::string stored = body.column_blob(1);
+        chunk_tasks = nlohmann::json::parse(stored.size() == size ? stored : zlib_uncompress(stored, size));
+        open_chunk = chunk;
+      }
+      if (!chunk_tasks.is_array() || slot < 0 || static_cast<std::size_t>(slot) >= chunk_tasks.size()) {
+        throw Error("chunk " + std::to_string(chunk) + " has no slot " + std::to_string(slot));
+      }
+      Task t = task_from_json(chunk_tasks[static_cast<std::size_t>(slot)]);
+      if (t.id != id) throw Error("chunk " + std::to_string(chunk) + " slot " + std::to_string(slot) + " holds " + t.id);
+      out.push_back(std::move(t));
     } catch (const nlohmann::json::exception&) {
-      throw Error(file.string() + ": task " + t.id + ": malformed goal_json, oracle_json, identify_json or placements_json");
+      open_chunk = -1;
+      throw Error(file.string() + ": task " + id + ": chunk " + std::to_string(chunk) + " is not JSON");
     } catch (const Error& e) {
-      throw Error(file.string() + ": task " + t.id + ": " + e.what());
+      throw Error(file.string() + ": task " + id + ": " + e.what());
     }
-    t.step_limit = static_cast<int>(q.column_int(12));
-    t.template_id = q.column_text(13);
-    out.push_back(std::move(t));
   }
   return out;
 }

@@ -19,10 +19,12 @@ namespace mtg::tasks {
 /// Writes a task database set by set, so that a job over many scenes need not hold every set:
 /// each set's rows go in when it is added, the metadata and votes at finish(), and the file
 /// appears (renamed from `<file>.partial`) only then. Without finish() nothing is left behind.
-/// With `jsonl` not empty, the same tasks also go there, one per line, keys sorted.
+/// With `jsonl` not empty, the same tasks also go there, one per line, keys sorted. Chunks are
+/// compressed on up to `jobs` threads; the bytes written do not depend on it.
 class TaskDbWriter {
  public:
-  TaskDbWriter(const std::filesystem::path& file, const TaskOptions& options, const std::filesystem::path& jsonl = {});
+  TaskDbWriter(const std::filesystem::path& file, const TaskOptions& options, const std::filesystem::path& jsonl = {},
+               int jobs = 1);
   ~TaskDbWriter();
   TaskDbWriter(const TaskDbWriter&) = delete;
   TaskDbWriter& operator=(const TaskDbWriter&) = delete;
@@ -36,6 +38,7 @@ class TaskDbWriter {
   struct Open;
   std::filesystem::path file_, jsonl_;
   TaskOptions options_;
+  int jobs_ = 1;
   std::unique_ptr<Open> open_;
 };
 
@@ -45,7 +48,10 @@ void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>
                    const std::vector<Vote>& votes, const TaskOptions& options,
                    const std::filesystem::path& jsonl = {});
 
+/// A task as one JSON object (a JSONL line, an element of a database chunk), and back.
 nlohmann::json task_to_json(const Task& task);
+/// @throws mtg::Error naming the missing or mistyped field.
+Task task_from_json(const nlohmann::json& j);
 
 /// Tasks of the database, optionally only some levels, in id order.
 /// @throws mtg::Error if the file is missing or is not a task database.

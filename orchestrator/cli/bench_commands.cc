@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <vector>
 
 #include "core/graph/build.h"
@@ -134,6 +135,9 @@ int run_bench_tasks(const BenchTasksOptions& options) {
   }
   std::printf("  all four levels, %zu apartments: %ld tasks in %.1f s (database written), peak RSS %.0f MiB\n",
               options.scenes.size(), static_cast<long>(report.total), report.seconds, peak_rss_mib());
+  const auto bytes = std::filesystem::file_size(options.out);
+  std::printf("  task database: %.1f MB, %.0f B per task\n", static_cast<double>(bytes) / 1e6,
+              static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, report.total)));
   return 0;
 }
 

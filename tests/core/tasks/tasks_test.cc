@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -16,12 +18,14 @@
 #include "core/tasks/outcome.h"
 #include "core/tasks/task_db.h"
 #include "core/tasks/validate.h"
+#include "core/store/sqlite.h"
 #include "core/util/error.h"
 #include "tests/support/graph_fixtures.h"
 
 namespace mtg::tasks {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 namespace fs = std::filesystem;
 
@@ -242,6 +246,47 @@ TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
   EXPECT_GT(stats["levels"]["3"].get<int>(), 0);
   EXPECT_EQ(read_tasks(db).size(), r.set.tasks.size());
   EXPECT_EQ(read_tasks(db, {3}).size(), static_cast<std::size_t>(stats["levels"]["3"].get<int>()));
+}
+
+// The database keeps every field of every task (compressed 64 to a chunk), gives them back in id
+// order, says which task a damaged chunk holds, and the stock sqlite3 shell reads them too.
+TEST(TaskGeneration, TheDatabaseGivesBackEveryTaskAndTheShellReadsItToo) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  TaskOptions o = small_options();
+  o.level3_count = 150;  // several chunks
+  const auto r = generate_tasks(b.graph, o);
+  const fs::path db = fx.root() / "t.sqlite";
+  write_task_db(db, {r.set}, r.votes, o);
+  std::vector<Task> written = r.set.tasks;
+  std::sort(written.begin(), written.end(), [](const Task& x, const Task& y) { return x.id < y.id; });
+  const std::vector<Task> read = read_tasks(db);
+  ASSERT_EQ(read.size(), written.size());
+  ASSERT_GT(read.size(), 128u);
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    ASSERT_EQ(task_to_json(read[i]).dump(), task_to_json(written[i]).dump()) << written[i].id;
+  }
+
+  // The shell: the view's JSON is the task's.
+  const Task& last = written.back();
+  const std::string query = "sqlite3 '" + db.string() + "' \"SELECT task FROM task_json WHERE id = '" + last.id + "'\"";
+  if (FILE* pipe = popen(query.c_str(), "r"); pipe != nullptr) {
+    std::string out;
+    char buf[4096];
+    while (const std::size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+    ASSERT_EQ(pclose(pipe), 0) << "sqlite3 (scripts/install-deps installs it) failed: " << query;
+    EXPECT_EQ(nlohmann::json::parse(out), task_to_json(last));
+  }
+
+  // A damaged chunk: one line naming the file and the task.
+  {
+    store::Database rw(db, store::Database::Mode::kReadWrite);
+    rw.exec("UPDATE task_chunks SET body = x'789c0000' WHERE chunk = (SELECT chunk FROM tasks WHERE id = '" + last.id +
+            "')");
+  }
+  EXPECT_THAT([&] { read_tasks(db); },
+              ::testing::ThrowsMessage<Error>(AllOf(HasSubstr(db.string()), HasSubstr("damaged stream"))));
+  EXPECT_NO_THROW(read_tasks(db, {1}));  // the last chunk holds Level 3 tasks only
 }
 
 TEST(TaskGeneration, BadInputIsRejectedWithTheNameOfWhatIsWrong) {
