@@ -12,7 +12,8 @@
 
 namespace mtg::bus {
 
-inline constexpr std::int32_t kSchemaVersion = 1;
+// 2: render requests carry the observation, and the renderer publishes it (images once).
+inline constexpr std::int32_t kSchemaVersion = 2;
 
 /// Whether a message with this header was written by a build of this schema (a message of another
 /// schema may decode and still mean something else).

@@ -25,6 +25,15 @@ void RenderHost::on_request(const mtg::render_request_t& request) {
     out.ok = true;
     out.triangles = reply.triangles;
     for (const render::EncodedImage& e : reply.images) out.images.push_back(bus::to_message(e));
+    if (request.with_observation) {
+      // The images go to the agent in the observation, and nowhere else.
+      mtg::observation_t obs = request.observation;
+      obs.images = std::move(out.images);
+      obs.n_images = static_cast<int32_t>(obs.images.size());
+      out.images.clear();
+      out.images_published = obs.n_images;
+      bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, obs.header.episode_id), obs);
+    }
   } catch (const std::exception& e) {
     out.ok = false;
     out.error = e.what();

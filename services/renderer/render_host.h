@@ -1,7 +1,9 @@
 #pragma once
 // The renderer process's bus side: every render_request_t of its run becomes one
-// render_result_t with the encoded images, or with ok == false and a one-line error. A bad
-// request never stops the process; the next one is served as usual.
+// render_result_t with the encoded images, or with ok == false and a one-line error. A request
+// that carries its observation gets the images in that observation, which the renderer
+// publishes before the result (then without images). A bad request never stops the process;
+// the next one is served as usual.
 
 #include <string>
 

@@ -68,6 +68,11 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
   Episode* found = episodes_.current(action.header);
   if (found == nullptr) return;
   Episode& e = *found;
+  if (e.awaiting_images && action.step == e.state.steps && e.state.phase != episode::Phase::kDone) {
+    // An answer to this step: the renderer's observation reached the agent before its reply
+    // reached us, so the observation is out.
+    finish_observation(key, e, true);
+  }
   if (action.step != e.state.steps || e.state.phase == episode::Phase::kDone || e.awaiting_images) {
     return;  // stale, duplicate or late: never applied twice
   }
@@ -161,16 +166,21 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   r.min_region_size = e.rules.min_region_size;
   for (const render::ViewRequest& v : views) r.views.push_back(bus::to_message(g, v));
   r.n_views = static_cast<int32_t>(r.views.size());
+  // The renderer publishes the observation with its images: each image crosses the bus once.
+  r.with_observation = true;
+  r.observation = e.pending;
   e.awaiting_images = true;
   e.resent = false;
   e.requested_at = std::chrono::steady_clock::now();
   bus_.publish(bus::kRenderRequest, r);
 }
 
-void EpisodeHost::finish_observation(const Key& key, Episode& e) {
+void EpisodeHost::finish_observation(const Key& key, Episode& e, bool published) {
   e.awaiting_images = false;
-  e.pending.n_images = static_cast<int32_t>(e.pending.images.size());
-  bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, key.second), e.pending);
+  if (!published) {
+    e.pending.n_images = static_cast<int32_t>(e.pending.images.size());
+    bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, key.second), e.pending);
+  }
   if (e.pending.done) {
     episodes_.erase(key);  // the judge has what it needs; free the world
     return;
@@ -186,12 +196,11 @@ void EpisodeHost::on_render_result(const mtg::render_result_t& result) {
   if (!e.awaiting_images || result.request_id != e.request.request_id) {
     return;  // for another step or attempt, or a second answer to a resent request
   }
-  if (result.ok) {
-    e.pending.images = result.images;
-  } else {
+  if (!result.ok) {
     report_error(key, e.attempt, "no images for step " + std::to_string(result.request_id) + ": " + result.error);
   }
-  finish_observation(key, e);
+  // Done right, the renderer published the observation with its images before this reply.
+  finish_observation(key, e, result.ok);
 }
 
 void EpisodeHost::check_render_timeouts() {

@@ -86,9 +86,10 @@ class EpisodeHost {
   void publish_state(const Key& key, Episode& e, const episode::StateUpdate& u,
                      const episode::EpisodeStep* step = nullptr);
   void publish_observation(const Key& key, Episode& e);
-  /// Sends the observation now, or asks the renderer first and sends it when the images arrive.
+  /// Sends the observation now, or asks the renderer to send it with the images.
   void send_observation(const Key& key, Episode& e, mtg::observation_t obs);
-  void finish_observation(const Key& key, Episode& e);
+  /// The step's observation is out: sent here unless the renderer `published` it.
+  void finish_observation(const Key& key, Episode& e, bool published = false);
   void report_error(const Key& key, int attempt, const std::string& message);
 
   bus::Bus& bus_;

@@ -129,8 +129,15 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
 
-  int observations = 0, with_images = 0, marked = 0;
+  int observations = 0, with_images = 0, marked = 0, published = 0;
   bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
+    if (ev.channel == bus::kRenderResult) {  // each image once: in the observation, not here too
+      mtg::render_result_t result{};
+      ASSERT_GE(result.decode(ev.data, 0, ev.datalen), 0);
+      EXPECT_EQ(result.n_images, 0);
+      published += result.images_published;
+      return;
+    }
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
     mtg::observation_t obs{};
     ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
@@ -151,6 +158,7 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   EXPECT_GT(observations, 6);
   EXPECT_EQ(with_images, observations - 3);
   EXPECT_GE(marked, with_images);
+  EXPECT_GE(published, 2 * with_images);
 }
 
 // Look-alikes are shown, not only named: the first observation of a task about one of three

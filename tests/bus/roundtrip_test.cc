@@ -144,11 +144,16 @@ class RoundTrip {
     rreq.views[0].side = 2;
     rreq.width = 640;
     rreq.height = 480;
+    rreq.with_observation = true;
+    rreq.observation = obs;
+    rreq.observation.images.clear();
+    rreq.observation.n_images = 0;
     check("T_RENDER_REQ", rreq);
 
     mtg::render_result_t rres{};
     rres.request_id = 9;
     rres.ok = true;
+    rres.images_published = 3;
     rres.n_images = 2;
     rres.images = {sample_image(10), sample_image(20)};
     check("T_RENDER_RES", rres);
