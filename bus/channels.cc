@@ -1,30 +1,17 @@
 #include "bus/channels.h"
 
 namespace mtg::bus {
-namespace {
 
-const char* prefix(EpisodeStream stream) {
+const char* episode_channel(EpisodeStream stream) {
   switch (stream) {
-    case EpisodeStream::kObservation: return "MTG_OBS_E";
-    case EpisodeStream::kAction: return "MTG_ACT_E";
-    case EpisodeStream::kState: return "MTG_STATE_E";
-    case EpisodeStream::kJudge: return "MTG_JUDGE_E";
+    case EpisodeStream::kObservation: return "MTG_OBS";
+    case EpisodeStream::kAction: return "MTG_ACT";
+    case EpisodeStream::kState: return "MTG_STATE";
+    case EpisodeStream::kJudge: return "MTG_JUDGE";
   }
-  return "MTG_UNKNOWN_E";
+  return "MTG_UNKNOWN";
 }
 
-}  // namespace
-
-std::string episode_channel(EpisodeStream stream, std::int64_t episode_id) {
-  return prefix(stream) + std::to_string(episode_id);
-}
-
-std::string episode_channel_regex(EpisodeStream stream) {
-  return std::string(prefix(stream)) + "[0-9]+";
-}
-
-bool is_episode_channel(const std::string& channel, EpisodeStream stream) {
-  return channel.rfind(prefix(stream), 0) == 0;
-}
+bool is_episode_channel(const std::string& channel, EpisodeStream stream) { return channel == episode_channel(stream); }
 
 }  // namespace mtg::bus

@@ -1,7 +1,6 @@
 #pragma once
-// Channel names (DESIGN.md §4): MTG_<TOPIC>, per-episode streams end in E<episode id>.
+// Channel names (DESIGN.md §4): MTG_<TOPIC>.
 
-#include <cstdint>
 #include <string>
 
 namespace mtg::bus {
@@ -26,14 +25,13 @@ inline constexpr const char* kSceneSummary = "MTG_SCENE_SUMMARY";
 inline constexpr const char* kTaskSetRequest = "MTG_TASKSET_REQ";
 inline constexpr const char* kTaskSetSummary = "MTG_TASKSET_SUMMARY";
 
-/// Per-episode streams.
+/// Per-episode streams: one fixed channel each, the episode in the header (docs/bus.md
+/// "Channels" says why not one channel per episode).
 enum class EpisodeStream { kObservation, kAction, kState, kJudge };
 
-/// e.g. episode_channel(kObservation, 12) == "MTG_OBS_E12".
-std::string episode_channel(EpisodeStream stream, std::int64_t episode_id);
-/// Regex matching that stream for every episode, e.g. "MTG_OBS_E[0-9]+".
-std::string episode_channel_regex(EpisodeStream stream);
-/// Whether `channel` is one episode's channel of that stream (e.g. "MTG_ACT_E7" for kAction).
+/// e.g. episode_channel(kObservation) == "MTG_OBS".
+const char* episode_channel(EpisodeStream stream);
+/// Whether `channel` is that stream's channel.
 bool is_episode_channel(const std::string& channel, EpisodeStream stream);
 
 }  // namespace mtg::bus

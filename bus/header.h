@@ -12,7 +12,8 @@
 
 namespace mtg::bus {
 
-// 2: render requests carry the observation, and the renderer publishes it (images once).
+// 2: render requests carry the observation, and the renderer publishes it (images once); the
+// per-episode streams have one channel each (MTG_OBS, not MTG_OBS_E<n>).
 inline constexpr std::int32_t kSchemaVersion = 2;
 
 /// Whether a message with this header was written by a build of this schema (a message of another

@@ -17,7 +17,7 @@ AgentHost::AgentHost(bus::Bus& bus, bus::HeaderStamper& stamp, std::string agent
     : bus_(bus), stamp_(stamp), spec_(std::move(agent_spec)), policy_(std::move(policy)), run_id_(std::move(run_id)) {
   bus_.subscribe<mtg::episode_start_t>(bus::kEpisodeStart,
                                        [this](const std::string&, const mtg::episode_start_t& m) { on_start(m); });
-  bus_.subscribe<mtg::observation_t>(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
+  bus_.subscribe<mtg::observation_t>(bus::episode_channel(bus::EpisodeStream::kObservation),
                                      [this](const std::string&, const mtg::observation_t& m) { on_observation(m); });
   // Answers reach only a policy that plays them (the built-in oracle): no model adapter ever
   // subscribes to them.
@@ -127,7 +127,7 @@ void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) 
   a.model = reply.model;
   bus::set_usage(a, reply.usage);
   a.prompt_version = reply.prompt_version;
-  bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction, obs.header.episode_id), a);
+  bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction), a);
 }
 
 }  // namespace mtg::agents

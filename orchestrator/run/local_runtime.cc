@@ -69,7 +69,7 @@ void LocalRuntime::subscribe() {
   });
   // Liveness for the episode time-out: one state update per step suffices, and every stream
   // subscribed to costs this process a wake-up per message.
-  bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
+  bus_.subscribe<mtg::state_update_t>(bus::episode_channel(bus::EpisodeStream::kState),
                                       [this](const std::string&, const mtg::state_update_t& m) { touch(m.header); });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
     if (m.header.run_id != config_.run_id || sink_ == nullptr) return;

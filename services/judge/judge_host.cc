@@ -14,11 +14,11 @@ JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache
     : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)),
       starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
   auto mine = [this](const mtg::header_t& h) { return run_id_.empty() || h.run_id == run_id_; };
-  bus_.subscribe<mtg::state_update_t>(bus::episode_channel_regex(bus::EpisodeStream::kState),
+  bus_.subscribe<mtg::state_update_t>(bus::episode_channel(bus::EpisodeStream::kState),
                                       [this, mine](const std::string&, const mtg::state_update_t& m) {
                                         if (mine(m.header)) on_state(m);
                                       });
-  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel_regex(bus::EpisodeStream::kAction),
+  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel(bus::EpisodeStream::kAction),
                                       [this, mine](const std::string&, const mtg::agent_action_t& m) {
                                         if (mine(m.header)) on_action(m);
                                       });
@@ -84,7 +84,7 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
     out.milestone = static_cast<int8_t>(ev.milestone);
     out.ip = ev.ip;
     out.text = ev.text;
-    bus_.publish(bus::episode_channel(bus::EpisodeStream::kJudge, m.header.episode_id), out);
+    bus_.publish(bus::episode_channel(bus::EpisodeStream::kJudge), out);
   }
   if (e.judge->done()) finish(m.header, e);
 }

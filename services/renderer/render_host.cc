@@ -32,7 +32,7 @@ void RenderHost::on_request(const mtg::render_request_t& request) {
       obs.n_images = static_cast<int32_t>(obs.images.size());
       out.images.clear();
       out.images_published = obs.n_images;
-      bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, obs.header.episode_id), obs);
+      bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), obs);
     }
   } catch (const std::exception& e) {
     out.ok = false;

@@ -26,7 +26,7 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneC
                          FaultInjection faults, ImageOptions images)
     : bus_(bus), stamp_(stamp), scenes_(scenes), run_id_(std::move(run_id)), faults_(faults), images_(std::move(images)),
       starts_(bus, run_id_, [this](const mtg::episode_start_t& s, const mtg::episode_truth_t& t) { on_start(s, t); }) {
-  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel_regex(bus::EpisodeStream::kAction),
+  bus_.subscribe<mtg::agent_action_t>(bus::episode_channel(bus::EpisodeStream::kAction),
                                       [this](const std::string&, const mtg::agent_action_t& m) {
                                         if (run_id_.empty() || m.header.run_id == run_id_) on_action(m);
                                       });
@@ -93,7 +93,7 @@ void EpisodeHost::publish_state(const Key& key, Episode& e, const episode::State
   }
   m.header = stamp_.next(key.second, e.attempt, "state");
   m.header.run_id = key.first;
-  const std::string channel = bus::episode_channel(bus::EpisodeStream::kState, key.second);
+  const std::string channel = bus::episode_channel(bus::EpisodeStream::kState);
   const bool first_attempt = e.attempt == 0;
   if (first_attempt && u.step == faults_.drop_state_step && !u.key.empty()) {
     log::warn("fault injection: dropping the state update of step " + std::to_string(u.step));
@@ -179,7 +179,7 @@ void EpisodeHost::finish_observation(const Key& key, Episode& e, bool published)
   e.awaiting_images = false;
   if (!published) {
     e.pending.n_images = static_cast<int32_t>(e.pending.images.size());
-    bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation, key.second), e.pending);
+    bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), e.pending);
   }
   if (e.pending.done) {
     episodes_.erase(key);  // the judge has what it needs; free the world

@@ -173,7 +173,7 @@ TEST_F(IsolationTest, AgentsNeverReceiveTheAnswers) {
     ++starts;
     inspect(c, b);
   });
-  bus.subscribe_raw(bus::episode_channel_regex(bus::EpisodeStream::kObservation),
+  bus.subscribe_raw(bus::episode_channel(bus::EpisodeStream::kObservation),
                     [&](const std::string& c, std::span<const std::uint8_t> b, std::int64_t) {
                       ++observations;
                       inspect(c, b);

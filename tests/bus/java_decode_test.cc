@@ -91,8 +91,8 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     obs.n_actions = 1;
     obs.images = {image};
     obs.n_images = 1;
-    w.add("MTG_OBS_E7", obs);
-    w.add("MTG_ACT_E7", with_header<mtg::agent_action_t>());
+    w.add("MTG_OBS", obs);
+    w.add("MTG_ACT", with_header<mtg::agent_action_t>());
     mtg::object_placement_t placed{};
     placed.object = "cube";
     placed.footprint_x = {0.0, 1.0, 1.0};
@@ -101,8 +101,8 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     auto state = with_header<mtg::state_update_t>();
     state.moved = {placed};
     state.n_moved = 1;
-    w.add("MTG_STATE_E7", state);
-    w.add("MTG_JUDGE_E7", with_header<mtg::judge_event_t>());
+    w.add("MTG_STATE", state);
+    w.add("MTG_JUDGE", with_header<mtg::judge_event_t>());
     auto start = with_header<mtg::episode_start_t>();
     start.task.task_id = "fixture/L1/000001";
     w.add("MTG_EPISODE_START", start);
@@ -152,7 +152,7 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(status, 0) << text;
   EXPECT_NE(text.find("ALL 27 types decoded"), std::string::npos) << text;
-  EXPECT_NE(text.find("DECODED observation_t MTG_OBS_E7 run=java-check"), std::string::npos) << text;
+  EXPECT_NE(text.find("DECODED observation_t MTG_OBS run=java-check"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED record_chunk_t MTG_RECORD run=java-check"), std::string::npos) << text;
 }
 
