@@ -49,11 +49,11 @@ mtg::episode_truth_t truth_message(const tasks::Task& t) {
   return m;
 }
 
-tasks::Task from_messages(const mtg::task_t& m, const mtg::episode_truth_t& truth) {
+EpisodeTask from_messages(const mtg::task_t& m, const mtg::episode_truth_t& truth) {
   if (truth.task_id != m.task_id) {
     throw Error("episode truth for task " + truth.task_id + " does not belong to task " + m.task_id);
   }
-  tasks::Task t;
+  EpisodeTask t;
   t.id = m.task_id;
   t.scene = m.scene;
   t.level = m.level;

@@ -2,7 +2,9 @@
 // Conversions between the core types and the mtg message types. core/ never sees LCM; the
 // services call these at their edges. Objects and platforms travel by name.
 
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/episode/judge.h"
 #include "core/episode/rules.h"
@@ -28,9 +30,22 @@ namespace mtg::bus {
 mtg::task_t to_message(const tasks::Task& task);
 /// What only the judge, the scene-graph service and the oracle see (header left to the caller).
 mtg::episode_truth_t truth_message(const tasks::Task& task);
-/// The whole task again, from both halves. @throws mtg::Error naming the task when the truth
-/// belongs to another task or its JSON does not parse.
-tasks::Task from_messages(const mtg::task_t& task, const mtg::episode_truth_t& truth);
+/// What an episode's two halves say of its task: the public half (task_t) and the truth
+/// (episode_truth_t). Deliberately not a tasks::Task: the bus carries no oracle placements,
+/// template or summary fields, and a Task with those left empty would look whole.
+struct EpisodeTask {
+  std::string id;
+  std::string scene;
+  int level = 0;
+  std::string type;
+  std::string text;
+  nlohmann::json goal;                            // as in the task database (docs/tasks.md)
+  std::vector<std::string> oracle;                // the plan's keys
+  std::vector<tasks::Identification> identify;   // look-alikes and how the text names them
+};
+/// @throws mtg::Error naming the task when the truth belongs to another task or its JSON does
+/// not parse.
+EpisodeTask from_messages(const mtg::task_t& task, const mtg::episode_truth_t& truth);
 
 /// @throws mtg::Error naming an object or platform the graph does not know.
 mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldState& s,

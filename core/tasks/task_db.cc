@@ -168,37 +168,42 @@ void TaskDbWriter::add(const TaskSet& set) {
   o.dropped[set.scene] = set.dropped.to_json();
   o.dataset[set.scene] = set.dataset;
   // A set's chunks are made on the writer's threads (each alone, so the bytes do not depend on
-  // how many), then go in in order; a chunk never spans two sets.
+  // how many) a batch at a time, so the text of a whole set is never held; then they go in in
+  // order. A chunk never spans two sets.
   struct Chunk {
     std::vector<std::string> lines;  // each task's JSON
-    std::string json;                // the array of them, uncompressed
+    std::size_t size = 0;            // of the array of them, uncompressed
     std::string body;                // what is stored
   };
-  std::vector<Chunk> chunks((set.tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk);
-  parallel_for(chunks.size(), jobs_, [&](std::size_t c) {
-    Chunk& chunk = chunks[c];
-    const std::size_t end = std::min(set.tasks.size(), (c + 1) * kTasksPerChunk);
-    for (std::size_t i = c * kTasksPerChunk; i < end; ++i) chunk.lines.push_back(task_to_json(set.tasks[i]).dump());
-    std::string& json = chunk.json;
-    json = "[";
-    for (const std::string& line : chunk.lines) json += (json.size() > 1 ? "," : "") + line;
-    json += ']';
-    chunks[c].body = zlib_compress(json);
-    // sqlar's convention: a body as long as the text is the text itself.
-    if (chunks[c].body.size() >= json.size()) chunks[c].body = json;
-  });
-  for (std::size_t c = 0; c < chunks.size(); ++c) {
-    const std::int64_t chunk = o.next_chunk++;
-    o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(chunks[c].json.size()));
-    o.insert_chunk.bind_blob(3, chunks[c].body).run();
-    const std::size_t end = std::min(set.tasks.size(), (c + 1) * kTasksPerChunk);
-    for (std::size_t i = c * kTasksPerChunk; i < end; ++i) {
-      const Task& t = set.tasks[i];
-      o.insert_task.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type);
-      o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(i - c * kTasksPerChunk)).run();
-    }
-    if (o.jsonl.is_open()) {
-      for (const std::string& line : chunks[c].lines) o.jsonl << line << '\n';
+  constexpr std::size_t kChunksPerBatch = 64;
+  const std::size_t n_chunks = (set.tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk;
+  for (std::size_t first = 0; first < n_chunks; first += kChunksPerBatch) {
+    std::vector<Chunk> chunks(std::min(kChunksPerBatch, n_chunks - first));
+    parallel_for(chunks.size(), jobs_, [&](std::size_t b) {
+      Chunk& chunk = chunks[b];
+      const std::size_t begin = (first + b) * kTasksPerChunk, end = std::min(set.tasks.size(), begin + kTasksPerChunk);
+      for (std::size_t i = begin; i < end; ++i) chunk.lines.push_back(task_to_json(set.tasks[i]).dump());
+      std::string json = "[";
+      for (const std::string& line : chunk.lines) json += (json.size() > 1 ? "," : "") + line;
+      json += ']';
+      chunk.size = json.size();
+      chunk.body = zlib_compress(json);
+      // sqlar's convention: a body as long as the text is the text itself.
+      if (chunk.body.size() >= json.size()) chunk.body = std::move(json);
+    });
+    for (std::size_t b = 0; b < chunks.size(); ++b) {
+      const std::int64_t chunk = o.next_chunk++;
+      o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(chunks[b].size));
+      o.insert_chunk.bind_blob(3, chunks[b].body).run();
+      const std::size_t begin = (first + b) * kTasksPerChunk;
+      for (std::size_t i = begin; i < begin + chunks[b].lines.size(); ++i) {
+        const Task& t = set.tasks[i];
+        o.insert_task.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type);
+        o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(i - begin)).run();
+      }
+      if (o.jsonl.is_open()) {
+        for (const std::string& line : chunks[b].lines) o.jsonl << line << '\n';
+      }
     }
   }
   if (o.jsonl.is_open() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");

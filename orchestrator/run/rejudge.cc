@@ -64,7 +64,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
                     std::to_string(original.episode_id) + " attempt " + std::to_string(original.attempt));
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
-      const tasks::Task task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
+      const bus::EpisodeTask task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
       const graph::SceneGraph& g = scenes.get(task.scene, start.data_dir);
       const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
       episode::EpisodeJudge judge(g, goal, task.level);

@@ -31,7 +31,7 @@ void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_t
   e.agent = start.agent;
   e.level = start.task.level;
   try {
-    const tasks::Task task = bus::from_messages(start.task, truth);
+    const bus::EpisodeTask task = bus::from_messages(start.task, truth);
     e.graph = &scenes_.get(task.scene, start.data_dir);
     e.judge = std::make_unique<episode::EpisodeJudge>(*e.graph, episode::task_goal_from_json(*e.graph, task.goal),
                                                       task.level);

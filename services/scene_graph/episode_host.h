@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "bus/bus.h"
+#include "bus/convert.h"
 #include "bus/episode_join.h"
 #include "bus/episode_table.h"
 #include "bus/header.h"
@@ -65,7 +66,7 @@ class EpisodeHost {
   struct Episode {
     int attempt = 0;  // set by the table
     const graph::SceneGraph* graph = nullptr;
-    tasks::Task task;
+    bus::EpisodeTask task;
     episode::TaskConstraints constraints;
     episode::RuleOptions rules;
     episode::WorldState state;
