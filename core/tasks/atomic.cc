@@ -128,6 +128,241 @@ class TrialPlacement {
   std::vector<std::pair<int, Eigen::Vector3d>> offsets_;
 };
 
+// Placement targets of each destination as the initial state offers them; shared (not copied)
+// by every item that does not come from that destination (its obstacles are then the same).
+// Items run in parallel, so the cache is shared under a lock; map nodes stay where they are, so
+// a reference handed out stays valid.
+class TargetCache {
+ public:
+  TargetCache(const graph::SceneGraph& g, const TaskOptions& options) : g_(g), options_(options) {}
+
+  std::vector<episode::PlaceTarget> build(const episode::WorldState& placing, int pd, graph::Side side) const {
+    std::vector<episode::PlaceTarget> t = episode::place_targets(g_, placing, pd, side, options_.rules.min_region_size);
+    std::stable_partition(t.begin(), t.end(),
+                          [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
+    episode::with_insets(t);
+    return t;
+  }
+  const std::vector<episode::PlaceTarget>& shared(const episode::WorldState& placing, int pd, graph::Side side) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto it = targets_.find(pd);
+    if (it == targets_.end()) it = targets_.emplace(pd, build(placing, pd, side)).first;
+    return it->second;
+  }
+
+ private:
+  const graph::SceneGraph& g_;
+  const TaskOptions& options_;
+  std::map<int, std::vector<episode::PlaceTarget>> targets_;
+  std::mutex mutex_;
+};
+
+// One item of the source list: the item picked up at its source.
+struct Source {
+  std::size_t src_label, k;  // the source's l-number - 1, the item's o-number - 1
+  int item;
+};
+
+// The tasks of one item (its goals over every destination), with what was left out and why.
+class ItemEnumeration {
+ public:
+  ItemEnumeration(const graph::SceneGraph& g, const episode::WorldState& s, const TaskOptions& options,
+                  const AtomicFilter& filter, TargetCache& cache, const Source& source)
+      : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), source_(source),
+        ps_(g.navigable[source.src_label]), held_(s) {
+    held_.at_platform = ps_;
+    held_.side = g.platforms[static_cast<std::size_t>(ps_)].default_side;
+    held_.phase = episode::Phase::kAtPlatform;
+    episode::pick(g, held_, source.item);
+    const auto& o = held_.objects[static_cast<std::size_t>(source.item)];
+    own_height_ = o.top - o.bottom;
+    carried_height_ = episode::stack_height(g, held_, source.item);
+  }
+
+  /// Every destination in label order; stops at the one goal a goal_key filter asks for.
+  void run() {
+    for (std::size_t dst_label = 0; dst_label < g_.navigable.size() && !found_asked_; ++dst_label) {
+      const int pd = g_.navigable[dst_label];
+      if (filter_.destinations.empty() ||
+          std::find(filter_.destinations.begin(), filter_.destinations.end(), pd) != filter_.destinations.end()) {
+        destination(dst_label);
+      }
+    }
+  }
+
+  std::vector<AtomicTask>& tasks() { return out_; }
+  /// Goals no key achieved robustly, by reason (per level, by look-alikes).
+  DropCounts drops() const {
+    DropCounts d;
+    for (const auto& [key, why] : rejected_) {
+      if (seen_.count(key) == 0) d.add(why.second, has_lookalikes(g_, s_, why.first, options_.ambiguity) ? 2 : 1);
+    }
+    return d;
+  }
+
+ private:
+  // The item about to be put down on one destination: what every target there shares.
+  struct Destination {
+    std::size_t dst_label = 0;
+    int pd = -1;
+    graph::Side side{};
+    bool too_tall = false;  // with what rests on it: its goals are counted, never offered
+    episode::WorldState placing;
+    episode::FeasibleCentres feasible;
+    std::vector<episode::PlaceTarget> own_targets;  // when the item came from here
+    const std::vector<episode::PlaceTarget>* targets = nullptr;
+    geom::Ring item_rel_P;
+    Eigen::Isometry2d X_PW = Eigen::Isometry2d::Identity();
+    std::vector<AnchorInfo> anchors;  // everything on the destination now, in its frame
+    AtomicGoal base;
+  };
+  // A goal a placement may achieve, with its key and margin.
+  struct Candidate {
+    AtomicGoal goal;
+    std::string key;
+    double margin = 0.0;  // 0 for a key already taken (skipped after, so not judged)
+  };
+  struct Judged {
+    std::vector<Candidate> candidates;
+    geom::Point2 c_P;
+    Eigen::Vector3d placed_at;
+  };
+
+  void destination(std::size_t dst_label) {
+    Destination d;
+    d.dst_label = dst_label;
+    d.pd = g_.navigable[dst_label];
+    const graph::Platform& dest = g_.platforms[static_cast<std::size_t>(d.pd)];
+    if (own_height_ > dest.clearance) return;
+    d.too_tall = carried_height_ > dest.clearance;
+    d.placing = held_;
+    d.placing.at_platform = d.pd;
+    d.placing.side = dest.default_side;
+    d.placing.phase = episode::Phase::kPlacing;
+    d.side = static_cast<graph::Side>(dest.default_side);
+    d.feasible = episode::held_feasible_centres(g_, d.placing, d.pd);
+    if (d.feasible.empty()) return;
+    const bool from_here = episode::objects_on(d.placing, d.pd) != episode::objects_on(s_, d.pd);
+    if (from_here) d.own_targets = cache_.build(d.placing, d.pd, d.side);
+    d.targets = from_here ? &d.own_targets : &cache_.shared(d.placing, d.pd, d.side);
+    d.item_rel_P = episode::held_footprint_P(g_, d.placing, d.pd);
+    d.X_PW = episode::platform_frame(g_, d.placing, d.pd).inverse();
+    for (const int o : episode::objects_on(d.placing, d.pd)) {
+      const geom::Ring& fp = d.placing.objects[static_cast<std::size_t>(o)].footprint;
+      d.anchors.push_back({o, geom::bounds(geom::transform(fp, d.X_PW)), &fp});
+    }
+    if (filter_.anchor >= 0 && std::none_of(d.anchors.begin(), d.anchors.end(),
+                                            [&](const AnchorInfo& a) { return a.object == filter_.anchor; })) {
+      return;
+    }
+    d.base.item = source_.item;
+    d.base.source = ps_;
+    d.base.platform = d.pd;
+    for (const episode::PlaceTarget& t : *d.targets) {
+      const auto xy = episode::resolve_target(g_, d.placing, d.pd, t, d.feasible);
+      if (!xy) continue;
+      Judged judged = judge_at(d, *xy);
+      for (Candidate& candidate : judged.candidates) {
+        if (consider(d, t, *xy, judged, candidate)) return;
+      }
+    }
+  }
+
+  // The goals a placement at xy may achieve, with their keys and margins, judged with the item
+  // put down there; the item is back in hand when this returns.
+  Judged judge_at(Destination& d, const Eigen::Vector2d& xy) const {
+    Judged j;
+    const TrialPlacement trial(g_, d.placing, d.pd, xy);
+    const auto& moved = d.placing.objects[static_cast<std::size_t>(source_.item)];
+    j.c_P = d.X_PW * episode::footprint_centre(moved);
+    j.placed_at = moved.position;
+    std::vector<AtomicGoal> goals;
+    if (d.pd != ps_) goals.push_back(d.base);  // the surface itself
+    if (d.anchors.empty()) {
+      for (int rel = 0; rel <= graph::kCentre; ++rel) {
+        AtomicGoal part = d.base;
+        part.type = GoalType::kSurfacePart;
+        part.direction = rel;
+        goals.push_back(part);
+      }
+    } else {
+      candidate_goals(d.anchors, j.c_P, moved.footprint, d.side, options_, d.base, filter_.anchor, goals);
+    }
+    for (const AtomicGoal& goal : goals) {
+      if (filter_.anchor >= 0) {  // the surface and its parts have no anchor
+        const auto a = goal.anchors();
+        if (std::find(a.begin(), a.end(), filter_.anchor) == a.end()) continue;
+      }
+      std::string key = goal_key(goal);
+      if (!filter_.goal_key.empty() && key != filter_.goal_key) continue;
+      const double margin = seen_.count(key) != 0 ? 0.0 : episode::goal_margin(g_, d.placing, goal, options_.goals);
+      j.candidates.push_back({goal, std::move(key), margin});
+    }
+    return j;
+  }
+
+  // At least min_goal_area of centre positions meet the goal and fit. A disk of that area around
+  // the placement, inside both, settles it without clipping polygons.
+  bool roomy(const Destination& d, const AtomicGoal& goal, double margin, const geom::Point2& c_P) const {
+    const double r = std::sqrt(options_.min_goal_area / std::numbers::pi);
+    if (margin >= r && geom::contains(d.feasible.all, c_P) && geom::distance_to_boundary(d.feasible.all, c_P) >= r) {
+      return true;
+    }
+    const geom::Region goal_P = episode::goal_region_P(g_, d.placing, goal, d.side, d.item_rel_P, options_.goals);
+    return geom::area(geom::intersect(goal_P, d.feasible.all)) >= options_.min_goal_area;
+  }
+
+  // Keeps a candidate as a task when it is worth asking and robust, or notes why not; true when
+  // it was the one goal a goal_key filter asks for.
+  bool consider(const Destination& d, const episode::PlaceTarget& t, const Eigen::Vector2d& xy, const Judged& judged,
+                Candidate& candidate) {
+    const AtomicGoal& goal = candidate.goal;
+    if (seen_.count(candidate.key) != 0) return false;
+    const double margin = candidate.margin;
+    if (margin <= 0.0) return false;  // not a goal of this placement: the judge decides
+    const char* why = nullptr;
+    if (d.too_tall) {
+      why = "stack";
+    } else if (episode::goal_met_from_any_side(g_, s_, goal, options_.goals)) {
+      why = "trivial";
+    } else if (margin < options_.min_margin) {
+      why = "fragile";
+    } else if (!roomy(d, goal, margin, judged.c_P)) {
+      why = "small_area";
+    }
+    if (why != nullptr) {
+      rejected_.emplace(candidate.key, std::make_pair(goal, why));  // another key may still achieve it
+      return false;
+    }
+    seen_.insert(candidate.key);
+    AtomicTask task;
+    task.goal = goal;
+    task.key = std::move(candidate.key);
+    task.oracle = {graph::navigation_key(static_cast<int>(source_.src_label) + 1), "o" + std::to_string(source_.k + 1),
+                   graph::navigation_key(static_cast<int>(d.dst_label) + 1), "startplace", t.key};
+    task.place_xy = xy;
+    task.placed_at = judged.placed_at;
+    task.margin = margin;
+    out_.push_back(std::move(task));
+    found_asked_ = !filter_.goal_key.empty();  // the one goal asked for, where it is first achieved
+    return found_asked_;
+  }
+
+  const graph::SceneGraph& g_;
+  const episode::WorldState& s_;
+  const TaskOptions& options_;
+  const AtomicFilter& filter_;
+  TargetCache& cache_;
+  Source source_;
+  int ps_;
+  episode::WorldState held_;
+  double own_height_ = 0.0, carried_height_ = 0.0;
+  std::set<std::string> seen_;
+  std::map<std::string, std::pair<AtomicGoal, const char*>> rejected_;  // goal key -> why
+  std::vector<AtomicTask> out_;
+  bool found_asked_ = false;
+};
+
 }  // namespace
 
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
@@ -135,39 +370,14 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
                                          int jobs) {
   MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && filter.anchor < 0),
              "drop counts of a partial enumeration would be partial");
-  auto wanted = [](const std::vector<int>& list, int v) {
-    return list.empty() || std::find(list.begin(), list.end(), v) != list.end();
-  };
-  auto build_targets = [&](const episode::WorldState& placing, int pd, graph::Side side) {
-    std::vector<episode::PlaceTarget> t = episode::place_targets(g, placing, pd, side, options.rules.min_region_size);
-    std::stable_partition(t.begin(), t.end(),
-                          [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
-    episode::with_insets(t);
-    return t;
-  };
-  // Placement targets of each destination as the initial state offers them; shared (not copied)
-  // by every item that does not come from that destination (its obstacles are then the same).
-  // Items run in parallel (each has its own goals and drops), so the cache is shared under a lock;
-  // map nodes stay where they are, so a reference handed out stays valid.
-  std::map<int, std::vector<episode::PlaceTarget>> cached_targets;
-  std::mutex cache_mutex;
-  auto cached_targets_for = [&](const episode::WorldState& placing, int pd,
-                                graph::Side side) -> const std::vector<episode::PlaceTarget>& {
-    const std::lock_guard<std::mutex> lock(cache_mutex);
-    auto it = cached_targets.find(pd);
-    if (it == cached_targets.end()) it = cached_targets.emplace(pd, build_targets(placing, pd, side)).first;
-    return it->second;
-  };
   // Every item to enumerate, in output order: source platforms by label, items in o-order.
-  struct Source {
-    std::size_t src_label, k;
-    int item;
-  };
   std::vector<Source> sources;
   for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
     const std::vector<int> items = episode::pickable_on(g, s, g.navigable[src_label]);
     for (std::size_t k = 0; k < items.size(); ++k) {
-      if (wanted(filter.items, items[k])) sources.push_back({src_label, k, items[k]});
+      if (filter.items.empty() || std::find(filter.items.begin(), filter.items.end(), items[k]) != filter.items.end()) {
+        sources.push_back({src_label, k, items[k]});
+      }
     }
   }
   struct Found {
@@ -175,155 +385,12 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
     DropCounts dropped;
   };
   std::vector<Found> found(sources.size());
+  TargetCache cache(g, options);
   parallel_for(sources.size(), jobs, [&](std::size_t i) {
-    const auto [src_label, k, item] = sources[i];
-    const int ps = g.navigable[src_label];
-    std::vector<AtomicTask>& out = found[i].tasks;
-    episode::WorldState held = s;
-    held.at_platform = ps;
-    held.side = g.platforms[static_cast<std::size_t>(ps)].default_side;
-    held.phase = episode::Phase::kAtPlatform;
-    episode::pick(g, held, item);
-    const double own_height = held.objects[static_cast<std::size_t>(item)].top -
-                              held.objects[static_cast<std::size_t>(item)].bottom;
-    const double carried_height = episode::stack_height(g, held, item);
-    std::set<std::string> seen;
-    std::map<std::string, std::pair<AtomicGoal, const char*>> rejected;  // goal key -> why
-    for (std::size_t dst_label = 0; dst_label < g.navigable.size(); ++dst_label) {
-      const int pd = g.navigable[dst_label];
-      if (!wanted(filter.destinations, pd)) continue;
-      const graph::Platform& dest = g.platforms[static_cast<std::size_t>(pd)];
-      if (own_height > dest.clearance) continue;
-      // Taller with what rests on it: the goals are counted, never offered.
-      const bool too_tall = carried_height > dest.clearance;
-      episode::WorldState placing = held;
-      placing.at_platform = pd;
-      placing.side = dest.default_side;
-      placing.phase = episode::Phase::kPlacing;
-      const auto side = static_cast<graph::Side>(dest.default_side);
-      const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, placing, pd);
-      if (feasible.empty()) continue;
-      const bool from_here = episode::objects_on(placing, pd) != episode::objects_on(s, pd);
-      std::vector<episode::PlaceTarget> own_targets;
-      if (from_here) own_targets = build_targets(placing, pd, side);
-      const std::vector<episode::PlaceTarget>& targets =
-          from_here ? own_targets : cached_targets_for(placing, pd, side);
-      const geom::Ring item_rel_P = episode::held_footprint_P(g, placing, pd);
-      // At least min_goal_area of centre positions meet the goal and fit. A disk of that area
-      // around the placement, inside both, settles it without clipping polygons.
-      const auto roomy = [&](const AtomicGoal& goal, double margin, const geom::Point2& c_P) {
-        const double r = std::sqrt(options.min_goal_area / std::numbers::pi);
-        if (margin >= r && geom::contains(feasible.all, c_P) && geom::distance_to_boundary(feasible.all, c_P) >= r) {
-          return true;
-        }
-        const geom::Region goal_P = episode::goal_region_P(g, placing, goal, side, item_rel_P, options.goals);
-        return geom::area(geom::intersect(goal_P, feasible.all)) >= options.min_goal_area;
-      };
-      // Anchors: everything on the destination now, in the frame of the platform.
-      const Eigen::Isometry2d X_PW = episode::platform_frame(g, placing, pd).inverse();
-      std::vector<AnchorInfo> anchors;
-      for (const int o : episode::objects_on(placing, pd)) {
-        const geom::Ring& fp = placing.objects[static_cast<std::size_t>(o)].footprint;
-        anchors.push_back({o, geom::bounds(geom::transform(fp, X_PW)), &fp});
-      }
-      if (filter.anchor >= 0 && std::none_of(anchors.begin(), anchors.end(),
-                                             [&](const AnchorInfo& a) { return a.object == filter.anchor; })) {
-        continue;
-      }
-      AtomicGoal base;
-      base.item = item;
-      base.source = ps;
-      base.platform = pd;
-      // The goals a placement at xy may achieve, with their keys and margins, judged with the
-      // item put down there; the item is back in hand when this returns.
-      struct Candidate {
-        AtomicGoal goal;
-        std::string key;
-        double margin = 0.0;  // 0 for a key already taken (skipped after, so not judged)
-      };
-      struct Judged {
-        std::vector<Candidate> candidates;
-        geom::Point2 c_P;
-        Eigen::Vector3d placed_at;
-      };
-      auto judge_at = [&](const Eigen::Vector2d& xy) {
-        Judged j;
-        const TrialPlacement trial(g, placing, pd, xy);
-        const auto& moved = placing.objects[static_cast<std::size_t>(item)];
-        j.c_P = X_PW * episode::footprint_centre(moved);
-        j.placed_at = moved.position;
-        std::vector<AtomicGoal> goals;
-        if (pd != ps) {
-          AtomicGoal surface = base;
-          goals.push_back(surface);
-        }
-        if (anchors.empty()) {
-          for (int rel = 0; rel <= graph::kCentre; ++rel) {
-            AtomicGoal part = base;
-            part.type = GoalType::kSurfacePart;
-            part.direction = rel;
-            goals.push_back(part);
-          }
-        } else {
-          candidate_goals(anchors, j.c_P, moved.footprint, side, options, base, filter.anchor, goals);
-        }
-        for (const AtomicGoal& goal : goals) {
-          if (filter.anchor >= 0) {  // the surface and its parts have no anchor
-            const auto a = goal.anchors();
-            if (std::find(a.begin(), a.end(), filter.anchor) == a.end()) continue;
-          }
-          std::string key = goal_key(goal);
-          if (!filter.goal_key.empty() && key != filter.goal_key) continue;
-          const double margin = seen.count(key) != 0 ? 0.0 : episode::goal_margin(g, placing, goal, options.goals);
-          j.candidates.push_back({goal, std::move(key), margin});
-        }
-        return j;
-      };
-      for (const episode::PlaceTarget& t : targets) {
-        const auto xy = episode::resolve_target(g, placing, pd, t, feasible);
-        if (!xy) continue;
-        Judged judged = judge_at(*xy);
-        const geom::Point2& c_P = judged.c_P;
-        for (Candidate& candidate : judged.candidates) {
-          const AtomicGoal& goal = candidate.goal;
-          std::string& key = candidate.key;
-          if (seen.count(key) != 0) continue;
-          const double margin = candidate.margin;
-          if (margin <= 0.0) continue;  // not a goal of this placement: the judge decides
-          const char* why = nullptr;
-          if (too_tall) {
-            why = "stack";
-          } else if (episode::goal_met_from_any_side(g, s, goal, options.goals)) {
-            why = "trivial";
-          } else if (margin < options.min_margin) {
-            why = "fragile";
-          } else if (!roomy(goal, margin, c_P)) {
-            why = "small_area";
-          }
-          if (why != nullptr) {
-            rejected.emplace(key, std::make_pair(goal, why));  // another key may still achieve it
-            continue;
-          }
-          seen.insert(key);
-          AtomicTask task;
-          task.goal = goal;
-          task.key = std::move(key);
-          task.oracle = {graph::navigation_key(static_cast<int>(src_label) + 1), "o" + std::to_string(k + 1),
-                         graph::navigation_key(static_cast<int>(dst_label) + 1), "startplace", t.key};
-          task.place_xy = *xy;
-          task.placed_at = judged.placed_at;
-          task.margin = margin;
-          out.push_back(std::move(task));
-          if (!filter.goal_key.empty()) return;  // the one goal asked for, where it is first achieved
-        }
-      }
-    }
-    if (dropped == nullptr) return;
-    for (const auto& [key, why] : rejected) {
-      if (seen.count(key) == 0) {
-        found[i].dropped.add(why.second, has_lookalikes(g, s, why.first, options.ambiguity) ? 2 : 1);
-      }
-    }
+    ItemEnumeration item(g, s, options, filter, cache, sources[i]);
+    item.run();
+    found[i].tasks = std::move(item.tasks());
+    if (dropped != nullptr) found[i].dropped = item.drops();
   });
   std::vector<AtomicTask> out;
   for (Found& f : found) {
