@@ -105,7 +105,8 @@ Task task_from_json(const nlohmann::json& j) {
     t.step_limit = j["step_limit"].get<int>();
     t.template_id = j["template_id"].get<std::string>();
   } catch (const nlohmann::json::exception& e) {
-    throw Error("task " + j.value("id", std::string("?")) + ": a field has the wrong type (" + e.what() + ")");
+    const std::string id = j["id"].is_string() ? j["id"].get<std::string>() : std::string("?");
+    throw Error("task " + id + ": a field has the wrong type (" + e.what() + ")");
   }
   t.identify = identifications_from_json(j["identify"]);
   t.placements = oracle_placements_from_json(j["placements"]);
@@ -245,9 +246,11 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
-  store::Statement q(db, "SELECT id, level, chunk, slot FROM tasks ORDER BY id");
+  // In storage order, so each chunk is inflated once (a set's levels interleave in its chunks),
+  // then in id order.
+  store::Statement q(db, "SELECT id, level, chunk, slot FROM tasks ORDER BY chunk, slot");
   store::Statement body(db, "SELECT size, body FROM task_chunks WHERE chunk = ?");
-  // Ids run through a set's chunks in order, so one chunk at hand decompresses each once.
+  constexpr std::int64_t kMaxChunkBytes = 1 << 30;  // far above 64 tasks: a larger size is damage
   std::int64_t open_chunk = -1;
   nlohmann::json chunk_tasks;
   std::vector<Task> out;
@@ -256,29 +259,35 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
     const std::string id = q.column_text(0);
     const std::int64_t chunk = q.column_int(2);
     const std::int64_t slot = q.column_int(3);
+    const std::string where = file.string() + ": task " + id + ": chunk " + std::to_string(chunk);
     try {
       if (chunk != open_chunk) {
+        open_chunk = -1;
         body.reset();
         body.bind(1, chunk);
-        if (!body.step()) throw Error("chunk " + std::to_string(chunk) + " is missing");
-        const auto size = static_cast<std::size_t>(body.column_int(0));
+        if (!body.step()) throw Error("missing");
+        const std::int64_t size = body.column_int(0);
+        if (size <= 0 || size > kMaxChunkBytes) throw Error("implausible size " + std::to_string(size));
         const std::string stored = body.column_blob(1);
-        chunk_tasks = nlohmann::json::parse(stored.size() == size ? stored : zlib_uncompress(stored, size));
+        const auto n = static_cast<std::size_t>(size);
+        chunk_tasks = nlohmann::json::parse(stored.size() == n ? stored : zlib_uncompress(stored, n));
         open_chunk = chunk;
       }
       if (!chunk_tasks.is_array() || slot < 0 || static_cast<std::size_t>(slot) >= chunk_tasks.size()) {
-        throw Error("chunk " + std::to_string(chunk) + " has no slot " + std::to_string(slot));
+        throw Error("no slot " + std::to_string(slot));
       }
       Task t = task_from_json(chunk_tasks[static_cast<std::size_t>(slot)]);
-      if (t.id != id) throw Error("chunk " + std::to_string(chunk) + " slot " + std::to_string(slot) + " holds " + t.id);
+      if (t.id != id) throw Error("slot " + std::to_string(slot) + " holds " + t.id);
       out.push_back(std::move(t));
-    } catch (const nlohmann::json::exception&) {
-      open_chunk = -1;
-      throw Error(file.string() + ": task " + id + ": chunk " + std::to_string(chunk) + " is not JSON");
+    } catch (const nlohmann::json::parse_error&) {
+      throw Error(where + ": not JSON");
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(where + ": a field has the wrong type (" + e.what() + ")");
     } catch (const Error& e) {
-      throw Error(file.string() + ": task " + id + ": " + e.what());
+      throw Error(where + ": " + e.what());
     }
   }
+  std::sort(out.begin(), out.end(), [](const Task& a, const Task& b) { return a.id < b.id; });
   return out;
 }
 

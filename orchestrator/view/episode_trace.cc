@@ -128,6 +128,8 @@ json episode_trace(std::int64_t episode_id, const std::vector<RecordedMessage>& 
     } else if (bus::is_episode_channel(m.channel, EpisodeStream::kObservation)) {
       const auto obs = decode<mtg::observation_t>(m);
       json& s = step_of(obs.step);
+      // The first copy of a step is what the agent answered (a late renderer may send a second).
+      if (!s["observation"].is_null()) continue;
       s["done"] = obs.done != 0;
       s["observation"] = observation_json(obs);
     } else if (bus::is_episode_channel(m.channel, EpisodeStream::kAction)) {
@@ -162,7 +164,7 @@ std::optional<RecordedImage> observation_image(const std::vector<RecordedMessage
   for (const auto& m : messages) {
     if (!bus::is_episode_channel(m.channel, EpisodeStream::kObservation) || attempt_of(m) != attempt) continue;
     const auto obs = decode<mtg::observation_t>(m);
-    if (obs.step != step) continue;
+    if (obs.step != step) continue;  // the first copy of the step, as episode_trace shows it
     if (index < 0 || index >= static_cast<int>(obs.images.size())) return std::nullopt;
     const auto& img = obs.images[static_cast<std::size_t>(index)];
     if (img.nbytes == 0) return std::nullopt;
