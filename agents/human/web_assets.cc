@@ -1,5 +1,7 @@
 #include "agents/human/web_assets.h"
 
+#include <utility>
+
 namespace mtg::web {
 
 // Generated from agents/human/page/ (mtg_embed_text, agents/CMakeLists.txt).
@@ -14,13 +16,15 @@ const std::vector<Asset>& shared_assets() {
   return assets;
 }
 
+std::vector<Asset> with_shared_assets(std::vector<Asset> page) {
+  std::vector<Asset> all = shared_assets();
+  for (Asset& a : page) all.push_back(std::move(a));
+  return all;
+}
+
 const std::vector<Asset>& play_assets() {
-  static const std::vector<Asset> assets = [] {
-    std::vector<Asset> a = shared_assets();
-    a.push_back({"index.html", "text/html; charset=utf-8", kPlayHtml});
-    a.push_back({"play.js", "text/javascript", kPlayJs});
-    return a;
-  }();
+  static const std::vector<Asset> assets = with_shared_assets(
+      {{"index.html", "text/html; charset=utf-8", kPlayHtml}, {"play.js", "text/javascript", kPlayJs}});
   return assets;
 }
 

@@ -17,6 +17,8 @@ struct Asset {
 
 /// common.css and observation.js: what the play page and the viewer show alike.
 const std::vector<Asset>& shared_assets();
+/// A page's own files after the shared ones: what its server serves.
+std::vector<Asset> with_shared_assets(std::vector<Asset> page);
 /// The play page (index.html, play.js) and the shared files.
 const std::vector<Asset>& play_assets();
 

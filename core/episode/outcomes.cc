@@ -66,6 +66,14 @@ const char* to_string(Stage s) { return name_of(kStages, s); }
 const char* to_string(Cause c) { return name_of(kCauses, c); }
 const char* explain(Stage s) { return name_of(kStageWords, s); }
 const char* explain(Cause c) { return name_of(kCauseWords, c); }
+std::string_view explain_stage(std::string_view name) {
+  const auto s = stage_from_string(name);
+  return s ? explain(*s) : name;
+}
+std::string_view explain_cause(std::string_view name) {
+  const auto c = cause_from_string(name);
+  return c ? explain(*c) : name;
+}
 std::optional<EndReason> end_reason_from_string(std::string_view name) { return value_of(kEndReasons, name); }
 std::optional<Stage> stage_from_string(std::string_view name) { return value_of(kStages, name); }
 std::optional<Cause> cause_from_string(std::string_view name) { return value_of(kCauses, name); }

@@ -33,6 +33,9 @@ const char* to_string(Cause c);
 /// object". Stages say how far the agent got: "reached the source platform".
 const char* explain(Stage s);
 const char* explain(Cause c);
+/// The same for a stored name; the name itself when it is none of ours (a newer writer's).
+std::string_view explain_stage(std::string_view name);
+std::string_view explain_cause(std::string_view name);
 
 /// The enum with that name, or nullopt.
 std::optional<EndReason> end_reason_from_string(std::string_view name);

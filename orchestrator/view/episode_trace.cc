@@ -71,14 +71,12 @@ json result_json(const mtg::episode_result_t& r) {
   for (std::size_t i = 0; i < r.subtask_ip.size(); ++i) {
     subtasks.push_back({{"ip", r.subtask_ip[i]}, {"success", i < r.subtask_success.size() && r.subtask_success[i] != 0}});
   }
-  const auto stage = episode::stage_from_string(r.stage);
-  const auto cause = episode::cause_from_string(r.cause);
   return {{"success", r.success != 0},
           {"ip", r.ip},
           {"stage", r.stage},
-          {"stage_text", stage ? episode::explain(*stage) : r.stage},
+          {"stage_text", episode::explain_stage(r.stage)},
           {"cause", r.cause},
-          {"cause_text", cause ? episode::explain(*cause) : r.cause},
+          {"cause_text", episode::explain_cause(r.cause)},
           {"steps", r.steps},
           {"invalid_actions", r.invalid_actions},
           {"input_tokens", r.input_tokens},

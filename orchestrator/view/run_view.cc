@@ -33,8 +33,6 @@ bool EpisodeFilter::matches(const EpisodeRow& r) const {
 }
 
 json row_json(const EpisodeRow& r) {
-  const auto stage = episode::stage_from_string(r.stage);
-  const auto cause = episode::cause_from_string(r.cause);
   return {{"episode_id", r.episode_id},
           {"task_id", r.task_id},
           {"scene", r.scene},
@@ -46,9 +44,9 @@ json row_json(const EpisodeRow& r) {
           {"success", r.success},
           {"ip", r.ip},
           {"stage", r.stage},
-          {"stage_text", stage ? episode::explain(*stage) : r.stage},
+          {"stage_text", episode::explain_stage(r.stage)},
           {"cause", r.cause},
-          {"cause_text", r.success ? "" : (cause ? episode::explain(*cause) : r.cause)},
+          {"cause_text", r.success ? std::string_view() : episode::explain_cause(r.cause)},
           {"steps", r.steps},
           {"invalid_actions", r.invalid_actions},
           {"input_tokens", r.usage.input_tokens},

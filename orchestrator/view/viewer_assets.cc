@@ -7,12 +7,8 @@ extern const char* const kViewerHtml;
 extern const char* const kViewerJs;
 
 const std::vector<Asset>& viewer_assets() {
-  static const std::vector<Asset> assets = [] {
-    std::vector<Asset> a = shared_assets();
-    a.push_back({"index.html", "text/html; charset=utf-8", kViewerHtml});
-    a.push_back({"viewer.js", "text/javascript", kViewerJs});
-    return a;
-  }();
+  static const std::vector<Asset> assets = with_shared_assets(
+      {{"index.html", "text/html; charset=utf-8", kViewerHtml}, {"viewer.js", "text/javascript", kViewerJs}});
   return assets;
 }
 
