@@ -134,6 +134,68 @@ episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {
   return {action.parsed_key, action.format_ok != 0, !action.error.empty()};
 }
 
+mtg::world_state_delta_t to_message(const episode::StateDelta& d) {
+  mtg::world_state_delta_t m{};
+  m.phase = static_cast<int8_t>(d.phase);
+  m.at_platform = d.at;
+  m.side = static_cast<int8_t>(d.side);
+  m.held = d.held;
+  m.steps = d.steps;
+  for (const episode::MovedObject& o : d.moved) {
+    mtg::moved_object_t mo{};
+    mo.object = o.object;
+    mo.parent = o.parent;
+    for (int k = 0; k < 3; ++k) mo.position[k] = o.position[k];
+    for (const geom::Point2& q : o.footprint) {
+      mo.footprint_x.push_back(q.x());
+      mo.footprint_y.push_back(q.y());
+    }
+    mo.n_vertices = static_cast<int32_t>(o.footprint.size());
+    mo.bottom = o.bottom;
+    mo.top = o.top;
+    mo.placed_side = static_cast<int8_t>(o.placed_side);
+    m.moved.push_back(std::move(mo));
+  }
+  m.n_moved = static_cast<int32_t>(m.moved.size());
+  for (const episode::PlatformOrder& p : d.reordered) {
+    m.reordered.push_back({p.platform, static_cast<int32_t>(p.objects.size()), p.objects});
+  }
+  m.n_reordered = static_cast<int32_t>(m.reordered.size());
+  for (const episode::PlatformOffset& p : d.offsets) {
+    mtg::platform_offset_t mo{};
+    mo.platform = p.platform;
+    for (int k = 0; k < 3; ++k) mo.offset[k] = p.offset[k];
+    m.offsets.push_back(std::move(mo));
+  }
+  m.n_offsets = static_cast<int32_t>(m.offsets.size());
+  return m;
+}
+
+episode::StateDelta from_message(const mtg::world_state_delta_t& m) {
+  episode::StateDelta d;
+  d.phase = static_cast<episode::Phase>(m.phase);  // episode::apply_delta checks the range
+  d.at = m.at_platform;
+  d.side = m.side;
+  d.held = m.held;
+  d.steps = m.steps;
+  for (const mtg::moved_object_t& mo : m.moved) {
+    episode::MovedObject o;
+    o.object = mo.object;
+    o.parent = mo.parent;
+    o.position = Eigen::Vector3d(mo.position[0], mo.position[1], mo.position[2]);
+    for (std::size_t k = 0; k < mo.footprint_x.size(); ++k) o.footprint.emplace_back(mo.footprint_x[k], mo.footprint_y[k]);
+    o.bottom = mo.bottom;
+    o.top = mo.top;
+    o.placed_side = mo.placed_side;
+    d.moved.push_back(std::move(o));
+  }
+  for (const mtg::platform_order_t& p : m.reordered) d.reordered.push_back({p.platform, p.objects});
+  for (const mtg::platform_offset_t& p : m.offsets) {
+    d.offsets.push_back({p.platform, Eigen::Vector3d(p.offset[0], p.offset[1], p.offset[2])});
+  }
+  return d;
+}
+
 render::ImageRequest from_message(const mtg::render_request_t& m) {
   render::ImageRequest r;
   r.scene = m.scene;
@@ -141,7 +203,7 @@ render::ImageRequest from_message(const mtg::render_request_t& m) {
   r.width = m.width;
   r.height = m.height;
   r.encoding = m.encoding;
-  r.state_json = m.state_json;
+  r.state = from_message(m.state);
   if (m.min_region_size > 0.0) r.min_region_size = m.min_region_size;
   for (const mtg::render_view_t& v : m.views) {
     r.views.push_back({render::parse_view_kind(v.view), v.platform, v.side, v.item, render::parse_mark_kind(v.marks)});

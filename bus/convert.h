@@ -8,6 +8,7 @@
 
 #include "core/episode/judge.h"
 #include "core/episode/rules.h"
+#include "core/episode/state_delta.h"
 #include "core/episode/transcript.h"
 #include "core/episode/usage.h"
 #include "core/graph/scene_graph.h"
@@ -23,6 +24,7 @@
 #include "mtg/render_view_t.hpp"
 #include "mtg/state_update_t.hpp"
 #include "mtg/task_t.hpp"
+#include "mtg/world_state_delta_t.hpp"
 
 namespace mtg::bus {
 
@@ -58,6 +60,11 @@ episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
 
 /// What the rules need of an agent's action.
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action);
+
+/// A world state's changes, to and from the bus (names stay names; the receiver resolves them
+/// against its own graph with episode::apply_delta).
+mtg::world_state_delta_t to_message(const episode::StateDelta& d);
+episode::StateDelta from_message(const mtg::world_state_delta_t& m);
 
 /// A render request as the renderer takes it (views by name, typed).
 /// @throws mtg::Error naming an unknown view or mark kind.

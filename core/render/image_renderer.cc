@@ -1,6 +1,6 @@
 #include "core/render/image_renderer.h"
 
-#include "core/episode/state_json.h"
+#include "core/episode/state_delta.h"
 #include "core/render/image_codec.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
@@ -50,12 +50,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
 
   const graph::SceneCache::Entry& entry = scenes_.load(request.scene, request.data_dir);
   const graph::SceneGraph& g = entry.graph;
-  nlohmann::json delta;
-  if (!request.state_json.empty()) {
-    delta = nlohmann::json::parse(request.state_json, nullptr, /*allow_exceptions=*/false);
-    if (delta.is_discarded()) throw Error("render: state_json is not valid JSON");
-  }
-  const episode::WorldState state = episode::state_from_delta_json(g, delta);
+  const episode::WorldState state = episode::apply_delta(g, request.state);
   SceneRenderer& renderer = scene_renderer(entry);
 
   ImageReply reply;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/episode/state_delta.h"
 #include "core/render/view.h"
 
 namespace mtg::render {
@@ -27,7 +28,7 @@ struct ImageRequest {
   int width = 640;
   int height = 480;
   std::string encoding = "png";
-  std::string state_json;        // "" = the scene as the graph found it
+  episode::StateDelta state;     // default: the scene as the graph found it
   double min_region_size = 0.03;
   std::vector<ViewSpec> views;
 };

@@ -4,7 +4,7 @@
 #include "bus/convert.h"
 #include "bus/error_events.h"
 #include "bus/process/faults.h"
-#include "core/episode/state_json.h"
+#include "core/episode/state_delta.h"
 #include "core/episode/transcript.h"
 #include "core/render/view.h"
 #include "core/tasks/phrasing.h"
@@ -162,7 +162,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   r.width = images_.width;
   r.height = images_.height;
   r.encoding = images_.encoding;
-  r.state_json = episode::state_delta_to_json(g, e.state).dump();
+  r.state = bus::to_message(episode::state_delta(g, e.state));
   r.min_region_size = e.rules.min_region_size;
   for (const render::ViewRequest& v : views) r.views.push_back(bus::to_message(g, v));
   r.n_views = static_cast<int32_t>(r.views.size());

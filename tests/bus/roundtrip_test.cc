@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "bus/bus.h"
+#include "bus/convert.h"
 #include "bus/header.h"
 #include "bus/recording.h"
 #include "bus/url.h"
@@ -29,6 +30,7 @@
 #include "mtg/state_update_t.hpp"
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
+#include "tests/support/graph_fixtures.h"
 
 namespace mtg::bus {
 namespace {
@@ -144,6 +146,17 @@ class RoundTrip {
     rreq.views[0].side = 2;
     rreq.width = 640;
     rreq.height = 480;
+    rreq.state.phase = mtg::world_state_delta_t::PHASE_PLACING;
+    rreq.state.held = "cup_1";
+    rreq.state.n_moved = 1;
+    rreq.state.moved.resize(1);
+    rreq.state.moved[0].object = "cup_1";
+    rreq.state.moved[0].position[2] = 0.75;
+    rreq.state.moved[0].n_vertices = 2;
+    rreq.state.moved[0].footprint_x = {0.1 / 3, 0.2};
+    rreq.state.moved[0].footprint_y = {-0.2 / 7, 0.3};
+    rreq.state.n_reordered = 1;
+    rreq.state.reordered = {{"table_1", 2, {"cup_2", "cup_3"}}};
     rreq.with_observation = true;
     rreq.observation = obs;
     rreq.observation.images.clear();
@@ -244,6 +257,44 @@ TEST(BusRoundTrip, OneMegabyteImageOverUdpm) {
   big.n_images = 1;
   big.images = {sample_image(1 << 20)};
   rt.check("T_BIG", big);
+}
+
+// The renderer rebuilds the scene-graph service's world state from the request: through the
+// message's bytes, every double must come back bit for bit.
+TEST(BusRoundTrip, AWorldStateCrossesTheBusBitForBit) {
+  testing::FixtureDataset fx;
+  const auto built = testing::two_tables(fx);
+  const graph::SceneGraph& g = built.graph;
+  episode::WorldState s = episode::initial_state(g);
+  const int from = g.platforms[static_cast<std::size_t>(g.navigable[0])].items.empty() ? g.navigable[1] : g.navigable[0];
+  s.phase = episode::Phase::kAtPlatform;
+  s.at_platform = from;
+  s.side = 1;
+  s.steps = 4;
+  episode::pick(g, s, g.platforms[static_cast<std::size_t>(from)].items.front());
+  const int other = g.navigable.back();
+  episode::place_held(g, s, other, episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7));
+
+  const mtg::world_state_delta_t sent = to_message(episode::state_delta(g, s));
+  ASSERT_EQ(sent.n_moved, 1);
+  std::vector<std::uint8_t> bytes = encode(sent);
+  mtg::world_state_delta_t received{};
+  ASSERT_EQ(received.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  const episode::WorldState back = episode::apply_delta(g, from_message(received));
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    EXPECT_EQ(back.objects[i].position, s.objects[i].position) << i;
+    EXPECT_EQ(back.objects[i].footprint, s.objects[i].footprint) << i;
+    EXPECT_EQ(back.objects[i].parent, s.objects[i].parent) << i;
+    EXPECT_EQ(back.objects[i].top, s.objects[i].top) << i;
+    EXPECT_EQ(back.objects[i].placed_side, s.objects[i].placed_side) << i;
+  }
+  EXPECT_EQ(back.children, s.children);
+  EXPECT_EQ(back.platform_offset, s.platform_offset);
+  EXPECT_EQ(back.at_platform, s.at_platform);
+  EXPECT_EQ(back.side, s.side);
+  EXPECT_EQ(back.phase, s.phase);
+  EXPECT_EQ(back.steps, s.steps);
+  EXPECT_EQ(back.held, s.held);
 }
 
 TEST(BusHeader, SequenceTrackerFlagsGapsAndDuplicates) {

@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/episode/rules.h"
-#include "core/episode/state_json.h"
+#include "core/episode/state_delta.h"
 #include "core/render/image_renderer.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
@@ -71,7 +71,7 @@ class RenderTest : public ::testing::Test {
     render::ImageRequest r;
     r.scene = "render_room";
     r.data_dir = fx_->root().string();
-    r.state_json = episode::state_delta_to_json(g(), s).dump();
+    r.state = episode::state_delta(g(), s);
     r.views = std::move(views);
     return r;
   }
@@ -254,7 +254,7 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
   expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[static_cast<std::size_t>(ghost)].name, render::MarkKind::kNone}}),
                "has no mesh to draw");
   auto state = request(s, {platform_view(table(), render::MarkKind::kItems)});
-  state.state_json = R"({"held": "nobody"})";
+  state.state.held = "nobody";
   expect_error(state, "'held' names no object");
   auto encoding = request(s, {platform_view(table(), render::MarkKind::kItems)});
   encoding.encoding = "bmp";

@@ -1,10 +1,11 @@
-// A world state survives the trip through its JSON delta exactly (the renderer numbers items from
-// the rebuilt state), and a delta naming something the scene lacks is a clear error.
+// A world state survives the trip through its delta exactly (the renderer numbers items from the
+// rebuilt state), and a delta naming something the scene lacks is a clear error. The bus leg
+// (world_state_delta_t) is in tests/bus/roundtrip_test.cc.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "core/episode/state_json.h"
+#include "core/episode/state_delta.h"
 #include "core/util/error.h"
 #include "tests/support/graph_fixtures.h"
 
@@ -30,13 +31,14 @@ void expect_same(const episode::WorldState& a, const episode::WorldState& b) {
   EXPECT_EQ(a.steps, b.steps);
 }
 
-TEST(StateJson, AStateRoundTripsExactlyThroughPickAndPlace) {
+TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   testing::FixtureDataset fx;
   const auto built = testing::two_tables(fx);
   const auto& g = built.graph;
   episode::WorldState s = episode::initial_state(g);
-  EXPECT_TRUE(episode::state_delta_to_json(g, s)["moved"].empty());
-  expect_same(episode::state_from_delta_json(g, episode::state_delta_to_json(g, s)), s);
+  EXPECT_TRUE(episode::state_delta(g, s).moved.empty());
+  expect_same(episode::apply_delta(g, episode::state_delta(g, s)), s);
+  expect_same(episode::apply_delta(g, {}), s);
 
   const int box = g.platforms[static_cast<std::size_t>(g.navigable[0])].items.empty()
                       ? g.platforms[static_cast<std::size_t>(g.navigable[1])].items.front()
@@ -46,28 +48,40 @@ TEST(StateJson, AStateRoundTripsExactlyThroughPickAndPlace) {
   s.side = 2;
   s.steps = 3;
   episode::pick(g, s, box);
-  const nlohmann::json holding = episode::state_delta_to_json(g, s);
-  EXPECT_EQ(holding["held"], g.objects[static_cast<std::size_t>(box)].name);
-  expect_same(episode::state_from_delta_json(g, nlohmann::json::parse(holding.dump())), s);
+  const episode::StateDelta holding = episode::state_delta(g, s);
+  EXPECT_EQ(holding.held, g.objects[static_cast<std::size_t>(box)].name);
+  ASSERT_FALSE(holding.reordered.empty());  // the item left its platform's list
+  expect_same(episode::apply_delta(g, holding), s);
 
   // Placed at an odd position on the other table: doubles must come back bit for bit.
   const int other = g.navigable.back();
   const Eigen::Vector2d xy = episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7);
   episode::place_held(g, s, other, xy);
-  expect_same(episode::state_from_delta_json(g, nlohmann::json::parse(episode::state_delta_to_json(g, s).dump())), s);
+  expect_same(episode::apply_delta(g, episode::state_delta(g, s)), s);
 }
 
-TEST(StateJson, ADeltaNamingUnknownThingsIsAClearError) {
+TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
   testing::FixtureDataset fx;
   const auto built = testing::two_tables(fx);
-  EXPECT_THAT([&] { episode::state_from_delta_json(built.graph, {{"held", "nobody"}}); },
-              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("'held' names no object")));
-  EXPECT_THAT([&] { episode::state_from_delta_json(built.graph, {{"at", "nowhere"}}); },
-              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("'at' names no platform")));
-  EXPECT_THAT([&] { episode::state_from_delta_json(built.graph, {{"side", 9}}); },
-              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("'side' must be -1..3")));
-  EXPECT_THAT([&] { episode::state_from_delta_json(built.graph, nlohmann::json::array()); },
-              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("expected a JSON object")));
+  const auto fails = [&](const episode::StateDelta& d, const std::string& what) {
+    EXPECT_THAT([&] { episode::apply_delta(built.graph, d); },
+                ::testing::ThrowsMessage<Error>(::testing::HasSubstr(what)));
+  };
+  episode::StateDelta held;
+  held.held = "nobody";
+  fails(held, "'held' names no object");
+  episode::StateDelta at;
+  at.at = "nowhere";
+  fails(at, "'at' names no platform");
+  episode::StateDelta side;
+  side.side = 9;
+  fails(side, "'side' must be -1..3");
+  episode::StateDelta phase;
+  phase.phase = static_cast<episode::Phase>(7);
+  fails(phase, "'phase' must be 0..3");
+  episode::StateDelta moved;
+  moved.moved.push_back({"ghost", "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, -1});
+  fails(moved, "'moved.object' names no object");
 }
 
 }  // namespace
