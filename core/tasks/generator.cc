@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "core/episode/placement.h"
 #include "core/episode/world_state.h"
@@ -71,20 +72,27 @@ std::string describe_scene(const graph::SceneGraph& g) {
 
 namespace {
 
-// Task ids count per level in the order tasks are accepted: "<scene>/L<level>/<index>".
+// Task ids count per level in the order tasks are accepted: "<scene>/L<level>/<index>". With a
+// sink, the tasks go to it a batch at a time instead of staying in the set.
 class TaskNumbering {
  public:
-  explicit TaskNumbering(std::string scene) : scene_(std::move(scene)) {}
+  TaskNumbering(std::string scene, const TaskSink& sink) : scene_(std::move(scene)), sink_(sink) {}
   void add(Task t, TaskSet& set) {
     t.scene = scene_;
     t.id = task_id(scene_, t.level, next_[t.level]++);
     set.tasks.push_back(std::move(t));
+    if (sink_ && set.tasks.size() >= kBatch) flush(set);
+  }
+  void flush(TaskSet& set) {
+    if (sink_ && !set.tasks.empty()) sink_(std::exchange(set.tasks, {}));
   }
   std::size_t peek(int level) { return next_[level]; }
   void skip(int level) { ++next_[level]; }
 
  private:
+  static constexpr std::size_t kBatch = 1024;
   std::string scene_;
+  const TaskSink& sink_;
   std::map<int, std::size_t> next_;
 };
 
@@ -116,33 +124,35 @@ void add_atomic_tasks(const graph::SceneGraph& g, const episode::WorldState& ini
   }
 }
 
-// Level 3: chains of atomic tasks, each part named in the state it starts from.
+// A Level 3 task: a chain of atomic tasks, each part named in the state it starts from.
+Task sequence_task(const graph::SceneGraph& g, const Sequence& seq, const TaskOptions& options) {
+  Task t;
+  t.level = 3;
+  t.type = "sequence";
+  std::vector<std::string> texts;
+  nlohmann::json parts = nlohmann::json::array();
+  for (std::size_t k = 0; k < seq.parts.size(); ++k) {
+    const AtomicTask& p = seq.parts[k];
+    texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
+    parts.push_back(to_json(g, p.goal));
+    t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
+    t.placements.push_back(placement_of(g, static_cast<int>(k), p));
+    t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
+  }
+  t.text = sequence_text(texts);
+  fill_columns(g, seq.parts.front().goal, t);
+  t.goal = {{"sequence", parts}};
+  t.oracle.push_back("0");
+  t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+  return t;
+}
+
+// Level 3: each chain becomes a task as it is drawn.
 void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
                         TaskSet& set, int jobs) {
-  const auto sequences =
-      generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs);
-  for (const Sequence& seq : sequences) {
-    Task t;
-    t.level = 3;
-    t.type = "sequence";
-    std::vector<std::string> texts;
-    nlohmann::json parts = nlohmann::json::array();
-    for (std::size_t k = 0; k < seq.parts.size(); ++k) {
-      const AtomicTask& p = seq.parts[k];
-      texts.push_back(atomic_text(g, p.goal, seq.words[k].wording, options.seed));
-      parts.push_back(to_json(g, p.goal));
-      t.identify.insert(t.identify.end(), seq.words[k].lookalikes.begin(), seq.words[k].lookalikes.end());
-      t.placements.push_back(placement_of(g, static_cast<int>(k), p));
-      t.oracle.insert(t.oracle.end(), p.oracle.begin(), p.oracle.end());
-    }
-    t.text = sequence_text(texts);
-    fill_columns(g, seq.parts.front().goal, t);
-    t.goal = {{"sequence", parts}};
-    t.oracle.push_back("0");
-    t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
-    numbering.add(std::move(t), set);
-  }
+  generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs,
+                     [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); });
 }
 
 // Level 4: outcome candidates from the templates, then the votes (rules, live voters, recorded).
@@ -197,7 +207,7 @@ void add_outcome_tasks(const graph::SceneGraph& g, const episode::WorldState& in
 
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
-                                int jobs) {
+                                int jobs, const TaskSink& sink) {
   for (const int level : options.levels) {
     if (level < 1 || level > 4) throw Error("unknown level " + std::to_string(level) + " (levels are 1..4)");
   }
@@ -208,7 +218,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   TaskSet& set = result.set;
   set.scene = g.scene;
   const episode::WorldState initial = episode::initial_state(g);
-  TaskNumbering numbering(g.scene);
+  TaskNumbering numbering(g.scene, sink);
 
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
@@ -216,7 +226,9 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr, jobs);
   if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
   if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs);
+  std::vector<AtomicTask>().swap(atomic);  // Level 4 does not need it
   if (options.levels.count(4)) add_outcome_tasks(g, initial, options, recorded_votes, live_voters, numbering, result);
+  numbering.flush(set);
   return result;
 }
 

@@ -2,6 +2,7 @@
 // All four levels for one scene graph: the entry point of `mtg tasks` and the task-generator
 // service. Deterministic in (scene, generator version, options incl. seed).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,12 +17,18 @@ struct GenerationResult {
   std::vector<Vote> votes;  // Level 4 votes (rule-based, plus recorded ones given)
 };
 
+/// Takes the tasks of a scene as they are made, in id order, a batch at a time, so that no one
+/// holds the whole set (TaskDbWriter::add_tasks).
+using TaskSink = std::function<void(std::vector<Task>)>;
+
 /// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template
 /// library that does not load.
 /// `jobs` threads share the work of Levels 1-3; the result is the same for any number.
+/// With a `sink`, the tasks go to it as they are made and the result's set holds none of them.
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes = {},
-                                const std::vector<VoteBatch>& live_voters = {}, int jobs = 1);
+                                const std::vector<VoteBatch>& live_voters = {}, int jobs = 1,
+                                const TaskSink& sink = {});
 
 /// The platforms an agent can go to and what stands on them, one line each (for voters).
 std::string describe_scene(const graph::SceneGraph& g);

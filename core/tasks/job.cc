@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <mutex>
 #include <set>
+#include <utility>
 
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
@@ -22,22 +23,33 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
 
-  // Scenes run side by side (each also spreads its own levels over the threads). A scene's tasks
-  // go into the database, and its row is reported, once every scene before it is in; then they
-  // are let go. So the files and the report are the same for any number of threads, and a job
-  // over many apartments holds few sets at once. Live voters (model calls) are not made for
+  // Scenes run side by side (each also spreads its own levels over the threads). The tasks of
+  // the first scene not yet finished go into the database as they are made; a later scene's are
+  // chunked as they are made and wait, compressed, until every scene before it is in. A finished
+  // scene's row is reported then. So the files and the report are the same for any number of
+  // threads, and no scene's tasks are ever held whole. Live voters (model calls) are not made for
   // concurrent use: with them, one scene at a time.
   struct SceneOutput {
     SceneReport report;
     GenerationResult result;
+    HeldTasks held;  // made while an earlier scene was still being written
     bool done = false;
   };
   std::vector<SceneOutput> outputs(job.scenes.size());
   TaskDbWriter writer(job.out, job.options, job.jsonl, job.jobs);
   GenerationReport report;
   std::vector<Vote> votes;
-  std::mutex reporting;
-  std::size_t next_report = 0;
+  std::mutex writing;    // the writer, `head` and every scene's `held`
+  std::size_t head = 0;  // the scene whose tasks go into the database now
+  const auto take = [&](std::size_t i, std::vector<Task> batch) {
+    for (const Task& t : batch) outputs[i].report.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+    const std::lock_guard<std::mutex> lock(writing);
+    if (i == head) {
+      writer.add_tasks(std::move(batch));
+    } else {
+      writer.hold(outputs[i].held, std::move(batch));
+    }
+  };
   // The threads go to scenes first, and each scene's levels get twice its share: when scenes
   // finish unevenly (three scenes on two cores) the last ones still use every core. At most
   // twice the threads asked for, never jobs x jobs.
@@ -55,18 +67,18 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
       source_files = std::move(loaded.source_files);
     }
     SceneOutput& out = outputs[i];
-    out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs);
+    out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs,
+                                [&take, i](std::vector<Task> batch) { take(i, std::move(batch)); });
     out.result.set.dataset = scene::fingerprint_files(dataset.root, source_files);
     SceneReport& sr = out.report;
     sr.scene = name;
-    for (const Task& t : out.result.set.tasks) sr.levels[static_cast<std::size_t>(t.level - 1)] += 1;
-    sr.total = static_cast<std::int64_t>(out.result.set.tasks.size());
+    for (const std::int64_t n : sr.levels) sr.total += n;
     sr.seconds = watch.elapsed_ms() / 1000.0;
-    const std::lock_guard<std::mutex> lock(reporting);
+    const std::lock_guard<std::mutex> lock(writing);
     out.done = true;
-    for (; next_report < outputs.size() && outputs[next_report].done; ++next_report) {
-      SceneOutput& ready = outputs[next_report];
-      writer.add(ready.result.set);
+    while (head < outputs.size() && outputs[head].done) {
+      SceneOutput& ready = outputs[head];
+      writer.end_scene(ready.result.set);
       const SceneReport& done = ready.report;
       for (std::size_t l = 0; l < 4; ++l) report.levels[l] += done.levels[l];
       report.total += done.total;
@@ -75,6 +87,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
       votes.insert(votes.end(), ready.result.votes.begin(), ready.result.votes.end());
       ready.result = {};
       if (on_scene) on_scene(done);
+      if (++head < outputs.size()) writer.add_held(std::exchange(outputs[head].held, {}));
     }
   });
   writer.finish(votes);

@@ -123,31 +123,35 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
 
 }  // namespace
 
-std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
-                                         const std::vector<AtomicTask>& atomic, int count,
-                                         const TaskOptions& options, std::vector<std::string>& warnings,
-                                         DropCounts& dropped, int jobs) {
-  std::vector<Sequence> out;
-  if (atomic.empty() || count <= 0) return out;
-  // Each chain's attempts depend only on its number, so chains are drawn in parallel; taking
-  // them in order, with a duplicate drawn on from its next attempt, gives the one-thread result.
-  std::vector<Drawn> first(static_cast<std::size_t>(count));
-  parallel_for(first.size(), jobs, [&](std::size_t n) {
-    first[n] = draw_chain(g, initial, atomic, static_cast<int>(n), 0, options);
-  });
+void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
+                        const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,
+                        std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take) {
+  if (atomic.empty() || count <= 0) return;
+  // Each chain's attempts depend only on its number, so chains are drawn in parallel, a block at
+  // a time; taking them in order, with a duplicate drawn on from its next attempt, gives the
+  // one-thread result.
+  constexpr int kBlock = 2048;
   std::set<std::string> seen;
   int failures = 0;
-  for (int n = 0; n < count; ++n) {
-    Drawn drawn = std::move(first[static_cast<std::size_t>(n)]);
-    dropped.merge(drawn.dropped);
-    while (drawn.sequence && !seen.insert(drawn.key).second) {
-      drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options);
+  std::vector<Drawn> first;
+  for (int from = 0; from < count; from += kBlock) {
+    first.assign(static_cast<std::size_t>(std::min(kBlock, count - from)), Drawn{});
+    parallel_for(first.size(), jobs, [&](std::size_t k) {
+      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options);
+    });
+    for (std::size_t k = 0; k < first.size(); ++k) {
+      const int n = from + static_cast<int>(k);
+      Drawn drawn = std::move(first[k]);
       dropped.merge(drawn.dropped);
-    }
-    if (drawn.sequence) {
-      out.push_back(std::move(*drawn.sequence));
-    } else {
-      ++failures;
+      while (drawn.sequence && !seen.insert(drawn.key).second) {
+        drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options);
+        dropped.merge(drawn.dropped);
+      }
+      if (drawn.sequence) {
+        take(std::move(*drawn.sequence));
+      } else {
+        ++failures;
+      }
     }
   }
   if (failures > 0) {
@@ -155,7 +159,6 @@ std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episo
                        " chains could not be drawn (duplicates or infeasible second steps after " +
                        std::to_string(kAttemptsPerChain) + " attempts each)");
   }
-  return out;
 }
 
 }  // namespace mtg::tasks

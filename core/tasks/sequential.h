@@ -12,6 +12,7 @@
 // anchor, found by enumerating one random item against the platform that object now stands on.
 // Only the platforms that changed are ever re-evaluated.
 
+#include <functional>
 #include <vector>
 
 #include "core/tasks/atomic.h"
@@ -25,11 +26,14 @@ struct Sequence {
   std::vector<Identified> words;   // how each part's text names its objects, in its start state
 };
 
-/// `count` distinct chains of `options.level3_chain` parts, deterministic in options.seed and
+/// Takes each chain as it is drawn, in order.
+using SequenceSink = std::function<void(Sequence)>;
+
+/// `count` distinct chains of `options.level3_chain` parts, handed to `take` in order (a few
+/// hundred drawn at a time, so the whole set is never held), deterministic in options.seed and
 /// the same for any number of `jobs` (threads drawing chains).
-std::vector<Sequence> generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
-                                         const std::vector<AtomicTask>& atomic, int count,
-                                         const TaskOptions& options, std::vector<std::string>& warnings,
-                                         DropCounts& dropped, int jobs = 1);
+void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
+                        const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,
+                        std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take);
 
 }  // namespace mtg::tasks

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <ostream>
 
@@ -163,54 +164,93 @@ TaskDbWriter::~TaskDbWriter() {
   if (!jsonl_.empty()) fs::remove(partial_path(jsonl_), ignored);
 }
 
-void TaskDbWriter::add(const TaskSet& set) {
+namespace {
+
+template <class T>
+void append(std::vector<T>& to, std::vector<T> from) {
+  if (to.empty()) {
+    to = std::move(from);
+  } else {
+    to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
+  }
+}
+
+}  // namespace
+
+void TaskDbWriter::add_tasks(std::vector<Task> tasks) {
+  append(pending_, std::move(tasks));
+  store(make_chunks(pending_, false));
+}
+
+void TaskDbWriter::end_scene(const TaskSet& set) {
+  pending_.insert(pending_.end(), set.tasks.begin(), set.tasks.end());
+  store(make_chunks(pending_, true));
   Open& o = *open_;
   o.scenes.push_back(set.scene);
   o.dropped[set.scene] = set.dropped.to_json();
   o.dataset[set.scene] = set.dataset;
-  // A set's chunks are made on the writer's threads (each alone, so the bytes do not depend on
-  // how many) a batch at a time, so the text of a whole set is never held; then they go in in
-  // order. A chunk never spans two sets.
-  struct Chunk {
-    std::vector<std::string> lines;  // each task's JSON
-    std::size_t size = 0;            // of the array of them, uncompressed
-    std::string body;                // what is stored
-  };
-  constexpr std::size_t kChunksPerBatch = 64;
-  const std::size_t n_chunks = (set.tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk;
-  for (std::size_t first = 0; first < n_chunks; first += kChunksPerBatch) {
-    std::vector<Chunk> chunks(std::min(kChunksPerBatch, n_chunks - first));
-    parallel_for(chunks.size(), jobs_, [&](std::size_t b) {
-      Chunk& chunk = chunks[b];
-      const std::size_t begin = (first + b) * kTasksPerChunk, end = std::min(set.tasks.size(), begin + kTasksPerChunk);
-      for (std::size_t i = begin; i < end; ++i) chunk.lines.push_back(task_to_json(set.tasks[i]).dump());
-      std::string json = "[";
-      for (const std::string& line : chunk.lines) json += (json.size() > 1 ? "," : "") + line;
-      json += ']';
-      chunk.size = json.size();
-      chunk.body = zlib_compress(json);
-      // sqlar's convention: a body as long as the text is the text itself.
-      if (chunk.body.size() >= json.size()) chunk.body = std::move(json);
-    });
-    for (std::size_t b = 0; b < chunks.size(); ++b) {
-      const std::int64_t chunk = o.next_chunk++;
-      o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(chunks[b].size));
-      o.insert_chunk.bind_blob(3, chunks[b].body).run();
-      const std::size_t begin = (first + b) * kTasksPerChunk;
-      for (std::size_t i = begin; i < begin + chunks[b].lines.size(); ++i) {
-        const Task& t = set.tasks[i];
-        o.insert_task.bind(1, t.id).bind(2, t.scene).bind(3, std::int64_t{t.level}).bind(4, t.type);
-        o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(i - begin)).run();
-      }
-      if (o.jsonl.is_open()) {
-        for (const std::string& line : chunks[b].lines) o.jsonl << line << '\n';
-      }
+}
+
+void TaskDbWriter::hold(HeldTasks& held, std::vector<Task> tasks) const {
+  append(held.rest, std::move(tasks));
+  append(held.chunks, make_chunks(held.rest, false));
+}
+
+void TaskDbWriter::add_held(HeldTasks held) {
+  MTG_DEMAND(pending_.empty(), "held tasks opened a scene while another was still open");
+  store(std::move(held.chunks));
+  pending_ = std::move(held.rest);
+}
+
+std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool all) const {
+  // Each chunk is made alone (so the bytes do not depend on the threads) from its 64 tasks,
+  // counted from the scene's first: a chunk never spans two scenes, and a scene's chunks are the
+  // same however its tasks were batched, because only whole chunks are made before its end.
+  const std::size_t n_chunks = all ? (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk : tasks.size() / kTasksPerChunk;
+  const std::size_t n_taken = std::min(tasks.size(), n_chunks * kTasksPerChunk);
+  const bool with_lines = !jsonl_.empty();
+  std::vector<TaskChunk> chunks(n_chunks);
+  parallel_for(chunks.size(), jobs_, [&](std::size_t c) {
+    TaskChunk& chunk = chunks[c];
+    const std::size_t begin = c * kTasksPerChunk, end = std::min(n_taken, begin + kTasksPerChunk);
+    std::string json = "[";
+    for (std::size_t i = begin; i < end; ++i) {
+      const Task& t = tasks[i];
+      std::string line = task_to_json(t).dump();
+      json += (json.size() > 1 ? "," : "") + line;
+      chunk.rows.push_back({t.id, t.scene, t.type, t.level});
+      if (with_lines) chunk.lines.push_back(std::move(line));
+    }
+    json += ']';
+    chunk.size = json.size();
+    chunk.body = zlib_compress(json);
+    // sqlar's convention: a body as long as the text is the text itself.
+    if (chunk.body.size() >= json.size()) chunk.body = std::move(json);
+  });
+  tasks.erase(tasks.begin(), tasks.begin() + static_cast<std::ptrdiff_t>(n_taken));
+  return chunks;
+}
+
+void TaskDbWriter::store(std::vector<TaskChunk> chunks) {
+  Open& o = *open_;
+  for (const TaskChunk& c : chunks) {
+    const std::int64_t chunk = o.next_chunk++;
+    o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(c.size));
+    o.insert_chunk.bind_blob(3, c.body).run();
+    for (std::size_t slot = 0; slot < c.rows.size(); ++slot) {
+      const TaskChunk::Row& r = c.rows[slot];
+      o.insert_task.bind(1, r.id).bind(2, r.scene).bind(3, std::int64_t{r.level}).bind(4, r.type);
+      o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(slot)).run();
+    }
+    if (o.jsonl.is_open()) {
+      for (const std::string& line : c.lines) o.jsonl << line << '\n';
     }
   }
   if (o.jsonl.is_open() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");
 }
 
 void TaskDbWriter::finish(const std::vector<Vote>& votes) {
+  MTG_DEMAND(pending_.empty(), "a scene's tasks were added but the scene was never ended");
   Open& o = *open_;
   store::Statement meta(o.db, "INSERT INTO meta (key, value) VALUES (?, ?)");
   for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{

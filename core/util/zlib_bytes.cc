@@ -13,6 +13,7 @@ std::string zlib_compress(std::string_view bytes, int level) {
                            static_cast<uLong>(bytes.size()), level);
   if (rc != Z_OK) throw Error("zlib: compression failed (" + std::to_string(rc) + ")");
   out.resize(size);
+  out.shrink_to_fit();  // the bound is well above what zlib needs: compressed text is often kept
   return out;
 }
 

@@ -183,6 +183,54 @@ TEST(TaskGeneration, ScenesSideBySideWriteTheBytesOfOneThread) {
   EXPECT_FALSE(fs::exists(fx.root() / "jobs3.sqlite.partial"));
 }
 
+// `mtg tasks` streams a scene's tasks into the database in batches, and chunks a later scene's
+// while an earlier one is still being written: the bytes must be those of writing each whole set.
+TEST(TaskGeneration, HowTasksAreBatchedOrHeldDoesNotChangeTheBytes) {
+  testing::FixtureDataset fx;
+  const auto a = testing::two_tables(fx);
+  const auto b = testing::render_room(fx);
+  TaskOptions o = small_options();
+  o.level3_count = 200;
+  const auto ra = generate_tasks(a.graph, o);
+  const auto rb = generate_tasks(b.graph, o);
+  ASSERT_GT(ra.set.tasks.size(), 3u * 64u);  // several chunks, and a part chunk at the end
+  std::vector<Vote> votes = ra.votes;
+  votes.insert(votes.end(), rb.votes.begin(), rb.votes.end());
+  const fs::path dir = fx.root();
+  write_task_db(dir / "whole.sqlite", {ra.set, rb.set}, votes, o, dir / "whole.jsonl");
+
+  // Batches of odd sizes cut across chunks, for both scenes at once.
+  const auto batches = [](const std::vector<Task>& tasks) {
+    std::vector<std::vector<Task>> out;
+    const std::size_t sizes[] = {1, 63, 70, 129};
+    for (std::size_t at = 0, k = 0; at < tasks.size(); ++k) {
+      const std::size_t n = std::min(tasks.size() - at, sizes[k % 4]);
+      out.emplace_back(tasks.begin() + static_cast<std::ptrdiff_t>(at), tasks.begin() + static_cast<std::ptrdiff_t>(at + n));
+      at += n;
+    }
+    return out;
+  };
+  const auto without_tasks = [](TaskSet set) {
+    set.tasks.clear();
+    return set;
+  };
+  {
+    TaskDbWriter writer(dir / "streamed.sqlite", o, dir / "streamed.jsonl", 3);
+    HeldTasks held;
+    const auto first = batches(ra.set.tasks), second = batches(rb.set.tasks);
+    for (std::size_t k = 0; k < std::max(first.size(), second.size()); ++k) {
+      if (k < first.size()) writer.add_tasks(first[k]);
+      if (k < second.size()) writer.hold(held, second[k]);
+    }
+    writer.end_scene(without_tasks(ra.set));
+    writer.add_held(std::move(held));
+    writer.end_scene(without_tasks(rb.set));
+    writer.finish(votes);
+  }
+  EXPECT_EQ(read_file(dir / "whole.jsonl"), read_file(dir / "streamed.jsonl"));
+  EXPECT_EQ(read_file(dir / "whole.sqlite"), read_file(dir / "streamed.sqlite"));
+}
+
 // Level 3 asks for part of the set (one goal; goals about one object): it must get exactly
 // that part of the whole enumeration, with the same plans.
 TEST(AtomicTasks, APartialEnumerationHoldsExactlyItsPartOfTheWhole) {
