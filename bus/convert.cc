@@ -183,6 +183,10 @@ episode::StateDelta from_message(const mtg::world_state_delta_t& m) {
     o.object = mo.object;
     o.parent = mo.parent;
     o.position = Eigen::Vector3d(mo.position[0], mo.position[1], mo.position[2]);
+    if (mo.footprint_x.size() != mo.footprint_y.size()) {
+      throw Error("world state: footprint of '" + mo.object + "' has " + std::to_string(mo.footprint_x.size()) +
+                  " x but " + std::to_string(mo.footprint_y.size()) + " y coordinates");
+    }
     for (std::size_t k = 0; k < mo.footprint_x.size(); ++k) o.footprint.emplace_back(mo.footprint_x[k], mo.footprint_y[k]);
     o.bottom = mo.bottom;
     o.top = mo.top;

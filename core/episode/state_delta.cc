@@ -1,5 +1,7 @@
 #include "core/episode/state_delta.h"
 
+#include <vector>
+
 #include "core/util/error.h"
 
 namespace mtg::episode {
@@ -68,8 +70,20 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
   s.side = delta.side;
   s.held = delta.held.empty() ? -1 : object_named(g, delta.held, "held");
   s.steps = delta.steps;
+  // Each object and platform at most once: a list that names one twice would silently keep the last.
+  std::vector<bool> moved_seen(s.objects.size(), false), reordered_seen(s.children.size(), false),
+      offset_seen(s.children.size(), false);
+  const auto once = [](std::vector<bool>& seen, int i, const std::string& field, const std::string& name) {
+    if (seen[static_cast<std::size_t>(i)]) throw Error("state: '" + field + "' names '" + name + "' twice");
+    seen[static_cast<std::size_t>(i)] = true;
+  };
   for (const MovedObject& m : delta.moved) {
-    ObjectState& o = s.objects[static_cast<std::size_t>(object_named(g, m.object, "moved.object"))];
+    const int i = object_named(g, m.object, "moved.object");
+    once(moved_seen, i, "moved.object", m.object);
+    if (m.placed_side < -1 || m.placed_side > 3) {
+      throw Error("state: 'moved.placed_side' of '" + m.object + "' must be -1..3, got " + std::to_string(m.placed_side));
+    }
+    ObjectState& o = s.objects[static_cast<std::size_t>(i)];
     o.parent = platform_named(g, m.parent, "moved.parent");
     o.position = m.position;
     o.footprint = m.footprint;
@@ -80,6 +94,7 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
   for (const PlatformOrder& order : delta.reordered) {
     const int p = platform_named(g, order.platform, "reordered.platform");
     if (p < 0) throw Error("state: 'reordered.platform' is empty");
+    once(reordered_seen, p, "reordered.platform", order.platform);
     std::vector<int>& children = s.children[static_cast<std::size_t>(p)];
     children.clear();
     for (const std::string& o : order.objects) children.push_back(object_named(g, o, "reordered." + order.platform));
@@ -87,6 +102,7 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
   for (const PlatformOffset& offset : delta.offsets) {
     const int p = platform_named(g, offset.platform, "offsets.platform");
     if (p < 0) throw Error("state: 'offsets.platform' is empty");
+    once(offset_seen, p, "offsets.platform", offset.platform);
     s.platform_offset[static_cast<std::size_t>(p)] = offset.offset;
   }
   return s;

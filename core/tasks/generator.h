@@ -17,8 +17,8 @@ struct GenerationResult {
   std::vector<Vote> votes;  // Level 4 votes (rule-based, plus recorded ones given)
 };
 
-/// Takes the tasks of a scene as they are made, in id order, a batch at a time, so that no one
-/// holds the whole set (TaskDbWriter::add_tasks).
+/// Takes the tasks of a scene as they are made, in the order they are numbered (Levels 1 and 2
+/// interleave), a batch at a time, so that no one holds the whole set (TaskDbWriter::make_chunks).
 using TaskSink = std::function<void(std::vector<Task>)>;
 
 /// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template

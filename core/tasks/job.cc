@@ -23,31 +23,38 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
 
-  // Scenes run side by side (each also spreads its own levels over the threads). The tasks of
-  // the first scene not yet finished go into the database as they are made; a later scene's are
-  // chunked as they are made and wait, compressed, until every scene before it is in. A finished
-  // scene's row is reported then. So the files and the report are the same for any number of
-  // threads, and no scene's tasks are ever held whole. Live voters (model calls) are not made for
+  // Scenes run side by side (each also spreads its own levels over the threads). Each scene's
+  // thread makes its tasks into chunks as they come, without the lock; the first scene not yet
+  // finished stores them at once, a later scene keeps them (compressed) until every scene before
+  // it is in. A finished scene's row is reported then. So the files and the report are the same
+  // for any number of threads, and no scene's tasks are held as tasks: a later scene that
+  // finishes first waits whole, but as chunks. Live voters (model calls) are not made for
   // concurrent use: with them, one scene at a time.
   struct SceneOutput {
     SceneReport report;
     GenerationResult result;
-    HeldTasks held;  // made while an earlier scene was still being written
+    std::vector<Task> rest;           // fewer than a chunk's worth, not yet made into one
+    std::vector<TaskChunk> waiting;   // made while an earlier scene was still being written
     bool done = false;
   };
   std::vector<SceneOutput> outputs(job.scenes.size());
   TaskDbWriter writer(job.out, job.options, job.jsonl, job.jobs);
   GenerationReport report;
   std::vector<Vote> votes;
-  std::mutex writing;    // the writer, `head` and every scene's `held`
-  std::size_t head = 0;  // the scene whose tasks go into the database now
-  const auto take = [&](std::size_t i, std::vector<Task> batch) {
-    for (const Task& t : batch) outputs[i].report.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+  std::mutex writing;    // the writer's store(), `head` and every scene's `waiting`
+  std::size_t head = 0;  // the scene whose chunks go into the database now
+  // Called on scene i's thread only, in its task order.
+  const auto take = [&](std::size_t i, std::vector<Task> batch, bool last) {
+    SceneOutput& out = outputs[i];
+    for (const Task& t : batch) out.report.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+    out.rest.insert(out.rest.end(), std::make_move_iterator(batch.begin()), std::make_move_iterator(batch.end()));
+    std::vector<TaskChunk> chunks = writer.make_chunks(out.rest, last);
     const std::lock_guard<std::mutex> lock(writing);
     if (i == head) {
-      writer.add_tasks(std::move(batch));
+      writer.store(std::move(chunks));
     } else {
-      writer.hold(outputs[i].held, std::move(batch));
+      out.waiting.insert(out.waiting.end(), std::make_move_iterator(chunks.begin()),
+                         std::make_move_iterator(chunks.end()));
     }
   };
   // The threads go to scenes first, and each scene's levels get twice its share: when scenes
@@ -68,7 +75,8 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     }
     SceneOutput& out = outputs[i];
     out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs,
-                                [&take, i](std::vector<Task> batch) { take(i, std::move(batch)); });
+                                [&take, i](std::vector<Task> batch) { take(i, std::move(batch), false); });
+    take(i, {}, true);  // the short chunk at the end
     out.result.set.dataset = scene::fingerprint_files(dataset.root, source_files);
     SceneReport& sr = out.report;
     sr.scene = name;
@@ -87,7 +95,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
       votes.insert(votes.end(), ready.result.votes.begin(), ready.result.votes.end());
       ready.result = {};
       if (on_scene) on_scene(done);
-      if (++head < outputs.size()) writer.add_held(std::exchange(outputs[head].held, {}));
+      if (++head < outputs.size()) writer.store(std::exchange(outputs[head].waiting, {}));
     }
   });
   writer.finish(votes);

@@ -29,8 +29,8 @@ struct Sequence {
 /// Takes each chain as it is drawn, in order.
 using SequenceSink = std::function<void(Sequence)>;
 
-/// `count` distinct chains of `options.level3_chain` parts, handed to `take` in order (a few
-/// hundred drawn at a time, so the whole set is never held), deterministic in options.seed and
+/// `count` distinct chains of `options.level3_chain` parts, handed to `take` in order (2,048
+/// drawn at a time, so the whole set is never held), deterministic in options.seed and
 /// the same for any number of `jobs` (threads drawing chains).
 void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,

@@ -164,49 +164,35 @@ TaskDbWriter::~TaskDbWriter() {
   if (!jsonl_.empty()) fs::remove(partial_path(jsonl_), ignored);
 }
 
-namespace {
-
-template <class T>
-void append(std::vector<T>& to, std::vector<T> from) {
-  if (to.empty()) {
-    to = std::move(from);
-  } else {
-    to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
-  }
-}
-
-}  // namespace
-
-void TaskDbWriter::add_tasks(std::vector<Task> tasks) {
-  append(pending_, std::move(tasks));
-  store(make_chunks(pending_, false));
-}
-
 void TaskDbWriter::end_scene(const TaskSet& set) {
-  pending_.insert(pending_.end(), set.tasks.begin(), set.tasks.end());
-  store(make_chunks(pending_, true));
+  MTG_DEMAND(set.tasks.empty(), "end_scene() takes a scene whose tasks were stored; add() takes a whole one");
   Open& o = *open_;
   o.scenes.push_back(set.scene);
   o.dropped[set.scene] = set.dropped.to_json();
   o.dataset[set.scene] = set.dataset;
+  scene_open_ = false;
 }
 
-void TaskDbWriter::hold(HeldTasks& held, std::vector<Task> tasks) const {
-  append(held.rest, std::move(tasks));
-  append(held.chunks, make_chunks(held.rest, false));
+void TaskDbWriter::add(const TaskSet& set) {
+  // A batch of chunks at a time, so the text of a whole set is never held.
+  constexpr std::size_t kBatch = 64 * kTasksPerChunk;
+  for (std::size_t at = 0; at < set.tasks.size(); at += kBatch) {
+    std::vector<Task> batch(set.tasks.begin() + static_cast<std::ptrdiff_t>(at),
+                            set.tasks.begin() + static_cast<std::ptrdiff_t>(std::min(set.tasks.size(), at + kBatch)));
+    store(make_chunks(batch, true));  // only the set's last batch can end in a short chunk
+  }
+  TaskSet meta;
+  meta.scene = set.scene;
+  meta.dropped = set.dropped;
+  meta.dataset = set.dataset;
+  end_scene(meta);
 }
 
-void TaskDbWriter::add_held(HeldTasks held) {
-  MTG_DEMAND(pending_.empty(), "held tasks opened a scene while another was still open");
-  store(std::move(held.chunks));
-  pending_ = std::move(held.rest);
-}
-
-std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool all) const {
+std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool last) const {
   // Each chunk is made alone (so the bytes do not depend on the threads) from its 64 tasks,
   // counted from the scene's first: a chunk never spans two scenes, and a scene's chunks are the
   // same however its tasks were batched, because only whole chunks are made before its end.
-  const std::size_t n_chunks = all ? (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk : tasks.size() / kTasksPerChunk;
+  const std::size_t n_chunks = last ? (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk : tasks.size() / kTasksPerChunk;
   const std::size_t n_taken = std::min(tasks.size(), n_chunks * kTasksPerChunk);
   const bool with_lines = !jsonl_.empty();
   std::vector<TaskChunk> chunks(n_chunks);
@@ -223,7 +209,11 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
     }
     json += ']';
     chunk.size = json.size();
-    chunk.body = zlib_compress(json);
+    try {
+      chunk.body = zlib_compress(json);
+    } catch (const Error& e) {
+      throw Error(file_.string() + ": " + e.what());
+    }
     // sqlar's convention: a body as long as the text is the text itself.
     if (chunk.body.size() >= json.size()) chunk.body = std::move(json);
   });
@@ -233,6 +223,7 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
 
 void TaskDbWriter::store(std::vector<TaskChunk> chunks) {
   Open& o = *open_;
+  scene_open_ = scene_open_ || !chunks.empty();
   for (const TaskChunk& c : chunks) {
     const std::int64_t chunk = o.next_chunk++;
     o.insert_chunk.bind(1, chunk).bind(2, static_cast<std::int64_t>(c.size));
@@ -250,7 +241,7 @@ void TaskDbWriter::store(std::vector<TaskChunk> chunks) {
 }
 
 void TaskDbWriter::finish(const std::vector<Vote>& votes) {
-  MTG_DEMAND(pending_.empty(), "a scene's tasks were added but the scene was never ended");
+  MTG_DEMAND(!scene_open_, "a scene's tasks were stored but the scene was never ended");
   Open& o = *open_;
   store::Statement meta(o.db, "INSERT INTO meta (key, value) VALUES (?, ?)");
   for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{

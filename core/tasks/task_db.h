@@ -16,13 +16,6 @@
 
 namespace mtg::tasks {
 
-/// Writes a task database scene by scene, so that a job over many scenes need not hold every
-/// set, nor even one whole set: a scene's tasks may come in batches (add_tasks, in id order) and
-/// go in as soon as they fill chunks; the scene's remainder, drop counts and dataset go in at
-/// end_scene(), the metadata and votes at finish(), and the file appears (renamed from
-/// `<file>.partial`) only then. Without finish() nothing is left behind. The bytes depend only on
-/// the tasks and their order, not on how they were batched nor on `jobs`, the threads chunks are
-/// compressed on. With `jsonl` not empty, the same tasks also go there, one per line, keys sorted.
 /// Tasks made into the database's chunks (64 to a chunk, compressed) and not yet stored.
 struct TaskChunk {
   struct Row {
@@ -35,13 +28,15 @@ struct TaskChunk {
   std::vector<std::string> lines;  // their JSON lines, kept only for a JSONL export
 };
 
-/// A scene's tasks made while an earlier scene is still being written: chunked already, so that
-/// waiting costs about what the database will hold (TaskDbWriter::hold, add_held).
-struct HeldTasks {
-  std::vector<TaskChunk> chunks;
-  std::vector<Task> rest;  // fewer than a chunk's worth
-};
-
+/// Writes a task database scene by scene, so that a job over many scenes need not hold every
+/// set, nor even one whole set. A scene's tasks are made into chunks as they come (make_chunks,
+/// which any thread may call for its own scene) and stored in order (store); end_scene() then
+/// records what was dropped and the files the scene came from; the metadata and votes go in at
+/// finish(), and the file appears (renamed from `<file>.partial`) only then. Without finish()
+/// nothing is left behind. A scene's chunks are counted from its first task, and only its last
+/// chunk may be short, so the bytes depend only on the tasks and their order: not on how they
+/// were batched, nor on `jobs`, the threads each call compresses on. With `jsonl` not empty, the
+/// same tasks also go there, one per line, keys sorted.
 class TaskDbWriter {
  public:
   TaskDbWriter(const std::filesystem::path& file, const TaskOptions& options, const std::filesystem::path& jsonl = {},
@@ -50,36 +45,26 @@ class TaskDbWriter {
   TaskDbWriter(const TaskDbWriter&) = delete;
   TaskDbWriter& operator=(const TaskDbWriter&) = delete;
 
-  /// The next tasks of the current scene (the first call opens it), in id order.
-  /// @throws mtg::Error naming the file.
-  void add_tasks(std::vector<Task> tasks);
-  /// Closes the current scene: its last tasks, what was dropped, the files it came from. `set`'s
-  /// own tasks, if any, come after those given to add_tasks. @throws mtg::Error naming the file.
+  /// The whole chunks at the front of `tasks` (a scene's next tasks, in order; with `last`, the
+  /// short chunk at the end too), taken out of it. Touches nothing of the writer: threads may
+  /// make their own scenes' chunks at once. @throws mtg::Error naming the file.
+  std::vector<TaskChunk> make_chunks(std::vector<Task>& tasks, bool last) const;
+  /// Stores chunks as the next of the current scene. @throws mtg::Error naming the file.
+  void store(std::vector<TaskChunk> chunks);
+  /// Ends the current scene (its chunks stored): what was dropped, the files it came from.
   void end_scene(const TaskSet& set);
-  /// A whole scene at once: end_scene(set) with no add_tasks before.
-  void add(const TaskSet& set) { end_scene(set); }
-  /// The next tasks of a later scene, chunked into `held` (which the caller keeps and guards)
-  /// instead of stored; touches nothing of the writer's own state.
-  void hold(HeldTasks& held, std::vector<Task> tasks) const;
-  /// Opens the scene whose tasks `held` holds, as if they had gone to add_tasks.
-  /// @throws mtg::Error naming the file.
-  void add_held(HeldTasks held);
+  /// A whole scene at once: its tasks, then end_scene(set).
+  void add(const TaskSet& set);
   /// @throws mtg::Error naming the file.
   void finish(const std::vector<Vote>& votes);
 
  private:
   struct Open;
-  // The whole chunks at the front of `tasks` (with `all`, the part chunk at the end too), taken
-  // out of it.
-  std::vector<TaskChunk> make_chunks(std::vector<Task>& tasks, bool all) const;
-  // @throws mtg::Error naming the file.
-  void store(std::vector<TaskChunk> chunks);
-
   std::filesystem::path file_, jsonl_;
   TaskOptions options_;
   int jobs_ = 1;
   std::unique_ptr<Open> open_;
-  std::vector<Task> pending_;  // the current scene's tasks not yet in a chunk (fewer than a chunk's worth after a write)
+  bool scene_open_ = false;  // chunks stored since the last end_scene()
 };
 
 /// Writes every task of `sets` (and the Level 4 votes), and with `jsonl` the same tasks one per

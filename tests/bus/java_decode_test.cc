@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include <filesystem>
 #include <fstream>
 
 #include "mtg/action_option_t.hpp"
@@ -35,6 +36,7 @@
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
 #include "mtg/task_t.hpp"
+#include "mtg/world_state_delta_t.hpp"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/process.h"
 
@@ -143,6 +145,23 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     w.add("NESTED_OPTION", option);
     w.add("NESTED_PLACEMENT", placed);
     w.add("NESTED_VIEW", view);
+    mtg::world_state_delta_t delta{};  // a render request's world state, and its parts
+    delta.held = "cup_1";
+    delta.moved.resize(1);
+    delta.moved[0].object = "cup_1";
+    delta.moved[0].n_vertices = 1;
+    delta.moved[0].footprint_x = {0.5};
+    delta.moved[0].footprint_y = {-0.5};
+    delta.n_moved = 1;
+    delta.reordered = {{"table_1", 1, {"cup_2"}}};
+    delta.n_reordered = 1;
+    delta.offsets.resize(1);
+    delta.offsets[0].platform = "tray_1_platform";
+    delta.n_offsets = 1;
+    w.add("NESTED_STATE", delta);
+    w.add("NESTED_MOVED", delta.moved[0]);
+    w.add("NESTED_ORDER", delta.reordered[0]);
+    w.add("NESTED_OFFSET", delta.offsets[0]);
   }
   const std::string out = (dir.root() / "java.out").string();
   testing::ChildProcess java({"/usr/bin/java", "-cp", std::string(MTG_LCM_JAVA_JAR) + ":" + MTG_TYPES_JAR + ":" +
@@ -151,7 +170,12 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(status, 0) << text;
-  EXPECT_NE(text.find("ALL 27 types decoded"), std::string::npos) << text;
+  // Every type of lcmtypes/, so a new one cannot go without a case above.
+  std::size_t types = 0;
+  for (const auto& f : std::filesystem::directory_iterator(std::filesystem::path(MTG_SOURCE_DIR) / "lcmtypes")) {
+    types += f.path().extension() == ".lcm" ? 1 : 0;
+  }
+  EXPECT_NE(text.find("ALL " + std::to_string(types) + " types decoded"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED observation_t MTG_OBS run=java-check"), std::string::npos) << text;
   EXPECT_NE(text.find("DECODED record_chunk_t MTG_RECORD run=java-check"), std::string::npos) << text;
 }

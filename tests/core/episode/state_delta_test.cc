@@ -82,6 +82,14 @@ TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
   episode::StateDelta moved;
   moved.moved.push_back({"ghost", "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, -1});
   fails(moved, "'moved.object' names no object");
+  episode::StateDelta twice = episode::state_delta(built.graph, episode::initial_state(built.graph));
+  const std::string name = built.graph.objects.front().name;
+  twice.moved.push_back({name, "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, -1});
+  twice.moved.push_back({name, "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, -1});
+  fails(twice, "'moved.object' names '" + name + "' twice");
+  episode::StateDelta side_of_object;
+  side_of_object.moved.push_back({name, "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, 7});
+  fails(side_of_object, "'moved.placed_side' of '" + name + "' must be -1..3");
 }
 
 }  // namespace

@@ -216,14 +216,23 @@ TEST(TaskGeneration, HowTasksAreBatchedOrHeldDoesNotChangeTheBytes) {
   };
   {
     TaskDbWriter writer(dir / "streamed.sqlite", o, dir / "streamed.jsonl", 3);
-    HeldTasks held;
+    std::vector<Task> rest_a, rest_b;
+    std::vector<TaskChunk> waiting;  // the second scene's, made while the first is written
     const auto first = batches(ra.set.tasks), second = batches(rb.set.tasks);
     for (std::size_t k = 0; k < std::max(first.size(), second.size()); ++k) {
-      if (k < first.size()) writer.add_tasks(first[k]);
-      if (k < second.size()) writer.hold(held, second[k]);
+      if (k < first.size()) {
+        rest_a.insert(rest_a.end(), first[k].begin(), first[k].end());
+        writer.store(writer.make_chunks(rest_a, false));
+      }
+      if (k < second.size()) {
+        rest_b.insert(rest_b.end(), second[k].begin(), second[k].end());
+        for (TaskChunk& c : writer.make_chunks(rest_b, false)) waiting.push_back(std::move(c));
+      }
     }
+    writer.store(writer.make_chunks(rest_a, true));
     writer.end_scene(without_tasks(ra.set));
-    writer.add_held(std::move(held));
+    writer.store(std::move(waiting));
+    writer.store(writer.make_chunks(rest_b, true));
     writer.end_scene(without_tasks(rb.set));
     writer.finish(votes);
   }
