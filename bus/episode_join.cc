@@ -14,7 +14,7 @@ EpisodeJoin::EpisodeJoin(bus::Bus& bus, std::string run_id, Ready ready)
 
 EpisodeJoin::Halves* EpisodeJoin::slot(const mtg::header_t& h) {
   if (!run_id_.empty() && h.run_id != run_id_) return nullptr;
-  const auto key = std::make_pair(h.run_id, h.episode_id);
+  const Key key{h.run_id, episode_of(h)};
   if (const auto s = started_.find(key); s != started_.end() && s->second >= h.attempt) return nullptr;
   Halves& halves = waiting_[key];
   if (halves.attempt > h.attempt) return nullptr;
@@ -22,7 +22,7 @@ EpisodeJoin::Halves* EpisodeJoin::slot(const mtg::header_t& h) {
   return &halves;
 }
 
-void EpisodeJoin::complete(const std::pair<std::string, std::int64_t>& key) {
+void EpisodeJoin::complete(const Key& key) {
   const auto it = waiting_.find(key);
   if (it == waiting_.end() || !it->second.start || !it->second.truth) return;
   const Halves halves = std::move(it->second);
@@ -35,14 +35,14 @@ void EpisodeJoin::on_start(const mtg::episode_start_t& start) {
   Halves* halves = slot(start.header);
   if (halves == nullptr || halves->start) return;  // stale or a duplicate
   halves->start = start;
-  complete({start.header.run_id, start.header.episode_id});
+  complete({start.header.run_id, episode_of(start.header)});
 }
 
 void EpisodeJoin::on_truth(const mtg::episode_truth_t& truth) {
   Halves* halves = slot(truth.header);
   if (halves == nullptr || halves->truth) return;
   halves->truth = truth;
-  complete({truth.header.run_id, truth.header.episode_id});
+  complete({truth.header.run_id, episode_of(truth.header)});
 }
 
 }  // namespace mtg::bus

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "bus/bus.h"
+#include "bus/episode_id.h"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
 
@@ -38,12 +39,13 @@ class EpisodeJoin {
   };
   /// The slot of (run, episode) for `attempt`, or null when that attempt is stale.
   Halves* slot(const mtg::header_t& h);
-  void complete(const std::pair<std::string, std::int64_t>& key);
+  using Key = std::pair<std::string, EpisodeId>;  // (run id, episode)
+  void complete(const Key& key);
 
   std::string run_id_;
   Ready ready_;
-  std::map<std::pair<std::string, std::int64_t>, Halves> waiting_;
-  std::map<std::pair<std::string, std::int64_t>, int> started_;  // last attempt handed out
+  std::map<Key, Halves> waiting_;
+  std::map<Key, int> started_;  // last attempt handed out
 };
 
 }  // namespace mtg::bus

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "bus/episode_id.h"
 #include "mtg/header_t.hpp"
 
 namespace mtg::bus {
@@ -17,9 +18,9 @@ namespace mtg::bus {
 template <class T>
 class EpisodeTable {
  public:
-  using Key = std::pair<std::string, std::int64_t>;  // (run id, episode id)
+  using Key = std::pair<std::string, EpisodeId>;  // (run id, episode)
 
-  static Key key_of(const mtg::header_t& h) { return {h.run_id, h.episode_id}; }
+  static Key key_of(const mtg::header_t& h) { return {h.run_id, episode_of(h)}; }
 
   /// Whether a start with header `h` begins a new attempt (none is kept, or an older one).
   bool is_new_attempt(const mtg::header_t& h) const {

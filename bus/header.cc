@@ -2,12 +2,12 @@
 
 namespace mtg::bus {
 
-mtg::header_t HeaderStamper::next(std::int64_t episode_id, std::int32_t attempt, const std::string& stream) {
+mtg::header_t HeaderStamper::next(EpisodeId episode, std::int32_t attempt, const std::string& stream) {
   mtg::header_t h{};
   h.run_id = run_id_;
-  h.episode_id = episode_id;
+  h.episode_id = episode.value();
   h.attempt = attempt;
-  h.seq = next_seq_[{stream, episode_id, attempt}]++;
+  h.seq = next_seq_[{stream, episode.value(), attempt}]++;
   h.sender = sender_;
   h.schema_version = kSchemaVersion;
   return h;
@@ -39,9 +39,9 @@ SequenceTracker::Verdict SequenceTracker::observe(const mtg::header_t& header) {
   return gap ? Verdict::kGap : Verdict::kInOrder;
 }
 
-void SequenceTracker::forget_episode(const std::string& run_id, std::int64_t episode_id) {
+void SequenceTracker::forget_episode(const std::string& run_id, EpisodeId episode) {
   for (auto it = last_seq_.begin(); it != last_seq_.end();) {
-    const bool same = std::get<0>(it->first) == run_id && std::get<2>(it->first) == episode_id;
+    const bool same = std::get<0>(it->first) == run_id && std::get<2>(it->first) == episode.value();
     it = same ? last_seq_.erase(it) : std::next(it);
   }
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <tuple>
 
+#include "bus/episode_id.h"
 #include "mtg/header_t.hpp"
 
 namespace mtg::bus {
@@ -31,7 +32,7 @@ class HeaderStamper {
   HeaderStamper(std::string run_id, std::string sender)
       : run_id_(std::move(run_id)), sender_(std::move(sender)) {}
 
-  mtg::header_t next(std::int64_t episode_id = -1, std::int32_t attempt = 0, const std::string& stream = "");
+  mtg::header_t next(EpisodeId episode = {}, std::int32_t attempt = 0, const std::string& stream = "");
   const std::string& sender() const { return sender_; }
   const std::string& run_id() const { return run_id_; }
   void set_run_id(std::string run_id) { run_id_ = std::move(run_id); }
@@ -54,7 +55,7 @@ class SequenceTracker {
   /// kDuplicate for a seq already seen (or older).
   Verdict observe(const mtg::header_t& header);
   /// Forgets every stream of one episode of one run (another run's episode of that id stays).
-  void forget_episode(const std::string& run_id, std::int64_t episode_id);
+  void forget_episode(const std::string& run_id, EpisodeId episode);
 
  private:
   std::map<std::tuple<std::string, std::string, std::int64_t, std::int32_t>, std::int64_t> last_seq_;

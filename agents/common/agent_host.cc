@@ -106,12 +106,12 @@ void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) 
     stop_reported_ = true;
     log::error("agent stopped: " + reply.error);
     mtg::error_event_t ev = bus::agent_stopped_event(spec_, reply.error);
-    ev.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "error");
+    ev.header = stamp_.next(bus::episode_of(obs.header), obs.header.attempt, "error");
     ev.header.run_id = obs.header.run_id;
     bus_.publish(bus::kError, ev);
   }
   mtg::agent_action_t a{};
-  a.header = stamp_.next(obs.header.episode_id, obs.header.attempt, "action");
+  a.header = stamp_.next(bus::episode_of(obs.header), obs.header.attempt, "action");
   a.header.run_id = obs.header.run_id;
   a.step = obs.step;
   a.raw_reply = reply.raw.substr(0, kMaxRawReply);

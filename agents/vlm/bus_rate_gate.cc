@@ -71,7 +71,7 @@ void BusRateGate::pump() {
     }
   }
   for (auto& m : out) {
-    m.header = stamp_.next(-1, 0, "rate");
+    m.header = stamp_.next({}, 0, "rate");
     bus_.publish(bus::kRateLimit, m);
   }
 }

@@ -29,7 +29,7 @@ bool ServiceLoop::stopping() const { return stopping_ || stop_signal_received();
 void ServiceLoop::heartbeat() {
   const HeartbeatStatus status = stopping() ? HeartbeatStatus::kDraining : HeartbeatStatus::kReady;
   mtg::heartbeat_t hb = heartbeat_message({role_, host_name(), capacity_, in_flight_, tick_++, status});
-  hb.header = stamp_.next(-1, 0, "heartbeat");
+  hb.header = stamp_.next({}, 0, "heartbeat");
   bus_.publish(bus::kHeartbeat, hb);
 }
 

@@ -449,7 +449,7 @@ int run_replay(const ReplayOptions& o) {
   orchestrator::write_reports(dir);
   const auto original = orchestrator::read_results(src / "results.sqlite");
   const auto replayed = orchestrator::read_results(dir / "results.sqlite");
-  std::map<std::int64_t, std::string> again;
+  std::map<bus::EpisodeId, std::string> again;
   for (const auto& r : replayed) again[r.episode_id] = orchestrator::verdict_fingerprint(r);
   std::int64_t same = 0, compared = 0;
   for (const auto& r : original) {
@@ -459,7 +459,7 @@ int run_replay(const ReplayOptions& o) {
     if (it != again.end() && it->second == orchestrator::verdict_fingerprint(r)) {
       ++same;
     } else {
-      std::printf("  differs: episode %lld (%s)\n", static_cast<long long>(r.episode_id), r.task_id.c_str());
+      std::printf("  differs: episode %lld (%s)\n", static_cast<long long>(r.episode_id.value()), r.task_id.c_str());
     }
   }
   std::printf("replay of %s: %lld / %lld judge results identical (%.1f s); replay in %s\n", src.c_str(),

@@ -14,27 +14,27 @@ LeaseBook::LeaseBook(const std::filesystem::path& file) {
 
 void LeaseBook::grant(const LeaseRecord& l) {
   store::Statement q(*db_, "INSERT OR REPLACE INTO leases (episode_id, attempt, worker, state) VALUES (?,?,?,'granted')");
-  q.bind(1, l.episode_id).bind(2, std::int64_t{l.attempt}).bind(3, l.worker);
+  q.bind(1, l.episode_id.value()).bind(2, std::int64_t{l.attempt}).bind(3, l.worker);
   q.run();
 }
 
-void LeaseBook::close(std::int64_t episode_id, int attempt, const std::string& state) {
+void LeaseBook::close(bus::EpisodeId episode_id, int attempt, const std::string& state) {
   store::Statement q(*db_, "UPDATE leases SET state = ? WHERE episode_id = ? AND attempt = ?");
-  q.bind(1, state).bind(2, episode_id).bind(3, std::int64_t{attempt});
+  q.bind(1, state).bind(2, episode_id.value()).bind(3, std::int64_t{attempt});
   q.run();
 }
 
 std::vector<LeaseRecord> LeaseBook::open_leases() const {
   store::Statement q(*db_, "SELECT episode_id, attempt, worker FROM leases WHERE state = 'granted' ORDER BY episode_id");
   std::vector<LeaseRecord> out;
-  while (q.step()) out.push_back({q.column_int(0), static_cast<int>(q.column_int(1)), q.column_text(2)});
+  while (q.step()) out.push_back({bus::EpisodeId(q.column_int(0)), static_cast<int>(q.column_int(1)), q.column_text(2)});
   return out;
 }
 
-std::map<std::int64_t, int> LeaseBook::last_attempts() const {
+std::map<bus::EpisodeId, int> LeaseBook::last_attempts() const {
   store::Statement q(*db_, "SELECT episode_id, MAX(attempt) FROM leases GROUP BY episode_id");
-  std::map<std::int64_t, int> out;
-  while (q.step()) out[q.column_int(0)] = static_cast<int>(q.column_int(1));
+  std::map<bus::EpisodeId, int> out;
+  while (q.step()) out[bus::EpisodeId(q.column_int(0))] = static_cast<int>(q.column_int(1));
   return out;
 }
 

@@ -10,12 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "bus/episode_id.h"
 #include "core/store/sqlite.h"
 
 namespace mtg::orchestrator::remote {
 
 struct LeaseRecord {
-  std::int64_t episode_id = 0;
+  bus::EpisodeId episode_id;
   int attempt = 0;
   std::string worker;
 };
@@ -25,11 +26,11 @@ class LeaseBook {
   explicit LeaseBook(const std::filesystem::path& file);
   void grant(const LeaseRecord& lease);
   /// state: "done" (result stored or ignored), "expired", "revoked".
-  void close(std::int64_t episode_id, int attempt, const std::string& state);
+  void close(bus::EpisodeId episode_id, int attempt, const std::string& state);
   /// Leases granted and not closed.
   std::vector<LeaseRecord> open_leases() const;
   /// Highest attempt granted per episode.
-  std::map<std::int64_t, int> last_attempts() const;
+  std::map<bus::EpisodeId, int> last_attempts() const;
 
  private:
   std::unique_ptr<store::Database> db_;

@@ -47,8 +47,8 @@ LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCount
   subscribe();
 }
 
-std::string LeaseLauncher::lease_id(std::int64_t episode_id, int attempt) const {
-  return run_.run_id + "/" + std::to_string(episode_id) + "/" + std::to_string(attempt);
+std::string LeaseLauncher::lease_id(bus::EpisodeId episode_id, int attempt) const {
+  return run_.run_id + "/" + to_string(episode_id) + "/" + std::to_string(attempt);
 }
 
 void LeaseLauncher::subscribe() {
@@ -69,13 +69,13 @@ void LeaseLauncher::subscribe() {
   });
   bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
     if (m.header.run_id != run_.run_id) return;
-    const AttemptKey key{m.header.episode_id, m.header.attempt};
+    const AttemptKey key{bus::episode_of(m.header), m.header.attempt};
     if (delivered_.count(key) == 0) arrivals_[key].result = m;
     arrived(key);
   });
   bus_.subscribe<mtg::record_chunk_t>(bus::kRecord, [this](const std::string&, const mtg::record_chunk_t& m) {
     if (m.header.run_id != run_.run_id) return;
-    const AttemptKey key{m.header.episode_id, m.header.attempt};
+    const AttemptKey key{bus::episode_of(m.header), m.header.attempt};
     if (delivered_.count(key) == 0) {
       Arrival& a = arrivals_[key];
       a.worker = m.header.sender;
@@ -169,12 +169,12 @@ int LeaseLauncher::free_slots() const {
   return free;
 }
 
-int LeaseLauncher::next_attempt(std::int64_t episode_id) const {
+int LeaseLauncher::next_attempt(bus::EpisodeId episode_id) const {
   const auto it = last_attempt_.find(episode_id);
   return it == last_attempt_.end() ? 0 : it->second + 1;
 }
 
-void LeaseLauncher::send_lease(const std::string& action, std::int64_t episode_id, int attempt,
+void LeaseLauncher::send_lease(const std::string& action, bus::EpisodeId episode_id, int attempt,
                                const std::string& worker, const EpisodeLaunch* launch) {
   mtg::lease_t m{};
   m.header = stamp_.next(episode_id, attempt, "lease");
@@ -204,7 +204,7 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
     }
   }
   if (best.empty()) throw Error("internal: launch() without a free worker slot");
-  const std::int64_t id = start.header.episode_id;
+  const bus::EpisodeId id = bus::episode_of(start.header);
   const int attempt = start.header.attempt;
   book_.grant({id, attempt, best});  // on disk before it is out
   last_attempt_[id] = std::max(last_attempt_[id], attempt);
@@ -217,7 +217,7 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   send_lease("grant", id, attempt, best, &launch);
 }
 
-void LeaseLauncher::drop(std::int64_t episode_id, int attempt) {
+void LeaseLauncher::drop(bus::EpisodeId episode_id, int attempt) {
   const auto it = leases_.find(episode_id);
   if (it == leases_.end() || it->second.attempt != attempt) return;
   send_lease("revoke", episode_id, attempt, it->second.worker);
@@ -226,7 +226,7 @@ void LeaseLauncher::drop(std::int64_t episode_id, int attempt) {
 }
 
 void LeaseLauncher::on_renew(const mtg::lease_t& m) {
-  const std::int64_t id = m.header.episode_id;
+  const bus::EpisodeId id = bus::episode_of(m.header);
   const auto it = leases_.find(id);
   if (it != leases_.end() && it->second.attempt == m.header.attempt && it->second.worker == m.worker) {
     it->second.acknowledged = true;
@@ -282,7 +282,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
 
 void LeaseLauncher::expire_leases(LaunchSink& sink) {
   const auto now = Clock::now();
-  std::vector<std::int64_t> expired;
+  std::vector<bus::EpisodeId> expired;
   for (auto& [id, l] : leases_) {
     if (seconds_between(l.last_renewal, now) > options_.lease_ttl_s) {
       expired.push_back(id);
@@ -322,7 +322,7 @@ void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
 
 void LeaseLauncher::announce(const std::string& state) {
   mtg::run_info_t m = announcement(run_, counts_);
-  m.header = stamp_.next(-1, 0, "run_info");
+  m.header = stamp_.next({}, 0, "run_info");
   m.state = state;
   m.lease_ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
   m.workers = live_workers();

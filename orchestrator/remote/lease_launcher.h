@@ -46,9 +46,9 @@ class LeaseLauncher final : public Launcher {
 
   std::vector<AdoptedAttempt> open() override;
   int free_slots() const override;
-  int next_attempt(std::int64_t episode_id) const override;
+  int next_attempt(bus::EpisodeId episode_id) const override;
   void launch(const EpisodeLaunch& launch) override;
-  void drop(std::int64_t episode_id, int attempt) override;
+  void drop(bus::EpisodeId episode_id, int attempt) override;
   void poll(int timeout_ms, LaunchSink& sink) override;
   void close() override;
   int restarts() const override { return supervisor_.restarts(); }
@@ -71,7 +71,7 @@ class LeaseLauncher final : public Launcher {
     bool acknowledged = false;
     Clock::time_point last_renewal, last_grant;
   };
-  using AttemptKey = std::pair<std::int64_t, int>;
+  using AttemptKey = std::pair<bus::EpisodeId, int>;
   std::set<std::string> worker_errors_;  // said once each
   std::int64_t announcements_ = 0;
   struct Arrival {
@@ -86,12 +86,12 @@ class LeaseLauncher final : public Launcher {
   void mark_silent_workers();
   int live_workers() const;
   int held_by(const std::string& worker) const;
-  void send_lease(const std::string& action, std::int64_t episode_id, int attempt, const std::string& worker,
+  void send_lease(const std::string& action, bus::EpisodeId episode_id, int attempt, const std::string& worker,
                   const EpisodeLaunch* launch = nullptr);
   void on_renew(const mtg::lease_t& m);
   void arrived(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);
-  std::string lease_id(std::int64_t episode_id, int attempt) const;
+  std::string lease_id(bus::EpisodeId episode_id, int attempt) const;
 
   RuntimeConfig run_;
   std::filesystem::path dir_;
@@ -101,9 +101,9 @@ class LeaseLauncher final : public Launcher {
   bus::HeaderStamper stamp_;
   Supervisor supervisor_;
   LeaseBook book_;
-  std::map<std::int64_t, int> last_attempt_;
+  std::map<bus::EpisodeId, int> last_attempt_;
   std::map<std::string, Worker> workers_;       // by sender id
-  std::map<std::int64_t, Lease> leases_;        // by episode id
+  std::map<bus::EpisodeId, Lease> leases_;        // by episode id
   std::map<AttemptKey, Arrival> arrivals_;
   std::set<AttemptKey> delivered_;              // answered with "release" when resent
   std::deque<Clock::time_point> finish_times_;  // for the announced rate

@@ -13,8 +13,8 @@ namespace mtg::orchestrator::remote {
 
 namespace fs = std::filesystem;
 
-fs::path episode_log_path(const fs::path& run_dir, std::int64_t episode_id, int attempt) {
-  return run_dir / "episodes" / ("E" + std::to_string(episode_id) + "-a" + std::to_string(attempt) + ".lcmlog");
+fs::path episode_log_path(const fs::path& run_dir, bus::EpisodeId episode_id, int attempt) {
+  return run_dir / "episodes" / ("E" + to_string(episode_id) + "-a" + std::to_string(attempt) + ".lcmlog");
 }
 
 std::int64_t merge_recordings(const fs::path& run_dir) {

@@ -9,10 +9,12 @@
 #include <filesystem>
 #include <string>
 
+#include "bus/episode_id.h"
+
 namespace mtg::orchestrator::remote {
 
 /// Where an attempt's recording is kept in the run folder.
-std::filesystem::path episode_log_path(const std::filesystem::path& run_dir, std::int64_t episode_id, int attempt);
+std::filesystem::path episode_log_path(const std::filesystem::path& run_dir, bus::EpisodeId episode_id, int attempt);
 
 /// Rewrites <run_dir>/bus-merged.lcmlog; returns the number of events written.
 /// @throws mtg::Error naming the file it cannot read or write.

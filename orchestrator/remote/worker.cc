@@ -123,7 +123,7 @@ class Worker final : public LaunchSink {
   // poll() returns, so the recording also holds the message that finished them.
   void on_result(const mtg::episode_result_t& m, const std::string&) override { finished_.push_back(m); }
 
-  void on_failure(std::int64_t episode_id, int attempt, const std::string& why) override {
+  void on_failure(bus::EpisodeId episode_id, int attempt, const std::string& why) override {
     const auto it = held_.find(episode_id);
     if (it == held_.end() || it->second.attempt != attempt) return;
     mtg::episode_result_t m{};
@@ -138,7 +138,7 @@ class Worker final : public LaunchSink {
 
   void on_agent_stopped(const std::string& agent, const std::string& why) override {
     mtg::error_event_t m = bus::agent_stopped_event(agent, why);
-    m.header = stamp_.next(-1, 0, "error");
+    m.header = stamp_.next({}, 0, "error");
     shared_.publish(bus::kError, m);
   }
 
@@ -162,8 +162,8 @@ class Worker final : public LaunchSink {
     ::poll(fds, runtime_ ? 2 : 1, timeout_ms);
   }
 
-  std::string lease_id(std::int64_t episode_id, int attempt) const {
-    return run_id_ + "/" + std::to_string(episode_id) + "/" + std::to_string(attempt);
+  std::string lease_id(bus::EpisodeId episode_id, int attempt) const {
+    return run_id_ + "/" + to_string(episode_id) + "/" + std::to_string(attempt);
   }
 
   void on_run_info(const mtg::run_info_t& m) {
@@ -217,7 +217,7 @@ class Worker final : public LaunchSink {
       // The coordinator says why this host stays out.
       mtg::error_event_t m = bus::error_event(stamp_.sender(), bus::Severity::kFailure,
                                               "worker on " + host_ + " cannot run " + run_id_ + ": " + e.what());
-      m.header = stamp_.next(-1, 0, "error");
+      m.header = stamp_.next({}, 0, "error");
       shared_.publish(bus::kError, m);
       failed_run_ = run_id_;
       retry_join_at_ = Clock::now() + std::chrono::seconds(30);
@@ -260,11 +260,11 @@ class Worker final : public LaunchSink {
   void heartbeat() {
     mtg::heartbeat_t hb = process::heartbeat_message(
         {"worker", host_, options_.capacity, static_cast<int>(held_.size()), tick_++, status_});
-    hb.header = stamp_.next(-1, 0, "heartbeat");
+    hb.header = stamp_.next({}, 0, "heartbeat");
     shared_.publish(bus::kHeartbeat, hb);
   }
 
-  void send_lease(const std::string& action, std::int64_t episode_id, int attempt) {
+  void send_lease(const std::string& action, bus::EpisodeId episode_id, int attempt) {
     mtg::lease_t m{};
     m.header = stamp_.next(episode_id, attempt, "lease");
     m.lease_id = lease_id(episode_id, attempt);
@@ -273,7 +273,7 @@ class Worker final : public LaunchSink {
     shared_.publish(bus::kLease, m);
   }
 
-  void forget(std::int64_t episode_id, int attempt) {
+  void forget(bus::EpisodeId episode_id, int attempt) {
     const auto it = held_.find(episode_id);
     if (it != held_.end() && it->second.attempt == attempt) {
       if (runtime_) runtime_->drop(episode_id, attempt);
@@ -284,7 +284,7 @@ class Worker final : public LaunchSink {
   }
 
   void on_lease(const mtg::lease_t& m) {
-    const std::int64_t id = m.header.episode_id;
+    const bus::EpisodeId id = bus::episode_of(m.header);
     const int attempt = m.header.attempt;
     if (m.action == "release" || m.action == "revoke") {
       forget(id, attempt);
@@ -306,16 +306,16 @@ class Worker final : public LaunchSink {
 
   void capture(const std::string& channel, std::span<const std::uint8_t> bytes, std::int64_t utime) {
     const auto h = peek_header(bytes);
-    if (!h || h->run_id != run_id_ || h->episode_id < 0) return;
-    const auto held = held_.find(h->episode_id);
+    if (!h || h->run_id != run_id_ || !bus::episode_of(*h).valid()) return;
+    const auto held = held_.find(bus::episode_of(*h));
     if (held == held_.end() || held->second.attempt != h->attempt) return;
-    captured_[{h->episode_id, h->attempt}].push_back(LoggedEvent{channel, utime, {bytes.begin(), bytes.end()}});
+    captured_[{bus::episode_of(*h), h->attempt}].push_back(LoggedEvent{channel, utime, {bytes.begin(), bytes.end()}});
   }
 
   void finalize_finished() {
     if (options_.hold_results) finished_.clear();
     for (const mtg::episode_result_t& result : finished_) {
-      const std::int64_t id = result.header.episode_id;
+      const bus::EpisodeId id = bus::episode_of(result.header);
       const int attempt = result.header.attempt;
       const auto held = held_.find(id);
       if (held == held_.end() || held->second.attempt != attempt) continue;  // revoked meanwhile
@@ -382,9 +382,9 @@ class Worker final : public LaunchSink {
   std::string failed_run_;
   Clock::time_point retry_join_at_;
   long tick_ = 0;
-  std::map<std::int64_t, Held> held_;
+  std::map<bus::EpisodeId, Held> held_;
   std::map<std::string, Outgoing> outbox_;
-  std::map<std::pair<std::int64_t, int>, std::vector<LoggedEvent>> captured_;
+  std::map<std::pair<bus::EpisodeId, int>, std::vector<LoggedEvent>> captured_;
   std::vector<mtg::episode_result_t> finished_;
   Bridge rate_bridge_;
 };

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "bus/episode_id.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
@@ -44,7 +45,7 @@ class LaunchSink {
   virtual void on_result(const mtg::episode_result_t& result, const std::string& worker) = 0;
   /// The attempt is lost without a verdict (a process died, no news for too long, a worker
   /// vanished); the engine decides whether to try again.
-  virtual void on_failure(std::int64_t episode_id, int attempt, const std::string& why) = 0;
+  virtual void on_failure(bus::EpisodeId episode, int attempt, const std::string& why) = 0;
   /// An agent stopped for good (authentication, quota, billing): no more of its episodes.
   virtual void on_agent_stopped(const std::string& agent, const std::string& why) = 0;
 };
@@ -52,7 +53,7 @@ class LaunchSink {
 /// An attempt that was already running when the launcher opened (a restarted coordinator adopts
 /// the leases its workers still hold).
 struct AdoptedAttempt {
-  std::int64_t episode_id = 0;
+  bus::EpisodeId episode;
   int attempt = 0;
 };
 
@@ -65,10 +66,10 @@ class Launcher {
   /// How many more attempts may start now.
   virtual int free_slots() const = 0;
   /// The attempt number an episode's next try should use (above every one used before).
-  virtual int next_attempt(std::int64_t episode_id) const = 0;
+  virtual int next_attempt(bus::EpisodeId episode) const = 0;
   virtual void launch(const EpisodeLaunch& launch) = 0;
   /// Forgets an attempt the engine no longer wants (its agent stopped, it was given up).
-  virtual void drop(std::int64_t episode_id, int attempt) = 0;
+  virtual void drop(bus::EpisodeId episode, int attempt) = 0;
   /// Waits up to `timeout_ms` for news and reports it to `sink`.
   virtual void poll(int timeout_ms, LaunchSink& sink) = 0;
   /// Stops what open() started.

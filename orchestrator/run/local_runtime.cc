@@ -46,7 +46,7 @@ LocalRuntime::LocalRuntime(RuntimeConfig config, fs::path dir)
 void LocalRuntime::subscribe() {
   bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
     if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
-    const auto it = in_flight_.find(m.header.episode_id);
+    const auto it = in_flight_.find(bus::episode_of(m.header));
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
     if (recorder_acks()) {
       if (!it->second.result) it->second.result = m;  // stored once the recorder has it
@@ -58,7 +58,7 @@ void LocalRuntime::subscribe() {
   bus_.subscribe<mtg::recorded_t>(bus::kRecorded, [this](const std::string&, const mtg::recorded_t& m) {
     if (m.header.run_id != config_.run_id || sink_ == nullptr) return;
     recorder_deaths_since_ack_ = 0;
-    const auto it = in_flight_.find(m.header.episode_id);
+    const auto it = in_flight_.find(bus::episode_of(m.header));
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt || !it->second.result) return;
     const mtg::episode_result_t result = *it->second.result;
     in_flight_.erase(it);
@@ -81,8 +81,8 @@ void LocalRuntime::subscribe() {
       return;
     }
     log::warn("error from " + m.source + ": " + m.message);
-    const auto it = in_flight_.find(m.header.episode_id);
-    if (it != in_flight_.end() && it->second.attempt == m.header.attempt) fail(m.header.episode_id, m.message, *sink_);
+    const auto it = in_flight_.find(bus::episode_of(m.header));
+    if (it != in_flight_.end() && it->second.attempt == m.header.attempt) fail(bus::episode_of(m.header), m.message, *sink_);
   });
 }
 
@@ -193,12 +193,12 @@ void LocalRuntime::launch(const EpisodeLaunch& launch) {
   f.attempt = start.header.attempt;
   f.agent = start.agent;
   f.last_activity = Clock::now();
-  in_flight_[start.header.episode_id] = f;
+  in_flight_[bus::episode_of(start.header)] = f;
   bus_.publish(bus::kEpisodeTruth, launch.truth);
   bus_.publish(bus::kEpisodeStart, start);
 }
 
-void LocalRuntime::drop(std::int64_t episode_id, int attempt) {
+void LocalRuntime::drop(bus::EpisodeId episode_id, int attempt) {
   const auto it = in_flight_.find(episode_id);
   if (it != in_flight_.end() && it->second.attempt == attempt) in_flight_.erase(it);
 }
@@ -214,7 +214,7 @@ void LocalRuntime::poll(int timeout_ms, LaunchSink& sink) {
   sink_ = nullptr;
 }
 
-void LocalRuntime::fail(std::int64_t episode_id, const std::string& why, LaunchSink& sink) {
+void LocalRuntime::fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink) {
   const auto it = in_flight_.find(episode_id);
   if (it == in_flight_.end()) return;
   const int attempt = it->second.attempt;
@@ -224,12 +224,12 @@ void LocalRuntime::fail(std::int64_t episode_id, const std::string& why, LaunchS
 
 void LocalRuntime::touch(const mtg::header_t& h) {
   if (h.run_id != config_.run_id) return;
-  const auto it = in_flight_.find(h.episode_id);
+  const auto it = in_flight_.find(bus::episode_of(h));
   if (it != in_flight_.end() && it->second.attempt == h.attempt) it->second.last_activity = Clock::now();
 }
 
 void LocalRuntime::check_timeouts(LaunchSink& sink) {
-  std::vector<std::int64_t> stuck;
+  std::vector<bus::EpisodeId> stuck;
   for (const auto& [id, f] : in_flight_) {
     if (std::chrono::duration<double>(Clock::now() - f.last_activity).count() > config_.episode_timeout_s) {
       stuck.push_back(id);
@@ -258,7 +258,7 @@ void LocalRuntime::handle_deaths(LaunchSink& sink) {
       if (process == name) affected_agents.insert(spec);
     }
   }
-  std::vector<std::int64_t> failed;
+  std::vector<bus::EpisodeId> failed;
   for (const auto& [id, f] : in_flight_) {
     if (all || affected_agents.count(f.agent)) failed.push_back(id);
   }
@@ -274,7 +274,7 @@ void LocalRuntime::close() {
   if (!open_) return;
   open_ = false;
   mtg::run_control_t stop{};
-  stop.header = stamp_.next(-1, 0, "control");
+  stop.header = stamp_.next({}, 0, "control");
   stop.command = "shutdown";
   bus_.publish(bus::kControl, stop);
   for (const auto& name : names_) supervisor_.stop(name, SIGTERM, 3000);

@@ -58,9 +58,9 @@ class LocalRuntime final : public Launcher {
 
   std::vector<AdoptedAttempt> open() override;
   int free_slots() const override;
-  int next_attempt(std::int64_t) const override { return 0; }
+  int next_attempt(bus::EpisodeId) const override { return 0; }
   void launch(const EpisodeLaunch& launch) override;
-  void drop(std::int64_t episode_id, int attempt) override;
+  void drop(bus::EpisodeId episode_id, int attempt) override;
   void poll(int timeout_ms, LaunchSink& sink) override;
   void close() override;
   int restarts() const override { return supervisor_.restarts(); }
@@ -83,7 +83,7 @@ class LocalRuntime final : public Launcher {
   void wait_ready(const std::vector<std::string>& names, double timeout_s);
   void handle_deaths(LaunchSink& sink);
   void check_timeouts(LaunchSink& sink);
-  void fail(std::int64_t episode_id, const std::string& why, LaunchSink& sink);
+  void fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink);
   void touch(const mtg::header_t& h);
   bool recorder_beats() const { return config_.recorder != "lcm-logger"; }
   /// The mtg recorder acknowledges every result it writes; lcm-logger does not.
@@ -97,7 +97,7 @@ class LocalRuntime final : public Launcher {
   std::vector<std::string> names_;                   // processes that heartbeat, but the recorder
   std::map<std::string, std::string> agent_process_; // agent spec -> process name
   std::set<int> ready_pids_;
-  std::map<std::int64_t, Flight> in_flight_;
+  std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()
   bool open_ = false;
   int recorder_deaths_since_ack_ = 0;

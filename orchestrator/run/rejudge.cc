@@ -26,21 +26,21 @@ struct Recorded {
   std::map<int, std::map<int, mtg::agent_action_t>> actions;     // attempt -> step -> answer
 };
 
-std::map<std::int64_t, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id) {
-  std::map<std::int64_t, Recorded> out;
+std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id) {
+  std::map<bus::EpisodeId, Recorded> out;
   bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
     if (ev.channel == bus::kEpisodeStart) {
       mtg::episode_start_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
-      out[m.header.episode_id].starts[m.header.attempt] = m;
+      out[bus::episode_of(m.header)].starts[m.header.attempt] = m;
     } else if (ev.channel == bus::kEpisodeTruth) {
       mtg::episode_truth_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
-      out[m.header.episode_id].truths[m.header.attempt] = m;
+      out[bus::episode_of(m.header)].truths[m.header.attempt] = m;
     } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
       mtg::agent_action_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
-      out[m.header.episode_id].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
+      out[bus::episode_of(m.header)].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
     }
   });
   return out;
@@ -61,7 +61,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0 ||
           rec->second.truths.count(original.attempt) == 0) {
         throw Error(run_dir.string() + ": the recording lacks the start of episode " +
-                    std::to_string(original.episode_id) + " attempt " + std::to_string(original.attempt));
+                    to_string(original.episode_id) + " attempt " + std::to_string(original.attempt));
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
       const bus::EpisodeTask task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
@@ -75,7 +75,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       const auto answers = rec->second.actions.find(original.attempt);
       for (int step = 0; !judge.done(); ++step) {
         if (answers == rec->second.actions.end() || answers->second.count(step) == 0) {
-          throw Error(run_dir.string() + ": the recording lacks episode " + std::to_string(original.episode_id) +
+          throw Error(run_dir.string() + ": the recording lacks episode " + to_string(original.episode_id) +
                       "'s answer to step " + std::to_string(step));
         }
         const episode::AgentAnswer answer = bus::to_answer(answers->second.at(step));
@@ -88,7 +88,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
     if (verdict_fingerprint(row) == verdict_fingerprint(original)) {
       ++report.identical;
     } else {
-      report.differences.push_back("episode " + std::to_string(row.episode_id) + " (" + row.task_id + "): recorded " +
+      report.differences.push_back("episode " + to_string(row.episode_id) + " (" + row.task_id + "): recorded " +
                                    (original.success ? "success" : original.cause) + " IP " +
                                    std::to_string(original.ip) + ", now " + (row.success ? "success" : row.cause) +
                                    " IP " + std::to_string(row.ip));

@@ -44,7 +44,7 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
   std::vector<EpisodeRow> out;
   while (q.step()) {
     EpisodeRow r;
-    r.episode_id = q.column_int(0);
+    r.episode_id = bus::EpisodeId(q.column_int(0));
     r.task_id = q.column_text(1);
     r.scene = q.column_text(2);
     r.level = static_cast<int>(q.column_int(3));
@@ -118,7 +118,7 @@ ResultsDb::~ResultsDb() {
 bool ResultsDb::insert(const EpisodeRow& r) {
   store::Statement q(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
                                ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  q.bind(1, r.episode_id).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
+  q.bind(1, r.episode_id.value()).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
   q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});
   q.bind(14, r.usage.input_tokens).bind(15, r.usage.output_tokens).bind(16, r.usage.cost_usd).bind(17, r.usage.latency_ms);
@@ -139,7 +139,7 @@ std::vector<EpisodeRow> read_results(const std::filesystem::path& file) {
 std::string verdict_fingerprint(const EpisodeRow& r) {
   char ip[32];
   std::snprintf(ip, sizeof(ip), "%.6f", r.ip);
-  return std::to_string(r.episode_id) + "|" + r.task_id + "|" + std::to_string(r.level) + "|" +
+  return to_string(r.episode_id) + "|" + r.task_id + "|" + std::to_string(r.level) + "|" +
          (r.success ? "1" : "0") + "|" + ip + "|" + r.stage + "|" + r.cause + "|" + std::to_string(r.steps) + "|" +
          std::to_string(r.invalid_actions) + "|" + r.subtask_ip + "|" + r.status;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bus/episode_id.h"
 #include "core/episode/usage.h"
 #include "core/store/sqlite.h"
 #include "mtg/episode_result_t.hpp"
@@ -16,7 +17,7 @@
 namespace mtg::orchestrator {
 
 struct EpisodeRow {
-  std::int64_t episode_id = 0;
+  bus::EpisodeId episode_id;
   std::string task_id, scene, task_type, agent;
   int level = 0;
   int attempt = 0;

@@ -41,7 +41,7 @@ class Engine final : public LaunchSink {
     RunSummary summary;
     summary.planned = static_cast<std::int64_t>(plan_.episodes.size());
     // One read of what earlier invocations finished: what to skip, and the counts so far.
-    std::set<std::int64_t> finished;
+    std::set<bus::EpisodeId> finished;
     for (const auto& row : results_.rows()) {
       finished.insert(row.episode_id);
       count(row);
@@ -58,10 +58,10 @@ class Engine final : public LaunchSink {
     }
     // A restarted coordinator finds attempts its workers still run: they stay in flight.
     for (const AdoptedAttempt& a : launcher_.open()) {
-      const auto it = std::find(pending_.begin(), pending_.end(), a.episode_id);
+      const auto it = std::find(pending_.begin(), pending_.end(), a.episode);
       if (it == pending_.end()) continue;
       pending_.erase(it);
-      in_flight_[a.episode_id] = Flight{a.attempt, Clock::now()};
+      in_flight_[a.episode] = Flight{a.attempt, Clock::now()};
     }
     Progress progress(summary.planned, summary.already_done, options_.progress);
     progress_ = &progress;
@@ -93,20 +93,20 @@ class Engine final : public LaunchSink {
   }
 
   void on_result(const mtg::episode_result_t& m, const std::string& worker) override {
-    const auto it = in_flight_.find(m.header.episode_id);
+    const auto it = in_flight_.find(bus::episode_of(m.header));
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
     // Neither a lost message nor a failing API is the agent's failure: try the episode again.
     const auto cause = episode::cause_from_string(m.cause);
     if (!cause || !episode::stage_from_string(m.stage)) {  // a judge from another version: never score it
-      retry(m.header.episode_id, "result with unknown stage '" + m.stage + "' or cause '" + m.cause + "'");
+      retry(bus::episode_of(m.header), "result with unknown stage '" + m.stage + "' or cause '" + m.cause + "'");
       return;
     }
     if (cause == episode::Cause::kTransportError || cause == episode::Cause::kProviderError) {
-      retry(m.header.episode_id, m.detail,
+      retry(bus::episode_of(m.header), m.detail,
             cause == episode::Cause::kProviderError ? episode::Cause::kProviderError : episode::Cause::kInfrastructure);
       return;
     }
-    EpisodeRow row = base_row(m.header.episode_id, m.header.attempt);
+    EpisodeRow row = base_row(bus::episode_of(m.header), m.header.attempt);
     set_verdict(row, m);
     row.usage = bus::episode_usage(m);
     row.worker = worker;
@@ -115,7 +115,7 @@ class Engine final : public LaunchSink {
     store(row, true);
   }
 
-  void on_failure(std::int64_t episode_id, int attempt, const std::string& why) override {
+  void on_failure(bus::EpisodeId episode_id, int attempt, const std::string& why) override {
     const auto it = in_flight_.find(episode_id);
     if (it != in_flight_.end() && it->second.attempt == attempt) retry(episode_id, why);
   }
@@ -123,7 +123,7 @@ class Engine final : public LaunchSink {
   void on_agent_stopped(const std::string& spec, const std::string& why) override {
     if (!stopped_agents_.emplace(spec, why).second) return;
     log::error("agent " + spec + " stopped: " + why);
-    const auto theirs_id = [&](std::int64_t id) { return by_id_.at(id)->agent == spec; };
+    const auto theirs_id = [&](bus::EpisodeId id) { return by_id_.at(id)->agent == spec; };
     not_run_ += static_cast<std::int64_t>(std::erase_if(pending_, theirs_id));
     not_run_ += static_cast<std::int64_t>(
         std::erase_if(waiting_retries_, [&](const auto& retry) { return theirs_id(retry.first); }));
@@ -152,7 +152,7 @@ class Engine final : public LaunchSink {
         waiting_retries_.pop_front();
         send_start(id, attempt);
       } else {
-        const std::int64_t id = pending_.front();
+        const bus::EpisodeId id = pending_.front();
         pending_.pop_front();
         send_start(id, launcher_.next_attempt(id));
       }
@@ -165,7 +165,7 @@ class Engine final : public LaunchSink {
     said_stuck_ = stuck;
   }
 
-  void send_start(std::int64_t id, int attempt) {
+  void send_start(bus::EpisodeId id, int attempt) {
     const PlannedEpisode& e = *by_id_.at(id);
     const auto task = tasks_.find(e.task_id);
     if (task == tasks_.end()) throw Error("task " + e.task_id + " of the plan is not in " + plan_.tasks_db);
@@ -185,13 +185,13 @@ class Engine final : public LaunchSink {
     launcher_.launch(launch);
   }
 
-  void retry(std::int64_t id, const std::string& why, episode::Cause cause = episode::Cause::kInfrastructure) {
+  void retry(bus::EpisodeId id, const std::string& why, episode::Cause cause = episode::Cause::kInfrastructure) {
     const auto it = in_flight_.find(id);
     if (it == in_flight_.end()) return;
     const int attempt = it->second.attempt + 1;
     in_flight_.erase(it);
     if (attempt >= plan_.max_attempts) {
-      log::warn("episode " + std::to_string(id) + " given up after " + std::to_string(attempt) + " attempts: " + why);
+      log::warn("episode " + to_string(id) + " given up after " + std::to_string(attempt) + " attempts: " + why);
       EpisodeRow row = base_row(id, attempt - 1);
       row.status = "error";
       row.stage = episode::to_string(episode::Stage::kStart);
@@ -201,14 +201,14 @@ class Engine final : public LaunchSink {
       ++errors_;
       return;
     }
-    log::info("episode " + std::to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
+    log::info("episode " + to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
     ++retries_;
     if (progress_ != nullptr) progress_->retry();
     // Sent by dispatch() when a slot is free: a lost host may have taken its slots with it.
     waiting_retries_.emplace_back(id, attempt);
   }
 
-  EpisodeRow base_row(std::int64_t id, int attempt) const {
+  EpisodeRow base_row(bus::EpisodeId id, int attempt) const {
     const PlannedEpisode& e = *by_id_.at(id);
     const tasks::Task& t = tasks_.at(e.task_id);
     EpisodeRow row;
@@ -252,11 +252,11 @@ class Engine final : public LaunchSink {
   EngineOptions options_;
   ResultsDb results_;
   bus::HeaderStamper stamp_;
-  std::map<std::int64_t, const PlannedEpisode*> by_id_;
-  std::deque<std::int64_t> pending_;
-  std::deque<std::pair<std::int64_t, int>> waiting_retries_;  // (episode, attempt), sent before pending_
+  std::map<bus::EpisodeId, const PlannedEpisode*> by_id_;
+  std::deque<bus::EpisodeId> pending_;
+  std::deque<std::pair<bus::EpisodeId, int>> waiting_retries_;  // (episode, attempt), sent before pending_
   bool said_stuck_ = false;
-  std::map<std::int64_t, Flight> in_flight_;
+  std::map<bus::EpisodeId, Flight> in_flight_;
   Progress* progress_ = nullptr;
   std::int64_t completed_ = 0, errors_ = 0, retries_ = 0, not_run_ = 0;
   std::map<std::string, std::string> stopped_agents_;

@@ -14,7 +14,7 @@ namespace mtg::orchestrator {
 
 nlohmann::json RunPlan::to_json() const {
   nlohmann::json eps = nlohmann::json::array();
-  for (const auto& e : episodes) eps.push_back({{"id", e.id}, {"task", e.task_id}, {"agent", e.agent}, {"seed", e.seed}});
+  for (const auto& e : episodes) eps.push_back({{"id", e.id.value()}, {"task", e.task_id}, {"agent", e.agent}, {"seed", e.seed}});
   return {{"format", "mtg-run-plan/1"},
           {"run_id", run_id},
           {"tasks_db", tasks_db},
@@ -66,7 +66,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.remote = j.value("remote", false);  // absent in plans written before multi-host runs
     p.allow_data_mismatch = j.value("allow_data_mismatch", false);
     for (const auto& e : j.at("episodes")) {
-      p.episodes.push_back({e.at("id").get<std::int64_t>(), e.at("task").get<std::string>(),
+      p.episodes.push_back({bus::EpisodeId(e.at("id").get<std::int64_t>()), e.at("task").get<std::string>(),
                             e.at("agent").get<std::string>(), e.at("seed").get<std::uint64_t>()});
     }
   } catch (const nlohmann::json::exception& e) {
@@ -106,7 +106,7 @@ RunPlan make_plan(RunPlan plan, const std::map<std::string, tasks::Task>& all_ta
   std::int64_t id = 0;
   for (const tasks::Task* t : chosen) {
     for (const std::string& agent : plan.agents) {
-      plan.episodes.push_back({id, t->id, agent, derive_seed(plan.seed, static_cast<std::uint64_t>(id))});
+      plan.episodes.push_back({bus::EpisodeId(id), t->id, agent, derive_seed(plan.seed, static_cast<std::uint64_t>(id))});
       ++id;
     }
   }

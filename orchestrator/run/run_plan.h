@@ -11,12 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "bus/episode_id.h"
 #include "core/tasks/task.h"
 
 namespace mtg::orchestrator {
 
 struct PlannedEpisode {
-  std::int64_t id = 0;
+  bus::EpisodeId id;
   std::string task_id;
   std::string agent;
   std::uint64_t seed = 0;  // derive_seed(run seed, id)

@@ -97,9 +97,9 @@ std::vector<int> recorded_attempts(const std::vector<RecordedMessage>& messages)
   return {attempts.begin(), attempts.end()};
 }
 
-json episode_trace(std::int64_t episode_id, const std::vector<RecordedMessage>& messages, int attempt) {
+json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>& messages, int attempt) {
   attempt = pick_attempt(messages, attempt);
-  json out = {{"episode_id", episode_id}, {"attempt", attempt}, {"attempts", recorded_attempts(messages)},
+  json out = {{"episode_id", episode_id.value()}, {"attempt", attempt}, {"attempts", recorded_attempts(messages)},
               {"task", nullptr}, {"result", nullptr}, {"errors", json::array()}};
   std::map<int, json> steps;  // by step number
   auto step_of = [&](int step) -> json& {

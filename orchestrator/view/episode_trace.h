@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bus/episode_id.h"
 #include "orchestrator/view/recording_index.h"
 
 namespace mtg::orchestrator::view {
@@ -24,7 +25,7 @@ std::vector<int> recorded_attempts(const std::vector<RecordedMessage>& messages)
 ///  judge[{kind, subtask, milestone, ip, text}]}], result{...verdict, stage_text, cause_text}|null,
 ///  errors[{source, severity, message}]}. `attempt` < 0 picks the last recorded attempt.
 /// @throws mtg::Error naming the channel of a message that does not decode.
-nlohmann::json episode_trace(std::int64_t episode_id, const std::vector<RecordedMessage>& messages, int attempt);
+nlohmann::json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>& messages, int attempt);
 
 /// {task_id, goal (parsed), oracle_plan[], identify (parsed)} of the attempt, or null.
 nlohmann::json episode_truth(const std::vector<RecordedMessage>& messages, int attempt);

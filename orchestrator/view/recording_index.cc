@@ -54,8 +54,8 @@ std::size_t RecordingIndex::refresh() {
       if (!viewer_reads_channel(ev->channel)) continue;
       const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev->data),
                                             static_cast<std::size_t>(ev->datalen)});
-      if (!header || header->episode_id < 0) continue;
-      places_[header->episode_id].push_back(place(i, offset));
+      if (!header || !bus::episode_of(*header).valid()) continue;
+      places_[bus::episode_of(*header)].push_back(place(i, offset));
       ++added;
     }
   }
@@ -63,7 +63,7 @@ std::size_t RecordingIndex::refresh() {
   return added;
 }
 
-std::vector<RecordedMessage> RecordingIndex::messages_of(std::int64_t episode_id) const {
+std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_id) const {
   std::vector<std::uint64_t> places;
   std::vector<fs::path> paths;
   {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "bus/episode_id.h"
+
 namespace mtg::orchestrator::view {
 
 /// One recorded message, copied out of the log.
@@ -26,7 +28,7 @@ class RecordingIndex {
   /// Thread-safe; returns the number of messages added.
   std::size_t refresh();
   /// The episode's messages of the channels the viewer reads, in recording order.
-  std::vector<RecordedMessage> messages_of(std::int64_t episode_id) const;
+  std::vector<RecordedMessage> messages_of(bus::EpisodeId episode_id) const;
   /// Messages indexed so far (all episodes).
   std::size_t size() const;
 
@@ -43,7 +45,7 @@ class RecordingIndex {
   std::filesystem::path run_dir_;
   mutable std::mutex mutex_;
   std::vector<File> files_;
-  std::map<std::int64_t, std::vector<std::uint64_t>> places_;
+  std::map<bus::EpisodeId, std::vector<std::uint64_t>> places_;
   std::size_t size_ = 0;
 };
 

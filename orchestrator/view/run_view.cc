@@ -33,7 +33,7 @@ bool EpisodeFilter::matches(const EpisodeRow& r) const {
 }
 
 json row_json(const EpisodeRow& r) {
-  return {{"episode_id", r.episode_id},
+  return {{"episode_id", r.episode_id.value()},
           {"task_id", r.task_id},
           {"scene", r.scene},
           {"level", r.level},
@@ -153,7 +153,7 @@ json RunView::episodes(const EpisodeFilter& filter, std::size_t offset, std::siz
   return {{"total", total}, {"offset", offset}, {"rows", list}};
 }
 
-std::vector<RecordedMessage> RunView::messages_of(std::int64_t id) {
+std::vector<RecordedMessage> RunView::messages_of(bus::EpisodeId id) {
   auto messages = index_.messages_of(id);
   if (messages.empty()) {  // not indexed yet (a live run, or the first scan still going)
     index_.refresh();
@@ -162,11 +162,11 @@ std::vector<RecordedMessage> RunView::messages_of(std::int64_t id) {
   return messages;
 }
 
-json RunView::episode(std::int64_t id, int attempt) {
+json RunView::episode(bus::EpisodeId id, int attempt) {
   json row = nullptr;
   const Rows all = rows();
   const auto it = std::lower_bound(all->begin(), all->end(), id,
-                                   [](const EpisodeRow& r, std::int64_t v) { return r.episode_id < v; });
+                                   [](const EpisodeRow& r, bus::EpisodeId v) { return r.episode_id < v; });
   if (it != all->end() && it->episode_id == id) row = row_json(*it);
   const auto messages = messages_of(id);
   if (row.is_null() && messages.empty()) return nullptr;
@@ -177,9 +177,9 @@ json RunView::episode(std::int64_t id, int attempt) {
   return out;
 }
 
-json RunView::truth(std::int64_t id, int attempt) { return episode_truth(messages_of(id), attempt); }
+json RunView::truth(bus::EpisodeId id, int attempt) { return episode_truth(messages_of(id), attempt); }
 
-std::optional<RecordedImage> RunView::image(std::int64_t id, int attempt, int step, int index) {
+std::optional<RecordedImage> RunView::image(bus::EpisodeId id, int attempt, int step, int index) {
   return observation_image(messages_of(id), attempt, step, index);
 }
 

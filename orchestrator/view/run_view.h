@@ -47,14 +47,14 @@ class RunView {
   /// {total, offset, rows[...]} of the matching episodes in id order.
   nlohmann::json episodes(const EpisodeFilter& filter, std::size_t offset, std::size_t limit);
   /// The episode's result row and its recorded trace (episode_trace), or null if unknown.
-  nlohmann::json episode(std::int64_t id, int attempt);
-  nlohmann::json truth(std::int64_t id, int attempt);
-  std::optional<RecordedImage> image(std::int64_t id, int attempt, int step, int index);
+  nlohmann::json episode(bus::EpisodeId id, int attempt);
+  nlohmann::json truth(bus::EpisodeId id, int attempt);
+  std::optional<RecordedImage> image(bus::EpisodeId id, int attempt, int step, int index);
 
  private:
   using Rows = std::shared_ptr<const std::vector<EpisodeRow>>;
   Rows rows();  // re-read when results.sqlite changes; shared, so a request never copies them
-  std::vector<RecordedMessage> messages_of(std::int64_t id);
+  std::vector<RecordedMessage> messages_of(bus::EpisodeId id);
 
   std::string name_;
   std::filesystem::path dir_;

@@ -129,10 +129,10 @@ void ViewServer::add_routes() {
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+))", with_run([](RunView& r, const httplib::Request& req,
                                                                  httplib::Response& res) {
-    const std::int64_t id = std::stoll(req.matches[2]);
+    const bus::EpisodeId id(std::stoll(req.matches[2]));
     json e = r.episode(id, int_param(req, "attempt", -1));
-    if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + std::to_string(id));
-    const std::string base = "/api/runs/" + r.name() + "/episodes/" + std::to_string(id) + "/images/" +
+    if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + to_string(id));
+    const std::string base = "/api/runs/" + r.name() + "/episodes/" + to_string(id) + "/images/" +
                              std::to_string(e["attempt"].get<int>()) + "/";
     for (json& step : e["steps"]) {
       if (step["observation"].is_null()) continue;
@@ -146,13 +146,13 @@ void ViewServer::add_routes() {
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/truth)", with_run([](RunView& r, const httplib::Request& req,
                                                                        httplib::Response& res) {
-    const json t = r.truth(std::stoll(req.matches[2]), int_param(req, "attempt", -1));
+    const json t = r.truth(bus::EpisodeId(std::stoll(req.matches[2])), int_param(req, "attempt", -1));
     if (t.is_null()) return send_error(res, 404, "no goal recorded for that episode");
     send_json(res, t);
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/images/(\d+)/(\d+)/(\d+))",
              with_run([](RunView& r, const httplib::Request& req, httplib::Response& res) {
-               const auto img = r.image(std::stoll(req.matches[2]), std::stoi(req.matches[3]),
+               const auto img = r.image(bus::EpisodeId(std::stoll(req.matches[2])), std::stoi(req.matches[3]),
                                         std::stoi(req.matches[4]), std::stoi(req.matches[5]));
                if (!img) return send_error(res, 404, "no such image in the recording");
                res.set_header("Cache-Control", "max-age=86400");

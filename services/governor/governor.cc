@@ -60,7 +60,7 @@ void Governor::tick() {
 
 void Governor::grant(const mtg::rate_limit_t& request, int wait_ms) {
   mtg::rate_limit_t g = request;
-  g.header = stamp_.next(-1, 0, "rate");
+  g.header = stamp_.next({}, 0, "rate");
   g.action = "grant";
   g.wait_ms = wait_ms;
   bus_.publish(bus::kRateLimit, g);

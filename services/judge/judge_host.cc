@@ -76,7 +76,7 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
   }
   for (const episode::JudgeEvent& ev : e.judge->observe(u)) {
     mtg::judge_event_t out{};
-    out.header = stamp_.next(m.header.episode_id, m.header.attempt, "judge");
+    out.header = stamp_.next(bus::episode_of(m.header), m.header.attempt, "judge");
     out.header.run_id = m.header.run_id;
     out.step = ev.step;
     out.kind = "milestone";
@@ -91,7 +91,7 @@ void JudgeHost::on_state(const mtg::state_update_t& m) {
 
 void JudgeHost::finish(const mtg::header_t& h, Episode& e, const std::string& transport_error) {
   mtg::episode_result_t r{};
-  r.header = stamp_.next(h.episode_id, h.attempt, "result");
+  r.header = stamp_.next(bus::episode_of(h), h.attempt, "result");
   r.header.run_id = h.run_id;
   r.task_id = e.task_id;
   r.agent = e.agent;
@@ -110,7 +110,7 @@ void JudgeHost::finish(const mtg::header_t& h, Episode& e, const std::string& tr
   }
   bus::set_usage(r, e.usage);
   bus_.publish(bus::kEpisodeResult, r);
-  sequence_.forget_episode(h.run_id, h.episode_id);
+  sequence_.forget_episode(h.run_id, bus::episode_of(h));
   episodes_.erase(EpisodeTable::key_of(h));
 }
 

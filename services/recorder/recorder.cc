@@ -50,7 +50,7 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
     // The result is the attempt's last message: once it is on disk, the whole attempt is.
     flush();
     mtg::recorded_t ack{};
-    ack.header = stamp_.next(header->episode_id, header->attempt, "recorded");
+    ack.header = stamp_.next(bus::episode_of(*header), header->attempt, "recorded");
     ack.header.run_id = header->run_id;
     ack.file = path_.string();
     ack.events = events_;

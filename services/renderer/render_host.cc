@@ -44,7 +44,7 @@ void RenderHost::on_request(const mtg::render_request_t& request) {
   out.n_images = static_cast<int32_t>(out.images.size());
   out.render_ms = watch.elapsed_ms();
   // The reply carries the requester's episode and attempt, so it is matched without any lookup.
-  out.header = stamp_.next(request.header.episode_id, request.header.attempt, "render");
+  out.header = stamp_.next(bus::episode_of(request.header), request.header.attempt, "render");
   out.header.run_id = request.header.run_id;
   bus_.publish(bus::kRenderResult, out);
   ++served_;

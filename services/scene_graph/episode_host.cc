@@ -212,7 +212,7 @@ void EpisodeHost::check_render_timeouts() {
     if (!e.resent) {
       e.resent = true;
       e.requested_at = now;
-      log::warn("episode " + std::to_string(key.second) + ": no renderer answer, asking again");
+      log::warn("episode " + to_string(key.second) + ": no renderer answer, asking again");
       bus_.publish(bus::kRenderRequest, e.request);
     } else {
       expired.push_back(key);
@@ -228,7 +228,7 @@ void EpisodeHost::check_render_timeouts() {
 
 void EpisodeHost::report_error(const Key& key, int attempt, const std::string& message) {
   mtg::error_event_t ev =
-      bus::error_event(stamp_.sender(), bus::Severity::kFailure, "episode " + std::to_string(key.second) + ": " + message);
+      bus::error_event(stamp_.sender(), bus::Severity::kFailure, "episode " + to_string(key.second) + ": " + message);
   ev.header = stamp_.next(key.second, attempt, "error");
   ev.header.run_id = key.first;
   bus_.publish(bus::kError, ev);

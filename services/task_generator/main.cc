@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
           mtg::log::error("task set " + req.request_id + ": " + reply.error);
         }
         loop.set_in_flight(0);
-        reply.header = stamp.next(-1, 0, "taskset");
+        reply.header = stamp.next({}, 0, "taskset");
         bus.publish(mtg::bus::kTaskSetSummary, reply);
       }
     });

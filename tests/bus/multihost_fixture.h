@@ -161,7 +161,7 @@ class MultiHostTest : public ::testing::Test {
 
   static std::map<std::int64_t, std::string> fingerprints(const std::vector<EpisodeRow>& rows) {
     std::map<std::int64_t, std::string> out;
-    for (const auto& r : rows) out[r.episode_id] = orchestrator::verdict_fingerprint(r);
+    for (const auto& r : rows) out[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
     return out;
   }
 
@@ -177,8 +177,8 @@ class MultiHostTest : public ::testing::Test {
     const auto rows = results(out);
     EXPECT_EQ(starts.size(), rows.size());
     for (const auto& r : rows) {
-      ASSERT_EQ(starts[r.episode_id].size(), 1u) << "episode " << r.episode_id;
-      EXPECT_EQ(starts[r.episode_id][0], r.attempt) << "episode " << r.episode_id;
+      ASSERT_EQ(starts[r.episode_id.value()].size(), 1u) << "episode " << r.episode_id;
+      EXPECT_EQ(starts[r.episode_id.value()][0], r.attempt) << "episode " << r.episode_id;
     }
   }
 

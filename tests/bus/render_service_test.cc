@@ -43,7 +43,7 @@ class RenderServiceTest : public ::testing::Test {
 
   mtg::render_request_t request(std::int64_t id, mtg::render_view_t view) const {
     mtg::render_request_t r{};
-    r.header = bus::HeaderStamper("", "render_service_test").next(7);  // a header of this schema
+    r.header = bus::HeaderStamper("", "render_service_test").next(bus::EpisodeId(7));  // a header of this schema
     r.request_id = id;
     r.scene = "render_room";
     r.data_dir = fx_.root().string();
@@ -184,7 +184,7 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   std::map<std::int64_t, std::string> task_of;
   for (const auto& r : rows) {
     EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
-    task_of[r.episode_id] = r.task_id;
+    task_of[r.episode_id.value()] = r.task_id;
   }
   int first_observations = 0;
   bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {

@@ -71,7 +71,7 @@ class RoundTrip {
 
   template <class Msg>
   void check(const std::string& channel, Msg msg) {
-    msg.header = stamp_.next(7, 1);
+    msg.header = stamp_.next(bus::EpisodeId(7), 1);
     std::optional<Msg> got;
     bus_.subscribe<Msg>(channel, [&got](const std::string&, const Msg& m) { got = m; });
     bus_.publish(channel, msg);
@@ -300,17 +300,17 @@ TEST(BusRoundTrip, AWorldStateCrossesTheBusBitForBit) {
 TEST(BusHeader, SequenceTrackerFlagsGapsAndDuplicates) {
   HeaderStamper stamp("run", "sg:0");
   SequenceTracker tracker;
-  const auto h0 = stamp.next(1, 0);
-  const auto h1 = stamp.next(1, 0);
-  const auto h2 = stamp.next(1, 0);
-  const auto h3 = stamp.next(1, 0);
+  const auto h0 = stamp.next(bus::EpisodeId(1), 0);
+  const auto h1 = stamp.next(bus::EpisodeId(1), 0);
+  const auto h2 = stamp.next(bus::EpisodeId(1), 0);
+  const auto h3 = stamp.next(bus::EpisodeId(1), 0);
   EXPECT_EQ(tracker.observe(h0), SequenceTracker::Verdict::kInOrder);
   EXPECT_EQ(tracker.observe(h1), SequenceTracker::Verdict::kInOrder);
   EXPECT_EQ(tracker.observe(h1), SequenceTracker::Verdict::kDuplicate);
   EXPECT_EQ(tracker.observe(h3), SequenceTracker::Verdict::kGap);  // h2 lost
   EXPECT_EQ(tracker.observe(h2), SequenceTracker::Verdict::kDuplicate);
   // Another episode, another stream.
-  EXPECT_EQ(tracker.observe(stamp.next(2, 0)), SequenceTracker::Verdict::kInOrder);
+  EXPECT_EQ(tracker.observe(stamp.next(bus::EpisodeId(2), 0)), SequenceTracker::Verdict::kInOrder);
 }
 
 // A judge serving several runs finishes episode 1 of one run: the other run's episode 1, from
@@ -318,11 +318,11 @@ TEST(BusHeader, SequenceTrackerFlagsGapsAndDuplicates) {
 TEST(BusHeader, SequenceTrackerForgetsOneRunsEpisodeOnly) {
   HeaderStamper a("run-a", "sg:0"), b("run-b", "sg:0");
   SequenceTracker tracker;
-  EXPECT_EQ(tracker.observe(a.next(1, 0)), SequenceTracker::Verdict::kInOrder);
-  EXPECT_EQ(tracker.observe(b.next(1, 0)), SequenceTracker::Verdict::kInOrder);
-  tracker.forget_episode("run-a", 1);
-  EXPECT_EQ(tracker.observe(b.next(1, 0)), SequenceTracker::Verdict::kInOrder);
-  EXPECT_EQ(tracker.observe(a.next(1, 1)), SequenceTracker::Verdict::kInOrder);  // a new attempt, from 0
+  EXPECT_EQ(tracker.observe(a.next(bus::EpisodeId(1), 0)), SequenceTracker::Verdict::kInOrder);
+  EXPECT_EQ(tracker.observe(b.next(bus::EpisodeId(1), 0)), SequenceTracker::Verdict::kInOrder);
+  tracker.forget_episode("run-a", EpisodeId(1));
+  EXPECT_EQ(tracker.observe(b.next(bus::EpisodeId(1), 0)), SequenceTracker::Verdict::kInOrder);
+  EXPECT_EQ(tracker.observe(a.next(bus::EpisodeId(1), 1)), SequenceTracker::Verdict::kInOrder);  // a new attempt, from 0
 }
 
 // A process of another mtg version on the same bus: its typed messages may decode and mean

@@ -276,7 +276,7 @@ TEST_F(RuntimeTest, LcmLogplayerOntoABusWithAJudgeGivesTheSameResults) {
                                log());
   ASSERT_TRUE(bus.handle_until([&] { return fresh.size() == recorded.size(); }, 30000)) << fresh.size();
   for (const auto& r : recorded) {
-    const auto& m = fresh.at(r.episode_id);
+    const auto& m = fresh.at(r.episode_id.value());
     EXPECT_EQ(m.success != 0, r.success);
     EXPECT_DOUBLE_EQ(m.ip, r.ip);
     EXPECT_EQ(m.cause, r.cause);

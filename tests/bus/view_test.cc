@@ -97,7 +97,7 @@ TEST_F(ViewerTest, OverviewSankeyEpisodeAndSideBySideShowWhatTheRunRecorded) {
 
   // An episode page: every image loaded, each step's answer, the verdict in plain words.
   const auto failed = std::find_if(rows.begin(), rows.end(), [](const auto& r) { return !r.success; });
-  b->navigate(base + "#/run/run/episode/" + std::to_string(failed->episode_id));
+  b->navigate(base + "#/run/run/episode/" + to_string(failed->episode_id));
   ASSERT_TRUE(b->wait_for("document.getElementById('verdict')", 10000));
   ASSERT_TRUE(b->wait_for("[...document.querySelectorAll('.step img')].every((i) => i.complete) && "
                           "document.querySelectorAll('.step img').length > 0", 20000));

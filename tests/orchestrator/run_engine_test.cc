@@ -24,14 +24,14 @@ class ScriptedLauncher final : public Launcher {
 
   std::vector<AdoptedAttempt> open() override { return {}; }
   int free_slots() const override { return capacity - static_cast<int>(in_flight.size()); }
-  int next_attempt(std::int64_t) const override { return 0; }
+  int next_attempt(bus::EpisodeId) const override { return 0; }
   void launch(const EpisodeLaunch& l) override {
     const auto key = std::make_pair(l.start.header.episode_id, static_cast<int>(l.start.header.attempt));
     ASSERT_GT(free_slots(), 0) << "launched without a free slot";
     launched.push_back(key);
     in_flight.insert(key);
   }
-  void drop(std::int64_t id, int attempt) override { in_flight.erase({id, attempt}); }
+  void drop(bus::EpisodeId id, int attempt) override { in_flight.erase({id.value(), attempt}); }
   void poll(int, LaunchSink& sink) override {
     ++polls;
     script_(*this, sink);
@@ -53,7 +53,7 @@ class ScriptedLauncher final : public Launcher {
   }
   void lose(std::pair<std::int64_t, int> key, LaunchSink& sink) {
     in_flight.erase(key);
-    sink.on_failure(key.first, key.second, "host lost");
+    sink.on_failure(bus::EpisodeId(key.first), key.second, "host lost");
   }
 
   int capacity = 2;
@@ -82,7 +82,7 @@ struct Fixture {
     t.type = "surface";
     t.goal = nlohmann::json::object();
     tasks[t.id] = t;
-    for (int i = 0; i < episodes; ++i) plan.episodes.push_back({i, t.id, "oracle", 7});
+    for (int i = 0; i < episodes; ++i) plan.episodes.push_back({bus::EpisodeId(i), t.id, "oracle", 7});
   }
   RunSummary run(Launcher& launcher) {
     EngineOptions options;
@@ -109,8 +109,8 @@ TEST(RunEngine, ARetryWithoutAFreeSlotWaitsAndGoesBeforeNewEpisodes) {
   EXPECT_EQ(launcher.launched, order) << "the retry waited for a slot and went before episode 2";
   std::map<std::int64_t, int> stored;
   for (const auto& row : read_results(f.fx.root() / "results.sqlite")) {
-    EXPECT_EQ(stored.count(row.episode_id), 0u) << "episode " << row.episode_id << " stored twice";
-    stored[row.episode_id] = row.attempt;
+    EXPECT_EQ(stored.count(row.episode_id.value()), 0u) << "episode " << row.episode_id << " stored twice";
+    stored[row.episode_id.value()] = row.attempt;
   }
   EXPECT_EQ(stored, (std::map<std::int64_t, int>{{0, 1}, {1, 0}, {2, 0}}));
 }

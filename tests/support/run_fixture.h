@@ -86,7 +86,7 @@ class RunFixture : public ::testing::Test {
 
   static std::map<std::int64_t, std::string> fingerprints(const std::vector<EpisodeRow>& rows) {
     std::map<std::int64_t, std::string> out;
-    for (const auto& r : rows) out[r.episode_id] = orchestrator::verdict_fingerprint(r);
+    for (const auto& r : rows) out[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
     return out;
   }
 

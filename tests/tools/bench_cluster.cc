@@ -207,7 +207,7 @@ class Bench {
     auto stored = [&] {
       std::set<std::int64_t> done;
       try {
-        for (const auto& r : mtg::orchestrator::read_results(work_ / out / "results.sqlite")) done.insert(r.episode_id);
+        for (const auto& r : mtg::orchestrator::read_results(work_ / out / "results.sqlite")) done.insert(r.episode_id.value());
       } catch (const std::exception&) {
       }
       return done;

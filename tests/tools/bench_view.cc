@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
     if (!browser.wait_for("window." + mark, 120000)) throw std::runtime_error("no " + mark + " on " + url);
     return browser.evaluate("window." + mark).get<double>();
   };
-  const std::string episode = rows.empty() ? "0" : std::to_string(rows[rows.size() / 2].episode_id);
+  const std::string episode = rows.empty() ? "0" : to_string(rows[rows.size() / 2].episode_id);
   const std::string episode_url = base + "#/run/" + fs::path(run).filename().string() + "/episode/" + episode;
   // The first episode page right after start waits for the recording's index.
   const double cold_episode = load(episode_url, "mtgRendered");
