@@ -31,6 +31,7 @@
 #include "mtg/task_set_request_t.hpp"
 #include "mtg/task_set_summary_t.hpp"
 #include "tests/support/graph_fixtures.h"
+#include "tests/support/same_world_state.h"
 
 namespace mtg::bus {
 namespace {
@@ -281,20 +282,7 @@ TEST(BusRoundTrip, AWorldStateCrossesTheBusBitForBit) {
   mtg::world_state_delta_t received{};
   ASSERT_EQ(received.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   const episode::WorldState back = episode::apply_delta(g, from_message(received));
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    EXPECT_EQ(back.objects[i].position, s.objects[i].position) << i;
-    EXPECT_EQ(back.objects[i].footprint, s.objects[i].footprint) << i;
-    EXPECT_EQ(back.objects[i].parent, s.objects[i].parent) << i;
-    EXPECT_EQ(back.objects[i].top, s.objects[i].top) << i;
-    EXPECT_EQ(back.objects[i].placed_side, s.objects[i].placed_side) << i;
-  }
-  EXPECT_EQ(back.children, s.children);
-  EXPECT_EQ(back.platform_offset, s.platform_offset);
-  EXPECT_EQ(back.at_platform, s.at_platform);
-  EXPECT_EQ(back.side, s.side);
-  EXPECT_EQ(back.phase, s.phase);
-  EXPECT_EQ(back.steps, s.steps);
-  EXPECT_EQ(back.held, s.held);
+  testing::expect_same_world_state(back, s);
 }
 
 TEST(BusHeader, SequenceTrackerFlagsGapsAndDuplicates) {

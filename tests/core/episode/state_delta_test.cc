@@ -8,28 +8,12 @@
 #include "core/episode/state_delta.h"
 #include "core/util/error.h"
 #include "tests/support/graph_fixtures.h"
+#include "tests/support/same_world_state.h"
 
 namespace mtg {
 namespace {
 
-void expect_same(const episode::WorldState& a, const episode::WorldState& b) {
-  ASSERT_EQ(a.objects.size(), b.objects.size());
-  for (std::size_t i = 0; i < a.objects.size(); ++i) {
-    EXPECT_EQ(a.objects[i].parent, b.objects[i].parent) << i;
-    EXPECT_EQ(a.objects[i].position, b.objects[i].position) << i;
-    EXPECT_EQ(a.objects[i].footprint, b.objects[i].footprint) << i;
-    EXPECT_EQ(a.objects[i].bottom, b.objects[i].bottom) << i;
-    EXPECT_EQ(a.objects[i].top, b.objects[i].top) << i;
-    EXPECT_EQ(a.objects[i].placed_side, b.objects[i].placed_side) << i;
-  }
-  EXPECT_EQ(a.children, b.children);
-  EXPECT_EQ(a.platform_offset, b.platform_offset);
-  EXPECT_EQ(a.held, b.held);
-  EXPECT_EQ(a.at_platform, b.at_platform);
-  EXPECT_EQ(a.side, b.side);
-  EXPECT_EQ(a.phase, b.phase);
-  EXPECT_EQ(a.steps, b.steps);
-}
+using testing::expect_same_world_state;
 
 TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   testing::FixtureDataset fx;
@@ -37,8 +21,8 @@ TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   const auto& g = built.graph;
   episode::WorldState s = episode::initial_state(g);
   EXPECT_TRUE(episode::state_delta(g, s).moved.empty());
-  expect_same(episode::apply_delta(g, episode::state_delta(g, s)), s);
-  expect_same(episode::apply_delta(g, {}), s);
+  expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, s)), s);
+  expect_same_world_state(episode::apply_delta(g, {}), s);
 
   const int box = g.platforms[static_cast<std::size_t>(g.navigable[0])].items.empty()
                       ? g.platforms[static_cast<std::size_t>(g.navigable[1])].items.front()
@@ -51,13 +35,13 @@ TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   const episode::StateDelta holding = episode::state_delta(g, s);
   EXPECT_EQ(holding.held, g.objects[static_cast<std::size_t>(box)].name);
   ASSERT_FALSE(holding.reordered.empty());  // the item left its platform's list
-  expect_same(episode::apply_delta(g, holding), s);
+  expect_same_world_state(episode::apply_delta(g, holding), s);
 
   // Placed at an odd position on the other table: doubles must come back bit for bit.
   const int other = g.navigable.back();
   const Eigen::Vector2d xy = episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7);
   episode::place_held(g, s, other, xy);
-  expect_same(episode::apply_delta(g, episode::state_delta(g, s)), s);
+  expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, s)), s);
 }
 
 TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
