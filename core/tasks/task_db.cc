@@ -194,7 +194,6 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
   // same however its tasks were batched, because only whole chunks are made before its end.
   const std::size_t n_chunks = last ? (tasks.size() + kTasksPerChunk - 1) / kTasksPerChunk : tasks.size() / kTasksPerChunk;
   const std::size_t n_taken = std::min(tasks.size(), n_chunks * kTasksPerChunk);
-  const bool with_lines = !jsonl_.empty();
   std::vector<TaskChunk> chunks(n_chunks);
   parallel_for(chunks.size(), jobs_, [&](std::size_t c) {
     TaskChunk& chunk = chunks[c];
@@ -205,7 +204,7 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
       std::string line = task_to_json(t).dump();
       json += (json.size() > 1 ? "," : "") + line;
       chunk.rows.push_back({t.id, t.scene, t.type, t.level});
-      if (with_lines) chunk.lines.push_back(std::move(line));
+      chunk.line_sizes.push_back(line.size());
     }
     json += ']';
     chunk.size = json.size();
@@ -234,7 +233,13 @@ void TaskDbWriter::store(std::vector<TaskChunk> chunks) {
       o.insert_task.bind(5, chunk).bind(6, static_cast<std::int64_t>(slot)).run();
     }
     if (o.jsonl.is_open()) {
-      for (const std::string& line : c.lines) o.jsonl << line << '\n';
+      // The text is "[" + the lines joined by "," + "]".
+      const std::string text = c.body.size() == c.size ? c.body : zlib_uncompress(c.body, c.size);
+      std::size_t at = 1;
+      for (const std::size_t n : c.line_sizes) {
+        o.jsonl.write(text.data() + at, static_cast<std::streamsize>(n)) << '\n';
+        at += n + 1;
+      }
     }
   }
   if (o.jsonl.is_open() && !o.jsonl) throw Error(jsonl_.string() + ": write failed");

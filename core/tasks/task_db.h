@@ -25,7 +25,8 @@ struct TaskChunk {
   std::size_t size = 0;            // of the chunk's JSON text
   std::string body;                // what is stored: zlib, or the text when that is not smaller
   std::vector<Row> rows;           // its tasks, in slot order
-  std::vector<std::string> lines;  // their JSON lines, kept only for a JSONL export
+  std::vector<std::size_t> line_sizes;  // each task's JSON in the text: a JSONL export cuts it
+                                       // from the stored text rather than keeping a copy
 };
 
 /// Writes a task database scene by scene, so that a job over many scenes need not hold every
