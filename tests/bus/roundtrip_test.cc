@@ -275,9 +275,12 @@ TEST(BusRoundTrip, AWorldStateCrossesTheBusBitForBit) {
   episode::pick(g, s, g.platforms[static_cast<std::size_t>(from)].items.front());
   const int other = g.navigable.back();
   episode::place_held(g, s, other, episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7));
+  s.platform_offset[static_cast<std::size_t>(g.navigable[0])] = Eigen::Vector3d(0.1 / 3, -0.0, 1e-17);  // carried along
 
   const mtg::world_state_delta_t sent = to_message(episode::state_delta(g, s));
   ASSERT_EQ(sent.n_moved, 1);
+  ASSERT_EQ(sent.n_offsets, 1);
+  EXPECT_GE(sent.moved[0].placed_side, 0);
   std::vector<std::uint8_t> bytes = encode(sent);
   mtg::world_state_delta_t received{};
   ASSERT_EQ(received.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
