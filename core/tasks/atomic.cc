@@ -203,11 +203,14 @@ class ItemEnumeration {
  private:
   // The item about to be put down on one destination: what every target there shares.
   struct Destination {
+    // The item's state with the robot standing at the destination: held_ itself, not a copy per
+    // destination (a whole world); trial placements put it back as it was.
+    explicit Destination(episode::WorldState& held) : placing(held) {}
+    episode::WorldState& placing;
     std::size_t dst_label = 0;
     int pd = -1;
     graph::Side side{};
     bool too_tall = false;  // with what rests on it: its goals are counted, never offered
-    episode::WorldState placing;
     episode::FeasibleCentres feasible;
     std::vector<episode::PlaceTarget> own_targets;  // when the item came from here
     const std::vector<episode::PlaceTarget>* targets = nullptr;
@@ -228,14 +231,32 @@ class ItemEnumeration {
     Eigen::Vector3d placed_at;
   };
 
+  // Where the robot stands in held_, as it was before a destination was tried.
+  class Stance {
+   public:
+    explicit Stance(episode::WorldState& s) : s_(s), at_(s.at_platform), side_(s.side), phase_(s.phase) {}
+    ~Stance() {
+      s_.at_platform = at_;
+      s_.side = side_;
+      s_.phase = phase_;
+    }
+    Stance(const Stance&) = delete;
+    Stance& operator=(const Stance&) = delete;
+
+   private:
+    episode::WorldState& s_;
+    int at_, side_;
+    episode::Phase phase_;
+  };
+
   void destination(std::size_t dst_label) {
-    Destination d;
+    const Stance stance(held_);
+    Destination d(held_);
     d.dst_label = dst_label;
     d.pd = g_.navigable[dst_label];
     const graph::Platform& dest = g_.platforms[static_cast<std::size_t>(d.pd)];
     if (own_height_ > dest.clearance) return;
     d.too_tall = carried_height_ > dest.clearance;
-    d.placing = held_;
     d.placing.at_platform = d.pd;
     d.placing.side = dest.default_side;
     d.placing.phase = episode::Phase::kPlacing;
