@@ -21,6 +21,12 @@ int platform_named(const graph::SceneGraph& g, const std::string& name, const st
   return i;
 }
 
+// A platform a list entry is about: "" is an error there.
+int platform_listed(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
+  if (name.empty()) throw Error("state: '" + field + "' is empty");
+  return platform_named(g, name, field);
+}
+
 std::string platform_name(const graph::SceneGraph& g, int p) {
   return p < 0 ? std::string() : g.platforms[static_cast<std::size_t>(p)].name;
 }
@@ -92,16 +98,14 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
     o.placed_side = m.placed_side;
   }
   for (const PlatformOrder& order : delta.reordered) {
-    const int p = platform_named(g, order.platform, "reordered.platform");
-    if (p < 0) throw Error("state: 'reordered.platform' is empty");
+    const int p = platform_listed(g, order.platform, "reordered.platform");
     once(reordered_seen, p, "reordered.platform", order.platform);
     std::vector<int>& children = s.children[static_cast<std::size_t>(p)];
     children.clear();
     for (const std::string& o : order.objects) children.push_back(object_named(g, o, "reordered." + order.platform));
   }
   for (const PlatformOffset& offset : delta.offsets) {
-    const int p = platform_named(g, offset.platform, "offsets.platform");
-    if (p < 0) throw Error("state: 'offsets.platform' is empty");
+    const int p = platform_listed(g, offset.platform, "offsets.platform");
     once(offset_seen, p, "offsets.platform", offset.platform);
     s.platform_offset[static_cast<std::size_t>(p)] = offset.offset;
   }

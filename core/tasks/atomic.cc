@@ -204,7 +204,8 @@ class ItemEnumeration {
   // The item about to be put down on one destination: what every target there shares.
   struct Destination {
     // The item's state with the robot standing at the destination: held_ itself, not a copy per
-    // destination (a whole world); trial placements put it back as it was.
+    // destination (a whole world). Each destination sets where the robot stands; trial
+    // placements put the objects back as they were.
     explicit Destination(episode::WorldState& held) : placing(held) {}
     episode::WorldState& placing;
     std::size_t dst_label = 0;
@@ -231,26 +232,7 @@ class ItemEnumeration {
     Eigen::Vector3d placed_at;
   };
 
-  // Where the robot stands in held_, as it was before a destination was tried.
-  class Stance {
-   public:
-    explicit Stance(episode::WorldState& s) : s_(s), at_(s.at_platform), side_(s.side), phase_(s.phase) {}
-    ~Stance() {
-      s_.at_platform = at_;
-      s_.side = side_;
-      s_.phase = phase_;
-    }
-    Stance(const Stance&) = delete;
-    Stance& operator=(const Stance&) = delete;
-
-   private:
-    episode::WorldState& s_;
-    int at_, side_;
-    episode::Phase phase_;
-  };
-
   void destination(std::size_t dst_label) {
-    const Stance stance(held_);
     Destination d(held_);
     d.dst_label = dst_label;
     d.pd = g_.navigable[dst_label];
