@@ -151,9 +151,13 @@ class MultiHostTest : public ::testing::Test {
   }
 
   // Leases the coordinator has out, per worker sender id (leases.sqlite).
-  std::map<std::string, int> open_leases(const std::string& out) {
+  std::map<std::string, int> open_leases(const std::string& out) { return leases_in_state(out, "granted"); }
+
+  // Leases the coordinator's book holds in one state ("granted", "done", ...), per worker sender id.
+  std::map<std::string, int> leases_in_state(const std::string& out, const std::string& state) {
     store::Database db(fx_.root() / out / "leases.sqlite", store::Database::Mode::kReadOnly);
-    store::Statement q(db, "SELECT worker, COUNT(*) FROM leases WHERE state = 'granted' GROUP BY worker");
+    store::Statement q(db, "SELECT worker, COUNT(*) FROM leases WHERE state = ? GROUP BY worker");
+    q.bind(1, state);
     std::map<std::string, int> n;
     while (q.step()) n[q.column_text(0)] = static_cast<int>(q.column_int(1));
     return n;
