@@ -6,25 +6,25 @@
 namespace mtg::bus {
 namespace {
 
-int object_index(const graph::SceneGraph& g, const std::string& name) {
-  if (name.empty()) return -1;
-  const int i = g.find_object(name);
-  if (i < 0) throw Error("state update: unknown object '" + name + "' in scene " + g.scene);
+graph::ObjectId object_index(const graph::SceneGraph& g, const std::string& name) {
+  if (name.empty()) return {};
+  const graph::ObjectId i = g.find_object(name);
+  if (!i.valid()) throw Error("state update: unknown object '" + name + "' in scene " + g.scene);
   return i;
 }
 
-int platform_index(const graph::SceneGraph& g, const std::string& name) {
-  if (name.empty()) return -1;
-  const int i = g.find_platform(name);
-  if (i < 0) throw Error("state update: unknown platform '" + name + "' in scene " + g.scene);
+graph::PlatformId platform_index(const graph::SceneGraph& g, const std::string& name) {
+  if (name.empty()) return {};
+  const graph::PlatformId i = g.find_platform(name);
+  if (!i.valid()) throw Error("state update: unknown platform '" + name + "' in scene " + g.scene);
   return i;
 }
 
-std::string object_name(const graph::SceneGraph& g, int i) {
-  return i < 0 ? std::string() : g.objects[static_cast<std::size_t>(i)].name;
+std::string object_name(const graph::SceneGraph& g, graph::ObjectId i) {
+  return i.valid() ? g.objects[i].name : std::string();
 }
-std::string platform_name(const graph::SceneGraph& g, int i) {
-  return i < 0 ? std::string() : g.platforms[static_cast<std::size_t>(i)].name;
+std::string platform_name(const graph::SceneGraph& g, graph::PlatformId i) {
+  return i.valid() ? g.platforms[i].name : std::string();
 }
 
 }  // namespace
@@ -85,7 +85,7 @@ mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldS
     op.x = p.position.x();
     op.y = p.position.y();
     op.z = p.position.z();
-    const geom::Ring& fp = s.objects[static_cast<std::size_t>(p.object)].footprint;
+    const geom::Ring& fp = s.objects[p.object].footprint;
     op.n_vertices = static_cast<int32_t>(fp.size());
     for (const auto& q : fp) {
       op.footprint_x.push_back(q.x());

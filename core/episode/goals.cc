@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "core/graph/free_space.h"
 #include "core/util/error.h"
@@ -64,7 +65,7 @@ double inside_by(const Eigen::AlignedBox2d& box, const geom::Point2& c) {
 bool side_dependent(GoalType type) { return type == GoalType::kSurfacePart || type == GoalType::kDirection; }
 
 bool on_destination(const WorldState& s, const AtomicGoal& goal) {
-  return goal.item >= 0 && s.held != goal.item && s.objects[static_cast<std::size_t>(goal.item)].parent == goal.platform;
+  return goal.item.valid() && s.held != goal.item && s.objects[goal.item].parent == goal.platform;
 }
 
 // What a goal asks of the item's footprint centre, as a box in the destination frame P, for the
@@ -75,12 +76,12 @@ struct CentreBox {
 };
 
 CentreBox centre_box(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal, graph::Side side) {
-  auto anchor_here = [&](int a) { return a >= 0 && s.objects[static_cast<std::size_t>(a)].parent == goal.platform; };
+  auto anchor_here = [&](graph::ObjectId a) { return a.valid() && s.objects[a].parent == goal.platform; };
   const Eigen::Isometry2d X_PW = platform_frame(g, s, goal.platform).inverse();
-  auto anchor_box = [&](int a) { return box_in(s.objects[static_cast<std::size_t>(a)].footprint, X_PW); };
+  auto anchor_box = [&](graph::ObjectId a) { return box_in(s.objects[a].footprint, X_PW); };
   switch (goal.type) {
     case GoalType::kSurfacePart:
-      return {true, graph::grid_cell_rect(g.platforms[static_cast<std::size_t>(goal.platform)],
+      return {true, graph::grid_cell_rect(g.platforms[goal.platform],
                                           graph::platform_direction(goal.direction, side))};
     case GoalType::kDirection:
       if (!anchor_here(goal.anchor)) return {};
@@ -99,12 +100,12 @@ CentreBox centre_box(const graph::SceneGraph& g, const WorldState& s, const Atom
 // The goal's margin for the item standing on the destination, named from `side`.
 double margin_from(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal, graph::Side side,
                    const GoalOptions& options) {
-  const ObjectState& item = s.objects[static_cast<std::size_t>(goal.item)];
+  const ObjectState& item = s.objects[goal.item];
   switch (goal.type) {
     case GoalType::kSurface:
       return kInf;
     case GoalType::kAround: {
-      const ObjectState& anchor = s.objects[static_cast<std::size_t>(goal.anchor)];
+      const ObjectState& anchor = s.objects[goal.anchor];
       if (anchor.parent != goal.platform) return 0.0;
       return options.around_distance - footprint_gap(item.footprint, anchor.footprint);
     }
@@ -116,19 +117,26 @@ double margin_from(const graph::SceneGraph& g, const WorldState& s, const Atomic
   }
 }
 
-int find_or_throw(const graph::SceneGraph& g, const nlohmann::json& j, const char* key, bool platform) {
+// The object (Id = graph::ObjectId) or platform (graph::PlatformId) j[key] names.
+template <class Id>
+Id find_or_throw(const graph::SceneGraph& g, const nlohmann::json& j, const char* key) {
   if (!j.contains(key) || !j[key].is_string()) throw Error(std::string("goal: missing field '") + key + "'");
   const std::string name = j[key].get<std::string>();
-  const int idx = platform ? g.find_platform(name) : g.find_object(name);
-  if (idx < 0) throw Error(std::string("goal: ") + key + " '" + name + "' is not in scene " + g.scene);
-  return idx;
+  Id id;
+  if constexpr (std::is_same_v<Id, graph::PlatformId>) {
+    id = g.find_platform(name);
+  } else {
+    id = g.find_object(name);
+  }
+  if (!id.valid()) throw Error(std::string("goal: ") + key + " '" + name + "' is not in scene " + g.scene);
+  return id;
 }
 
-std::vector<int> objects_from_json(const graph::SceneGraph& g, const nlohmann::json& jp, const char* key) {
-  std::vector<int> out;
+std::vector<graph::ObjectId> objects_from_json(const graph::SceneGraph& g, const nlohmann::json& jp, const char* key) {
+  std::vector<graph::ObjectId> out;
   for (const auto& name : jp.value(key, std::vector<std::string>{})) {
-    const int o = g.find_object(name);
-    if (o < 0) throw Error("outcome goal: object '" + name + "' is not in scene " + g.scene);
+    const graph::ObjectId o = g.find_object(name);
+    if (!o.valid()) throw Error("outcome goal: object '" + name + "' is not in scene " + g.scene);
     out.push_back(o);
   }
   return out;
@@ -194,7 +202,7 @@ bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const Atomi
 double goal_margin(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
                    const GoalOptions& options) {
   if (!on_destination(s, goal)) return 0.0;
-  const int placed_side = s.objects[static_cast<std::size_t>(goal.item)].placed_side;
+  const int placed_side = s.objects[goal.item].placed_side;
   if (side_dependent(goal.type) && placed_side < 0) return 0.0;  // never placed: no side to name from
   return std::max(0.0, margin_from(g, s, goal, static_cast<graph::Side>(std::max(0, placed_side)), options));
 }
@@ -203,7 +211,7 @@ bool goal_met_from_any_side(const graph::SceneGraph& g, const WorldState& s, con
                             const GoalOptions& options) {
   if (!on_destination(s, goal)) return false;
   if (!side_dependent(goal.type)) return margin_from(g, s, goal, graph::Side::kRear, options) > 0.0;
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(goal.platform)];
+  const graph::Platform& p = g.platforms[goal.platform];
   for (const graph::Side side : graph::kSides) {
     // Only where the robot can stand: no one names directions from elsewhere.
     const bool usable = p.sides[static_cast<std::size_t>(side)].usable() || static_cast<int>(side) == p.default_side;
@@ -214,13 +222,13 @@ bool goal_met_from_any_side(const graph::SceneGraph& g, const WorldState& s, con
 
 geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
                            graph::Side side, const geom::Ring& item_rel_P, const GoalOptions& options) {
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(goal.platform)];
+  const graph::Platform& p = g.platforms[goal.platform];
   const geom::Region bounds = geom::rectangle(p.box_P.min(), p.box_P.max());
   switch (goal.type) {
     case GoalType::kSurface:
       return bounds;
     case GoalType::kAround: {
-      const ObjectState& anchor = s.objects[static_cast<std::size_t>(goal.anchor)];
+      const ObjectState& anchor = s.objects[goal.anchor];
       if (anchor.parent != goal.platform) return {};
       const Eigen::Isometry2d X_PW = platform_frame(g, s, goal.platform).inverse();
       const geom::Region anchor_P = geom::from_ring(geom::transform(anchor.footprint, X_PW));
@@ -239,30 +247,31 @@ geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, cons
 
 bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const SetPredicate& p,
                          const GoalOptions& options) {
-  auto on = [&](int o) { return s.held == o ? -1 : furniture_platform_of(g, s, o); };
-  auto near = [&](int a, int b) {
-    return a != b && on(a) >= 0 && on(a) == on(b) &&
-           footprint_gap(s.objects[static_cast<std::size_t>(a)].footprint,
-                         s.objects[static_cast<std::size_t>(b)].footprint) <= options.around_distance;
+  auto on = [&](graph::ObjectId o) { return s.held == o ? graph::PlatformId() : furniture_platform_of(g, s, o); };
+  auto near = [&](graph::ObjectId a, graph::ObjectId b) {
+    return a != b && on(a).valid() && on(a) == on(b) &&
+           footprint_gap(s.objects[a].footprint,
+                         s.objects[b].footprint) <= options.around_distance;
   };
-  auto listed = [](const std::vector<int>& list, int v) { return std::find(list.begin(), list.end(), v) != list.end(); };
+  auto listed = [](const std::vector<graph::PlatformId>& list, graph::PlatformId v) { return std::find(list.begin(), list.end(), v) != list.end(); };
   switch (p.op) {
     case SetPredicate::Op::kAllOn:
-      return std::all_of(p.objects.begin(), p.objects.end(), [&](int o) { return listed(p.platforms, on(o)); });
+      return std::all_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId o) { return listed(p.platforms, on(o)); });
     case SetPredicate::Op::kNoneOn:
       return std::none_of(p.objects.begin(), p.objects.end(),
-                          [&](int o) { return s.held == o || listed(p.platforms, on(o)); });
+                          [&](graph::ObjectId o) { return s.held == o || listed(p.platforms, on(o)); });
     case SetPredicate::Op::kNear:
       return p.objects.size() == 2 && near(p.objects[0], p.objects[1]);
     case SetPredicate::Op::kTogether: {
       if (p.objects.empty()) return true;
-      const int first = on(p.objects.front());
-      return first >= 0 && std::all_of(p.objects.begin(), p.objects.end(), [&](int o) { return on(o) == first; });
+      const graph::PlatformId first = on(p.objects.front());
+      return first.valid() &&
+             std::all_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId o) { return on(o) == first; });
     }
     case SetPredicate::Op::kAnyPairNear:
-      return std::any_of(p.objects.begin(), p.objects.end(), [&](int a) {
+      return std::any_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId a) {
         return listed(p.platforms, on(a)) &&
-               std::any_of(p.objects2.begin(), p.objects2.end(), [&](int b) { return near(a, b); });
+               std::any_of(p.objects2.begin(), p.objects2.end(), [&](graph::ObjectId b) { return near(a, b); });
       });
   }
   return false;
@@ -270,19 +279,19 @@ bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const 
 
 bool outcome_satisfied(const graph::SceneGraph& g, const WorldState& s, const OutcomeGoal& goal,
                        const GoalOptions& options) {
-  if (s.held >= 0) return false;  // the paper: nothing may be held at the end
+  if (s.held.valid()) return false;  // the paper: nothing may be held at the end
   return std::all_of(goal.all.begin(), goal.all.end(),
                      [&](const SetPredicate& p) { return predicate_satisfied(g, s, p, options); });
 }
 
 nlohmann::json to_json(const graph::SceneGraph& g, const AtomicGoal& goal) {
-  auto name = [&](int o) { return g.objects[static_cast<std::size_t>(o)].name; };
+  auto name = [&](graph::ObjectId o) { return g.objects[o].name; };
   nlohmann::json j = {{"type", to_string(goal.type)},
                       {"item", name(goal.item)},
-                      {"source", g.platforms[static_cast<std::size_t>(goal.source)].name},
-                      {"platform", g.platforms[static_cast<std::size_t>(goal.platform)].name}};
-  if (goal.anchor >= 0) j["anchor"] = name(goal.anchor);
-  if (goal.anchor2 >= 0) j["anchor2"] = name(goal.anchor2);
+                      {"source", g.platforms[goal.source].name},
+                      {"platform", g.platforms[goal.platform].name}};
+  if (goal.anchor.valid()) j["anchor"] = name(goal.anchor);
+  if (goal.anchor2.valid()) j["anchor2"] = name(goal.anchor2);
   if (goal.direction >= 0) j["direction"] = graph::direction_name(goal.direction);
   return j;
 }
@@ -291,11 +300,11 @@ AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::jso
   AtomicGoal goal;
   if (!j.contains("type") || !j["type"].is_string()) throw Error("goal: missing field 'type'");
   goal.type = goal_type_from_string(j["type"].get<std::string>());
-  goal.item = find_or_throw(g, j, "item", false);
-  goal.source = find_or_throw(g, j, "source", true);
-  goal.platform = find_or_throw(g, j, "platform", true);
-  if (j.contains("anchor")) goal.anchor = find_or_throw(g, j, "anchor", false);
-  if (j.contains("anchor2")) goal.anchor2 = find_or_throw(g, j, "anchor2", false);
+  goal.item = find_or_throw<graph::ObjectId>(g, j, "item");
+  goal.source = find_or_throw<graph::PlatformId>(g, j, "source");
+  goal.platform = find_or_throw<graph::PlatformId>(g, j, "platform");
+  if (j.contains("anchor")) goal.anchor = find_or_throw<graph::ObjectId>(g, j, "anchor");
+  if (j.contains("anchor2")) goal.anchor2 = find_or_throw<graph::ObjectId>(g, j, "anchor2");
   if (j.contains("direction")) {
     const std::string d = j["direction"].get<std::string>();
     for (int k = 0; k <= graph::kCentre; ++k) {
@@ -305,8 +314,8 @@ AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::jso
   }
   const bool needs_anchor = goal.type == GoalType::kAround || goal.type == GoalType::kDirection ||
                             goal.type == GoalType::kBetween;
-  if (needs_anchor && goal.anchor < 0) throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'anchor'");
-  if (goal.type == GoalType::kBetween && goal.anchor2 < 0) throw Error("goal: a between goal needs 'anchor2'");
+  if (needs_anchor && !goal.anchor.valid()) throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'anchor'");
+  if (goal.type == GoalType::kBetween && !goal.anchor2.valid()) throw Error("goal: a between goal needs 'anchor2'");
   if (side_dependent(goal.type) && goal.direction < 0) {
     throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'direction'");
   }
@@ -314,15 +323,15 @@ AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::jso
 }
 
 nlohmann::json to_json(const graph::SceneGraph& g, const OutcomeGoal& goal) {
-  auto names = [&](const std::vector<int>& objects) {
+  auto names = [&](const std::vector<graph::ObjectId>& objects) {
     std::vector<std::string> out;
-    for (const int o : objects) out.push_back(g.objects[static_cast<std::size_t>(o)].name);
+    for (const graph::ObjectId o : objects) out.push_back(g.objects[o].name);
     return out;
   };
   nlohmann::json all = nlohmann::json::array();
   for (const SetPredicate& p : goal.all) {
     std::vector<std::string> platforms;
-    for (const int q : p.platforms) platforms.push_back(g.platforms[static_cast<std::size_t>(q)].name);
+    for (const graph::PlatformId q : p.platforms) platforms.push_back(g.platforms[q].name);
     nlohmann::json jp = {{"op", to_string(p.op)}, {"objects", names(p.objects)}, {"platforms", platforms}};
     if (!p.objects2.empty()) jp["objects2"] = names(p.objects2);
     all.push_back(std::move(jp));
@@ -343,8 +352,8 @@ OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::j
     p.objects = objects_from_json(g, jp, "objects");
     p.objects2 = objects_from_json(g, jp, "objects2");
     for (const auto& name : jp.value("platforms", std::vector<std::string>{})) {
-      const int q = g.find_platform(name);
-      if (q < 0) throw Error("outcome goal: platform '" + name + "' is not in scene " + g.scene);
+      const graph::PlatformId q = g.find_platform(name);
+      if (!q.valid()) throw Error("outcome goal: platform '" + name + "' is not in scene " + g.scene);
       p.platforms.push_back(q);
     }
     goal.all.push_back(std::move(p));
@@ -352,19 +361,19 @@ OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::j
   return goal;
 }
 
-std::vector<int> AtomicGoal::anchors() const {
-  std::vector<int> out;
-  if (anchor >= 0) out.push_back(anchor);
-  if (anchor2 >= 0) out.push_back(anchor2);
+std::vector<graph::ObjectId> AtomicGoal::anchors() const {
+  std::vector<graph::ObjectId> out;
+  if (anchor.valid()) out.push_back(anchor);
+  if (anchor2.valid()) out.push_back(anchor2);
   return out;
 }
 
-std::vector<int> TaskGoal::protected_objects() const {
+std::vector<graph::ObjectId> TaskGoal::protected_objects() const {
   // Anchors stay put, unless a part of the task moves them itself (a Level 3 chain may use the
   // first part's item as the second part's anchor).
-  std::vector<int> out;
+  std::vector<graph::ObjectId> out;
   for (const AtomicGoal& p : parts) {
-    for (const int a : p.anchors()) {
+    for (const graph::ObjectId a : p.anchors()) {
       const bool moved = std::any_of(parts.begin(), parts.end(), [&](const AtomicGoal& q) { return q.item == a; });
       if (!moved && std::find(out.begin(), out.end(), a) == out.end()) out.push_back(a);
     }
@@ -389,7 +398,7 @@ TaskGoal task_goal_from_json(const graph::SceneGraph& g, const nlohmann::json& g
 
 bool task_goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const TaskGoal& goal,
                          const GoalOptions& options) {
-  if (s.held >= 0) return false;
+  if (s.held.valid()) return false;
   if (goal.is_outcome) return outcome_satisfied(g, s, goal.outcome, options);
   return !goal.parts.empty() && std::all_of(goal.parts.begin(), goal.parts.end(), [&](const AtomicGoal& p) {
     return goal_satisfied(g, s, p, options);

@@ -39,15 +39,15 @@ struct GoalOptions {
 
 struct AtomicGoal {
   GoalType type = GoalType::kSurface;
-  int item = -1;
-  int source = -1;      // furniture platform the item starts on (intermediate points)
-  int platform = -1;    // destination
-  int anchor = -1;
-  int anchor2 = -1;
+  graph::ObjectId item;
+  graph::PlatformId source;    // furniture platform the item starts on (intermediate points)
+  graph::PlatformId platform;  // destination
+  graph::ObjectId anchor;
+  graph::ObjectId anchor2;
   int direction = -1;   // relative direction (surface_part 0..8, direction 0..7)
 
   /// The anchors this goal names (none, one, or two for "between").
-  std::vector<int> anchors() const;
+  std::vector<graph::ObjectId> anchors() const;
 };
 
 bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
@@ -82,9 +82,9 @@ geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, cons
 struct SetPredicate {
   enum class Op { kAllOn, kNoneOn, kNear, kTogether, kAnyPairNear };
   Op op = Op::kAllOn;
-  std::vector<int> objects;
-  std::vector<int> platforms;  // all_on: any of these; none_on: none of these
-  std::vector<int> objects2;   // any_pair_near: the second group
+  std::vector<graph::ObjectId> objects;
+  std::vector<graph::PlatformId> platforms;  // all_on: any of these; none_on: none of these
+  std::vector<graph::ObjectId> objects2;     // any_pair_near: the second group
 };
 const char* to_string(SetPredicate::Op op);
 
@@ -111,7 +111,7 @@ struct TaskGoal {
   OutcomeGoal outcome;            // used when `is_outcome`
   bool is_outcome = false;
   /// Objects the agent must not pick: the anchors of every part that no part moves.
-  std::vector<int> protected_objects() const;
+  std::vector<graph::ObjectId> protected_objects() const;
 };
 TaskGoal task_goal_from_json(const graph::SceneGraph& g, const nlohmann::json& goal);
 /// Success at the end of an episode: nothing held and every part (or the outcome) satisfied.

@@ -33,7 +33,7 @@ std::vector<JudgeEvent> EpisodeJudge::observe(const StateUpdate& u) {
   }
   for (std::size_t k = 0; k < goal_.parts.size(); ++k) {
     const AtomicGoal& part = goal_.parts[k];
-    if (u.picked >= 0 && u.picked != part.item) wrong_item_picks_[k] += 1;
+    if (u.picked.valid() && u.picked != part.item) wrong_item_picks_[k] += 1;
     for (const Placement& p : u.placed) {
       if (p.object != part.item) continue;
       (p.platform == part.platform ? placed_on_dest_ : placed_elsewhere_)[k] = true;
@@ -142,7 +142,7 @@ Verdict EpisodeJudge::verdict() const {
       v.cause = Cause::kNavigation;
     } else if (r == 1) {
       v.cause = wrong_item_picks_[k] > 0 ? Cause::kWrongItem : ran_out;
-    } else if (placed_on_dest_[k] && replica_.objects[static_cast<std::size_t>(goal_.parts[k].item)].parent ==
+    } else if (placed_on_dest_[k] && replica_.objects[goal_.parts[k].item].parent ==
                                          goal_.parts[k].platform) {
       v.cause = Cause::kWrongRegion;
     } else if (placed_elsewhere_[k]) {

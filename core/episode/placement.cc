@@ -30,11 +30,11 @@ std::string display_name(const graph::GraphObject& o) {
   return name;
 }
 
-std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, int platform,
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size) {
   std::vector<PlaceTarget> out;
-  const graph::Platform& p = g.platforms.at(static_cast<std::size_t>(platform));
-  const std::vector<int>& on = objects_on(s, platform);
+  const graph::Platform& p = g.platforms.at(platform);
+  const std::vector<graph::ObjectId>& on = objects_on(s, platform);
   if (on.empty()) {
     const auto cells = graph::grid_cells(p);
     for (int rel = 0; rel <= graph::kCentre; ++rel) {
@@ -81,8 +81,8 @@ void with_insets(std::vector<PlaceTarget>& targets) {
   for (PlaceTarget& t : targets) t.region_inset_P = geom::offset(t.region_P, -kPlacementInset);
 }
 
-geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
+geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  const ObjectState& o = s.objects.at(s.held);
   const geom::Point2 c = footprint_centre(o);
   const Eigen::Rotation2Dd R_PW(platform_frame(g, s, platform).rotation().transpose());
   geom::Ring out;
@@ -90,8 +90,8 @@ geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int
   return out;
 }
 
-FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  const graph::Platform& p = g.platforms.at(static_cast<std::size_t>(platform));
+FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  const graph::Platform& p = g.platforms.at(platform);
   const geom::Region free =
       graph::feasible_positions(p, obstacles_on(g, s, platform), held_footprint_P(g, s, platform));
   FeasibleCentres out;
@@ -102,7 +102,7 @@ FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldSta
 }
 
 std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
-                                              int platform, const PlaceTarget& target,
+                                              graph::PlatformId platform, const PlaceTarget& target,
                                               const FeasibleCentres& feasible_centres) {
   // Erosion distributes over intersection: the inset candidates are the inset pieces' overlap.
   const auto usable = [](const geom::Region& r) { return !r.empty() && geom::area(r) >= 1e-10; };
@@ -116,7 +116,7 @@ std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const 
   const geom::Point2 centre_P = geom::closest_point(candidates, target.aim_P);
   const Eigen::Vector2d centre_W = platform_frame(g, s, platform) * centre_P;
   // Reference point = centre minus the centre's offset from the object's origin.
-  const ObjectState& o = s.objects.at(static_cast<std::size_t>(s.held));
+  const ObjectState& o = s.objects.at(s.held);
   const geom::Point2 c = footprint_centre(o);
   return centre_W - (c - o.position.head<2>());
 }

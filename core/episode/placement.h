@@ -37,7 +37,7 @@ struct PlaceTarget {
   Kind kind = Kind::kAnywhere;
   int relative_dir = -1;   // as the robot names it (0..7, 8 centre); -1 for anywhere
   int platform_dir = -1;   // in the platform frame
-  int anchor = -1;         // object of an object region
+  graph::ObjectId anchor;  // object of an object region
   geom::Region region_P;   // where the footprint centre must land (platform frame)
   /// region_P kPlacementInset smaller on every side; computed by resolve_target when absent
   /// (callers that resolve one target many times fill it once: with_insets()).
@@ -46,14 +46,14 @@ struct PlaceTarget {
 };
 
 /// Targets offered on `platform` for a robot standing at `side`.
-std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, int platform,
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size);
 
 /// Fills every target's region_inset_P.
 void with_insets(std::vector<PlaceTarget>& targets);
 
 /// The held object's footprint relative to its footprint centre, in the platform's axes.
-geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, int platform);
+geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// Footprint-centre positions (platform frame) where the held object fits on `platform`, and
 /// those at least kPlacementInset inside them.
@@ -62,12 +62,12 @@ struct FeasibleCentres {
   geom::Region inset;
   bool empty() const { return all.empty(); }
 };
-FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, int platform);
+FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// The world position of the held object's reference point if `target` can take it, using the
 /// precomputed feasible centres (held_feasible_centres); nullopt when the region is too small.
 std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
-                                              int platform, const PlaceTarget& target,
+                                              graph::PlatformId platform, const PlaceTarget& target,
                                               const FeasibleCentres& feasible_centres);
 
 /// Short display name of an object for the agent: template without instance id, spaced

@@ -12,11 +12,11 @@ bool all_digits(std::string_view s) {
 }
 
 const graph::Platform& current(const graph::SceneGraph& g, const WorldState& s) {
-  return g.platforms.at(static_cast<std::size_t>(s.at_platform));
+  return g.platforms.at(s.at_platform);
 }
 
-std::string platform_title(const graph::SceneGraph& g, int platform) {
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+std::string platform_title(const graph::SceneGraph& g, graph::PlatformId platform) {
+  const graph::Platform& p = g.platforms[platform];
   return p.name + " (" + graph::navigation_key(p.label) + ")";
 }
 
@@ -28,7 +28,7 @@ std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t,
              t.key + ")";
     case PlaceTarget::Kind::kObjectRegion:
       return std::string("place it in free space ") + t.key + ": " + graph::direction_name(t.relative_dir) + " of " +
-             (options.object_names ? "the " + display_name(g.objects[static_cast<std::size_t>(t.anchor)])
+             (options.object_names ? "the " + display_name(g.objects[t.anchor])
                                    : std::string("the object it is drawn next to"));
     case PlaceTarget::Kind::kAnywhere:
       break;
@@ -38,13 +38,13 @@ std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t,
 
 // Where an object stands on the platform the robot is at, as the robot sees it: centimetres
 // left/right of and near/far from the platform's centre, or what it rests on.
-std::string object_place(const graph::SceneGraph& g, const WorldState& s, int object,
-                         const std::vector<int>& numbering) {
-  const ObjectState& o = s.objects[static_cast<std::size_t>(object)];
+std::string object_place(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object,
+                         const std::vector<graph::ObjectId>& numbering) {
+  const ObjectState& o = s.objects[object];
   const auto& siblings = objects_on(s, s.at_platform);
   if (std::find(siblings.begin(), siblings.end(), object) == siblings.end()) {
     for (std::size_t k = 0; k < numbering.size(); ++k) {
-      for (const int p : g.objects[static_cast<std::size_t>(numbering[k])].platforms) {
+      for (const graph::PlatformId p : g.objects[numbering[k]].platforms) {
         if (p == o.parent) return "on object " + std::to_string(k + 1);
       }
     }
@@ -99,20 +99,20 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
                          "(you stay if there is none)"});
   }
   out.push_back({"0", "call_end: finish the task now"});
-  if (s.phase == Phase::kAtPlatform && s.held < 0) {
+  if (s.phase == Phase::kAtPlatform && !s.held.valid()) {
     const auto objects = pickable_on(g, s, s.at_platform);
     for (std::size_t k = 0; k < objects.size(); ++k) {
       std::string what = "pick up object " + std::to_string(k + 1);
-      if (options.object_names) what += " (" + display_name(g.objects[static_cast<std::size_t>(objects[k])]) + ")";
+      if (options.object_names) what += " (" + display_name(g.objects[objects[k]]) + ")";
       out.push_back({"o" + std::to_string(k + 1), std::move(what)});
     }
   }
   for (std::size_t k = 0; k < g.navigable.size(); ++k) {
     out.push_back({graph::navigation_key(static_cast<int>(k) + 1),
                    "go to platform " + std::to_string(k + 1) + ": " +
-                       g.platforms[static_cast<std::size_t>(g.navigable[k])].name});
+                       g.platforms[g.navigable[k]].name});
   }
-  if (s.phase == Phase::kAtPlatform && s.held >= 0) {
+  if (s.phase == Phase::kAtPlatform && s.held.valid()) {
     out.push_back({"startplace", "start placing the object in your hand on this platform"});
   }
   return out;
@@ -161,7 +161,7 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
     }
   } else if (key[0] == 'o') {
     const int k = std::stoi(std::string(key.substr(1)));
-    const int object = pickable_on(g, s, s.at_platform).at(static_cast<std::size_t>(k - 1));
+    const graph::ObjectId object = pickable_on(g, s, s.at_platform).at(static_cast<std::size_t>(k - 1));
     const auto& forbidden = constraints.protected_objects;
     if (std::find(forbidden.begin(), forbidden.end(), object) != forbidden.end()) {
       out.hint = "object " + std::to_string(k) + " is a reference object of the task and must stay where it is";
@@ -207,19 +207,19 @@ const char* direction_convention() {
 
 std::string situation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options) {
   std::string text;
-  if (s.at_platform < 0) {
+  if (!s.at_platform.valid()) {
     text = "You are at the start position and have not gone to any platform yet.";
   } else {
     text = "You are standing at the " + std::string(graph::to_string(static_cast<graph::Side>(s.side))) +
            " side of platform " + platform_title(g, s.at_platform) + ".";
   }
-  if (s.held >= 0) {
-    text += options.object_names ? " You hold the " + display_name(g.objects[static_cast<std::size_t>(s.held)]) + "."
+  if (s.held.valid()) {
+    text += options.object_names ? " You hold the " + display_name(g.objects[s.held]) + "."
                                  : " You hold an object (shown in the close-up image).";
   } else {
     text += " Your hand is empty.";
   }
-  if (s.at_platform >= 0) {
+  if (s.at_platform.valid()) {
     const auto objects = pickable_on(g, s, s.at_platform);
     if (objects.empty()) {
       text += " There is nothing you can pick up on this platform.";
@@ -231,7 +231,7 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
       text += " On this platform (where each stands from its centre, as you face it):";
       for (std::size_t k = 0; k < objects.size(); ++k) {
         text += std::string(k ? "," : "") + " object " + std::to_string(k + 1) + " " +
-                display_name(g.objects[static_cast<std::size_t>(objects[k])]) + " [" +
+                display_name(g.objects[objects[k]]) + " [" +
                 object_place(g, s, objects[k], objects) + "]";
       }
       text += ".";

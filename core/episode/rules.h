@@ -38,7 +38,7 @@ struct ActionOption {
 
 /// What the task forbids: its anchors must stay where they are (the release refuses to pick them).
 struct TaskConstraints {
-  std::vector<int> protected_objects;
+  std::vector<graph::ObjectId> protected_objects;
 };
 
 struct StepOutcome {
@@ -46,8 +46,8 @@ struct StepOutcome {
   bool available = false;   // ... and was offered in this state
   bool applied = false;     // the world changed as asked
   std::string hint;         // feedback for the next observation ("" if none)
-  int picked = -1;          // object picked by this step
-  int placed = -1;          // object placed by this step
+  graph::ObjectId picked;   // object picked by this step
+  graph::ObjectId placed;   // object placed by this step
   bool done = false;        // the episode ended with this step
   EndReason end_reason = EndReason::kNone;
 };

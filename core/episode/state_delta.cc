@@ -7,28 +7,28 @@
 namespace mtg::episode {
 namespace {
 
-int object_named(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
-  const int i = g.find_object(name);
-  if (i < 0) throw Error("state: '" + field + "' names no object of scene " + g.scene + ": '" + name + "'");
+graph::ObjectId object_named(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
+  const graph::ObjectId i = g.find_object(name);
+  if (!i.valid()) throw Error("state: '" + field + "' names no object of scene " + g.scene + ": '" + name + "'");
   return i;
 }
 
 // "" is no platform.
-int platform_named(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
-  if (name.empty()) return -1;
-  const int i = g.find_platform(name);
-  if (i < 0) throw Error("state: '" + field + "' names no platform of scene " + g.scene + ": '" + name + "'");
+graph::PlatformId platform_named(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
+  if (name.empty()) return {};
+  const graph::PlatformId i = g.find_platform(name);
+  if (!i.valid()) throw Error("state: '" + field + "' names no platform of scene " + g.scene + ": '" + name + "'");
   return i;
 }
 
 // A platform a list entry is about: "" is an error there.
-int platform_listed(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
+graph::PlatformId platform_listed(const graph::SceneGraph& g, const std::string& name, const std::string& field) {
   if (name.empty()) throw Error("state: '" + field + "' is empty");
   return platform_named(g, name, field);
 }
 
-std::string platform_name(const graph::SceneGraph& g, int p) {
-  return p < 0 ? std::string() : g.platforms[static_cast<std::size_t>(p)].name;
+std::string platform_name(const graph::SceneGraph& g, graph::PlatformId p) {
+  return p.valid() ? g.platforms[p].name : std::string();
 }
 
 bool same(const ObjectState& a, const ObjectState& b) {
@@ -44,19 +44,19 @@ StateDelta state_delta(const graph::SceneGraph& g, const WorldState& s) {
   d.phase = s.phase;
   d.at = platform_name(g, s.at_platform);
   d.side = s.side;
-  d.held = s.held < 0 ? std::string() : g.objects[static_cast<std::size_t>(s.held)].name;
+  d.held = !s.held.valid() ? std::string() : g.objects[s.held].name;
   d.steps = s.steps;
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+  for (const graph::ObjectId i : s.objects.ids()) {
     const ObjectState& o = s.objects[i];
     if (same(o, initial.objects[i])) continue;
     d.moved.push_back({g.objects[i].name, platform_name(g, o.parent), o.position, o.footprint, o.bottom, o.top,
                        o.placed_side});
   }
-  for (std::size_t p = 0; p < s.children.size(); ++p) {
+  for (const graph::PlatformId p : s.children.ids()) {
     const std::string& name = g.platforms[p].name;
     if (s.children[p] != initial.children[p]) {
       PlatformOrder order{name, {}};
-      for (const int o : s.children[p]) order.objects.push_back(g.objects[static_cast<std::size_t>(o)].name);
+      for (const graph::ObjectId o : s.children[p]) order.objects.push_back(g.objects[o].name);
       d.reordered.push_back(std::move(order));
     }
     if (!s.platform_offset[p].isZero(0.0)) d.offsets.push_back({name, s.platform_offset[p]});
@@ -74,22 +74,22 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
   s.at_platform = platform_named(g, delta.at, "at");
   if (delta.side < -1 || delta.side > 3) throw Error("state: 'side' must be -1..3, got " + std::to_string(delta.side));
   s.side = delta.side;
-  s.held = delta.held.empty() ? -1 : object_named(g, delta.held, "held");
+  s.held = delta.held.empty() ? graph::ObjectId() : object_named(g, delta.held, "held");
   s.steps = delta.steps;
   // Each object and platform at most once: a list that names one twice would silently keep the last.
-  std::vector<bool> moved_seen(s.objects.size(), false), reordered_seen(s.children.size(), false),
-      offset_seen(s.children.size(), false);
-  const auto once = [](std::vector<bool>& seen, int i, const std::string& field, const std::string& name) {
-    if (seen[static_cast<std::size_t>(i)]) throw Error("state: '" + field + "' names '" + name + "' twice");
-    seen[static_cast<std::size_t>(i)] = true;
+  IdVector<graph::ObjectId, bool> moved_seen(s.objects.size(), false);
+  IdVector<graph::PlatformId, bool> reordered_seen(s.children.size(), false), offset_seen(s.children.size(), false);
+  const auto once = [](auto& seen, auto i, const std::string& field, const std::string& name) {
+    if (seen[i]) throw Error("state: '" + field + "' names '" + name + "' twice");
+    seen[i] = true;
   };
   for (const MovedObject& m : delta.moved) {
-    const int i = object_named(g, m.object, "moved.object");
+    const graph::ObjectId i = object_named(g, m.object, "moved.object");
     once(moved_seen, i, "moved.object", m.object);
     if (m.placed_side < -1 || m.placed_side > 3) {
       throw Error("state: 'moved.placed_side' of '" + m.object + "' must be -1..3, got " + std::to_string(m.placed_side));
     }
-    ObjectState& o = s.objects[static_cast<std::size_t>(i)];
+    ObjectState& o = s.objects[i];
     o.parent = platform_named(g, m.parent, "moved.parent");
     o.position = m.position;
     o.footprint = m.footprint;
@@ -98,16 +98,16 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
     o.placed_side = m.placed_side;
   }
   for (const PlatformOrder& order : delta.reordered) {
-    const int p = platform_listed(g, order.platform, "reordered.platform");
+    const graph::PlatformId p = platform_listed(g, order.platform, "reordered.platform");
     once(reordered_seen, p, "reordered.platform", order.platform);
-    std::vector<int>& children = s.children[static_cast<std::size_t>(p)];
+    std::vector<graph::ObjectId>& children = s.children[p];
     children.clear();
     for (const std::string& o : order.objects) children.push_back(object_named(g, o, "reordered." + order.platform));
   }
   for (const PlatformOffset& offset : delta.offsets) {
-    const int p = platform_listed(g, offset.platform, "offsets.platform");
+    const graph::PlatformId p = platform_listed(g, offset.platform, "offsets.platform");
     once(offset_seen, p, "offsets.platform", offset.platform);
-    s.platform_offset[static_cast<std::size_t>(p)] = offset.offset;
+    s.platform_offset[p] = offset.offset;
   }
   return s;
 }

@@ -12,8 +12,8 @@ StateUpdate make_update(const WorldState& s, const std::string& key, const StepO
   u.side = s.side;
   u.holding = s.held;
   u.picked = outcome.picked;
-  if (outcome.placed >= 0) {
-    const ObjectState& o = s.objects[static_cast<std::size_t>(outcome.placed)];
+  if (outcome.placed.valid()) {
+    const ObjectState& o = s.objects[outcome.placed];
     u.placed.push_back({outcome.placed, o.parent, o.position});
   }
   u.invalid = !outcome.valid || !outcome.available;
@@ -45,7 +45,7 @@ EpisodeStep step_episode(const graph::SceneGraph& g, WorldState& s, const AgentA
 }
 
 void apply_update(const graph::SceneGraph& g, WorldState& replica, const StateUpdate& u) {
-  if (u.picked >= 0 && replica.held != u.picked) pick(g, replica, u.picked);
+  if (u.picked.valid() && replica.held != u.picked) pick(g, replica, u.picked);
   replica.at_platform = u.at_platform;
   replica.side = u.side;
   for (const Placement& p : u.placed) {

@@ -12,8 +12,8 @@
 namespace mtg::episode {
 
 struct Placement {
-  int object = -1;
-  int platform = -1;
+  graph::ObjectId object;
+  graph::PlatformId platform;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world translation of the object frame
 };
 
@@ -21,10 +21,10 @@ struct Placement {
 struct StateUpdate {
   int step = 0;            // steps used after this action
   std::string key;         // action applied ("" for the initial update)
-  int at_platform = -1;
+  graph::PlatformId at_platform;
   int side = -1;
-  int holding = -1;
-  int picked = -1;         // object picked in this step
+  graph::ObjectId holding;
+  graph::ObjectId picked;  // object picked in this step
   std::vector<Placement> placed;
   bool invalid = false;    // invalid or unavailable action
   bool format_error = false;  // the agent's reply held no readable key

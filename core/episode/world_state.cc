@@ -9,15 +9,15 @@ namespace mtg::episode {
 namespace {
 
 // Moves an object and everything resting on it (recursively) by t.
-void translate_subtree(const graph::SceneGraph& g, WorldState& s, int object, const Eigen::Vector3d& t) {
-  ObjectState& o = s.objects[static_cast<std::size_t>(object)];
+void translate_subtree(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object, const Eigen::Vector3d& t) {
+  ObjectState& o = s.objects[object];
   o.position += t;
   o.bottom += t.z();
   o.top += t.z();
   for (auto& p : o.footprint) p += t.head<2>();
-  for (const int p : g.objects[static_cast<std::size_t>(object)].platforms) {
-    s.platform_offset[static_cast<std::size_t>(p)] += t;
-    for (const int child : s.children[static_cast<std::size_t>(p)]) translate_subtree(g, s, child, t);
+  for (const graph::PlatformId p : g.objects[object].platforms) {
+    s.platform_offset[p] += t;
+    for (const graph::ObjectId child : s.children[p]) translate_subtree(g, s, child, t);
   }
 }
 
@@ -26,7 +26,7 @@ void translate_subtree(const graph::SceneGraph& g, WorldState& s, int object, co
 WorldState initial_state(const graph::SceneGraph& g) {
   WorldState s;
   s.objects.resize(g.objects.size());
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+  for (const graph::ObjectId i : g.objects.ids()) {
     const graph::GraphObject& o = g.objects[i];
     ObjectState& st = s.objects[i];
     st.parent = o.parent;
@@ -36,103 +36,104 @@ WorldState initial_state(const graph::SceneGraph& g) {
     st.top = o.top;
   }
   s.children.resize(g.platforms.size());
-  for (std::size_t p = 0; p < g.platforms.size(); ++p) s.children[p] = g.platforms[p].items;
-  s.platform_offset.assign(g.platforms.size(), Eigen::Vector3d::Zero());
+  for (const graph::PlatformId p : g.platforms.ids()) s.children[p] = g.platforms[p].items;
+  s.platform_offset.resize(g.platforms.size(), Eigen::Vector3d::Zero());
   return s;
 }
 
-std::vector<int> pickable_on(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  return g.pickable_on(platform, [&s](int p) -> const std::vector<int>& { return objects_on(s, p); });
+std::vector<graph::ObjectId> pickable_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  return g.pickable_on(platform,
+                       [&s](graph::PlatformId p) -> const std::vector<graph::ObjectId>& { return objects_on(s, p); });
 }
 
 geom::Point2 footprint_centre(const ObjectState& o) { return geom::centroid(geom::Region{{o.footprint}}); }
 
-const std::vector<int>& objects_on(const WorldState& s, int platform) {
-  return s.children.at(static_cast<std::size_t>(platform));
+const std::vector<graph::ObjectId>& objects_on(const WorldState& s, graph::PlatformId platform) {
+  return s.children.at(platform);
 }
 
-std::vector<int> everything_on(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  std::vector<int> out;
-  std::vector<int> stack(s.children.at(static_cast<std::size_t>(platform)).rbegin(),
-                         s.children.at(static_cast<std::size_t>(platform)).rend());
+std::vector<graph::ObjectId> everything_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  std::vector<graph::ObjectId> out;
+  const std::vector<graph::ObjectId>& direct = s.children.at(platform);
+  std::vector<graph::ObjectId> stack(direct.rbegin(), direct.rend());
   while (!stack.empty()) {
-    const int o = stack.back();
+    const graph::ObjectId o = stack.back();
     stack.pop_back();
     out.push_back(o);
-    const auto& owned = g.objects[static_cast<std::size_t>(o)].platforms;
+    const auto& owned = g.objects[o].platforms;
     for (auto p = owned.rbegin(); p != owned.rend(); ++p) {
-      const auto& on = s.children[static_cast<std::size_t>(*p)];
+      const auto& on = s.children[*p];
       stack.insert(stack.end(), on.rbegin(), on.rend());
     }
   }
   return out;
 }
 
-Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  const Eigen::Vector3d& t = s.platform_offset[static_cast<std::size_t>(platform)];
-  return Eigen::Translation2d(t.head<2>()) * g.platforms[static_cast<std::size_t>(platform)].X_WP;
+Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  const Eigen::Vector3d& t = s.platform_offset[platform];
+  return Eigen::Translation2d(t.head<2>()) * g.platforms[platform].X_WP;
 }
 
-double platform_height(const graph::SceneGraph& g, const WorldState& s, int platform) {
-  return g.platforms[static_cast<std::size_t>(platform)].height +
-         s.platform_offset[static_cast<std::size_t>(platform)].z();
+double platform_height(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  return g.platforms[platform].height +
+         s.platform_offset[platform].z();
 }
 
-std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, int platform) {
+std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
   std::vector<graph::Obstacle> out;
   const Eigen::Isometry2d X_PW = platform_frame(g, s, platform).inverse();
-  for (const int o : objects_on(s, platform)) {
+  for (const graph::ObjectId o : objects_on(s, platform)) {
     graph::Obstacle ob;
     ob.object = o;
-    ob.hull_P = geom::transform(s.objects[static_cast<std::size_t>(o)].footprint, X_PW);
+    ob.hull_P = geom::transform(s.objects[o].footprint, X_PW);
     ob.box_P = geom::bounds(ob.hull_P);
     out.push_back(std::move(ob));
   }
   return out;
 }
 
-void pick(const graph::SceneGraph& g, WorldState& s, int object) {
-  ObjectState& o = s.objects.at(static_cast<std::size_t>(object));
-  MTG_DEMAND(s.held < 0, "pick while holding " + g.objects[static_cast<size_t>(s.held)].name);
-  if (o.parent >= 0) {
-    auto& siblings = s.children[static_cast<std::size_t>(o.parent)];
+void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object) {
+  ObjectState& o = s.objects.at(object);
+  MTG_DEMAND(!s.held.valid(), "pick while holding " + g.objects[s.held].name);
+  if (o.parent.valid()) {
+    auto& siblings = s.children[o.parent];
     siblings.erase(std::remove(siblings.begin(), siblings.end(), object), siblings.end());
   }
-  o.parent = -1;
+  o.parent = {};
   s.held = object;
 }
 
-void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const Eigen::Vector2d& xy) {
-  MTG_DEMAND(s.held >= 0, "place with an empty hand");
-  const int object = s.held;
-  const ObjectState& o = s.objects[static_cast<std::size_t>(object)];
+void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId platform, const Eigen::Vector2d& xy) {
+  MTG_DEMAND(s.held.valid(), "place with an empty hand");
+  const graph::ObjectId object = s.held;
+  const ObjectState& o = s.objects[object];
   const Eigen::Vector3d t(xy.x() - o.position.x(), xy.y() - o.position.y(),
                           platform_height(g, s, platform) - o.bottom);
   translate_subtree(g, s, object, t);
-  ObjectState& placed = s.objects[static_cast<std::size_t>(object)];
+  ObjectState& placed = s.objects[object];
   placed.parent = platform;
   placed.placed_side = s.side;
-  s.children[static_cast<std::size_t>(platform)].push_back(object);  // appended: numbers shift
-  s.held = -1;
+  s.children[platform].push_back(object);  // appended: numbers shift
+  s.held = {};
 }
 
-double stack_height(const graph::SceneGraph& g, const WorldState& s, int object) {
-  const ObjectState& o = s.objects.at(static_cast<std::size_t>(object));
+double stack_height(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  const ObjectState& o = s.objects.at(object);
   double top = o.top;
-  for (const int p : g.objects[static_cast<std::size_t>(object)].platforms) {
-    for (const int above : everything_on(g, s, p)) top = std::max(top, s.objects[static_cast<std::size_t>(above)].top);
+  for (const graph::PlatformId p : g.objects[object].platforms) {
+    for (const graph::ObjectId above : everything_on(g, s, p)) top = std::max(top, s.objects[above].top);
   }
   return top - o.bottom;
 }
 
-int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object) {
-  int p = s.objects.at(static_cast<std::size_t>(object)).parent;
-  while (p >= 0) {
-    const graph::Platform& plat = g.platforms[static_cast<std::size_t>(p)];
+graph::PlatformId furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  graph::PlatformId p = s.objects.at(object).parent;
+  while (p.valid()) {
+    const graph::Platform& plat = g.platforms[p];
     if (plat.destination) return p;
-    p = s.objects[static_cast<std::size_t>(plat.owner)].parent;
+    p = s.objects[plat.owner].parent;
   }
-  return -1;
+  return {};
 }
 
 }  // namespace mtg::episode

@@ -13,7 +13,7 @@
 namespace mtg::episode {
 
 struct ObjectState {
-  int parent = -1;                  // supporting platform; -1 floor/structure or held
+  graph::PlatformId parent;         // supporting platform; none: floor/structure or held
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world translation of the object frame
   geom::Ring footprint;             // world xy
   double bottom = 0.0;
@@ -25,11 +25,12 @@ struct ObjectState {
 enum class Phase { kStart, kAtPlatform, kPlacing, kDone };
 
 struct WorldState {
-  std::vector<ObjectState> objects;                // parallel to SceneGraph::objects
-  std::vector<std::vector<int>> children;          // per platform, objects resting on it, in order
-  std::vector<Eigen::Vector3d> platform_offset;    // moved item platforms (zero for furniture)
-  int held = -1;                                   // object in the robot's hand
-  int at_platform = -1;                            // platform the robot stands at
+  IdVector<graph::ObjectId, ObjectState> objects;  // parallel to SceneGraph::objects
+  // Per platform, objects resting on it, in order.
+  IdVector<graph::PlatformId, std::vector<graph::ObjectId>> children;
+  IdVector<graph::PlatformId, Eigen::Vector3d> platform_offset;  // moved item platforms (zero for furniture)
+  graph::ObjectId held;                            // object in the robot's hand
+  graph::PlatformId at_platform;                   // platform the robot stands at
   int side = -1;                                   // side it stands at (graph::Side as int)
   Phase phase = Phase::kStart;
   int steps = 0;                                   // actions taken (valid or not)
@@ -40,39 +41,39 @@ WorldState initial_state(const graph::SceneGraph& g);
 
 /// Pickable objects on `platform` in the agent's o-numbering: each direct child followed by the
 /// objects resting on it (the paper's order); items only (scenery is never picked).
-std::vector<int> pickable_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+std::vector<graph::ObjectId> pickable_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// The centre of an object's footprint (world xy): where it stands, for placement and goals.
 geom::Point2 footprint_centre(const ObjectState& o);
 
 /// Objects directly on `platform` (items and scenery): the obstacles for placing there.
-const std::vector<int>& objects_on(const WorldState& s, int platform);
+const std::vector<graph::ObjectId>& objects_on(const WorldState& s, graph::PlatformId platform);
 
 /// Everything resting on `platform`, directly or on other objects (depth first, direct children
 /// in order).
-std::vector<int> everything_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+std::vector<graph::ObjectId> everything_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// Obstacles of `platform` in its frame, in the current state.
-std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, int platform);
+std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// The world frame of a platform now (item platforms move with their owner).
-Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, int platform);
-double platform_height(const graph::SceneGraph& g, const WorldState& s, int platform);
+Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
+double platform_height(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform);
 
 /// Removes `object` from its platform and puts it in the hand; everything resting on it stays
 /// on it (and moves with it).
-void pick(const graph::SceneGraph& g, WorldState& s, int object);
+void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object);
 
 /// Puts the held object on `platform` with its reference point (the object-frame origin) at
 /// `xy` (world), its bottom on the surface; records the side used. Descendants move along.
-void place_held(const graph::SceneGraph& g, WorldState& s, int platform, const Eigen::Vector2d& xy);
+void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId platform, const Eigen::Vector2d& xy);
 
 /// Height of `object` together with everything resting on it (what is carried along when it is
 /// picked): the highest top in its subtree minus its own bottom. This is what must fit under a
 /// destination's clearance.
-double stack_height(const graph::SceneGraph& g, const WorldState& s, int object);
+double stack_height(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object);
 
-/// The platform an object is (transitively) on that is owned by furniture, or -1.
-int furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, int object);
+/// The platform an object is (transitively) on that is owned by furniture, or none.
+graph::PlatformId furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object);
 
 }  // namespace mtg::episode

@@ -17,7 +17,7 @@ namespace {
 
 // A platform before names and frames exist.
 struct Draft {
-  int owner = -1;
+  ObjectId owner;
   Surface surface;
   std::string source;
   bool active = true;
@@ -42,10 +42,10 @@ double yaw_of(const Eigen::Isometry3d& X) {
 
 // Classification that needs no support search: profile, geometry, floor contact. Objects off
 // the floor stay kUnsupported until the support search places them.
-void classify(const scene::Scene& scene, const std::vector<ObjectGeometry>& geo,
+void classify(const scene::Scene& scene, const IdVector<ObjectId, ObjectGeometry>& geo,
               const GraphOptions& options, SceneGraph& g) {
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const scene::ObjectInstance& src = scene.objects[i];
+  for (const ObjectId i : g.objects.ids()) {
+    const scene::ObjectInstance& src = scene.objects[i.index()];
     GraphObject& o = g.objects[i];
     o.name = src.name;
     o.template_name = src.template_name;
@@ -87,7 +87,7 @@ void classify(const scene::Scene& scene, const std::vector<ObjectGeometry>& geo,
 // min_support_overlap of min(footprint, surface). An object lying across several supports at
 // one level (a book across two books) is accepted when they cover that share of its footprint
 // together; its parent is then the one under most of it. Returns the draft index or -1.
-int find_support(int object, const ObjectGeometry& geometry, const std::vector<Draft>& drafts,
+int find_support(ObjectId object, const ObjectGeometry& geometry, const std::vector<Draft>& drafts,
                  const GraphOptions& options) {
   const geom::Region footprint = geom::from_ring(geometry.footprint);
   const double foot_area = geom::area(footprint);
@@ -168,21 +168,24 @@ class GraphBuilder {
 
  private:
   std::size_t size() const { return scene_.objects.size(); }
+  IdRange<ObjectId> object_ids() const { return IdRange<ObjectId>(size()); }
+  // The scene's objects and the graph's are in the same order.
+  const scene::ObjectInstance& source(ObjectId i) const { return scene_.objects[i.index()]; }
 
   // Geometry in the world, classification, and whatever stands on the floor moved to z = 0.
   void measure_and_classify() {
     g_.scene = scene_.name;
     g_.objects.resize(size());
     geo_.resize(size());
-    for (std::size_t i = 0; i < size(); ++i) geo_[i] = object_geometry(scene_.objects[i]);
+    for (const ObjectId i : object_ids()) geo_[i] = object_geometry(source(i));
     classify(scene_, geo_, options_, g_);
-    for (std::size_t i = 0; i < size(); ++i) {
+    for (const ObjectId i : object_ids()) {
       if (g_.objects[i].kind != ObjectKind::kUnsupported) settle(i, -geo_[i].bottom);
     }
   }
 
   // Moves object i (its geometry and its pose) up or down by dz.
-  void settle(std::size_t i, double dz) {
+  void settle(ObjectId i, double dz) {
     GraphObject& o = g_.objects[i];
     translate(geo_[i], Eigen::Vector3d(0, 0, dz));
     o.X_WO.translation().z() += dz;
@@ -193,15 +196,15 @@ class GraphBuilder {
 
   // Furniture platforms are active (declared-receptacle furniture keeps reserves); surfaces of
   // items and scenery are reserves that only become platforms when something rests on them.
-  void add_drafts(std::size_t i, bool furniture) {
-    for (auto& c : platform_candidates(scene_.objects[i], g_.objects[i].X_WO, geo_[i], options_, g_.warnings)) {
-      drafts_.push_back({static_cast<int>(i), std::move(c.surface),
+  void add_drafts(ObjectId i, bool furniture) {
+    for (auto& c : platform_candidates(source(i), g_.objects[i].X_WO, geo_[i], options_, g_.warnings)) {
+      drafts_.push_back({i, std::move(c.surface),
                          furniture ? std::move(c.source) : std::string("mesh:supports-item"), furniture && c.active});
     }
   }
 
   void collect_platform_drafts() {
-    for (std::size_t i = 0; i < size(); ++i) {
+    for (const ObjectId i : object_ids()) {
       if (g_.objects[i].kind == ObjectKind::kFurniture) add_drafts(i, true);
       if (g_.objects[i].kind == ObjectKind::kFixed) add_drafts(i, false);
     }
@@ -212,25 +215,22 @@ class GraphBuilder {
   // What rests on nothing is fixed to the structure (wall-mounted furniture or scenery) unless
   // it is a movable object: then it is reported.
   void settle_bottom_up() {
-    for (std::size_t i = 0; i < size(); ++i) {
-      if (g_.objects[i].kind == ObjectKind::kUnsupported && geo_[i].has_geometry()) {
-        pending_.push_back(static_cast<int>(i));
-      }
+    for (const ObjectId i : object_ids()) {
+      if (g_.objects[i].kind == ObjectKind::kUnsupported && geo_[i].has_geometry()) pending_.push_back(i);
     }
-    std::stable_sort(pending_.begin(), pending_.end(), [&](int a, int b) {
-      return geo_[static_cast<size_t>(a)].bottom < geo_[static_cast<size_t>(b)].bottom;
-    });
-    parent_draft_.assign(size(), -1);
+    std::stable_sort(pending_.begin(), pending_.end(),
+                     [&](ObjectId a, ObjectId b) { return geo_[a].bottom < geo_[b].bottom; });
+    parent_draft_.clear();
+    parent_draft_.resize(size(), -1);
     int far_drops = 0;
     double max_drop = 0.0;
-    for (const int oi : pending_) {
-      const auto i = static_cast<std::size_t>(oi);
+    for (const ObjectId i : pending_) {
       GraphObject& o = g_.objects[i];
-      const bool falls = !scene_.objects[i].articulated && scene_.objects[i].motion != scene::MotionType::kStatic;
+      const bool falls = !source(i).articulated && source(i).motion != scene::MotionType::kStatic;
       // Fixed objects (STATIC, articulated) do not fall: they attach only within the tolerance.
       GraphOptions search = options_;
       if (!falls) search.max_settle_drop = options_.contact_tolerance;
-      const int d = find_support(oi, geo_[i], drafts_, search);
+      const int d = find_support(i, geo_[i], drafts_, search);
       if (d < 0) {
         rests_on_nothing(i);
         continue;
@@ -257,7 +257,7 @@ class GraphBuilder {
     }
   }
 
-  void rests_on_nothing(std::size_t i) {
+  void rests_on_nothing(ObjectId i) {
     GraphObject& o = g_.objects[i];
     if (o.movable) {
       o.note = "rests on no platform";
@@ -276,7 +276,7 @@ class GraphBuilder {
 
   // Platforms: active drafts, per owner bottom-up; then each settled object's parent.
   void make_platforms() {
-    draft_to_platform_.assign(drafts_.size(), -1);
+    draft_to_platform_.assign(drafts_.size(), PlatformId());
     std::vector<int> order(drafts_.size());
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
@@ -289,7 +289,7 @@ class GraphBuilder {
     for (const int d : order) {
       const Draft& draft = drafts_[static_cast<size_t>(d)];
       if (!draft.active) continue;
-      GraphObject& owner = g_.objects[static_cast<size_t>(draft.owner)];
+      GraphObject& owner = g_.objects[draft.owner];
       Platform p;
       p.owner = draft.owner;
       p.index = static_cast<int>(owner.platforms.size());
@@ -297,15 +297,15 @@ class GraphBuilder {
       p.height = draft.surface.height;
       p.source = draft.source;
       p.destination = owner.kind == ObjectKind::kFurniture;
-      draft_to_platform_[static_cast<size_t>(d)] = static_cast<int>(g_.platforms.size());
-      owner.platforms.push_back(static_cast<int>(g_.platforms.size()));
-      g_.platforms.push_back(std::move(p));
+      const PlatformId id = g_.platforms.push_back(std::move(p));
+      draft_to_platform_[static_cast<size_t>(d)] = id;
+      owner.platforms.push_back(id);
     }
-    for (std::size_t i = 0; i < size(); ++i) {
+    for (const ObjectId i : object_ids()) {
       if (parent_draft_[i] < 0) continue;
-      const int p = draft_to_platform_[static_cast<size_t>(parent_draft_[i])];
+      const PlatformId p = draft_to_platform_[static_cast<size_t>(parent_draft_[i])];
       g_.objects[i].parent = p;
-      g_.platforms[static_cast<size_t>(p)].items.push_back(static_cast<int>(i));
+      g_.platforms[p].items.push_back(i);
     }
   }
 
@@ -316,21 +316,19 @@ class GraphBuilder {
         o.heading = geom::min_area_rect(o.footprint, yaw_of(o.X_WO)).yaw;
       }
     }
-    for (const int oi : pending_) {  // bottom-up, so parents come first
-      GraphObject& o = g_.objects[static_cast<size_t>(oi)];
-      if (o.parent >= 0) {
-        o.heading = g_.objects[static_cast<size_t>(g_.platforms[static_cast<size_t>(o.parent)].owner)].heading;
-      }
+    for (const ObjectId oi : pending_) {  // bottom-up, so parents come first
+      GraphObject& o = g_.objects[oi];
+      if (o.parent.valid()) o.heading = g_.objects[g_.platforms[o.parent].owner].heading;
     }
   }
 
   // Platform frames (aligned with the owner's heading, centred on the surface) and polygons.
   void frame_platforms() {
     for (std::size_t d = 0; d < drafts_.size(); ++d) {
-      const int pi = draft_to_platform_[d];
-      if (pi < 0) continue;
-      Platform& p = g_.platforms[static_cast<size_t>(pi)];
-      const double yaw = g_.objects[static_cast<size_t>(p.owner)].heading;
+      const PlatformId pi = draft_to_platform_[d];
+      if (!pi.valid()) continue;
+      Platform& p = g_.platforms[pi];
+      const double yaw = g_.objects[p.owner].heading;
       const geom::Region region_W = geom::clean(drafts_[d].surface.region, kCleanArea, kCleanDistance);
       const Eigen::Rotation2Dd R_HW(-yaw);
       Eigen::AlignedBox2d box_H;
@@ -345,12 +343,11 @@ class GraphBuilder {
 
   // Detected once per object and direction, and only when asked: an object's upward surfaces
   // matter only above its own platforms (interior layers), its downward ones above anyone's.
-  const std::vector<Surface>& surfaces(int oi, bool upward) {
+  const std::vector<Surface>& surfaces(ObjectId oi, bool upward) {
     auto it = surfaces_of_.find({oi, upward});
     if (it == surfaces_of_.end()) {
       it = surfaces_of_
-               .emplace(std::make_pair(oi, upward),
-                        detect_surfaces(geo_[static_cast<size_t>(oi)].soup, upward, surface_options(options_)))
+               .emplace(std::make_pair(oi, upward), detect_surfaces(geo_[oi].soup, upward, surface_options(options_)))
                .first;
     }
     return it->second;
@@ -370,17 +367,17 @@ class GraphBuilder {
           if (own) p.interior = true;
         }
       };
-      for (std::size_t i = 0; i < size(); ++i) {
+      for (const ObjectId i : object_ids()) {
         const GraphObject& o = g_.objects[i];
-        const bool own = static_cast<int>(i) == p.owner;
+        const bool own = i == p.owner;
         // Static geometry only: items move, floor coverings lie below everything.
         if (!own && o.kind != ObjectKind::kFurniture && o.kind != ObjectKind::kFixed) continue;
         if (!geo_[i].has_geometry() || geo_[i].top <= p.height + kAboveTolerance) continue;
         const Eigen::AlignedBox2d ob(Eigen::Vector2d(geo_[i].soup.bounds.min().head<2>()),
                                      Eigen::Vector2d(geo_[i].soup.bounds.max().head<2>()));
         if (!ob.intersects(box_W)) continue;
-        covered_by(surfaces(static_cast<int>(i), false), own);
-        if (own) covered_by(surfaces(static_cast<int>(i), true), own);
+        covered_by(surfaces(i, false), own);
+        if (own) covered_by(surfaces(i, true), own);
       }
     }
   }
@@ -389,19 +386,21 @@ class GraphBuilder {
   void check_interpenetration() {
     std::vector<const geom::TriangleSoup*> meshes;
     for (const auto& gg : geo_) meshes.push_back(&gg.soup);
-    std::vector<std::pair<int, int>> candidates;
+    std::vector<std::pair<int, int>> candidates;  // positions in `meshes`, which are the objects' ids
     for (const Platform& p : g_.platforms) {
       for (std::size_t a = 0; a < p.items.size(); ++a) {
         for (std::size_t b = a + 1; b < p.items.size(); ++b) {
-          const auto& fa = g_.objects[static_cast<size_t>(p.items[a])].footprint;
-          const auto& fb = g_.objects[static_cast<size_t>(p.items[b])].footprint;
-          if (geom::bounds(fa).intersects(geom::bounds(fb))) candidates.emplace_back(p.items[a], p.items[b]);
+          const auto& fa = g_.objects[p.items[a]].footprint;
+          const auto& fb = g_.objects[p.items[b]].footprint;
+          if (geom::bounds(fa).intersects(geom::bounds(fb))) {
+            candidates.emplace_back(p.items[a].value(), p.items[b].value());
+          }
         }
       }
     }
     for (const auto& [a, b] : interpenetrating_pairs(meshes, candidates, kInterpenetration)) {
-      g_.warnings.push_back("objects " + g_.objects[static_cast<size_t>(a)].name + " and " +
-                            g_.objects[static_cast<size_t>(b)].name + " interpenetrate by more than " +
+      g_.warnings.push_back("objects " + g_.objects[ObjectId(a)].name + " and " +
+                            g_.objects[ObjectId(b)].name + " interpenetrate by more than " +
                             fmt_mm(kInterpenetration) + " in the settled state");
     }
   }
@@ -410,22 +409,22 @@ class GraphBuilder {
   void find_standing_areas() {
     // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
     std::vector<const geom::TriangleSoup*> on_floor;
-    for (std::size_t i = 0; i < size(); ++i) {
+    for (const ObjectId i : object_ids()) {
       const GraphObject& o = g_.objects[i];
       const bool floor = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kFixed;
-      if (floor && o.parent < 0 && o.bottom <= options_.contact_tolerance) on_floor.push_back(&geo_[i].soup);
+      if (floor && !o.parent.valid() && o.bottom <= options_.contact_tolerance) on_floor.push_back(&geo_[i].soup);
     }
     const FloorRaster raster(on_floor, options_);
     for (Platform& p : g_.platforms) {
       if (!p.destination) continue;
-      const auto owner = static_cast<size_t>(p.owner);
+      const ObjectId owner = p.owner;
       evaluate_sides(p, g_.objects[owner].footprint, g_.objects[owner].heading, geo_[owner].soup, raster, options_);
       const bool useful = !p.items.empty() || p.clearance > kUsefulClearance;
       p.navigable = p.height <= options_.max_platform_height && useful && p.default_side >= 0;
     }
     for (const GraphObject& o : g_.objects) {
-      for (const int pi : o.platforms) {
-        Platform& p = g_.platforms[static_cast<size_t>(pi)];
+      for (const PlatformId pi : o.platforms) {
+        Platform& p = g_.platforms[pi];
         if (!p.navigable) continue;
         g_.navigable.push_back(pi);
         p.label = static_cast<int>(g_.navigable.size());
@@ -436,12 +435,12 @@ class GraphBuilder {
   const scene::Scene& scene_;
   const GraphOptions& options_;
   SceneGraph g_;
-  std::vector<ObjectGeometry> geo_;
+  IdVector<ObjectId, ObjectGeometry> geo_;
   std::vector<Draft> drafts_;
-  std::vector<int> pending_;            // objects settled bottom-up, in that order
-  std::vector<int> parent_draft_;       // per object: the draft it rests on (-1: none)
-  std::vector<int> draft_to_platform_;  // per draft: its platform (-1: not a platform)
-  std::map<std::pair<int, bool>, std::vector<Surface>> surfaces_of_;
+  std::vector<ObjectId> pending_;               // objects settled bottom-up, in that order
+  IdVector<ObjectId, int> parent_draft_;        // per object: the draft it rests on (-1: none)
+  std::vector<PlatformId> draft_to_platform_;   // per draft: its platform (none: not a platform)
+  std::map<std::pair<ObjectId, bool>, std::vector<Surface>> surfaces_of_;
 };
 
 }  // namespace

@@ -19,7 +19,7 @@ bool open_overlap(double a0, double a1, double b0, double b1) { return a0 < b1 -
 
 // Side region of `a` towards `dir` (0 rear, 2 left, 4 front, 6 right), cut at the first obstacle.
 Eigen::AlignedBox2d side_rect(const Eigen::AlignedBox2d& a, int dir, const Eigen::AlignedBox2d& limit,
-                              const std::vector<Obstacle>& obstacles, int self) {
+                              const std::vector<Obstacle>& obstacles, ObjectId self) {
   const double ax0 = a.min().x(), ax1 = a.max().x(), ay0 = a.min().y(), ay1 = a.max().y();
   switch (dir) {
     case 0: {  // rear: y below the object
@@ -65,7 +65,7 @@ Eigen::AlignedBox2d side_rect(const Eigen::AlignedBox2d& a, int dir, const Eigen
 // it grows: -1 towards smaller coordinates) holding no obstacle.
 Eigen::AlignedBox2d corner_rect(const Eigen::AlignedBox2d& a, int sx, int sy,
                                 const Eigen::AlignedBox2d& limit,
-                                const std::vector<Obstacle>& obstacles, int self) {
+                                const std::vector<Obstacle>& obstacles, ObjectId self) {
   const double cx = sx < 0 ? a.min().x() : a.max().x();
   const double cy = sy < 0 ? a.min().y() : a.max().y();
   const double u_max = std::max(0.0, sx < 0 ? cx - limit.min().x() : limit.max().x() - cx);
@@ -128,7 +128,7 @@ int relative_direction(int platform_dir, Side side) {
   return (platform_dir - 2 * static_cast<int>(side) + 2 * kNumDirections) % kNumDirections;
 }
 
-std::vector<Obstacle> make_obstacles(const Platform& platform, const std::vector<int>& objects,
+std::vector<Obstacle> make_obstacles(const Platform& platform, const std::vector<ObjectId>& objects,
                                      const std::vector<geom::Ring>& footprints_W) {
   std::vector<Obstacle> out;
   const Eigen::Isometry2d X_PW = platform.X_WP.inverse();

@@ -29,17 +29,17 @@ Eigen::Vector2i direction_step(int dir);
 
 /// An object on the platform, seen as an obstacle in P.
 struct Obstacle {
-  int object = -1;
+  ObjectId object;
   geom::Ring hull_P;          // convex footprint in P
   Eigen::AlignedBox2d box_P;  // its bounding box in P
 };
 
-/// Obstacles for `objects` (indices into the graph) given their world footprints.
-std::vector<Obstacle> make_obstacles(const Platform& platform, const std::vector<int>& objects,
+/// Obstacles for `objects` given their world footprints.
+std::vector<Obstacle> make_obstacles(const Platform& platform, const std::vector<ObjectId>& objects,
                                      const std::vector<geom::Ring>& footprints_W);
 
 struct FreeRegion {
-  int object = -1;              // anchor object (-1 for grid cells)
+  ObjectId object;              // anchor object (none for grid cells)
   int dir = 0;                  // platform-frame direction 0..7 (kCentre for the grid centre)
   Eigen::AlignedBox2d rect_P;   // the region before clipping to the platform polygon
   geom::Region region_P;        // clipped to the platform polygon (may be empty)

@@ -34,7 +34,7 @@ nlohmann::json region(const geom::Region& r) {
 nlohmann::json box(const Eigen::AlignedBox2d& b) { return {point(b.min()), point(b.max())}; }
 
 std::string parent_name(const SceneGraph& g, const GraphObject& o) {
-  if (o.parent >= 0) return g.platforms[static_cast<std::size_t>(o.parent)].name;
+  if (o.parent.valid()) return g.platforms[o.parent].name;
   return "ground";
 }
 
@@ -45,7 +45,7 @@ nlohmann::json graph_summary(const SceneGraph& g) {
   for (const auto& o : g.objects) kinds[to_string(o.kind)] += 1;
   int destinations = 0, pickable = 0;
   for (const auto& p : g.platforms) destinations += p.destination ? 1 : 0;
-  for (const int p : g.navigable) pickable += static_cast<int>(g.pickable_on(p).size());
+  for (const PlatformId p : g.navigable) pickable += static_cast<int>(g.pickable_on(p).size());
   return {{"objects", g.objects.size()},
           {"by_kind", kinds},
           {"platforms", g.platforms.size()},
@@ -65,7 +65,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
   for (const Platform& p : g.platforms) {
     nlohmann::json jp;
     jp["name"] = p.name;
-    jp["owner"] = g.objects[static_cast<std::size_t>(p.owner)].name;
+    jp["owner"] = g.objects[p.owner].name;
     jp["index"] = p.index;
     jp["height"] = len(p.height);
     jp["clearance"] = std::isfinite(p.clearance) ? nlohmann::json(len(p.clearance)) : nlohmann::json();
@@ -82,7 +82,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
     jp["polygon"] = region(p.polygon_P);
     jp["polygon_world"] = region(p.polygon_W());
     std::vector<std::string> items;
-    for (const int o : p.items) items.push_back(g.objects[static_cast<std::size_t>(o)].name);
+    for (const ObjectId o : p.items) items.push_back(g.objects[o].name);
     jp["items"] = items;
     if (p.destination) {
       nlohmann::json sides;
@@ -96,9 +96,9 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
       jp["default_side"] = p.default_side >= 0 ? nlohmann::json(to_string(static_cast<Side>(p.default_side)))
                                                : nlohmann::json();
       // Free space in the initial state, in platform-frame directions.
-      std::vector<int> on = p.items;
+      const std::vector<ObjectId>& on = p.items;
       std::vector<geom::Ring> footprints;
-      for (const int o : on) footprints.push_back(g.objects[static_cast<std::size_t>(o)].footprint);
+      for (const ObjectId o : on) footprints.push_back(g.objects[o].footprint);
       nlohmann::json regions = nlohmann::json::array();
       if (on.empty()) {
         for (const FreeRegion& r : grid_cells(p)) {
@@ -108,7 +108,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
         for (const FreeRegion& r : object_regions(p, make_obstacles(p, on, footprints),
                                                   options.min_region_size)) {
           if (!r.numbered) continue;
-          regions.push_back({{"object", g.objects[static_cast<std::size_t>(r.object)].name},
+          regions.push_back({{"object", g.objects[r.object].name},
                              {"dir", direction_name(r.dir)},
                              {"rect", box(r.rect_P)},
                              {"area", sq(geom::area(r.region_P))}});
@@ -139,7 +139,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
                       len(o.X_WO.translation().z())};
     jo["footprint"] = ring(o.footprint);
     std::vector<std::string> own;
-    for (const int p : o.platforms) own.push_back(g.platforms[static_cast<std::size_t>(p)].name);
+    for (const PlatformId p : o.platforms) own.push_back(g.platforms[p].name);
     jo["platforms"] = own;
     if (!o.note.empty()) jo["note"] = o.note;
     objects.push_back(std::move(jo));
@@ -147,7 +147,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
   j["objects"] = objects;
   j["navigable"] = [&] {
     std::vector<std::string> names;
-    for (const int p : g.navigable) names.push_back(g.platforms[static_cast<std::size_t>(p)].name);
+    for (const PlatformId p : g.navigable) names.push_back(g.platforms[p].name);
     return names;
   }();
   j["warnings"] = g.warnings;

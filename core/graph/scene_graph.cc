@@ -31,24 +31,22 @@ std::string navigation_key(int label) {
 
 geom::Region Platform::polygon_W() const { return geom::transform(polygon_P, X_WP); }
 
-int SceneGraph::find_object(const std::string& name) const {
-  for (std::size_t i = 0; i < objects.size(); ++i) {
-    if (objects[i].name == name) return static_cast<int>(i);
+ObjectId SceneGraph::find_object(const std::string& name) const {
+  for (const ObjectId o : objects.ids()) {
+    if (objects[o].name == name) return o;
   }
-  return -1;
+  return {};
 }
 
-int SceneGraph::find_platform(const std::string& name) const {
-  for (std::size_t i = 0; i < platforms.size(); ++i) {
-    if (platforms[i].name == name) return static_cast<int>(i);
+PlatformId SceneGraph::find_platform(const std::string& name) const {
+  for (const PlatformId p : platforms.ids()) {
+    if (platforms[p].name == name) return p;
   }
-  return -1;
+  return {};
 }
 
-std::vector<int> SceneGraph::pickable_on(int platform) const {
-  return pickable_on(platform, [this](int p) -> const std::vector<int>& {
-    return platforms.at(static_cast<std::size_t>(p)).items;
-  });
+std::vector<ObjectId> SceneGraph::pickable_on(PlatformId platform) const {
+  return pickable_on(platform, [this](PlatformId p) -> const std::vector<ObjectId>& { return platforms.at(p).items; });
 }
 
 }  // namespace mtg::graph

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "core/geom/polygon.h"
+#include "core/graph/ids.h"
+#include "core/util/id_vector.h"
 
 namespace mtg::graph {
 
@@ -44,14 +46,14 @@ struct GraphObject {
   bool excluded = false;    // named by the scene profile (then it is scenery, kFixed)
   bool movable = false;     // DYNAMIC rigid and kept by the profile: furniture or item, never
                             // unsupported in a well-formed scene
-  int parent = -1;          // supporting platform; -1: on the floor / fixed to the structure
+  PlatformId parent;        // supporting platform; none: on the floor / fixed to the structure
   Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();  // settled pose
   double bottom = 0.0;      // world z of the lowest point (settled)
   double top = 0.0;         // world z of the highest point (settled)
   double settle_dz = 0.0;   // vertical move applied by settling
   geom::Ring footprint;     // convex hull of the xy projection, world frame (settled)
   double heading = 0.0;     // yaw of its frame's x axis (furniture: canonical min-area rectangle)
-  std::vector<int> platforms;  // platforms it owns, bottom-up
+  std::vector<PlatformId> platforms;  // platforms it owns, bottom-up
 
   bool pickable() const { return kind == ObjectKind::kItem; }
   double height() const { return top - bottom; }
@@ -67,7 +69,7 @@ struct SideInfo {
 
 struct Platform {
   std::string name;          // "<owner>_platform_<index>"
-  int owner = -1;            // object index
+  ObjectId owner;
   int index = 0;             // bottom-up rank within the owner
   double height = 0.0;       // world z of the supporting surface
   double clearance = std::numeric_limits<double>::infinity();  // free height above
@@ -80,7 +82,7 @@ struct Platform {
   bool destination = false;  // owned by furniture: a place tasks may send items to
   bool navigable = false;    // destination with a usable side
   int label = 0;             // the agent's number l<label>; 0 when not navigable
-  std::vector<int> items;    // objects resting directly on it (items and fixed), in order
+  std::vector<ObjectId> items;  // objects resting directly on it (items and fixed), in order
 
   geom::Region polygon_W() const;
   double area() const { return geom::area(polygon_P); }
@@ -93,36 +95,36 @@ std::string navigation_key(int label);
 
 struct SceneGraph {
   std::string scene;
-  std::vector<GraphObject> objects;
-  std::vector<Platform> platforms;
-  std::vector<int> navigable;  // platform indices by label: navigable[k-1] has label k
+  IdVector<ObjectId, GraphObject> objects;
+  IdVector<PlatformId, Platform> platforms;
+  std::vector<PlatformId> navigable;  // platforms by label: navigable[k-1] has label k
   std::vector<std::string> warnings;
 
-  int find_object(const std::string& name) const;    // -1 if absent
-  int find_platform(const std::string& name) const;  // -1 if absent
+  ObjectId find_object(const std::string& name) const;      // none if absent
+  PlatformId find_platform(const std::string& name) const;  // none if absent
   /// Pickable objects on a platform in the agent's o-numbering: each direct child followed by
   /// its own descendants (the paper's order), as the graph found them.
-  std::vector<int> pickable_on(int platform) const;
+  std::vector<ObjectId> pickable_on(PlatformId platform) const;
   /// The same order where `children_of(p)` lists what rests on platform p now (a world state's
-  /// view, episode::pickable_on); `children_of` returns a const std::vector<int>&.
+  /// view, episode::pickable_on); `children_of` returns a const std::vector<ObjectId>&.
   template <class ChildrenOf>
-  std::vector<int> pickable_on(int platform, const ChildrenOf& children_of) const;
+  std::vector<ObjectId> pickable_on(PlatformId platform, const ChildrenOf& children_of) const;
 };
 
 template <class ChildrenOf>
-std::vector<int> SceneGraph::pickable_on(int platform, const ChildrenOf& children_of) const {
-  std::vector<int> out;
-  const std::vector<int>& direct = children_of(platform);
-  std::vector<int> stack(direct.rbegin(), direct.rend());
+std::vector<ObjectId> SceneGraph::pickable_on(PlatformId platform, const ChildrenOf& children_of) const {
+  std::vector<ObjectId> out;
+  const std::vector<ObjectId>& direct = children_of(platform);
+  std::vector<ObjectId> stack(direct.rbegin(), direct.rend());
   while (!stack.empty()) {
-    const int o = stack.back();
+    const ObjectId o = stack.back();
     stack.pop_back();
-    const GraphObject& obj = objects[static_cast<std::size_t>(o)];
+    const GraphObject& obj = objects[o];
     if (obj.pickable()) out.push_back(o);
     // What rests on this object's own platforms comes right after it.
-    std::vector<int> above;
-    for (const int p : obj.platforms) {
-      const std::vector<int>& on = children_of(p);
+    std::vector<ObjectId> above;
+    for (const PlatformId p : obj.platforms) {
+      const std::vector<ObjectId>& on = children_of(p);
       above.insert(above.end(), on.begin(), on.end());
     }
     stack.insert(stack.end(), above.rbegin(), above.rend());

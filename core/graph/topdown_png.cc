@@ -88,17 +88,17 @@ void write_topdown_png(const SceneGraph& g, const std::filesystem::path& file,
     }
   }
   for (const auto& o : g.objects) {
-    if (o.kind == ObjectKind::kFixed && o.parent < 0 && o.bottom < 0.05) canvas.fill(o.footprint, kScenery, 0.5);
+    if (o.kind == ObjectKind::kFixed && !o.parent.valid() && o.bottom < 0.05) canvas.fill(o.footprint, kScenery, 0.5);
     if (o.kind == ObjectKind::kFurniture) canvas.fill(o.footprint, cv::Scalar(225, 225, 225), 1.0);
   }
   // Platforms: the top-most of each owner is what one sees from above; draw all, lowest first.
-  std::vector<int> order(g.platforms.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return g.platforms[static_cast<size_t>(a)].height < g.platforms[static_cast<size_t>(b)].height;
+  const IdRange<PlatformId> ids = g.platforms.ids();
+  std::vector<PlatformId> order(ids.begin(), ids.end());
+  std::stable_sort(order.begin(), order.end(), [&](PlatformId a, PlatformId b) {
+    return g.platforms[a].height < g.platforms[b].height;
   });
-  for (const int pi : order) {
-    const Platform& p = g.platforms[static_cast<size_t>(pi)];
+  for (const PlatformId pi : order) {
+    const Platform& p = g.platforms[pi];
     if (!p.destination) continue;
     for (const auto& ring : p.polygon_W().rings) {
       if (geom::signed_area(ring) > 0) canvas.fill(ring, p.navigable ? kNavigable : kNotNavigable, 0.35);
@@ -108,8 +108,8 @@ void write_topdown_png(const SceneGraph& g, const std::filesystem::path& file,
     if (o.kind == ObjectKind::kFurniture) canvas.outline(o.footprint, kFurniture, 2);
   }
   for (const auto& o : g.objects) {
-    if (o.kind == ObjectKind::kItem && o.parent >= 0) canvas.fill(o.footprint, kItem, 0.8);
-    if (o.kind == ObjectKind::kFixed && o.parent >= 0) canvas.fill(o.footprint, kScenery, 0.8);
+    if (o.kind == ObjectKind::kItem && o.parent.valid()) canvas.fill(o.footprint, kItem, 0.8);
+    if (o.kind == ObjectKind::kFixed && o.parent.valid()) canvas.fill(o.footprint, kScenery, 0.8);
   }
   for (const auto& p : g.platforms) {
     if (!p.navigable) continue;
@@ -121,8 +121,8 @@ void write_topdown_png(const SceneGraph& g, const std::filesystem::path& file,
   for (const auto& o : g.objects) {
     if (o.kind != ObjectKind::kFurniture) continue;
     std::vector<int> labels;
-    for (const int pi : o.platforms) {
-      if (g.platforms[static_cast<size_t>(pi)].label > 0) labels.push_back(g.platforms[static_cast<size_t>(pi)].label);
+    for (const PlatformId pi : o.platforms) {
+      if (g.platforms[pi].label > 0) labels.push_back(g.platforms[pi].label);
     }
     const geom::Point2 c = mean(o.footprint);
     canvas.text(o.name, c + geom::Point2(0, 0.08), 0.38, kText);

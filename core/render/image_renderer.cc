@@ -64,11 +64,11 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
     r.min_region_size = request.min_region_size;
     if (r.view == ViewKind::kPlatform) {
       r.platform = g.find_platform(v.platform);
-      if (r.platform < 0) throw Error("render: scene " + request.scene + " has no platform '" + v.platform + "'");
+      if (!r.platform.valid()) throw Error("render: scene " + request.scene + " has no platform '" + v.platform + "'");
     }
     if (r.view == ViewKind::kItem || r.view == ViewKind::kFocus) {
       r.object = g.find_object(v.item);
-      if (r.object < 0) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
+      if (!r.object.valid()) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }
     const ViewPlan plan = plan_view(g, state, r);
     const ViewImages images = draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone);

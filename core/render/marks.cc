@@ -15,18 +15,18 @@ geom::Point2 inner_point(const geom::Region& region) {
 
 }  // namespace
 
-std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform) {
+std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform) {
   std::vector<ItemMark> out;
-  const std::vector<int> items = episode::pickable_on(g, s, platform);
+  const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
   for (std::size_t k = 0; k < items.size(); ++k) {
-    const episode::ObjectState& o = s.objects[static_cast<std::size_t>(items[k])];
+    const episode::ObjectState& o = s.objects[items[k]];
     const geom::Point2 c = episode::footprint_centre(o);
     out.push_back({static_cast<int>(k) + 1, items[k], Eigen::Vector3d(c.x(), c.y(), o.top)});
   }
   return out;
 }
 
-std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform,
+std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
                                      graph::Side side, double min_region_size) {
   std::vector<RegionMark> out;
   const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
@@ -52,9 +52,9 @@ std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::
 std::vector<LabelMark> platform_labels(const graph::SceneGraph& g, const episode::WorldState& s) {
   std::vector<LabelMark> out;
   for (std::size_t k = 0; k < g.navigable.size(); ++k) {
-    const int p = g.navigable[k];
+    const graph::PlatformId p = g.navigable[k];
     const geom::Region region_W =
-        geom::transform(g.platforms[static_cast<std::size_t>(p)].polygon_P, episode::platform_frame(g, s, p));
+        geom::transform(g.platforms[p].polygon_P, episode::platform_frame(g, s, p));
     const geom::Point2 c = inner_point(region_W);
     out.push_back({graph::navigation_key(static_cast<int>(k) + 1),
                    Eigen::Vector3d(c.x(), c.y(), episode::platform_height(g, s, p))});

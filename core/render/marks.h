@@ -15,7 +15,7 @@ namespace mtg::render {
 /// A pickable item: key o<number>, marked at the centre of its top.
 struct ItemMark {
   int number = 0;
-  int object = -1;
+  graph::ObjectId object;
   Eigen::Vector3d anchor_W = Eigen::Vector3d::Zero();
 };
 
@@ -40,10 +40,10 @@ struct Marks {
 };
 
 /// The items the agent may pick on `platform`, numbered as its o<N> keys.
-std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform);
+std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform);
 
 /// The placement targets offered on `platform` to a robot at `side` (not "anywhere").
-std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, int platform,
+std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
                                      graph::Side side, double min_region_size);
 
 /// Every navigable platform with its l<N> key, at the centre of its surface.

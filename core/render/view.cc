@@ -63,10 +63,11 @@ bool aim(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const std::v
 }
 
 // The world xy where the robot stands on `side` of `platform` (moved item platforms move along).
-Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldState& s, int platform, int side) {
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                               int side) {
+  const graph::Platform& p = g.platforms[platform];
   const graph::SideInfo& info = p.sides[static_cast<std::size_t>(side)];
-  const Eigen::Vector2d shift = s.platform_offset[static_cast<std::size_t>(platform)].head<2>();
+  const Eigen::Vector2d shift = s.platform_offset[platform].head<2>();
   if (info.standing_area > 0.0) return info.standing_point + shift;
   if (!info.strip_W.empty()) {  // nowhere to stand: look from the middle of that side's strip
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
@@ -82,9 +83,8 @@ Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldS
 }
 
 ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
-  require(r.platform >= 0 && r.platform < static_cast<int>(g.platforms.size()),
-             "render: platform index " + std::to_string(r.platform) + " out of range");
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(r.platform)];
+  require(g.platforms.contains(r.platform), "render: platform index " + to_string(r.platform) + " out of range");
+  const graph::Platform& p = g.platforms[r.platform];
   ViewPlan plan;
   plan.side = r.side;
   if (plan.side < 0) plan.side = s.at_platform == r.platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
@@ -97,12 +97,12 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
     for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
   }
   double top = h;
-  for (const int o : episode::pickable_on(g, s, r.platform)) {
-    const episode::ObjectState& st = s.objects[static_cast<std::size_t>(o)];
+  for (const graph::ObjectId o : episode::pickable_on(g, s, r.platform)) {
+    const episode::ObjectState& st = s.objects[o];
     top = std::max(top, st.top);
   }
-  for (const int o : episode::objects_on(s, r.platform)) {
-    const episode::ObjectState& st = s.objects[static_cast<std::size_t>(o)];
+  for (const graph::ObjectId o : episode::objects_on(s, r.platform)) {
+    const episode::ObjectState& st = s.objects[o];
     top = std::max(top, st.top);
     for (const auto& q : st.footprint) {
       keys.emplace_back(q.x(), q.y(), st.bottom);
@@ -139,7 +139,7 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
     if (aim(eye, target, keys, cam.aspect(), cam.X_WC, cam.fovy)) break;
     cam.fovy = kMaxFovy;  // the last step keeps the widest lens
   }
-  if (s.held >= 0) plan.hidden.push_back(s.held);
+  if (s.held.valid()) plan.hidden.push_back(s.held);
   if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
   if (r.marks == MarkKind::kTargets) {
     plan.marks.regions = target_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
@@ -175,13 +175,12 @@ Camera close_up_camera(const Eigen::Vector3d& target, Eigen::Vector2d from, doub
 }
 
 ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
-  require(r.object >= 0 && r.object < static_cast<int>(g.objects.size()),
-             "render: object index " + std::to_string(r.object) + " out of range");
-  const ObjectExtent e = extent_of(s.objects[static_cast<std::size_t>(r.object)]);
+  require(g.objects.contains(r.object), "render: object index " + to_string(r.object) + " out of range");
+  const ObjectExtent e = extent_of(s.objects[r.object]);
   const double radius = std::max(0.03, e.radius);
   // Seen from where the robot stands when it stands somewhere, else from the south-west.
   Eigen::Vector2d from(-1.0, -1.0);
-  if (s.at_platform >= 0 && s.side >= 0) from = standing_point(g, s, s.at_platform, s.side) - e.centre.head<2>();
+  if (s.at_platform.valid() && s.side >= 0) from = standing_point(g, s, s.at_platform, s.side) - e.centre.head<2>();
   const double distance = radius / std::tan(kCloseUpFovy / 2.0) / 0.7;
   ViewPlan plan;
   plan.camera = close_up_camera(e.centre, from, distance, 30.0 * kPi / 180, r);
@@ -192,13 +191,12 @@ ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, con
 }
 
 ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
-  require(r.object >= 0 && r.object < static_cast<int>(g.objects.size()),
-          "render: object index " + std::to_string(r.object) + " out of range");
-  const int platform = episode::furniture_platform_of(g, s, r.object);
-  require(platform >= 0, "render: object " + g.objects[static_cast<std::size_t>(r.object)].name +
+  require(g.objects.contains(r.object), "render: object index " + to_string(r.object) + " out of range");
+  const graph::PlatformId platform = episode::furniture_platform_of(g, s, r.object);
+  require(platform.valid(), "render: object " + g.objects[r.object].name +
                              " stands on no platform to show it on");
-  const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
-  const episode::ObjectState& o = s.objects[static_cast<std::size_t>(r.object)];
+  const graph::Platform& p = g.platforms[platform];
+  const episode::ObjectState& o = s.objects[r.object];
   const ObjectExtent e = extent_of(o);
   // The object and a hand's breadth around it, so its neighbours show (faded) for context.
   const double radius = std::max(0.12, 1.6 * e.radius);
@@ -215,27 +213,26 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
   plan.camera.near = std::max(0.01, distance - 3.0 * radius);
   plan.camera.far = distance + 6.0;
   // Every other item fades, so only this one stands out; what it rests on stays solid.
-  std::vector<int> supports;
-  for (int p_below = o.parent; p_below >= 0 && p_below != platform;) {
-    const int below = g.platforms[static_cast<std::size_t>(p_below)].owner;
+  std::vector<graph::ObjectId> supports;
+  for (graph::PlatformId p_below = o.parent; p_below.valid() && p_below != platform;) {
+    const graph::ObjectId below = g.platforms[p_below].owner;
     supports.push_back(below);
-    p_below = s.objects[static_cast<std::size_t>(below)].parent;
+    p_below = s.objects[below].parent;
   }
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
-    const int other = static_cast<int>(i);
+  for (const graph::ObjectId other : g.objects.ids()) {
     const bool support = std::find(supports.begin(), supports.end(), other) != supports.end();
-    if (other != r.object && g.objects[i].pickable() && !support) plan.faded.push_back(other);
+    if (other != r.object && g.objects[other].pickable() && !support) plan.faded.push_back(other);
   }
-  if (s.held >= 0) plan.hidden.push_back(s.held);
+  if (s.held.valid()) plan.hidden.push_back(s.held);
   return plan;
 }
 
 ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
   Eigen::AlignedBox2d box;
   double top = 0.0;
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+  for (const graph::ObjectId i : g.objects.ids()) {
     const graph::ObjectKind kind = g.objects[i].kind;
-    if (kind == graph::ObjectKind::kUnsupported || static_cast<int>(i) == s.held) continue;
+    if (kind == graph::ObjectKind::kUnsupported || i == s.held) continue;
     for (const auto& q : s.objects[i].footprint) box.extend(q);
     top = std::max(top, s.objects[i].top);
   }
@@ -257,7 +254,7 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
                      turn ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY());
   cam.near = 0.1;
   cam.far = top + 3.0;
-  if (s.held >= 0) plan.hidden.push_back(s.held);
+  if (s.held.valid()) plan.hidden.push_back(s.held);
   if (r.marks == MarkKind::kLabels) plan.marks.labels = platform_labels(g, s);
   return plan;
 }
@@ -343,7 +340,7 @@ std::vector<ViewRequest> observation_views(const episode::WorldState& s, int wid
       break;
     }
   }
-  if (s.held >= 0) {
+  if (s.held.valid()) {
     ViewRequest r = base;
     r.view = ViewKind::kItem;
     r.object = s.held;
@@ -352,9 +349,9 @@ std::vector<ViewRequest> observation_views(const episode::WorldState& s, int wid
   return out;
 }
 
-Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, int i) {
-  const graph::GraphObject& o = g.objects[static_cast<std::size_t>(i)];
-  const Eigen::Vector3d moved = s.objects[static_cast<std::size_t>(i)].position - o.X_WO.translation();
+Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId i) {
+  const graph::GraphObject& o = g.objects[i];
+  const Eigen::Vector3d moved = s.objects[i].position - o.X_WO.translation();
   return Eigen::Translation3d(moved) * o.X_WO;
 }
 

@@ -33,9 +33,9 @@ const char* to_string(MarkKind kind);  // "" for kNone
 
 struct ViewRequest {
   ViewKind view = ViewKind::kPlatform;
-  int platform = -1;   // platform views
+  graph::PlatformId platform;  // platform views
   int side = -1;       // -1: where the robot stands if it is at that platform, else the default side
-  int object = -1;     // item and focus views
+  graph::ObjectId object;      // item and focus views
   MarkKind marks = MarkKind::kNone;
   int width = 640;
   int height = 480;
@@ -48,9 +48,9 @@ inline constexpr double kFadedVisibility = 0.2;
 struct ViewPlan {
   Camera camera;
   int side = -1;             // the side used (platform views)
-  std::vector<int> hidden;   // objects not drawn (the held item stays out of scene views)
-  int only = -1;             // when >= 0, the single object drawn (item close-ups)
-  std::vector<int> faded;    // drawn at kFadedVisibility (focus close-ups: the neighbours)
+  std::vector<graph::ObjectId> hidden;  // objects not drawn (the held item stays out of scene views)
+  graph::ObjectId only;                 // when valid, the single object drawn (item close-ups)
+  std::vector<graph::ObjectId> faded;   // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
 };
 
@@ -69,7 +69,7 @@ ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, con
 std::vector<ViewRequest> observation_views(const episode::WorldState& s, int width, int height,
                                            double min_region_size);
 
-/// The world pose of object `i` in state `s` (its settled pose moved as the episode moved it).
-Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, int i);
+/// The world pose of object `o` in state `s` (its settled pose moved as the episode moved it).
+Eigen::Isometry3d object_pose(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId o);
 
 }  // namespace mtg::render

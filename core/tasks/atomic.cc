@@ -20,7 +20,7 @@ using episode::AtomicGoal;
 using episode::GoalType;
 
 struct AnchorInfo {
-  int object;
+  graph::ObjectId object;
   Eigen::AlignedBox2d box_P;
   const geom::Ring* footprint;
 };
@@ -28,8 +28,8 @@ struct AnchorInfo {
 // Identity of a goal for de-duplication (cheaper than its JSON).
 std::string goal_key(const AtomicGoal& goal) {
   std::string key;
-  for (const int v : {static_cast<int>(goal.type), goal.item, goal.source, goal.platform, goal.anchor, goal.anchor2,
-                      goal.direction}) {
+  for (const int v : {static_cast<int>(goal.type), goal.item.value(), goal.source.value(), goal.platform.value(),
+                      goal.anchor.value(), goal.anchor2.value(), goal.direction}) {
     key += std::to_string(v);
     key += '|';
   }
@@ -38,13 +38,13 @@ std::string goal_key(const AtomicGoal& goal) {
 
 // Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
 // with box tests; each is confirmed by the judge's predicate before it becomes a task. With
-// `only_anchor` >= 0, only the goals relative to that object, in the same order.
+// a valid `only_anchor`, only the goals relative to that object, in the same order.
 void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2& c_P,
                      const geom::Ring& item_W, graph::Side side, const TaskOptions& options,
-                     AtomicGoal base, int only_anchor, std::vector<AtomicGoal>& out) {
+                     AtomicGoal base, graph::ObjectId only_anchor, std::vector<AtomicGoal>& out) {
   for (std::size_t a = 0; a < anchors.size(); ++a) {
     const AnchorInfo& A = anchors[a];
-    const bool wanted = only_anchor < 0 || A.object == only_anchor;
+    const bool wanted = !only_anchor.valid() || A.object == only_anchor;
     const Eigen::AlignedBox2d& b = A.box_P;
     // around: the footprints' gap within the distance (box test first).
     const Eigen::Vector2d d = (b.min() - c_P).cwiseMax(c_P - b.max()).cwiseMax(0.0);
@@ -97,24 +97,25 @@ void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2&
 // back, which would not give the same bits), instead of copying the whole world per target.
 class TrialPlacement {
  public:
-  TrialPlacement(const graph::SceneGraph& g, episode::WorldState& s, int platform, const Eigen::Vector2d& xy)
+  TrialPlacement(const graph::SceneGraph& g, episode::WorldState& s, graph::PlatformId platform,
+                 const Eigen::Vector2d& xy)
       : s_(s), platform_(platform), held_(s.held) {
-    std::vector<int> moving = {held_};
-    for (const int p : g.objects[static_cast<std::size_t>(held_)].platforms) {
-      for (const int o : episode::everything_on(g, s, p)) moving.push_back(o);
+    std::vector<graph::ObjectId> moving = {held_};
+    for (const graph::PlatformId p : g.objects[held_].platforms) {
+      for (const graph::ObjectId o : episode::everything_on(g, s, p)) moving.push_back(o);
     }
-    for (const int o : moving) {
-      objects_.emplace_back(o, s.objects[static_cast<std::size_t>(o)]);
-      for (const int p : g.objects[static_cast<std::size_t>(o)].platforms) {
-        offsets_.emplace_back(p, s.platform_offset[static_cast<std::size_t>(p)]);
+    for (const graph::ObjectId o : moving) {
+      objects_.emplace_back(o, s.objects[o]);
+      for (const graph::PlatformId p : g.objects[o].platforms) {
+        offsets_.emplace_back(p, s.platform_offset[p]);
       }
     }
     episode::place_held(g, s, platform, xy);
   }
   ~TrialPlacement() {
-    for (const auto& [o, state] : objects_) s_.objects[static_cast<std::size_t>(o)] = state;
-    for (const auto& [p, offset] : offsets_) s_.platform_offset[static_cast<std::size_t>(p)] = offset;
-    s_.children[static_cast<std::size_t>(platform_)].pop_back();  // place_held appended the item
+    for (const auto& [o, state] : objects_) s_.objects[o] = state;
+    for (const auto& [p, offset] : offsets_) s_.platform_offset[p] = offset;
+    s_.children[platform_].pop_back();  // place_held appended the item
     s_.held = held_;
   }
   TrialPlacement(const TrialPlacement&) = delete;
@@ -122,10 +123,10 @@ class TrialPlacement {
 
  private:
   episode::WorldState& s_;
-  int platform_;
-  int held_;
-  std::vector<std::pair<int, episode::ObjectState>> objects_;
-  std::vector<std::pair<int, Eigen::Vector3d>> offsets_;
+  graph::PlatformId platform_;
+  graph::ObjectId held_;
+  std::vector<std::pair<graph::ObjectId, episode::ObjectState>> objects_;
+  std::vector<std::pair<graph::PlatformId, Eigen::Vector3d>> offsets_;
 };
 
 // Placement targets of each destination as the initial state offers them; shared (not copied)
@@ -136,14 +137,15 @@ class TargetCache {
  public:
   TargetCache(const graph::SceneGraph& g, const TaskOptions& options) : g_(g), options_(options) {}
 
-  std::vector<episode::PlaceTarget> build(const episode::WorldState& placing, int pd, graph::Side side) const {
+  std::vector<episode::PlaceTarget> build(const episode::WorldState& placing, graph::PlatformId pd, graph::Side side) const {
     std::vector<episode::PlaceTarget> t = episode::place_targets(g_, placing, pd, side, options_.rules.min_region_size);
     std::stable_partition(t.begin(), t.end(),
                           [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
     episode::with_insets(t);
     return t;
   }
-  const std::vector<episode::PlaceTarget>& shared(const episode::WorldState& placing, int pd, graph::Side side) {
+  const std::vector<episode::PlaceTarget>& shared(const episode::WorldState& placing, graph::PlatformId pd,
+                                                 graph::Side side) {
     const std::lock_guard<std::mutex> lock(mutex_);
     auto it = targets_.find(pd);
     if (it == targets_.end()) it = targets_.emplace(pd, build(placing, pd, side)).first;
@@ -153,14 +155,14 @@ class TargetCache {
  private:
   const graph::SceneGraph& g_;
   const TaskOptions& options_;
-  std::map<int, std::vector<episode::PlaceTarget>> targets_;
+  std::map<graph::PlatformId, std::vector<episode::PlaceTarget>> targets_;
   std::mutex mutex_;
 };
 
 // One item of the source list: the item picked up at its source.
 struct Source {
   std::size_t src_label, k;  // the source's l-number - 1, the item's o-number - 1
-  int item;
+  graph::ObjectId item;
 };
 
 // The tasks of one item (its goals over every destination), with what was left out and why.
@@ -171,10 +173,10 @@ class ItemEnumeration {
       : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), source_(source),
         ps_(g.navigable[source.src_label]), held_(s) {
     held_.at_platform = ps_;
-    held_.side = g.platforms[static_cast<std::size_t>(ps_)].default_side;
+    held_.side = g.platforms[ps_].default_side;
     held_.phase = episode::Phase::kAtPlatform;
     episode::pick(g, held_, source.item);
-    const auto& o = held_.objects[static_cast<std::size_t>(source.item)];
+    const auto& o = held_.objects[source.item];
     own_height_ = o.top - o.bottom;
     carried_height_ = episode::stack_height(g, held_, source.item);
   }
@@ -182,7 +184,7 @@ class ItemEnumeration {
   /// Every destination in label order; stops at the one goal a goal_key filter asks for.
   void run() {
     for (std::size_t dst_label = 0; dst_label < g_.navigable.size() && !found_asked_; ++dst_label) {
-      const int pd = g_.navigable[dst_label];
+      const graph::PlatformId pd = g_.navigable[dst_label];
       if (filter_.destinations.empty() ||
           std::find(filter_.destinations.begin(), filter_.destinations.end(), pd) != filter_.destinations.end()) {
         destination(dst_label);
@@ -209,7 +211,7 @@ class ItemEnumeration {
     explicit Destination(episode::WorldState& held) : placing(held) {}
     episode::WorldState& placing;
     std::size_t dst_label = 0;
-    int pd = -1;
+    graph::PlatformId pd;
     graph::Side side{};
     bool too_tall = false;  // with what rests on it: its goals are counted, never offered
     episode::FeasibleCentres feasible;
@@ -236,7 +238,7 @@ class ItemEnumeration {
     Destination d(held_);
     d.dst_label = dst_label;
     d.pd = g_.navigable[dst_label];
-    const graph::Platform& dest = g_.platforms[static_cast<std::size_t>(d.pd)];
+    const graph::Platform& dest = g_.platforms[d.pd];
     if (own_height_ > dest.clearance) return;
     d.too_tall = carried_height_ > dest.clearance;
     d.placing.at_platform = d.pd;
@@ -250,11 +252,11 @@ class ItemEnumeration {
     d.targets = from_here ? &d.own_targets : &cache_.shared(d.placing, d.pd, d.side);
     d.item_rel_P = episode::held_footprint_P(g_, d.placing, d.pd);
     d.X_PW = episode::platform_frame(g_, d.placing, d.pd).inverse();
-    for (const int o : episode::objects_on(d.placing, d.pd)) {
-      const geom::Ring& fp = d.placing.objects[static_cast<std::size_t>(o)].footprint;
+    for (const graph::ObjectId o : episode::objects_on(d.placing, d.pd)) {
+      const geom::Ring& fp = d.placing.objects[o].footprint;
       d.anchors.push_back({o, geom::bounds(geom::transform(fp, d.X_PW)), &fp});
     }
-    if (filter_.anchor >= 0 && std::none_of(d.anchors.begin(), d.anchors.end(),
+    if (filter_.anchor.valid() && std::none_of(d.anchors.begin(), d.anchors.end(),
                                             [&](const AnchorInfo& a) { return a.object == filter_.anchor; })) {
       return;
     }
@@ -276,7 +278,7 @@ class ItemEnumeration {
   Judged judge_at(Destination& d, const Eigen::Vector2d& xy) const {
     Judged j;
     const TrialPlacement trial(g_, d.placing, d.pd, xy);
-    const auto& moved = d.placing.objects[static_cast<std::size_t>(source_.item)];
+    const auto& moved = d.placing.objects[source_.item];
     j.c_P = d.X_PW * episode::footprint_centre(moved);
     j.placed_at = moved.position;
     std::vector<AtomicGoal> goals;
@@ -292,7 +294,7 @@ class ItemEnumeration {
       candidate_goals(d.anchors, j.c_P, moved.footprint, d.side, options_, d.base, filter_.anchor, goals);
     }
     for (const AtomicGoal& goal : goals) {
-      if (filter_.anchor >= 0) {  // the surface and its parts have no anchor
+      if (filter_.anchor.valid()) {  // the surface and its parts have no anchor
         const auto a = goal.anchors();
         if (std::find(a.begin(), a.end(), filter_.anchor) == a.end()) continue;
       }
@@ -357,7 +359,7 @@ class ItemEnumeration {
   const AtomicFilter& filter_;
   TargetCache& cache_;
   Source source_;
-  int ps_;
+  graph::PlatformId ps_;
   episode::WorldState held_;
   double own_height_ = 0.0, carried_height_ = 0.0;
   std::set<std::string> seen_;
@@ -371,12 +373,12 @@ class ItemEnumeration {
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
                                          const TaskOptions& options, const AtomicFilter& filter, DropCounts* dropped,
                                          int jobs) {
-  MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && filter.anchor < 0),
+  MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && !filter.anchor.valid()),
              "drop counts of a partial enumeration would be partial");
   // Every item to enumerate, in output order: source platforms by label, items in o-order.
   std::vector<Source> sources;
   for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
-    const std::vector<int> items = episode::pickable_on(g, s, g.navigable[src_label]);
+    const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, g.navigable[src_label]);
     for (std::size_t k = 0; k < items.size(); ++k) {
       if (filter.items.empty() || std::find(filter.items.begin(), filter.items.end(), items[k]) != filter.items.end()) {
         sources.push_back({src_label, k, items[k]});
@@ -405,7 +407,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
 }
 
 void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task) {
-  const graph::Platform& dest = g.platforms[static_cast<std::size_t>(task.goal.platform)];
+  const graph::Platform& dest = g.platforms[task.goal.platform];
   episode::pick(g, s, task.goal.item);
   s.at_platform = task.goal.platform;
   s.side = dest.default_side;

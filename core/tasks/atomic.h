@@ -30,12 +30,12 @@ struct AtomicTask {
 };
 
 struct AtomicFilter {
-  std::vector<int> items;         // only these items (empty: all)
-  std::vector<int> destinations;  // only these destination platforms (empty: all)
+  std::vector<graph::ObjectId> items;           // only these items (empty: all)
+  std::vector<graph::PlatformId> destinations;  // only these destination platforms (empty: all)
   // Level 3 asks for a part of the set, and skips the work for the rest; the tasks it gets are
   // exactly those the whole enumeration holds for that part (drop counts are not kept then):
   std::string goal_key;           // only the goal with this AtomicTask::key ("": all)
-  int anchor = -1;                // only goals relative to this object (-1: all)
+  graph::ObjectId anchor;         // only goals relative to this object (none: all)
 };
 
 /// All atomic tasks of state `s` (nothing held), in a deterministic order: source platforms by

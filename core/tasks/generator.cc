@@ -25,17 +25,17 @@ std::string task_id(const std::string& scene, int level, std::size_t index) {
 
 // Denormalised columns of an atomic goal.
 void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, Task& t) {
-  t.item = g.objects[static_cast<std::size_t>(goal.item)].name;
-  t.source = g.platforms[static_cast<std::size_t>(goal.source)].name;
-  t.destination = g.platforms[static_cast<std::size_t>(goal.platform)].name;
-  for (const int a : goal.anchors()) t.anchors.push_back(g.objects[static_cast<std::size_t>(a)].name);
+  t.item = g.objects[goal.item].name;
+  t.source = g.platforms[goal.source].name;
+  t.destination = g.platforms[goal.platform].name;
+  for (const graph::ObjectId a : goal.anchors()) t.anchors.push_back(g.objects[a].name);
   if (goal.direction >= 0) t.direction = graph::direction_name(goal.direction);
 }
 
 // Where the oracle puts an atomic part's item (Task::placements).
 OraclePlacement placement_of(const graph::SceneGraph& g, int part, const AtomicTask& a) {
-  return {part, g.objects[static_cast<std::size_t>(a.goal.item)].name,
-          g.platforms[static_cast<std::size_t>(a.goal.platform)].name, a.placed_at, a.margin};
+  return {part, g.objects[a.goal.item].name,
+          g.platforms[a.goal.platform].name, a.placed_at, a.margin};
 }
 
 }  // namespace
@@ -59,12 +59,12 @@ std::string describe_scene(const graph::SceneGraph& g) {
   const episode::WorldState s = episode::initial_state(g);
   std::string out;
   for (std::size_t k = 0; k < g.navigable.size(); ++k) {
-    const int p = g.navigable[k];
-    out += "\n- platform l" + std::to_string(k + 1) + " " + g.platforms[static_cast<std::size_t>(p)].name + ":";
+    const graph::PlatformId p = g.navigable[k];
+    out += "\n- platform l" + std::to_string(k + 1) + " " + g.platforms[p].name + ":";
     const auto& objects = episode::objects_on(s, p);
     if (objects.empty()) out += " empty";
     for (std::size_t i = 0; i < objects.size(); ++i) {
-      out += std::string(i ? ", " : " ") + episode::display_name(g.objects[static_cast<std::size_t>(objects[i])]);
+      out += std::string(i ? ", " : " ") + episode::display_name(g.objects[objects[i]]);
     }
   }
   return out;

@@ -4,7 +4,8 @@ namespace mtg::tasks {
 namespace {
 
 // The start state with the item in hand: what the destination looks like while placing.
-episode::WorldState with_item_held(const graph::SceneGraph& g, const episode::WorldState& start, int item) {
+episode::WorldState with_item_held(const graph::SceneGraph& g, const episode::WorldState& start,
+                                   graph::ObjectId item) {
   episode::WorldState held = start;
   episode::pick(g, held, item);
   return held;
@@ -12,13 +13,13 @@ episode::WorldState with_item_held(const graph::SceneGraph& g, const episode::Wo
 
 }  // namespace
 
-Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role, int object,
-                                   int platform, const Reference& r) {
+Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role,
+                                   graph::ObjectId object, graph::PlatformId platform, const Reference& r) {
   Identification id;
   id.part = part;
   id.role = role;
-  id.object = g.objects[static_cast<std::size_t>(object)].name;
-  id.platform = g.platforms[static_cast<std::size_t>(platform)].name;
+  id.object = g.objects[object].name;
+  id.platform = g.platforms[platform].name;
   id.reference = r;
   id.phrase = r.phrase();
   return id;
@@ -29,9 +30,10 @@ std::optional<Identified> identify(const graph::SceneGraph& g, const episode::Wo
   // The destination looks the same with the item in hand unless the item comes from there.
   const bool same_platform = goal.source == goal.platform;
   std::optional<episode::WorldState> held;
-  auto referred = [&](int object, int platform, bool while_placing) -> std::optional<Reference> {
+  auto referred = [&](graph::ObjectId object, graph::PlatformId platform,
+                      bool while_placing) -> std::optional<Reference> {
     const bool two_states = while_placing && same_platform;
-    const auto key = std::make_tuple(object, platform, two_states ? goal.item : -1);
+    const auto key = std::make_tuple(object, platform, two_states ? goal.item : graph::ObjectId());
     if (memo != nullptr) {
       if (const auto it = memo->find(key); it != memo->end()) return it->second;
     }
@@ -47,9 +49,9 @@ std::optional<Identified> identify(const graph::SceneGraph& g, const episode::Wo
   if (item->relation != Relation::kAlone) {
     out.lookalikes.push_back(make_identification(g, part, "item", goal.item, goal.source, *item));
   }
-  const std::pair<int, Reference*> anchors[] = {{goal.anchor, &out.wording.anchor}, {goal.anchor2, &out.wording.anchor2}};
+  const std::pair<graph::ObjectId, Reference*> anchors[] = {{goal.anchor, &out.wording.anchor}, {goal.anchor2, &out.wording.anchor2}};
   for (const auto& [anchor, slot] : anchors) {
-    if (anchor < 0) continue;
+    if (!anchor.valid()) continue;
     const auto r = referred(anchor, goal.platform, true);
     if (!r) return std::nullopt;
     *slot = *r;
@@ -64,8 +66,8 @@ std::optional<Identified> identify(const graph::SceneGraph& g, const episode::Wo
 bool has_lookalikes(const graph::SceneGraph& g, const episode::WorldState& start, const episode::AtomicGoal& goal,
                     Ambiguity rule) {
   if (has_lookalike(g, start, goal.item, goal.source, rule)) return true;
-  if (goal.anchor < 0) return false;
-  for (const int a : goal.anchors()) {
+  if (!goal.anchor.valid()) return false;
+  for (const graph::ObjectId a : goal.anchors()) {
     if (has_lookalike(g, start, a, goal.platform, rule)) return true;  // the item only removes one
   }
   return false;

@@ -29,9 +29,10 @@ struct Identified {
   std::vector<Identification> lookalikes;  // the objects whose reference is not "alone"
 };
 
-/// References already found in one start state, by (object, platform, item held or -1): many
+/// References already found in one start state, by (object, platform, item held or none): many
 /// atomic tasks of a scene name the same objects. Valid for that one state only.
-using ReferenceMemo = std::map<std::tuple<int, int, int>, std::optional<Reference>>;
+using ReferenceMemo =
+    std::map<std::tuple<graph::ObjectId, graph::PlatformId, graph::ObjectId>, std::optional<Reference>>;
 
 /// The wording of `goal` in state `start` (nothing held), or nullopt when an object cannot be
 /// named uniquely. `part` is recorded in the identifications (Level 3 sub-task index). `memo`,
@@ -46,7 +47,7 @@ bool has_lookalikes(const graph::SceneGraph& g, const episode::WorldState& start
                     Ambiguity rule);
 
 /// The identification record of `object` named by `r` on `platform`.
-Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role, int object,
-                                   int platform, const Reference& r);
+Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role,
+                                   graph::ObjectId object, graph::PlatformId platform, const Reference& r);
 
 }  // namespace mtg::tasks

@@ -69,33 +69,36 @@ std::set<std::string> placeholders_of(const std::string& text) {
   return out;
 }
 
+using graph::ObjectId;
+using graph::PlatformId;
+
 // The key Level 4 groups items by: the semantic category, or the model name without one.
 std::string category_key(const graph::GraphObject& obj) { return obj.category.empty() ? obj.short_name : obj.category; }
 
 // What the generator needs about the scene, computed once.
 struct SceneFacts {
-  std::vector<int> navigable;                         // platform indices
-  std::map<int, std::vector<int>> items_on;            // navigable platform -> pickable items
-  std::map<std::string, std::vector<int>> by_category; // category -> pickable items (navigable)
-  std::map<int, std::string> category_of;              // item -> category key
-  std::vector<int> multilayer;                         // furniture with >= 2 navigable platforms
+  std::vector<PlatformId> navigable;
+  std::map<PlatformId, std::vector<ObjectId>> items_on;       // navigable platform -> pickable items
+  std::map<std::string, std::vector<ObjectId>> by_category;  // category -> pickable items (navigable)
+  std::map<ObjectId, std::string> category_of;                // item -> category key
+  std::vector<ObjectId> multilayer;                           // furniture with >= 2 navigable platforms
 };
 
 SceneFacts facts(const graph::SceneGraph& g, const WorldState& s) {
   SceneFacts f;
   f.navigable = g.navigable;
-  for (const int p : g.navigable) {
+  for (const PlatformId p : g.navigable) {
     f.items_on[p] = episode::pickable_on(g, s, p);
-    for (const int o : f.items_on[p]) {
-      const std::string cat = category_key(g.objects[static_cast<std::size_t>(o)]);
+    for (const ObjectId o : f.items_on[p]) {
+      const std::string cat = category_key(g.objects[o]);
       f.category_of[o] = cat;
       f.by_category[cat].push_back(o);
     }
   }
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+  for (const ObjectId i : g.objects.ids()) {
     int layers = 0;
-    for (const int p : g.objects[i].platforms) layers += g.platforms[static_cast<std::size_t>(p)].navigable ? 1 : 0;
-    if (layers >= 2) f.multilayer.push_back(static_cast<int>(i));
+    for (const PlatformId p : g.objects[i].platforms) layers += g.platforms[p].navigable ? 1 : 0;
+    if (layers >= 2) f.multilayer.push_back(i);
   }
   return f;
 }
@@ -104,9 +107,9 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s) {
 constexpr std::size_t kSamples = 3;
 
 struct Move {
-  int object = -1;
-  std::vector<int> platforms;  // acceptable destinations, tried in order
-  int next_to = -1;            // place in one of this object's free spaces
+  ObjectId object;
+  std::vector<PlatformId> platforms;  // acceptable destinations, tried in order
+  ObjectId next_to;                   // place in one of this object's free spaces
 };
 
 struct Plan {
@@ -125,18 +128,18 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
     return episode::apply_action(g, s, key, {}, rules).applied ? (keys.push_back(key), true) : false;
   };
   for (const Move& m : moves) {
-    const int from = episode::furniture_platform_of(g, s, m.object);
-    if (from < 0 || g.platforms[static_cast<std::size_t>(from)].label == 0) return std::nullopt;
+    const PlatformId from = episode::furniture_platform_of(g, s, m.object);
+    if (!from.valid() || g.platforms[from].label == 0) return std::nullopt;
     const auto items = episode::pickable_on(g, s, from);
     const auto k = std::find(items.begin(), items.end(), m.object) - items.begin();
     if (k == static_cast<long>(items.size())) return std::nullopt;
-    if (!play(graph::navigation_key(g.platforms[static_cast<std::size_t>(from)].label)) ||
+    if (!play(graph::navigation_key(g.platforms[from].label)) ||
         !play("o" + std::to_string(k + 1))) {
       return std::nullopt;
     }
     bool placed = false;
-    for (const int to : m.platforms) {
-      const graph::Platform& dest = g.platforms[static_cast<std::size_t>(to)];
+    for (const PlatformId to : m.platforms) {
+      const graph::Platform& dest = g.platforms[to];
       if (dest.label == 0) continue;
       if (episode::stack_height(g, s, m.object) > dest.clearance) continue;
       WorldState trial = s;
@@ -149,7 +152,7 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
       const auto targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size);
       const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to);
       for (const episode::PlaceTarget& t : targets) {
-        const bool wanted = m.next_to >= 0 ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
+        const bool wanted = m.next_to.valid() ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
         if (!wanted || !episode::resolve_target(g, s, to, t, feasible)) continue;
         placed = play(t.key);
         if (placed) break;
@@ -173,7 +176,7 @@ std::string category_text(const std::string& c) {
 // platform, and the platform ("leftmost book from shelf_2"), with what those words pick out.
 struct NamedObject {
   std::string words;
-  std::vector<int> selects;
+  std::vector<ObjectId> selects;
   std::vector<Identification> lookalikes;
 };
 
@@ -204,29 +207,29 @@ class Instantiator {
   Rng rng_for(const std::string& binding) const {
     return Rng(derive_seed(options_.seed, fnv1a64("L4/" + tmpl_->id + "/" + binding)));
   }
-  std::string pname(int p) const { return g_.platforms[static_cast<std::size_t>(p)].name; }
+  std::string pname(PlatformId p) const { return g_.platforms[p].name; }
   // Furniture by its instance name, as the platform names the agent reads spell it.
-  std::string furniture_name(int f) const { return g_.objects[static_cast<std::size_t>(f)].name; }
+  std::string furniture_name(ObjectId f) const { return g_.objects[f].name; }
 
   // What category words select, read from the scene rather than from the goal: every item of
-  // the category on `platform` (at any depth), or anywhere in the scene for platform -1.
-  std::vector<int> called(const std::string& cat, int platform) const {
-    std::vector<int> out;
-    if (platform >= 0) {
-      for (const int o : episode::pickable_on(g_, s_, platform)) {
-        if (category_key(g_.objects[static_cast<std::size_t>(o)]) == cat) out.push_back(o);
+  // the category on `platform` (at any depth), or anywhere in the scene for none.
+  std::vector<ObjectId> called(const std::string& cat, PlatformId platform = {}) const {
+    std::vector<ObjectId> out;
+    if (platform.valid()) {
+      for (const ObjectId o : episode::pickable_on(g_, s_, platform)) {
+        if (category_key(g_.objects[o]) == cat) out.push_back(o);
       }
       return out;
     }
-    for (std::size_t i = 0; i < g_.objects.size(); ++i) {
-      if (g_.objects[i].pickable() && category_key(g_.objects[i]) == cat) out.push_back(static_cast<int>(i));
+    for (const ObjectId i : g_.objects.ids()) {
+      if (g_.objects[i].pickable() && category_key(g_.objects[i]) == cat) out.push_back(i);
     }
     return out;
   }
 
-  std::optional<NamedObject> name_object(int o) const {
-    const int platform = episode::furniture_platform_of(g_, s_, o);
-    if (platform < 0) return std::nullopt;
+  std::optional<NamedObject> name_object(ObjectId o) const {
+    const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
+    if (!platform.valid()) return std::nullopt;
     const auto ref = refer(g_, {&s_}, o, platform, options_.ambiguity);
     if (!ref) return std::nullopt;
     NamedObject named;
@@ -238,9 +241,9 @@ class Instantiator {
     return named;
   }
   // Names every object, or counts the binding as unidentifiable.
-  std::optional<std::vector<NamedObject>> name_objects(std::initializer_list<int> objects) {
+  std::optional<std::vector<NamedObject>> name_objects(std::initializer_list<ObjectId> objects) {
     std::vector<NamedObject> out;
-    for (const int o : objects) {
+    for (const ObjectId o : objects) {
       auto named = name_object(o);
       if (!named) {
         dropped_.add("unidentifiable", 4);
@@ -252,29 +255,29 @@ class Instantiator {
   }
   int max_moves() const { return options_.level4_max_moves; }
 
-  std::vector<int> of_category_on(const std::string& cat, int platform) const {
-    std::vector<int> out;
-    for (const int o : f_.items_on.at(platform)) {
+  std::vector<ObjectId> of_category_on(const std::string& cat, PlatformId platform) const {
+    std::vector<ObjectId> out;
+    for (const ObjectId o : f_.items_on.at(platform)) {
       if (f_.category_of.at(o) == cat) out.push_back(o);
     }
     return out;
   }
-  std::vector<std::string> categories_on(int platform) const {
+  std::vector<std::string> categories_on(PlatformId platform) const {
     std::set<std::string> cats;
-    for (const int o : f_.items_on.at(platform)) cats.insert(f_.category_of.at(o));
+    for (const ObjectId o : f_.items_on.at(platform)) cats.insert(f_.category_of.at(o));
     return {cats.begin(), cats.end()};
   }
   // Navigable platforms other than `except`, in a seeded order.
-  std::vector<int> shuffled_targets(Rng& rng, const std::set<int>& except) const {
-    std::vector<int> out;
-    for (const int p : f_.navigable) {
+  std::vector<PlatformId> shuffled_targets(Rng& rng, const std::set<PlatformId>& except) const {
+    std::vector<PlatformId> out;
+    for (const PlatformId p : f_.navigable) {
       if (except.count(p) == 0) out.push_back(p);
     }
     rng.shuffle(out);
     return out;
   }
-  std::vector<int> items_not_on(const std::set<int>& platforms) const {
-    std::vector<int> out;
+  std::vector<ObjectId> items_not_on(const std::set<PlatformId>& platforms) const {
+    std::vector<ObjectId> out;
     for (const auto& [p, items] : f_.items_on) {
       if (platforms.count(p) == 0) out.insert(out.end(), items.begin(), items.end());
     }
@@ -286,7 +289,7 @@ class Instantiator {
   // predicates (objects, then objects2 where used), computed from the words: the goal must ask
   // for exactly those objects, or the text would not say which ones it wants.
   bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
-            const std::vector<Move>& moves, const std::vector<std::vector<int>>& selects,
+            const std::vector<Move>& moves, const std::vector<std::vector<ObjectId>>& selects,
             std::vector<Identification> lookalikes = {}) {
     if (!words_match(goal, selects)) {
       dropped_.add("vague", 4);
@@ -309,8 +312,8 @@ class Instantiator {
     return true;
   }
 
-  static bool words_match(const episode::OutcomeGoal& goal, const std::vector<std::vector<int>>& selects) {
-    auto same = [](std::vector<int> a, std::vector<int> b) {
+  static bool words_match(const episode::OutcomeGoal& goal, const std::vector<std::vector<ObjectId>>& selects) {
+    auto same = [](std::vector<ObjectId> a, std::vector<ObjectId> b) {
       std::sort(a.begin(), a.end());
       std::sort(b.begin(), b.end());
       return a == b;
@@ -327,26 +330,26 @@ class Instantiator {
 
   // Tries destinations in a seeded order until one gives a feasible plan.
   template <class Make>
-  void try_targets(Rng& rng, const std::set<int>& except, Make make) {
+  void try_targets(Rng& rng, const std::set<PlatformId>& except, Make make) {
     int tried = 0;
-    for (const int t : shuffled_targets(rng, except)) {
+    for (const PlatformId t : shuffled_targets(rng, except)) {
       if (make(t) || ++tried >= 6) return;
     }
   }
 
-  static SetPredicate all_on(std::vector<int> objects, std::vector<int> platforms) {
+  static SetPredicate all_on(std::vector<ObjectId> objects, std::vector<PlatformId> platforms) {
     return {SetPredicate::Op::kAllOn, std::move(objects), std::move(platforms), {}};
   }
 
   void gather_category() {
-    for (const int src : f_.navigable) {
+    for (const PlatformId src : f_.navigable) {
       for (const std::string& cat : categories_on(src)) {
         const auto objs = of_category_on(cat, src);
         if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
         Rng rng = rng_for(pname(src) + "/" + cat);
-        try_targets(rng, {src}, [&](int dst) {
+        try_targets(rng, {src}, [&](PlatformId dst) {
           std::vector<Move> moves;
-          for (const int o : objs) moves.push_back({o, {dst}, -1});
+          for (const ObjectId o : objs) moves.push_back({o, {dst}, {}});
           return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
                        {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
                       {{all_on(objs, {dst})}}, moves, {called(cat, src)});
@@ -359,48 +362,48 @@ class Instantiator {
     for (const auto& [cat, objs] : f_.by_category) {
       if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
       Rng rng = rng_for(cat);
-      try_targets(rng, {}, [&](int dst) {
+      try_targets(rng, {}, [&](PlatformId dst) {
         std::vector<Move> moves;
-        for (const int o : objs) {
-          if (episode::furniture_platform_of(g_, s_, o) != dst) moves.push_back({o, {dst}, -1});
+        for (const ObjectId o : objs) {
+          if (episode::furniture_platform_of(g_, s_, o) != dst) moves.push_back({o, {dst}, {}});
         }
         return emit({{"target", pname(dst)}, {"category", category_text(cat)},
                      {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
-                    {{all_on(objs, {dst})}}, moves, {called(cat, -1)});
+                    {{all_on(objs, {dst})}}, moves, {called(cat)});
       });
     }
   }
 
   void clear_platform() {
-    for (const int src : f_.navigable) {
+    for (const PlatformId src : f_.navigable) {
       const auto& objs = f_.items_on.at(src);
       if (objs.empty() || static_cast<int>(objs.size()) > max_moves()) continue;
       // Objects resting on others leave with them: move only the direct children.
-      std::vector<int> direct;
-      for (const int o : objs) {
-        if (s_.objects[static_cast<std::size_t>(o)].parent == src) direct.push_back(o);
+      std::vector<ObjectId> direct;
+      for (const ObjectId o : objs) {
+        if (s_.objects[o].parent == src) direct.push_back(o);
       }
       Rng rng = rng_for(pname(src));
       const auto targets = shuffled_targets(rng, {src});
       std::vector<Move> moves;
-      for (const int o : direct) moves.push_back({o, targets, -1});
+      for (const ObjectId o : direct) moves.push_back({o, targets, {}});
       emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}},
            {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {episode::pickable_on(g_, s_, src)});
     }
   }
 
   void clear_category() {
-    for (const int src : f_.navigable) {
+    for (const PlatformId src : f_.navigable) {
       for (const std::string& cat : categories_on(src)) {
         const auto objs = of_category_on(cat, src);
         if (objs.size() == f_.items_on.at(src).size() || static_cast<int>(objs.size()) > max_moves()) continue;
         bool direct = true;
-        for (const int o : objs) direct = direct && s_.objects[static_cast<std::size_t>(o)].parent == src;
+        for (const ObjectId o : objs) direct = direct && s_.objects[o].parent == src;
         if (!direct) continue;
         Rng rng = rng_for(pname(src) + "/" + cat);
         const auto targets = shuffled_targets(rng, {src});
         std::vector<Move> moves;
-        for (const int o : objs) moves.push_back({o, targets, -1});
+        for (const ObjectId o : objs) moves.push_back({o, targets, {}});
         emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural(category_text(cat))},
               {"count", std::to_string(objs.size())}},
              {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {called(cat, src)});
@@ -409,43 +412,43 @@ class Instantiator {
   }
 
   void arrange_on() {
-    for (const int dst : f_.navigable) {
+    for (const PlatformId dst : f_.navigable) {
       auto pool = items_not_on({dst});
       if (pool.size() < 2) continue;
       Rng rng = rng_for(pname(dst));
       rng.shuffle(pool);
       for (std::size_t k = 0; k + 1 < pool.size() && k < 2 * kSamples; k += 2) {
-        const int a = pool[k], b = pool[k + 1];
+        const ObjectId a = pool[k], b = pool[k + 1];
         const auto named = name_objects({a, b});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}, {"target", pname(dst)}},
-             {{all_on({a, b}, {dst})}}, {{a, {dst}, -1}, {b, {dst}, -1}}, {united(*named)}, lookalikes(*named));
+             {{all_on({a, b}, {dst})}}, {{a, {dst}, {}}, {b, {dst}, {}}}, {united(*named)}, lookalikes(*named));
       }
     }
   }
 
   void together() {
-    for (const int src : f_.navigable) {
+    for (const PlatformId src : f_.navigable) {
       const auto& here = f_.items_on.at(src);
       auto elsewhere = items_not_on({src});
       if (here.empty() || elsewhere.empty()) continue;
       Rng rng = rng_for(pname(src));
       for (std::size_t k = 0; k < kSamples; ++k) {
-        const int a = here[rng.uniform_index(here.size())];
-        const int b = elsewhere[rng.uniform_index(elsewhere.size())];
+        const ObjectId a = here[rng.uniform_index(here.size())];
+        const ObjectId b = elsewhere[rng.uniform_index(elsewhere.size())];
         const auto named = name_objects({a, b});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{{SetPredicate::Op::kTogether, {a, b}, {}, {}}}}, {{b, {src}, -1}}, {united(*named)}, lookalikes(*named));
+             {{{SetPredicate::Op::kTogether, {a, b}, {}, {}}}}, {{b, {src}, {}}}, {united(*named)}, lookalikes(*named));
       }
     }
   }
 
   void set_up() {
-    for (const int dst : f_.navigable) {
+    for (const PlatformId dst : f_.navigable) {
       Rng rng = rng_for(pname(dst));
-      std::map<std::string, std::vector<int>> cats;
-      for (const int o : items_not_on({dst})) cats[f_.category_of.at(o)].push_back(o);
+      std::map<std::string, std::vector<ObjectId>> cats;
+      for (const ObjectId o : items_not_on({dst})) cats[f_.category_of.at(o)].push_back(o);
       if (cats.size() < 2) continue;
       std::vector<std::string> names;
       for (const auto& [c, objs] : cats) names.push_back(c);
@@ -453,41 +456,40 @@ class Instantiator {
         rng.shuffle(names);
         const auto& first = cats.at(names[0]);
         const auto& second = cats.at(names[1]);
-        const int a = first[rng.uniform_index(first.size())];
-        const int b = second[rng.uniform_index(second.size())];
+        const ObjectId a = first[rng.uniform_index(first.size())];
+        const ObjectId b = second[rng.uniform_index(second.size())];
         // "one cup next to one plate": any cup and any plate will do, so the goal says so.
-        SetPredicate pair{SetPredicate::Op::kAnyPairNear, called(names[0], -1), {dst}, called(names[1], -1)};
+        SetPredicate pair{SetPredicate::Op::kAnyPairNear, called(names[0]), {dst}, called(names[1])};
         emit({{"target", pname(dst)}, {"category", category_text(names[0])}, {"category2", category_text(names[1])}},
-             {{pair}}, {{a, {dst}, -1}, {b, {dst}, a}}, {called(names[0], -1), called(names[1], -1)});
+             {{pair}}, {{a, {dst}, {}}, {b, {dst}, a}}, {called(names[0]), called(names[1])});
       }
     }
   }
 
   void put_away() {
-    for (const int f : f_.multilayer) {
-      std::vector<int> inner;
-      for (const int p : g_.objects[static_cast<std::size_t>(f)].platforms) {
-        const graph::Platform& pl = g_.platforms[static_cast<std::size_t>(p)];
+    for (const ObjectId f : f_.multilayer) {
+      std::vector<PlatformId> inner;
+      for (const PlatformId p : g_.objects[f].platforms) {
+        const graph::Platform& pl = g_.platforms[p];
         if (pl.navigable && pl.interior) inner.push_back(p);
       }
       if (inner.empty()) continue;
-      std::set<int> own(g_.objects[static_cast<std::size_t>(f)].platforms.begin(),
-                        g_.objects[static_cast<std::size_t>(f)].platforms.end());
+      const std::set<PlatformId> own(g_.objects[f].platforms.begin(), g_.objects[f].platforms.end());
       auto pool = items_not_on(own);
       if (pool.empty()) continue;
-      Rng rng = rng_for(g_.objects[static_cast<std::size_t>(f)].name);
+      Rng rng = rng_for(g_.objects[f].name);
       for (std::size_t k = 0; k < kSamples; ++k) {
-        const int a = pool[rng.uniform_index(pool.size())];
+        const ObjectId a = pool[rng.uniform_index(pool.size())];
         const auto named = name_objects({a});
         if (!named) continue;
-        emit({{"object", (*named)[0].words}, {"furniture", furniture_name(f)}}, {{all_on({a}, inner)}}, {{a, inner, -1}},
+        emit({{"object", (*named)[0].words}, {"furniture", furniture_name(f)}}, {{all_on({a}, inner)}}, {{a, inner, {}}},
              {united(*named)}, lookalikes(*named));
       }
     }
   }
 
   void sort() {
-    for (const int src : f_.navigable) {
+    for (const PlatformId src : f_.navigable) {
       const auto cats = categories_on(src);
       for (std::size_t i = 0; i < cats.size(); ++i) {
         for (std::size_t j = i + 1; j < cats.size(); ++j) {
@@ -496,10 +498,10 @@ class Instantiator {
           Rng rng = rng_for(pname(src) + "/" + cats[i] + "/" + cats[j]);
           const auto targets = shuffled_targets(rng, {src});
           if (targets.size() < 2) continue;
-          const int t1 = targets[0], t2 = targets[1];
+          const PlatformId t1 = targets[0], t2 = targets[1];
           std::vector<Move> moves;
-          for (const int o : a) moves.push_back({o, {t1}, -1});
-          for (const int o : b) moves.push_back({o, {t2}, -1});
+          for (const ObjectId o : a) moves.push_back({o, {t1}, {}});
+          for (const ObjectId o : b) moves.push_back({o, {t2}, {}});
           emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
                 {"category", category_text(cats[i])}, {"categories", plural(category_text(cats[i]))},
                 {"category2", category_text(cats[j])}, {"categories2", plural(category_text(cats[j]))}},
@@ -510,27 +512,27 @@ class Instantiator {
   }
 
   void move_layer() {
-    for (const int f : f_.multilayer) {
-      std::vector<int> layers;
-      for (const int p : g_.objects[static_cast<std::size_t>(f)].platforms) {
-        if (g_.platforms[static_cast<std::size_t>(p)].navigable) layers.push_back(p);
+    for (const ObjectId f : f_.multilayer) {
+      std::vector<PlatformId> layers;
+      for (const PlatformId p : g_.objects[f].platforms) {
+        if (g_.platforms[p].navigable) layers.push_back(p);
       }
-      for (const int from : layers) {
+      for (const PlatformId from : layers) {
         const auto& objs = f_.items_on.at(from);
         if (objs.empty() || static_cast<int>(objs.size()) > max_moves()) continue;
-        std::vector<int> direct;
-        for (const int o : objs) {
-          if (s_.objects[static_cast<std::size_t>(o)].parent == from) direct.push_back(o);
+        std::vector<ObjectId> direct;
+        for (const ObjectId o : objs) {
+          if (s_.objects[o].parent == from) direct.push_back(o);
         }
         Rng rng = rng_for(pname(from));
-        std::vector<int> others;
-        for (const int p : layers) {
+        std::vector<PlatformId> others;
+        for (const PlatformId p : layers) {
           if (p != from) others.push_back(p);
         }
         rng.shuffle(others);
-        for (const int to : others) {
+        for (const PlatformId to : others) {
           std::vector<Move> moves;
-          for (const int o : direct) moves.push_back({o, {to}, -1});
+          for (const ObjectId o : direct) moves.push_back({o, {to}, {}});
           if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", furniture_name(f)},
                     {"count", std::to_string(objs.size())}},
                    {{all_on(objs, {to})}}, moves, {episode::pickable_on(g_, s_, from)})) {
@@ -542,15 +544,15 @@ class Instantiator {
   }
 
   void pair() {
-    for (const int dst : f_.navigable) {
+    for (const PlatformId dst : f_.navigable) {
       const auto& here = f_.items_on.at(dst);
       auto elsewhere = items_not_on({dst});
       if (here.empty() || elsewhere.empty()) continue;
       Rng rng = rng_for(pname(dst));
       for (std::size_t k = 0; k < kSamples; ++k) {
-        const int anchor = here[rng.uniform_index(here.size())];
-        const int a = elsewhere[rng.uniform_index(elsewhere.size())];
-        if (s_.objects[static_cast<std::size_t>(anchor)].parent != dst) continue;  // needs its free spaces
+        const ObjectId anchor = here[rng.uniform_index(here.size())];
+        const ObjectId a = elsewhere[rng.uniform_index(elsewhere.size())];
+        if (s_.objects[anchor].parent != dst) continue;  // needs its free spaces
         const auto named = name_objects({a, anchor});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
@@ -561,8 +563,8 @@ class Instantiator {
   }
 
   // What several named objects select together, and their look-alike records.
-  static std::vector<int> united(const std::vector<NamedObject>& named) {
-    std::vector<int> out;
+  static std::vector<ObjectId> united(const std::vector<NamedObject>& named) {
+    std::vector<ObjectId> out;
     for (const NamedObject& n : named) out.insert(out.end(), n.selects.begin(), n.selects.end());
     return out;
   }

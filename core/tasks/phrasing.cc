@@ -74,10 +74,10 @@ std::string atomic_text(const graph::SceneGraph& g, const episode::AtomicGoal& g
   Rng rng(derive_seed(seed, key));
   std::string text = (*templates)[rng.uniform_index(templates->size())];
   replace_all(text, "{item}", words.item.phrase());
-  replace_all(text, "{source}", g.platforms[static_cast<std::size_t>(goal.source)].name);
-  replace_all(text, "{target}", g.platforms[static_cast<std::size_t>(goal.platform)].name);
-  if (goal.anchor >= 0) replace_all(text, "{anchor}", words.anchor.phrase());
-  if (goal.anchor2 >= 0) replace_all(text, "{anchor2}", words.anchor2.phrase());
+  replace_all(text, "{source}", g.platforms[goal.source].name);
+  replace_all(text, "{target}", g.platforms[goal.platform].name);
+  if (goal.anchor.valid()) replace_all(text, "{anchor}", words.anchor.phrase());
+  if (goal.anchor2.valid()) replace_all(text, "{anchor2}", words.anchor2.phrase());
   if (goal.direction >= 0) replace_all(text, "{direction}", graph::direction_name(goal.direction));
   return text;
 }

@@ -29,22 +29,22 @@ constexpr std::pair<Relation, int> kPreference[] = {
 // what each is called, and where each stands as seen from the arrival side.
 class PlatformView {
  public:
-  PlatformView(const graph::SceneGraph& g, const WorldState& s, int platform, Ambiguity rule)
+  PlatformView(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, Ambiguity rule)
       : g_(g), s_(s), platform_(platform), objects_(episode::everything_on(g, s, platform)) {
-    const graph::Platform& p = g.platforms[static_cast<std::size_t>(platform)];
+    const graph::Platform& p = g.platforms[platform];
     side_ = static_cast<graph::Side>(std::max(0, p.default_side));
     const Eigen::Isometry2d X_PW = episode::platform_frame(g, s, platform).inverse();
-    for (const int o : objects_) {
-      nouns_.push_back(noun_of(g.objects[static_cast<std::size_t>(o)], rule));
-      centres_P_.push_back(X_PW * episode::footprint_centre(s.objects[static_cast<std::size_t>(o)]));
+    for (const graph::ObjectId o : objects_) {
+      nouns_.push_back(noun_of(g.objects[o], rule));
+      centres_P_.push_back(X_PW * episode::footprint_centre(s.objects[o]));
     }
   }
 
   std::size_t size() const { return objects_.size(); }
-  int object(std::size_t i) const { return objects_[i]; }
+  graph::ObjectId object(std::size_t i) const { return objects_[i]; }
   const std::string& noun(std::size_t i) const { return nouns_[i]; }
   // The index of an object, or -1 when it is not on the platform.
-  int index_of(int object) const {
+  int index_of(graph::ObjectId object) const {
     const auto it = std::find(objects_.begin(), objects_.end(), object);
     return it == objects_.end() ? -1 : static_cast<int>(it - objects_.begin());
   }
@@ -55,8 +55,8 @@ class PlatformView {
   }
   // The object it rests on, or -1 when it stands on the platform itself.
   int support(std::size_t i) const {
-    const int p = s_.objects[static_cast<std::size_t>(objects_[i])].parent;
-    return p == platform_ || p < 0 ? -1 : index_of(g_.platforms[static_cast<std::size_t>(p)].owner);
+    const graph::PlatformId p = s_.objects[objects_[i]].parent;
+    return p == platform_ || !p.valid() ? -1 : index_of(g_.platforms[p].owner);
   }
   // Indices of the objects resting directly on object i.
   std::vector<std::size_t> above(std::size_t i) const {
@@ -67,8 +67,8 @@ class PlatformView {
     return out;
   }
   double gap(std::size_t i, std::size_t k) const {
-    return episode::footprint_gap(s_.objects[static_cast<std::size_t>(objects_[i])].footprint,
-                                  s_.objects[static_cast<std::size_t>(objects_[k])].footprint);
+    return episode::footprint_gap(s_.objects[objects_[i]].footprint,
+                                  s_.objects[objects_[k]].footprint);
   }
   // Smallest gap from object i to any object called `landmark` (other than itself).
   double gap_to(std::size_t i, const std::string& landmark) const {
@@ -150,9 +150,9 @@ class PlatformView {
 
   const graph::SceneGraph& g_;
   const WorldState& s_;
-  int platform_;
+  graph::PlatformId platform_;
   graph::Side side_ = graph::Side::kRear;
-  std::vector<int> objects_;
+  std::vector<graph::ObjectId> objects_;
   std::vector<std::string> nouns_;
   std::vector<geom::Point2> centres_P_;
 };
@@ -168,25 +168,26 @@ std::string noun_of(const graph::GraphObject& o, Ambiguity rule) {
   return episode::display_name(o);
 }
 
-std::vector<int> resolve(const graph::SceneGraph& g, const WorldState& s, int platform, const Reference& r,
-                         Ambiguity rule) {
+std::vector<graph::ObjectId> resolve(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
+                                     const Reference& r, Ambiguity rule) {
   const PlatformView view(g, s, platform, rule);
-  std::vector<int> out;
+  std::vector<graph::ObjectId> out;
   for (const std::size_t i : view.resolve(r)) out.push_back(view.object(i));
   return out;
 }
 
-bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, int object, int platform, Ambiguity rule) {
-  const std::string noun = noun_of(g.objects[static_cast<std::size_t>(object)], rule);
+bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object, graph::PlatformId platform,
+                   Ambiguity rule) {
+  const std::string noun = noun_of(g.objects[object], rule);
   int same = 0;
-  for (const int o : episode::everything_on(g, s, platform)) {
-    same += noun_of(g.objects[static_cast<std::size_t>(o)], rule) == noun ? 1 : 0;
+  for (const graph::ObjectId o : episode::everything_on(g, s, platform)) {
+    same += noun_of(g.objects[o], rule) == noun ? 1 : 0;
   }
   return same > 1;
 }
 
-std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states, int object,
-                               int platform, Ambiguity rule) {
+std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states,
+                               graph::ObjectId object, graph::PlatformId platform, Ambiguity rule) {
   MTG_DEMAND(!states.empty(), "refer() needs a state");
   std::vector<PlatformView> views;
   for (const WorldState* s : states) views.emplace_back(g, *s, platform, rule);

@@ -40,15 +40,15 @@ std::string noun_of(const graph::GraphObject& o, Ambiguity rule);
 
 /// The objects on furniture platform `platform` (at any depth) that `r` picks out in `s`: exactly
 /// one when the reference is good there.
-std::vector<int> resolve(const graph::SceneGraph& g, const episode::WorldState& s, int platform,
-                         const Reference& r, Ambiguity rule);
+std::vector<graph::ObjectId> resolve(const graph::SceneGraph& g, const episode::WorldState& s,
+                                     graph::PlatformId platform, const Reference& r, Ambiguity rule);
 
 /// Whether `object` has look-alikes on `platform` in `s` (another object with its noun).
-bool has_lookalike(const graph::SceneGraph& g, const episode::WorldState& s, int object, int platform,
-                   Ambiguity rule);
+bool has_lookalike(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
+                   graph::PlatformId platform, Ambiguity rule);
 
 /// A reference naming exactly `object` on `platform` in every state of `states`, or nullopt.
 std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const episode::WorldState*>& states,
-                               int object, int platform, Ambiguity rule);
+                               graph::ObjectId object, graph::PlatformId platform, Ambiguity rule);
 
 }  // namespace mtg::tasks

@@ -40,7 +40,8 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
     Rng rng(derive_seed(options.seed, fnv1a64("L3/" + std::to_string(n) + "/" + std::to_string(attempt))));
     Sequence seq;
     episode::WorldState s = initial;
-    std::set<int> moved, changed;  // objects moved, platforms whose contents changed
+    std::set<graph::ObjectId> moved;     // objects moved
+    std::set<graph::PlatformId> changed;  // platforms whose contents changed
     for (int part = 0; part < chain; ++part) {
       // A step must be worth asking and nameable where it starts (cheap tests, made before
       // any re-planning).
@@ -58,16 +59,16 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
       const bool chained = part > 0 && rng.uniform01() >= 0.5;
       if (chained) {
         // Something next to (or relative to) an object already moved.
-        const int last_item = seq.parts.back().goal.item;
-        const int platform = seq.parts.back().goal.platform;
-        std::vector<int> items;
-        for (const int p : g.navigable) {
-          for (const int o : episode::pickable_on(g, s, p)) {
+        const graph::ObjectId last_item = seq.parts.back().goal.item;
+        const graph::PlatformId platform = seq.parts.back().goal.platform;
+        std::vector<graph::ObjectId> items;
+        for (const graph::PlatformId p : g.navigable) {
+          for (const graph::ObjectId o : episode::pickable_on(g, s, p)) {
             if (moved.count(o) == 0) items.push_back(o);
           }
         }
         if (!items.empty()) {
-          const int item = items[rng.uniform_index(items.size())];
+          const graph::ObjectId item = items[rng.uniform_index(items.size())];
           // An item the text could not name is not worth enumerating.
           if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
             const std::vector<AtomicTask> options_here =
@@ -86,12 +87,12 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
         words = wording(pick.goal);  // re-planning keeps the goal
         if (!words) break;
         bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
-        for (const int a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
+        for (const graph::ObjectId a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
         next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
         if (!next) break;
       }
       apply_effect(g, s, *next);
-      next->placed_at = s.objects[static_cast<std::size_t>(next->goal.item)].position;
+      next->placed_at = s.objects[next->goal.item].position;
       next->margin = episode::goal_margin(g, s, next->goal, options.goals);
       seq.words.push_back(std::move(*words));
       moved.insert(next->goal.item);

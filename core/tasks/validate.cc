@@ -16,10 +16,10 @@ constexpr std::size_t kKeysPerPart = 5;
 // Whether `id`'s reference names exactly its object in `s`.
 bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, const Identification& id,
                       Ambiguity rule) {
-  const int platform = g.find_platform(id.platform);
-  const int object = g.find_object(id.object);
-  if (platform < 0 || object < 0) return false;
-  const std::vector<int> found = resolve(g, s, platform, id.reference, rule);
+  const graph::PlatformId platform = g.find_platform(id.platform);
+  const graph::ObjectId object = g.find_object(id.object);
+  if (!platform.valid() || !object.valid()) return false;
+  const std::vector<graph::ObjectId> found = resolve(g, s, platform, id.reference, rule);
   return found.size() == 1 && found.front() == object;
 }
 
@@ -99,7 +99,7 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
                       (id.role == "item" || names_its_object(g, held, id, options.ambiguity));
       if (!ok) fail(which + "'" + id.phrase + "' does not name " + id.object);
     }
-    if (episode::stack_height(g, s, part.item) > g.platforms[static_cast<std::size_t>(part.platform)].clearance) {
+    if (episode::stack_height(g, s, part.item) > g.platforms[part.platform].clearance) {
       fail(which + "the item with what rests on it is taller than the destination's clearance");
     }
     for (std::size_t i = 0; i < kKeysPerPart; ++i) {
@@ -113,7 +113,7 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
       fail(which + "no stored placement");
       continue;
     }
-    const Eigen::Vector3d now = s.objects[static_cast<std::size_t>(part.item)].position;
+    const Eigen::Vector3d now = s.objects[part.item].position;
     if ((task.placements[k].position - now).norm() > 1e-6) fail(which + "the item does not land where the task says");
     if (episode::goal_margin(g, s, part, options.goals) < options.min_margin) {
       fail(which + "the placement lies less than " + std::to_string(options.min_margin) + " m inside its goal");

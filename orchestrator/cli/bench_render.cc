@@ -68,7 +68,7 @@ int run_bench_render(const BenchRenderOptions& o) {
     std::size_t bytes = 0;
     int frames = 0;
     for (int round = 0; round < o.rounds; ++round) {
-      for (const int p : g.navigable) {
+      for (const graph::PlatformId p : g.navigable) {
         render::ViewRequest r;
         r.platform = p;
         r.width = w;

@@ -143,7 +143,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
       v.object = e.graph->find_object(id.object);
       v.width = images_.width;
       v.height = images_.height;
-      if (v.object >= 0) views.push_back(v);
+      if (v.object.valid()) views.push_back(v);
     }
   }
   e.pending = std::move(obs);

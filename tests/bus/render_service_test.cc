@@ -33,12 +33,12 @@ class RenderServiceTest : public ::testing::Test {
   void SetUp() override { built_ = testing::render_room(fx_); }
 
   std::string object_named(const std::string& template_name) const {
-    const int i = testing::object_of_template(built_.graph, template_name);
-    return i < 0 ? "" : built_.graph.objects[static_cast<std::size_t>(i)].name;
+    const graph::ObjectId i = testing::object_of_template(built_.graph, template_name);
+    return i.valid() ? built_.graph.objects[i].name : "";
   }
   std::string table_top() const {
-    const int p = testing::navigable_platform_of(built_.graph, "toy_wood_table");
-    return p < 0 ? "" : built_.graph.platforms[static_cast<std::size_t>(p)].name;
+    const graph::PlatformId p = testing::navigable_platform_of(built_.graph, "toy_wood_table");
+    return p.valid() ? built_.graph.platforms[p].name : "";
   }
 
   mtg::render_request_t request(std::int64_t id, mtg::render_view_t view) const {

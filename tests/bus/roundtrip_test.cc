@@ -267,15 +267,15 @@ TEST(BusRoundTrip, AWorldStateCrossesTheBusBitForBit) {
   const auto built = testing::two_tables(fx);
   const graph::SceneGraph& g = built.graph;
   episode::WorldState s = episode::initial_state(g);
-  const int from = g.platforms[static_cast<std::size_t>(g.navigable[0])].items.empty() ? g.navigable[1] : g.navigable[0];
+  const graph::PlatformId from = g.platforms[g.navigable[0]].items.empty() ? g.navigable[1] : g.navigable[0];
   s.phase = episode::Phase::kAtPlatform;
   s.at_platform = from;
   s.side = 1;
   s.steps = 4;
-  episode::pick(g, s, g.platforms[static_cast<std::size_t>(from)].items.front());
-  const int other = g.navigable.back();
+  episode::pick(g, s, g.platforms[from].items.front());
+  const graph::PlatformId other = g.navigable.back();
   episode::place_held(g, s, other, episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7));
-  s.platform_offset[static_cast<std::size_t>(g.navigable[0])] = Eigen::Vector3d(0.1 / 3, -0.0, 1e-17);  // carried along
+  s.platform_offset[g.navigable[0]] = Eigen::Vector3d(0.1 / 3, -0.0, 1e-17);  // carried along
 
   const mtg::world_state_delta_t sent = to_message(episode::state_delta(g, s));
   ASSERT_EQ(sent.n_moved, 1);

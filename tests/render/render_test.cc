@@ -24,15 +24,15 @@ namespace {
 
 using ::testing::HasSubstr;
 
-int object_of(const graph::SceneGraph& g, const std::string& template_name) {
-  const int i = testing::object_of_template(g, template_name);
-  if (i < 0) ADD_FAILURE() << "no object of template " << template_name;
+graph::ObjectId object_of(const graph::SceneGraph& g, const std::string& template_name) {
+  const graph::ObjectId i = testing::object_of_template(g, template_name);
+  if (!i.valid()) ADD_FAILURE() << "no object of template " << template_name;
   return i;
 }
 
-int top_of(const graph::SceneGraph& g, const std::string& owner_template) {
-  const int p = testing::navigable_platform_of(g, owner_template);
-  if (p < 0) ADD_FAILURE() << "no navigable platform on " << owner_template;
+graph::PlatformId top_of(const graph::SceneGraph& g, const std::string& owner_template) {
+  const graph::PlatformId p = testing::navigable_platform_of(g, owner_template);
+  if (!p.valid()) ADD_FAILURE() << "no navigable platform on " << owner_template;
   return p;
 }
 
@@ -55,15 +55,15 @@ class RenderTest : public ::testing::Test {
   }
 
   const graph::SceneGraph& g() const { return built_->graph; }
-  int table() const { return top_of(g(), "toy_wood_table"); }
-  int empty_table() const { return top_of(g(), "toy_grey_table"); }
+  graph::PlatformId table() const { return top_of(g(), "toy_wood_table"); }
+  graph::PlatformId empty_table() const { return top_of(g(), "toy_grey_table"); }
 
   // The robot at `platform` on its default side, hands empty.
-  episode::WorldState at(int platform) const {
+  episode::WorldState at(graph::PlatformId platform) const {
     episode::WorldState s = episode::initial_state(g());
     s.phase = episode::Phase::kAtPlatform;
     s.at_platform = platform;
-    s.side = g().platforms[static_cast<std::size_t>(platform)].default_side;
+    s.side = g().platforms[platform].default_side;
     return s;
   }
 
@@ -76,8 +76,8 @@ class RenderTest : public ::testing::Test {
     return r;
   }
 
-  render::ViewSpec platform_view(int p, render::MarkKind marks) const {
-    return {render::ViewKind::kPlatform, g().platforms[static_cast<std::size_t>(p)].name, -1, "", marks};
+  render::ViewSpec platform_view(graph::PlatformId p, render::MarkKind marks) const {
+    return {render::ViewKind::kPlatform, g().platforms[p].name, -1, "", marks};
   }
 
   // Renders a plan with the renderer's GPU copy of the fixture.
@@ -107,10 +107,10 @@ TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
   // Holding the red cube at the empty table, about to place: the 3x3 grid numbered as its keys.
   episode::pick(g(), s, object_of(g(), "toy_red_cube"));
   s.at_platform = empty_table();
-  s.side = g().platforms[static_cast<std::size_t>(empty_table())].default_side;
+  s.side = g().platforms[empty_table()].default_side;
   s.phase = episode::Phase::kPlacing;
   reply = renderer_->render(request(s, {platform_view(empty_table(), render::MarkKind::kTargets),
-                                        {render::ViewKind::kItem, "", -1, g().objects[static_cast<std::size_t>(s.held)].name,
+                                        {render::ViewKind::kItem, "", -1, g().objects[s.held].name,
                                          render::MarkKind::kNone},
                                         {render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels}}));
   ASSERT_EQ(reply.images.size(), 5u);
@@ -172,12 +172,12 @@ TEST_F(RenderTest, EachNumberSitsOnItsItem) {
 // over the view without them), the item itself and the furniture untouched.
 TEST_F(RenderTest, AFocusCloseUpFadesEveryOtherItem) {
   const episode::WorldState s = episode::initial_state(g());
-  const int cube = object_of(g(), "toy_red_cube");
+  const graph::ObjectId cube = object_of(g(), "toy_red_cube");
   render::ViewRequest r;
   r.view = render::ViewKind::kFocus;
   r.object = cube;
   const render::ViewPlan focus = render::plan_view(g(), s, r);
-  const int tower = object_of(g(), "toy_green_tower"), slab = object_of(g(), "toy_blue_slab");
+  const graph::ObjectId tower = object_of(g(), "toy_green_tower"), slab = object_of(g(), "toy_blue_slab");
   EXPECT_THAT(focus.faded, ::testing::Contains(tower));
   EXPECT_THAT(focus.faded, ::testing::Contains(slab));
   EXPECT_THAT(focus.faded, ::testing::Not(::testing::Contains(cube)));
@@ -195,7 +195,7 @@ TEST_F(RenderTest, AFocusCloseUpFadesEveryOtherItem) {
   cv::minMaxLoc(diff.reshape(1), nullptr, &worst);
   EXPECT_LE(worst, 1.0);
   // The cube is in the middle of the picture and solid red.
-  const auto px = focus.camera.project(s.objects[static_cast<std::size_t>(cube)].position);
+  const auto px = focus.camera.project(s.objects[cube].position);
   ASSERT_TRUE(px.has_value());
   EXPECT_NEAR(px->x(), focus.camera.width / 2.0, focus.camera.width / 4.0);
   const cv::Vec3b red = shown.at<cv::Vec3b>(cv::Point(static_cast<int>(px->x()), static_cast<int>(px->y())));
@@ -208,7 +208,7 @@ TEST_F(RenderTest, APickedItemVanishesAndAPlacedItemAppearsWhereTheStateSays) {
   r.platform = table();
   r.marks = render::MarkKind::kItems;
   const render::ViewPlan before = render::plan_view(g(), s, r);
-  const int cube = object_of(g(), "toy_red_cube");
+  const graph::ObjectId cube = object_of(g(), "toy_red_cube");
   const auto cube_px = before.camera.project(episode::initial_state(g()).objects[cube].position);
   ASSERT_TRUE(cube_px.has_value());
   const cv::Point p(static_cast<int>(cube_px->x()), static_cast<int>(cube_px->y()));
@@ -223,7 +223,7 @@ TEST_F(RenderTest, APickedItemVanishesAndAPlacedItemAppearsWhereTheStateSays) {
 
   // Put it on the empty table's centre and look there.
   s.at_platform = empty_table();
-  s.side = g().platforms[static_cast<std::size_t>(empty_table())].default_side;
+  s.side = g().platforms[empty_table()].default_side;
   const Eigen::Vector2d centre = episode::platform_frame(g(), s, empty_table()).translation();
   episode::place_held(g(), s, empty_table(), centre);
   r.platform = empty_table();
@@ -250,8 +250,8 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
   auto zero = request(s, {platform_view(table(), render::MarkKind::kItems)});
   zero.height = 0;
   expect_error(zero, "image size 640x0");
-  const int ghost = object_of(g(), "toy_ghost");
-  expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[static_cast<std::size_t>(ghost)].name, render::MarkKind::kNone}}),
+  const graph::ObjectId ghost = object_of(g(), "toy_ghost");
+  expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[ghost].name, render::MarkKind::kNone}}),
                "has no mesh to draw");
   auto state = request(s, {platform_view(table(), render::MarkKind::kItems)});
   state.state.held = "nobody";
@@ -271,8 +271,8 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
   render::ImageRenderer renderer;
   const std::string data = testing::shipped_dataset()->root.string();
   const graph::SceneGraph& g = renderer.scenes().load("apt_0", data).graph;
-  const int shelf = g.find_platform("wall_cabinet_02_30_platform_3");
-  ASSERT_GE(shelf, 0);
+  const auto shelf = g.find_platform("wall_cabinet_02_30_platform_3");
+  ASSERT_TRUE(shelf.valid());
   render::ImageRequest req;
   req.scene = "apt_0";
   req.data_dir = data;
@@ -284,7 +284,7 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
   // Every navigable platform, from its default side: each numbered item's mark is in the frame.
   const episode::WorldState s = episode::initial_state(g);
   int items = 0, in_frame = 0;
-  for (const int p : g.navigable) {
+  for (const graph::PlatformId p : g.navigable) {
     render::ViewRequest r;
     r.platform = p;
     r.marks = render::MarkKind::kItems;

@@ -35,19 +35,19 @@ BuiltScene two_tables(FixtureDataset& fx) {
   return build_fixture_scene(fx, "two_tables");
 }
 
-int object_of_template(const graph::SceneGraph& g, const std::string& template_name) {
-  for (std::size_t i = 0; i < g.objects.size(); ++i) {
-    if (g.objects[i].template_name == template_name) return static_cast<int>(i);
+graph::ObjectId object_of_template(const graph::SceneGraph& g, const std::string& template_name) {
+  for (const graph::ObjectId o : g.objects.ids()) {
+    if (g.objects[o].template_name == template_name) return o;
   }
-  return -1;
+  return {};
 }
 
-int navigable_platform_of(const graph::SceneGraph& g, const std::string& owner_template) {
-  const int owner = object_of_template(g, owner_template);
-  for (std::size_t p = 0; p < g.platforms.size(); ++p) {
-    if (owner >= 0 && g.platforms[p].owner == owner && g.platforms[p].navigable) return static_cast<int>(p);
+graph::PlatformId navigable_platform_of(const graph::SceneGraph& g, const std::string& owner_template) {
+  const graph::ObjectId owner = object_of_template(g, owner_template);
+  for (const graph::PlatformId p : g.platforms.ids()) {
+    if (owner.valid() && g.platforms[p].owner == owner && g.platforms[p].navigable) return p;
   }
-  return -1;
+  return {};
 }
 
 BuiltScene render_room(FixtureDataset& fx) {

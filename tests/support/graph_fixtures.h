@@ -28,10 +28,10 @@ BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name
 /// x = -0.3, 0, 0.3), and an empty table_4 at x = 3. Scene name "two_tables".
 BuiltScene two_tables(FixtureDataset& fx);
 
-/// The first object of template `template_name`, or -1.
-int object_of_template(const graph::SceneGraph& g, const std::string& template_name);
-/// The first navigable platform owned by an object of template `owner_template`, or -1.
-int navigable_platform_of(const graph::SceneGraph& g, const std::string& owner_template);
+/// The first object of template `template_name`, or none.
+graph::ObjectId object_of_template(const graph::SceneGraph& g, const std::string& template_name);
+/// The first navigable platform owned by an object of template `owner_template`, or none.
+graph::PlatformId navigable_platform_of(const graph::SceneGraph& g, const std::string& owner_template);
 
 /// A room for render tests, in colour: a brown table_0 at the origin with a red cube, a tall green
 /// box and a flat blue box on it; an empty grey table at x = 2.5; a "ghost" item on table_0 whose

@@ -10,7 +10,7 @@ namespace mtg::testing {
 
 inline void expect_same_world_state(const episode::WorldState& a, const episode::WorldState& b) {
   ASSERT_EQ(a.objects.size(), b.objects.size());
-  for (std::size_t i = 0; i < a.objects.size(); ++i) {
+  for (const graph::ObjectId i : a.objects.ids()) {
     EXPECT_EQ(a.objects[i].parent, b.objects[i].parent) << i;
     EXPECT_EQ(a.objects[i].position, b.objects[i].position) << i;
     EXPECT_EQ(a.objects[i].footprint, b.objects[i].footprint) << i;

@@ -107,7 +107,7 @@ SceneRenderer::SceneRenderer(const GlContext&, const scene::Scene& scene, const 
     : options_(options) {
   program_ = link_program();
   parts_.resize(graph.objects.size());
-  for (std::size_t i = 0; i < graph.objects.size(); ++i) {
+  for (const graph::ObjectId i : graph.objects.ids()) {
     const scene::ObjectInstance* inst = scene.find(graph.objects[i].name);
     if (inst == nullptr) continue;
     for (const scene::Part& part : inst->parts) {
@@ -196,7 +196,7 @@ const SceneRenderer::GpuMesh* SceneRenderer::upload(const scene::MeshHandle& mes
   return slot.get();
 }
 
-bool SceneRenderer::has_geometry(int i) const { return !parts_.at(static_cast<std::size_t>(i)).empty(); }
+bool SceneRenderer::has_geometry(graph::ObjectId o) const { return !parts_.at(o).empty(); }
 
 void SceneRenderer::ensure_framebuffer(int width, int height) {
   if (framebuffer_ != 0 && width == fb_width_ && height == fb_height_) return;
@@ -220,8 +220,8 @@ void SceneRenderer::ensure_framebuffer(int width, int height) {
   fb_height_ = height;
 }
 
-Frame SceneRenderer::render(const Camera& camera, const std::vector<Eigen::Isometry3d>& poses_W,
-                            const std::vector<bool>& draw) {
+Frame SceneRenderer::render(const Camera& camera, const IdVector<graph::ObjectId, Eigen::Isometry3d>& poses_W,
+                            const IdVector<graph::ObjectId, bool>& draw) {
   MTG_DEMAND(poses_W.size() == parts_.size() && draw.size() == parts_.size(), "one pose per graph object");
   ensure_framebuffer(camera.width, camera.height);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
@@ -244,7 +244,7 @@ Frame SceneRenderer::render(const Camera& camera, const std::vector<Eigen::Isome
   const Eigen::Matrix4f clip_from_world = camera.clip_from_world();
 
   Frame frame;
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
+  for (const graph::ObjectId i : parts_.ids()) {
     if (!draw[i]) continue;
     for (const DrawPart& part : parts_[i]) {
       const Eigen::Affine3d X_WA = poses_W[i] * part.T_OA;
@@ -280,22 +280,22 @@ Frame SceneRenderer::render(const Camera& camera, const std::vector<Eigen::Isome
 ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
                      const ViewPlan& plan, bool with_marks) {
   const std::size_t n = g.objects.size();
-  std::vector<Eigen::Isometry3d> poses(n);
-  std::vector<bool> draw(n, plan.only < 0);
-  for (std::size_t i = 0; i < n; ++i) poses[i] = object_pose(g, s, static_cast<int>(i));
-  for (const int h : plan.hidden) draw[static_cast<std::size_t>(h)] = false;
-  if (plan.only >= 0) {
+  IdVector<graph::ObjectId, Eigen::Isometry3d> poses(n);
+  IdVector<graph::ObjectId, bool> draw(n, !plan.only.valid());
+  for (const graph::ObjectId i : g.objects.ids()) poses[i] = object_pose(g, s, i);
+  for (const graph::ObjectId h : plan.hidden) draw[h] = false;
+  if (plan.only.valid()) {
     if (!renderer.has_geometry(plan.only)) {
-      throw Error("render: object " + g.objects[static_cast<std::size_t>(plan.only)].name +
+      throw Error("render: object " + g.objects[plan.only].name +
                   " has no mesh to draw (its mesh files are missing from the dataset)");
     }
-    draw[static_cast<std::size_t>(plan.only)] = true;
+    draw[plan.only] = true;
   }
   Frame frame = renderer.render(plan.camera, poses, draw);
   if (!plan.faded.empty()) {
     // Faded objects: the view with them over the view without them, at kFadedVisibility.
-    std::vector<bool> without = draw;
-    for (const int f : plan.faded) without[static_cast<std::size_t>(f)] = false;
+    IdVector<graph::ObjectId, bool> without = draw;
+    for (const graph::ObjectId f : plan.faded) without[f] = false;
     const Frame behind = renderer.render(plan.camera, poses, without);
     cv::addWeighted(frame.image, kFadedVisibility, behind.image, 1.0 - kFadedVisibility, 0.0, frame.image);
     frame.triangles += behind.triangles;

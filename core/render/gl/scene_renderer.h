@@ -41,11 +41,11 @@ class SceneRenderer {
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
   /// Draws graph objects at `poses_W` (one per graph object) except those with draw[i] false.
-  Frame render(const Camera& camera, const std::vector<Eigen::Isometry3d>& poses_W,
-               const std::vector<bool>& draw);
+  Frame render(const Camera& camera, const IdVector<graph::ObjectId, Eigen::Isometry3d>& poses_W,
+               const IdVector<graph::ObjectId, bool>& draw);
 
-  /// Whether graph object `i` has any geometry to draw (its meshes may be missing from the data).
-  bool has_geometry(int i) const;
+  /// Whether graph object `o` has any geometry to draw (its meshes may be missing from the data).
+  bool has_geometry(graph::ObjectId o) const;
   std::int64_t uploaded_texture_bytes() const { return texture_bytes_; }
 
  private:
@@ -59,7 +59,7 @@ class SceneRenderer {
 
   RendererOptions options_;
   std::map<const scene::Mesh*, std::unique_ptr<GpuMesh>> meshes_;
-  std::vector<std::vector<DrawPart>> parts_;  // per graph object
+  IdVector<graph::ObjectId, std::vector<DrawPart>> parts_;
   unsigned program_ = 0;
   unsigned framebuffer_ = 0, colour_ = 0, depth_ = 0;
   int fb_width_ = 0, fb_height_ = 0;

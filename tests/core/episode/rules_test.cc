@@ -46,8 +46,8 @@ TEST_F(RulesTest, ActionSpaceFollowsThePapersStates) {
   EXPECT_EQ(keys(action_space(g(), s, options_)),
             (std::vector<std::string>{"0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "999"}));
   ASSERT_TRUE(act(s, "5").applied);  // front part
-  EXPECT_EQ(s.held, -1);
-  EXPECT_EQ(s.objects[static_cast<size_t>(g().find_object("box_2"))].parent, g().navigable[1]);
+  EXPECT_FALSE(s.held.valid());
+  EXPECT_EQ(s.objects[g().find_object("box_2")].parent, g().navigable[1]);
   const auto end = act(s, "0");
   EXPECT_TRUE(end.done);
   EXPECT_EQ(end.end_reason, EndReason::kCallEnd);
@@ -57,7 +57,7 @@ TEST_F(RulesTest, ActionSpaceFollowsThePapersStates) {
 TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
   WorldState s = initial_state(g());
   for (const char* k : {"l1", "o1", "l2", "startplace", "5"}) ASSERT_TRUE(act(s, k).applied) << k;
-  const int box = g().find_object("box_1");
+  const auto box = g().find_object("box_1");
   AtomicGoal goal;
   goal.type = GoalType::kSurfacePart;
   goal.item = box;
@@ -66,9 +66,9 @@ TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
   goal.direction = 4;  // front
   EXPECT_TRUE(goal_satisfied(g(), s, goal));
   // The robot stood at the default side; the item is on the far half of the table from it.
-  const graph::Platform& p = g().platforms[static_cast<size_t>(g().navigable[1])];
+  const graph::Platform& p = g().platforms[g().navigable[1]];
   const geom::Point2 robot = p.sides[static_cast<size_t>(p.default_side)].standing_point;
-  const geom::Point2 item = geom::centroid(geom::Region{{s.objects[static_cast<size_t>(box)].footprint}});
+  const geom::Point2 item = geom::centroid(geom::Region{{s.objects[box].footprint}});
   const geom::Point2 centre = p.X_WP.translation();
   EXPECT_GT((item - robot).norm(), (centre - robot).norm());
 }
@@ -80,9 +80,9 @@ TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
 TEST_F(RulesTest, TheDirectionConventionTheAgentIsToldIsTheOneTargetsAndJudgeUse) {
   EXPECT_THAT(direction_convention(), HasSubstr("front is the part farthest from you"));
   EXPECT_THAT(direction_convention(), HasSubstr("rear the part nearest you"));
-  const int box = g().find_object("box_1");
-  const int table = g().navigable[1];
-  const graph::Platform& p = g().platforms[static_cast<size_t>(table)];
+  const auto box = g().find_object("box_1");
+  const auto table = g().navigable[1];
+  const graph::Platform& p = g().platforms[table];
   int sides_checked = 0;
   for (const graph::Side side : graph::kSides) {
     if (!p.sides[static_cast<size_t>(side)].usable()) continue;
@@ -102,9 +102,9 @@ TEST_F(RulesTest, TheDirectionConventionTheAgentIsToldIsTheOneTargetsAndJudgeUse
       ASSERT_NE(option, offered.end());
       EXPECT_THAT(option->description, HasSubstr("the " + name + " part"));
       ASSERT_TRUE(act(s, key).applied);
-      landed[name] = geom::centroid(geom::Region{{s.objects[static_cast<size_t>(box)].footprint}});
+      landed[name] = geom::centroid(geom::Region{{s.objects[box].footprint}});
       for (const auto& [dir, part] : std::vector<std::pair<int, std::string>>{{0, "rear"}, {2, "left"}, {4, "front"}, {6, "right"}}) {
-        AtomicGoal goal{GoalType::kSurfacePart, box, g().navigable[0], table, -1, -1, dir};
+        AtomicGoal goal{GoalType::kSurfacePart, box, g().navigable[0], table, {}, {}, dir};
         EXPECT_EQ(goal_satisfied(g(), s, goal), part == name) << "side " << graph::to_string(side) << ": placed "
                                                               << name << ", judged " << part;
       }
@@ -120,11 +120,11 @@ TEST_F(RulesTest, TheDirectionConventionTheAgentIsToldIsTheOneTargetsAndJudgeUse
 // goal about it does not hold, whatever its position (a do-nothing agent wins nothing).
 TEST_F(RulesTest, AnItemNeverPlacedMeetsNoDirectionGoal) {
   const WorldState s = initial_state(g());
-  const int box1 = g().find_object("box_1"), box3 = g().find_object("box_3");
-  AtomicGoal left_of_3{GoalType::kDirection, box1, g().navigable[0], g().navigable[0], box3, -1, 2};
+  const auto box1 = g().find_object("box_1"), box3 = g().find_object("box_3");
+  AtomicGoal left_of_3{GoalType::kDirection, box1, g().navigable[0], g().navigable[0], box3, {}, 2};
   EXPECT_FALSE(goal_satisfied(g(), s, left_of_3));
   EXPECT_TRUE(goal_met_from_any_side(g(), s, left_of_3));  // so no task asks for it
-  AtomicGoal around_3{GoalType::kAround, box1, g().navigable[0], g().navigable[0], box3, -1, -1};
+  AtomicGoal around_3{GoalType::kAround, box1, g().navigable[0], g().navigable[0], box3, {}, -1};
   EXPECT_FALSE(goal_met_from_any_side(g(), s, around_3));  // 0.5 m apart
 }
 
@@ -173,7 +173,7 @@ TEST_F(RulesTest, AnchorsCannotBePicked) {
   const auto r = act(s, "o2");
   EXPECT_FALSE(r.applied);
   EXPECT_THAT(r.hint, HasSubstr("must stay where it is"));
-  EXPECT_EQ(s.held, -1);
+  EXPECT_FALSE(s.held.valid());
   EXPECT_TRUE(act(s, "o1").applied);
 }
 
@@ -204,7 +204,7 @@ TEST(Rules, PlacesTooSmallForTheObjectAreRefusedAndThePlacingGoesOn) {
       EXPECT_EQ(trial.phase, Phase::kPlacing);  // still holding, still placing
       EXPECT_EQ(trial.held, s.held);
     } else {
-      EXPECT_EQ(trial.held, -1);
+      EXPECT_FALSE(trial.held.valid());
     }
   }
   EXPECT_GT(refused, 0);  // e.g. the 0.3 m gap between the boxes for a 0.35 m plank

@@ -24,21 +24,21 @@ TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, s)), s);
   expect_same_world_state(episode::apply_delta(g, {}), s);
 
-  const int box = g.platforms[static_cast<std::size_t>(g.navigable[0])].items.empty()
-                      ? g.platforms[static_cast<std::size_t>(g.navigable[1])].items.front()
-                      : g.platforms[static_cast<std::size_t>(g.navigable[0])].items.front();
+  const graph::ObjectId box = g.platforms[g.navigable[0]].items.empty()
+                      ? g.platforms[g.navigable[1]].items.front()
+                      : g.platforms[g.navigable[0]].items.front();
   s.phase = episode::Phase::kAtPlatform;
   s.at_platform = g.navigable[0];
   s.side = 2;
   s.steps = 3;
   episode::pick(g, s, box);
   const episode::StateDelta holding = episode::state_delta(g, s);
-  EXPECT_EQ(holding.held, g.objects[static_cast<std::size_t>(box)].name);
+  EXPECT_EQ(holding.held, g.objects[box].name);
   ASSERT_FALSE(holding.reordered.empty());  // the item left its platform's list
   expect_same_world_state(episode::apply_delta(g, holding), s);
 
   // Placed at an odd position on the other table: doubles must come back bit for bit.
-  const int other = g.navigable.back();
+  const graph::PlatformId other = g.navigable.back();
   const Eigen::Vector2d xy = episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7);
   episode::place_held(g, s, other, xy);
   expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, s)), s);

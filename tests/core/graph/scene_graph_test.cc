@@ -30,15 +30,15 @@ using Built = testing::BuiltScene;
 Built build(const FixtureDataset& fx, const std::string& name) { return testing::build_fixture_scene(fx, name); }
 
 const Platform& platform(const SceneGraph& g, const std::string& name) {
-  const int p = g.find_platform(name);
-  EXPECT_GE(p, 0) << name;
-  return g.platforms.at(static_cast<std::size_t>(p));
+  const auto p = g.find_platform(name);
+  EXPECT_TRUE(p.valid()) << name;
+  return g.platforms.at(p);
 }
 
 const GraphObject& object(const SceneGraph& g, const std::string& name) {
-  const int o = g.find_object(name);
-  EXPECT_GE(o, 0) << name;
-  return g.objects.at(static_cast<std::size_t>(o));
+  const auto o = g.find_object(name);
+  EXPECT_TRUE(o.valid()) << name;
+  return g.objects.at(o);
 }
 
 // Table with three 0.1 m boxes at x = -0.3, 0, 0.3, dropped from 1 cm above.
@@ -58,7 +58,7 @@ TEST(SceneGraph, TableWithThreeBoxesHasOneTopPlatformAndThreeChildren) {
   const Built b = table_with_three_boxes(fx);
   const SceneGraph& g = b.graph;
   ASSERT_EQ(g.platforms.size(), 1u);
-  const Platform& top = g.platforms[0];
+  const Platform& top = g.platforms.front();
   EXPECT_EQ(top.name, "table_0_platform_0");
   EXPECT_NEAR(top.height, 0.74, kTol);
   EXPECT_NEAR(top.area(), 0.6, 1e-6);
@@ -67,16 +67,16 @@ TEST(SceneGraph, TableWithThreeBoxesHasOneTopPlatformAndThreeChildren) {
   EXPECT_TRUE(top.destination);
   EXPECT_TRUE(top.navigable);
   EXPECT_EQ(top.label, 1);
-  EXPECT_EQ(g.navigable, std::vector<int>{0});
+  EXPECT_EQ(g.navigable, std::vector<PlatformId>{PlatformId(0)});
   for (const char* name : {"box_1", "box_2", "box_3"}) {
     const GraphObject& o = object(g, name);
     EXPECT_EQ(o.kind, ObjectKind::kItem) << name;
-    EXPECT_EQ(o.parent, 0) << name;
+    EXPECT_EQ(o.parent, PlatformId(0)) << name;
     EXPECT_NEAR(o.bottom, 0.74, kTol) << name;   // settled down by 1 cm
     EXPECT_NEAR(o.settle_dz, -0.01, kTol) << name;
   }
   EXPECT_EQ(object(g, "table_0").kind, ObjectKind::kFurniture);
-  EXPECT_EQ(g.pickable_on(0).size(), 3u);
+  EXPECT_EQ(g.pickable_on(PlatformId(0)).size(), 3u);
   for (const SideInfo& side : top.sides) {
     EXPECT_TRUE(side.usable());  // a free-standing table is reachable from every side
   }
@@ -86,10 +86,10 @@ TEST(SceneGraph, TableWithThreeBoxesHasOneTopPlatformAndThreeChildren) {
 TEST(FreeSpace, RegionsExtendToTheNeighboursAndThePlatformEdge) {
   FixtureDataset fx;
   const SceneGraph g = table_with_three_boxes(fx).graph;
-  const Platform& top = g.platforms[0];
+  const Platform& top = g.platforms.front();
   ASSERT_NEAR(top.X_WP.translation().norm(), 0.0, 1e-6);  // frame = world here (yaw 0)
   std::vector<geom::Ring> footprints;
-  for (const int o : top.items) footprints.push_back(g.objects[static_cast<size_t>(o)].footprint);
+  for (const graph::ObjectId o : top.items) footprints.push_back(g.objects[o].footprint);
   const auto obstacles = make_obstacles(top, top.items, footprints);
   const auto regions = object_regions(top, obstacles, 0.03);
   ASSERT_EQ(regions.size(), 24u);
@@ -116,9 +116,9 @@ TEST(FreeSpace, RegionsExtendToTheNeighboursAndThePlatformEdge) {
 TEST(FreeSpace, FitsUseTheExactFeasibleSet) {
   FixtureDataset fx;
   const SceneGraph g = table_with_three_boxes(fx).graph;
-  const Platform& top = g.platforms[0];
+  const Platform& top = g.platforms.front();
   std::vector<geom::Ring> footprints;
-  for (const int o : top.items) footprints.push_back(g.objects[static_cast<size_t>(o)].footprint);
+  for (const graph::ObjectId o : top.items) footprints.push_back(g.objects[o].footprint);
   const auto obstacles = make_obstacles(top, top.items, footprints);
   const auto regions = object_regions(top, obstacles, 0.03);
   const geom::Region gap = regions[6].region_P;  // right of the left box: 0.2 m wide
@@ -172,14 +172,14 @@ TEST(SceneGraph, EmptyPlatformGetsANineCellGrid) {
   fx.add_scene("s", {{"object_instances", {FixtureDataset::instance("toy_table", {0, 0, 0})}}});
   const SceneGraph g = build(fx, "s").graph;
   ASSERT_EQ(g.platforms.size(), 1u);
-  const auto cells = grid_cells(g.platforms[0]);
+  const auto cells = grid_cells(g.platforms.front());
   for (const FreeRegion& c : cells) {
     EXPECT_NEAR(geom::area(c.region_P), 0.6 * 0.9 / 9.0, 1e-6) << direction_name(c.dir);
   }
   // Rear-left is the cell at minimum x and y of the platform frame; front is max y, middle x.
-  EXPECT_NEAR(cells[1].rect_P.min().x(), g.platforms[0].box_P.min().x(), 1e-9);
-  EXPECT_NEAR(cells[1].rect_P.min().y(), g.platforms[0].box_P.min().y(), 1e-9);
-  EXPECT_NEAR(cells[4].rect_P.max().y(), g.platforms[0].box_P.max().y(), 1e-9);
+  EXPECT_NEAR(cells[1].rect_P.min().x(), g.platforms.front().box_P.min().x(), 1e-9);
+  EXPECT_NEAR(cells[1].rect_P.min().y(), g.platforms.front().box_P.min().y(), 1e-9);
+  EXPECT_NEAR(cells[4].rect_P.max().y(), g.platforms.front().box_P.max().y(), 1e-9);
   EXPECT_NEAR(cells[4].rect_P.center().x(), 0.0, 1e-9);
 }
 
@@ -207,8 +207,8 @@ TEST(SceneGraph, ItemAcrossTwoSupportsRestsOnTheLargerOne) {
                                            FixtureDataset::instance("toy_plank", hab(0.03, 0, 0.77))}}});
   const SceneGraph g = build(fx, "s").graph;
   const GraphObject& plank = object(g, "plank_3");
-  ASSERT_GE(plank.parent, 0);
-  EXPECT_EQ(g.platforms[static_cast<size_t>(plank.parent)].owner, g.find_object("book_2"));
+  ASSERT_TRUE(plank.parent.valid());
+  EXPECT_EQ(g.platforms[plank.parent].owner, g.find_object("book_2"));
   EXPECT_NEAR(plank.bottom, 0.77, kTol);
 }
 

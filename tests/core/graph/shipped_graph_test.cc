@@ -46,17 +46,17 @@ TEST(ShippedGraph, EveryMovableItemHasExactlyOneParentAndStandsOnIt) {
       }
       if (o.kind != ObjectKind::kItem) continue;
       ++items;
-      if (o.parent < 0) {  // lying on the floor
+      if (!o.parent.valid()) {  // lying on the floor
         EXPECT_NEAR(o.bottom, 0.0, 0.02) << name << " " << o.name;
         continue;
       }
-      const Platform& p = g.platforms[static_cast<std::size_t>(o.parent)];
+      const Platform& p = g.platforms[o.parent];
       // Neither floating more than 2 cm above nor sunk into its platform.
       EXPECT_NEAR(o.bottom, p.height, 0.02) << name << " " << o.name << " on " << p.name;
       // Listed exactly once, under that platform.
       int listed = 0;
       for (const Platform& q : g.platforms) {
-        for (const int child : q.items) listed += g.objects[static_cast<std::size_t>(child)].name == o.name;
+        for (const graph::ObjectId child : q.items) listed += g.objects[child].name == o.name;
       }
       EXPECT_EQ(listed, 1) << name << " " << o.name;
     }
@@ -74,14 +74,14 @@ TEST(ShippedGraph, Apt0MatchesThePaperAnchors) {
   // The paper reports 58 navigable platforms; docs/graph.md explains the difference.
   EXPECT_NEAR(static_cast<double>(g.navigable.size()), 58.0, 5.0);
   // 26 pickable objects on the kitchen counter's top: the basket and file indices 62..86.
-  const int counter = g.find_object("kitchen_counter_1");
-  ASSERT_GE(counter, 0);
-  const auto& platforms = g.objects[static_cast<std::size_t>(counter)].platforms;
-  const Platform& top = g.platforms[static_cast<std::size_t>(platforms.back())];
+  const auto counter = g.find_object("kitchen_counter_1");
+  ASSERT_TRUE(counter.valid());
+  const auto& platforms = g.objects[counter].platforms;
+  const Platform& top = g.platforms[platforms.back()];
   EXPECT_NEAR(top.height, 0.844, 0.005);
   EXPECT_TRUE(top.navigable);
   std::set<std::string> on_top;
-  for (const int o : g.pickable_on(platforms.back())) on_top.insert(g.objects[static_cast<std::size_t>(o)].name);
+  for (const graph::ObjectId o : g.pickable_on(platforms.back())) on_top.insert(g.objects[o].name);
   EXPECT_EQ(on_top.size(), 26u);
   EXPECT_TRUE(on_top.count("basket_0"));
   for (const int k : {62, 73, 85, 86}) {

@@ -19,7 +19,7 @@ namespace {
 using ::testing::HasSubstr;
 
 std::optional<Reference> refer_to(const graph::SceneGraph& g, const episode::WorldState& s, const char* name) {
-  const int o = g.find_object(name);
+  const auto o = g.find_object(name);
   return refer(g, {&s}, o, episode::furniture_platform_of(g, s, o), Ambiguity::kCategory);
 }
 
@@ -29,18 +29,18 @@ TEST(References, IdenticalBoxesInARowAreCountedFromTheArrivalSide) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
   const auto& g = b.graph;
-  ASSERT_EQ(g.platforms[static_cast<std::size_t>(g.navigable[0])].default_side, 0);
+  ASSERT_EQ(g.platforms[g.navigable[0]].default_side, 0);
   const episode::WorldState s = episode::initial_state(g);
   EXPECT_EQ(refer_to(g, s, "box_1")->phrase(), "the leftmost box");
   EXPECT_EQ(refer_to(g, s, "box_2")->phrase(), "the second box from the left");
   EXPECT_EQ(refer_to(g, s, "box_3")->phrase(), "the rightmost box");
   // What a reader finds: exactly the object, and with box_1 in hand the leftmost is box_2.
-  const int table = g.navigable[0];
+  const auto table = g.navigable[0];
   const Reference leftmost = *refer_to(g, s, "box_1");
-  EXPECT_EQ(resolve(g, s, table, leftmost, Ambiguity::kCategory), (std::vector<int>{g.find_object("box_1")}));
+  EXPECT_EQ(resolve(g, s, table, leftmost, Ambiguity::kCategory), (std::vector<graph::ObjectId>{g.find_object("box_1")}));
   episode::WorldState held = s;
   episode::pick(g, held, g.find_object("box_1"));
-  EXPECT_EQ(resolve(g, held, table, leftmost, Ambiguity::kCategory), (std::vector<int>{g.find_object("box_2")}));
+  EXPECT_EQ(resolve(g, held, table, leftmost, Ambiguity::kCategory), (std::vector<graph::ObjectId>{g.find_object("box_2")}));
   // As JSON and back, as the task database stores it.
   EXPECT_EQ(Reference::from_json(leftmost.to_json()).phrase(), leftmost.phrase());
   const nlohmann::json bad_rank = {{"relation", "from_left"}, {"noun", "box"}, {"rank", 9}};
@@ -132,17 +132,17 @@ TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
                        testing::FixtureDataset::instance("toy_shelf", testing::hab(2.5, 0, 0))}}});
   const auto b = testing::build_fixture_scene(fx, "s");
   const auto& g = b.graph;
-  int shelf = -1;
-  for (const int p : g.navigable) {
-    if (g.platforms[static_cast<std::size_t>(p)].clearance < 0.2) shelf = p;
+  graph::PlatformId shelf;
+  for (const graph::PlatformId p : g.navigable) {
+    if (g.platforms[p].clearance < 0.2) shelf = p;
   }
-  ASSERT_GE(shelf, 0) << "the lower board is a platform with little free height";
-  const int bottom = g.find_object("box_1");
+  ASSERT_TRUE(shelf.valid()) << "the lower board is a platform with little free height";
+  const auto bottom = g.find_object("box_1");
   episode::WorldState s = episode::initial_state(g);
   EXPECT_NEAR(episode::stack_height(g, s, bottom), 0.2, 0.01);
   episode::pick(g, s, bottom);
   s.at_platform = shelf;
-  s.side = g.platforms[static_cast<std::size_t>(shelf)].default_side;
+  s.side = g.platforms[shelf].default_side;
   s.phase = episode::Phase::kAtPlatform;
   const episode::StepOutcome out = episode::apply_action(g, s, "startplace", {}, {});
   EXPECT_FALSE(out.applied);
@@ -152,7 +152,7 @@ TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
   o.levels = {1, 2};
   const GenerationResult r = generate_tasks(g, o);
   for (const Task& t : r.set.tasks) {
-    EXPECT_FALSE(t.item == "box_1" && t.destination == g.platforms[static_cast<std::size_t>(shelf)].name) << t.text;
+    EXPECT_FALSE(t.item == "box_1" && t.destination == g.platforms[shelf].name) << t.text;
   }
   EXPECT_GT(r.set.dropped.by_reason.at("stack").at(2), 0);
 }

@@ -47,8 +47,8 @@ TEST(AtomicTasks, MovingABoxToTheEmptyTableGivesTheSurfaceAndItsNineParts) {
   const auto b = testing::two_tables(fx);
   const auto& g = b.graph;
   const auto tasks = enumerate_atomic(g, episode::initial_state(g), small_options());
-  const int box1 = g.find_object("box_1");
-  const int empty = g.navigable[1];
+  const auto box1 = g.find_object("box_1");
+  const auto empty = g.navigable[1];
   std::multiset<std::string> types;
   for (const auto& t : tasks) {
     if (t.goal.item == box1 && t.goal.platform == empty) types.insert(episode::to_string(t.goal.type));
@@ -63,7 +63,7 @@ TEST(AtomicTasks, BetweenAndDirectionGoalsOnTheOccupiedTable) {
   const auto b = testing::two_tables(fx);
   const auto& g = b.graph;
   const auto tasks = enumerate_atomic(g, episode::initial_state(g), small_options());
-  const int box1 = g.find_object("box_1"), box2 = g.find_object("box_2"), box3 = g.find_object("box_3");
+  const auto box1 = g.find_object("box_1"), box2 = g.find_object("box_2"), box3 = g.find_object("box_3");
   bool between_2_3 = false, around_2 = false;
   std::set<int> directions_of_3;
   for (const auto& t : tasks) {
@@ -262,7 +262,7 @@ TEST(AtomicTasks, APartialEnumerationHoldsExactlyItsPartOfTheWhole) {
   for (const AtomicTask& t : all) {
     const auto one = enumerate_atomic(b.graph, s, options, {{t.goal.item}, {t.goal.platform}, t.key});
     EXPECT_EQ(plan_of(one), plan_of({t}));
-    for (const int anchor : t.goal.anchors()) {
+    for (const graph::ObjectId anchor : t.goal.anchors()) {
       ++anchored;
       std::vector<AtomicTask> expected;
       for (const AtomicTask& u : all) {
