@@ -6,14 +6,14 @@
 namespace mtg::bus {
 namespace {
 
-graph::ObjectId object_index(const graph::SceneGraph& g, const std::string& name) {
+graph::ObjectId object_id(const graph::SceneGraph& g, const std::string& name) {
   if (name.empty()) return {};
   const graph::ObjectId i = g.find_object(name);
   if (!i.valid()) throw Error("state update: unknown object '" + name + "' in scene " + g.scene);
   return i;
 }
 
-graph::PlatformId platform_index(const graph::SceneGraph& g, const std::string& name) {
+graph::PlatformId platform_id(const graph::SceneGraph& g, const std::string& name) {
   if (name.empty()) return {};
   const graph::PlatformId i = g.find_platform(name);
   if (!i.valid()) throw Error("state update: unknown platform '" + name + "' in scene " + g.scene);
@@ -106,12 +106,12 @@ episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_u
   episode::StateUpdate u;
   u.step = m.step;
   u.key = m.key;
-  u.at_platform = platform_index(g, m.at_platform);
+  u.at_platform = platform_id(g, m.at_platform);
   u.side = m.side;
-  u.holding = object_index(g, m.holding);
-  u.picked = object_index(g, m.picked);
+  u.holding = object_id(g, m.holding);
+  u.picked = object_id(g, m.picked);
   for (const auto& op : m.moved) {
-    u.placed.push_back({object_index(g, op.object), platform_index(g, op.platform), Eigen::Vector3d(op.x, op.y, op.z)});
+    u.placed.push_back({object_id(g, op.object), platform_id(g, op.platform), Eigen::Vector3d(op.x, op.y, op.z)});
   }
   u.invalid = m.invalid;
   u.format_error = m.format_error;

@@ -69,7 +69,7 @@ episode::StateDelta from_message(const mtg::world_state_delta_t& m);
 /// A render request as the renderer takes it (views by name, typed).
 /// @throws mtg::Error naming an unknown view or mark kind.
 render::ImageRequest from_message(const mtg::render_request_t& m);
-/// One view of a render request: the graph's indices become names.
+/// One view of a render request: the graph's ids become names.
 mtg::render_view_t to_message(const graph::SceneGraph& g, const render::ViewRequest& v);
 /// An encoded image with its content hash.
 mtg::image_t to_message(const render::EncodedImage& e);

@@ -9,6 +9,7 @@
 #include "core/geom/polygon.h"
 #include "core/graph/free_space.h"
 #include "core/graph/scene_graph.h"
+#include "core/util/id_vector.h"
 
 namespace mtg::episode {
 

@@ -220,8 +220,7 @@ class GraphBuilder {
     }
     std::stable_sort(pending_.begin(), pending_.end(),
                      [&](ObjectId a, ObjectId b) { return geo_[a].bottom < geo_[b].bottom; });
-    parent_draft_.clear();
-    parent_draft_.resize(size(), -1);
+    parent_draft_.assign(size(), -1);
     int far_drops = 0;
     double max_drop = 0.0;
     for (const ObjectId i : pending_) {

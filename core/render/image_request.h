@@ -13,7 +13,7 @@
 
 namespace mtg::render {
 
-/// One view asked for by name (ViewRequest holds graph indices instead).
+/// One view asked for by name (ViewRequest holds the graph's ids instead).
 struct ViewSpec {
   ViewKind view = ViewKind::kPlatform;
   std::string platform;  // platform views

@@ -53,7 +53,7 @@ class PlatformView {
     const Eigen::Vector2i step = graph::direction_step(graph::platform_direction(relative_dir, side_));
     return centres_P_[i].dot(Eigen::Vector2d(step.x(), step.y()));
   }
-  // The object it rests on, or -1 when it stands on the platform itself.
+  // The view position of the object it rests on, or -1 when it stands on the platform itself.
   int support(std::size_t i) const {
     const graph::PlatformId p = s_.objects[objects_[i]].parent;
     return p == platform_ || !p.valid() ? -1 : index_of(g_.platforms[p].owner);

@@ -3,6 +3,7 @@
 // i-th entry is table[Id::of_index(i)], and only that id kind indexes it, so an object's id
 // cannot read the platform table.
 
+#include <cassert>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -23,10 +24,18 @@ class IdVector {
   using const_iterator = typename std::vector<T>::const_iterator;
 
   IdVector() = default;
-  explicit IdVector(std::size_t n, const T& value = T()) : items_(n, value) {}
+  explicit IdVector(std::size_t n) : items_(n) {}
+  IdVector(std::size_t n, const T& value) : items_(n, value) {}
 
-  reference operator[](Id id) { return items_[id.index()]; }
-  const_reference operator[](Id id) const { return items_[id.index()]; }
+  /// `id` must number an entry (checked in debug builds; at() checks always).
+  reference operator[](Id id) {
+    assert(contains(id));
+    return items_[id.index()];
+  }
+  const_reference operator[](Id id) const {
+    assert(contains(id));
+    return items_[id.index()];
+  }
   /// @throws std::out_of_range for an id that numbers no entry (none included).
   reference at(Id id) { return items_.at(checked(id)); }
   const_reference at(Id id) const { return items_.at(checked(id)); }
@@ -40,7 +49,9 @@ class IdVector {
   Id next_id() const { return Id::of_index(items_.size()); }
 
   void reserve(std::size_t n) { items_.reserve(n); }
-  void resize(std::size_t n, const T& value = T()) { items_.resize(n, value); }
+  void resize(std::size_t n) { items_.resize(n); }
+  void resize(std::size_t n, const T& value) { items_.resize(n, value); }
+  void assign(std::size_t n, const T& value) { items_.assign(n, value); }
   void clear() { items_.clear(); }
   /// Appends `value` and returns its id.
   Id push_back(T value) {

@@ -10,7 +10,6 @@
 #include <compare>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <iterator>
 #include <ostream>
 #include <string>
@@ -22,7 +21,8 @@ class TypedId {
  public:
   /// None.
   constexpr TypedId() = default;
-  constexpr explicit TypedId(Rep value) : value_(value) {}
+  /// Any negative value is none.
+  constexpr explicit TypedId(Rep value) : value_(value < 0 ? Rep(-1) : value) {}
   /// The id of the i-th entry of a table.
   static constexpr TypedId of_index(std::size_t i) { return TypedId(static_cast<Rep>(i)); }
 
@@ -32,7 +32,6 @@ class TypedId {
   constexpr std::size_t index() const { return static_cast<std::size_t>(value_); }
 
   friend constexpr auto operator<=>(TypedId, TypedId) = default;
-  friend constexpr bool operator==(TypedId, TypedId) = default;
   friend std::string to_string(TypedId id) { return std::to_string(id.value_); }
   friend std::ostream& operator<<(std::ostream& out, TypedId id) { return out << id.value_; }
 
@@ -46,7 +45,10 @@ class IdRange {
  public:
   class iterator {
    public:
-    using iterator_category = std::forward_iterator_tag;
+    // Dereferencing gives a value, not a reference: an input iterator by the old rules, a
+    // forward one by C++20's (as std::views::iota's).
+    using iterator_category = std::input_iterator_tag;
+    using iterator_concept = std::forward_iterator_tag;
     using value_type = Id;
     using difference_type = std::ptrdiff_t;
     using pointer = const Id*;
@@ -72,8 +74,3 @@ class IdRange {
 };
 
 }  // namespace mtg
-
-template <class Tag, class Rep>
-struct std::hash<mtg::TypedId<Tag, Rep>> {
-  std::size_t operator()(mtg::TypedId<Tag, Rep> id) const noexcept { return std::hash<Rep>()(id.value()); }
-};

@@ -15,6 +15,7 @@
 #include "core/episode/world_state.h"
 #include "core/render/gl/gl_context.h"
 #include "core/scene/scene.h"
+#include "core/util/id_vector.h"
 
 namespace mtg::render {
 
