@@ -2,6 +2,16 @@
 
 namespace mtg::orchestrator::remote {
 
+const char* to_string(LeaseState state) {
+  switch (state) {
+    case LeaseState::kGranted: return "granted";
+    case LeaseState::kDone: return "done";
+    case LeaseState::kExpired: return "expired";
+    case LeaseState::kRevoked: return "revoked";
+  }
+  return "?";
+}
+
 LeaseBook::LeaseBook(const std::filesystem::path& file) {
   db_ = std::make_unique<store::Database>(file, store::Database::Mode::kCreate);
   // WAL: a killed coordinator never leaves a torn book; each change is its own commit.
@@ -13,19 +23,20 @@ LeaseBook::LeaseBook(const std::filesystem::path& file) {
 }
 
 void LeaseBook::grant(const LeaseRecord& l) {
-  store::Statement q(*db_, "INSERT OR REPLACE INTO leases (episode_id, attempt, worker, state) VALUES (?,?,?,'granted')");
-  q.bind(1, l.episode_id.value()).bind(2, std::int64_t{l.attempt}).bind(3, l.worker);
+  store::Statement q(*db_, "INSERT OR REPLACE INTO leases (episode_id, attempt, worker, state) VALUES (?,?,?,?)");
+  q.bind(1, l.episode_id.value()).bind(2, std::int64_t{l.attempt}).bind(3, l.worker).bind(4, to_string(LeaseState::kGranted));
   q.run();
 }
 
-void LeaseBook::close(bus::EpisodeId episode_id, int attempt, const std::string& state) {
+void LeaseBook::close(bus::EpisodeId episode_id, int attempt, LeaseState state) {
   store::Statement q(*db_, "UPDATE leases SET state = ? WHERE episode_id = ? AND attempt = ?");
-  q.bind(1, state).bind(2, episode_id.value()).bind(3, std::int64_t{attempt});
+  q.bind(1, to_string(state)).bind(2, episode_id.value()).bind(3, std::int64_t{attempt});
   q.run();
 }
 
 std::vector<LeaseRecord> LeaseBook::open_leases() const {
-  store::Statement q(*db_, "SELECT episode_id, attempt, worker FROM leases WHERE state = 'granted' ORDER BY episode_id");
+  store::Statement q(*db_, "SELECT episode_id, attempt, worker FROM leases WHERE state = ? ORDER BY episode_id");
+  q.bind(1, to_string(LeaseState::kGranted));
   std::vector<LeaseRecord> out;
   while (q.step()) out.push_back({bus::EpisodeId(q.column_int(0)), static_cast<int>(q.column_int(1)), q.column_text(2)});
   return out;

@@ -15,6 +15,15 @@
 
 namespace mtg::orchestrator::remote {
 
+/// What became of a lease; the book stores the name (to_string).
+enum class LeaseState {
+  kGranted,  // out: its worker runs it
+  kDone,     // its result was stored or ignored
+  kExpired,  // not renewed in time
+  kRevoked,  // taken back (the episode runs elsewhere)
+};
+const char* to_string(LeaseState state);
+
 struct LeaseRecord {
   bus::EpisodeId episode_id;
   int attempt = 0;
@@ -25,8 +34,7 @@ class LeaseBook {
  public:
   explicit LeaseBook(const std::filesystem::path& file);
   void grant(const LeaseRecord& lease);
-  /// state: "done" (result stored or ignored), "expired", "revoked".
-  void close(bus::EpisodeId episode_id, int attempt, const std::string& state);
+  void close(bus::EpisodeId episode_id, int attempt, LeaseState state);
   /// Leases granted and not closed.
   std::vector<LeaseRecord> open_leases() const;
   /// Highest attempt granted per episode.

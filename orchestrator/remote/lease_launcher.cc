@@ -221,7 +221,7 @@ void LeaseLauncher::drop(bus::EpisodeId episode_id, int attempt) {
   const auto it = leases_.find(episode_id);
   if (it == leases_.end() || it->second.attempt != attempt) return;
   send_lease("revoke", episode_id, attempt, it->second.worker);
-  book_.close(episode_id, attempt, "revoked");
+  book_.close(episode_id, attempt, LeaseState::kRevoked);
   leases_.erase(it);
 }
 
@@ -274,7 +274,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
   if (w != workers_.end()) host = w->second.host;
   if (lease != leases_.end() && lease->second.attempt == attempt) {
     leases_.erase(lease);
-    book_.close(id, attempt, "done");
+    book_.close(id, attempt, LeaseState::kDone);
     sink_->on_result(result, host);
   }
   send_lease("release", id, attempt, worker);
@@ -294,7 +294,7 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
   for (const auto id : expired) {
     const Lease l = leases_.at(id);
     leases_.erase(id);
-    book_.close(id, l.attempt, "expired");
+    book_.close(id, l.attempt, LeaseState::kExpired);
     send_lease("revoke", id, l.attempt, l.worker);  // in case the worker is alive but was cut off
     const auto w = workers_.find(l.worker);
     const std::string host = w == workers_.end() ? l.worker : w->second.host;

@@ -25,6 +25,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "mtg/episode_start_t.hpp"
+#include "orchestrator/remote/lease_book.h"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
@@ -151,13 +152,15 @@ class MultiHostTest : public ::testing::Test {
   }
 
   // Leases the coordinator has out, per worker sender id (leases.sqlite).
-  std::map<std::string, int> open_leases(const std::string& out) { return leases_in_state(out, "granted"); }
+  std::map<std::string, int> open_leases(const std::string& out) {
+    return leases_in_state(out, orchestrator::remote::LeaseState::kGranted);
+  }
 
-  // Leases the coordinator's book holds in one state ("granted", "done", ...), per worker sender id.
-  std::map<std::string, int> leases_in_state(const std::string& out, const std::string& state) {
+  // Leases the coordinator's book holds in one state, per worker sender id.
+  std::map<std::string, int> leases_in_state(const std::string& out, orchestrator::remote::LeaseState state) {
     store::Database db(fx_.root() / out / "leases.sqlite", store::Database::Mode::kReadOnly);
     store::Statement q(db, "SELECT worker, COUNT(*) FROM leases WHERE state = ? GROUP BY worker");
-    q.bind(1, state);
+    q.bind(1, orchestrator::remote::to_string(state));
     std::map<std::string, int> n;
     while (q.step()) n[q.column_text(0)] = static_cast<int>(q.column_int(1));
     return n;

@@ -175,7 +175,7 @@ TEST_F(MultiHostTest, AKilledCoordinatorRestartedAdoptsTheLeasesStillOut) {
   // two leaves a worker holding a lease the book calls done. Any lease a worker holds must be in
   // the book, out or done; none may be one the coordinator never wrote down.
   int done_at_kill = 0;
-  for (const auto& [worker, n] : leases_in_state("restart", "done")) done_at_kill += n;
+  for (const auto& [worker, n] : leases_in_state("restart", orchestrator::remote::LeaseState::kDone)) done_at_kill += n;
 
   // Meanwhile the workers hold their leases (finished ones wait for a release): mtg status.
   const std::string status_file = (fx_.root() / "status.json").string();

@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "core/store/sqlite.h"
+#include "orchestrator/remote/lease_book.h"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/process.h"
 
@@ -189,11 +190,12 @@ class Bench {
     ChildProcess p(run_args(out, limit, true, false), (work_ / "kill.log").string());
     const pid_t worker_pid = workers_[static_cast<std::size_t>(victim)]->pid();
     const std::string suffix = ":" + std::to_string(worker_pid);
-    auto victim_leases = [&](const char* state) {
+    auto victim_leases = [&](mtg::orchestrator::remote::LeaseState state) {
       std::set<std::int64_t> ids;
       try {
         mtg::store::Database db(work_ / out / "leases.sqlite", mtg::store::Database::Mode::kReadOnly);
-        mtg::store::Statement q(db, std::string("SELECT episode_id, worker FROM leases WHERE state = '") + state + "'");
+        mtg::store::Statement q(db, "SELECT episode_id, worker FROM leases WHERE state = ?");
+        q.bind(1, mtg::orchestrator::remote::to_string(state));
         while (q.step()) {
           const std::string w = q.column_text(1);
           if (w.size() > suffix.size() && w.compare(w.size() - suffix.size(), suffix.size(), suffix) == 0) {
@@ -220,14 +222,14 @@ class Bench {
     // freeze it, let what it already sent arrive, and kill it if leases are still out on it.
     Clock::time_point stopped_at;
     for (;;) {
-      while (p.running() && (stored().size() < static_cast<std::size_t>(3 * limit / 10) || victim_leases("granted").empty())) {
+      while (p.running() && (stored().size() < static_cast<std::size_t>(3 * limit / 10) || victim_leases(mtg::orchestrator::remote::LeaseState::kGranted).empty())) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
       }
       if (!p.running()) throw std::runtime_error("the run ended before a host could be killed");
       signal_host("STOP");
       stopped_at = Clock::now();
       std::this_thread::sleep_for(std::chrono::milliseconds(300));
-      if (!victim_leases("granted").empty()) break;
+      if (!victim_leases(mtg::orchestrator::remote::LeaseState::kGranted).empty()) break;
       signal_host("CONT");
     }
     const auto killed = stopped_at;  // the host has been silent since then
@@ -236,7 +238,7 @@ class Bench {
     std::set<std::int64_t> lost;
     for (bool last = false; !last;) {
       last = !p.running();
-      if (detect < 0 && !(lost = victim_leases("expired")).empty()) detect = seconds_since(killed);
+      if (detect < 0 && !(lost = victim_leases(mtg::orchestrator::remote::LeaseState::kExpired)).empty()) detect = seconds_since(killed);
       if (detect >= 0 && recover < 0) {
         const auto done = stored();
         bool all = true;
