@@ -3,10 +3,11 @@
 
 #include <string>
 
+#include "core/util/host_name.h"
+
 namespace mtg::process {
 
-/// This machine's host name ("unknown" if it has none).
-std::string host_name();
+using mtg::host_name;
 
 /// "<role>:<host>:<pid>", unique per process.
 std::string sender_id(const std::string& role);

@@ -127,17 +127,13 @@ struct TaskDbWriter::Open {
   std::ofstream jsonl;
 
   Open(const fs::path& tmp, const TaskOptions& options)
-      : db(fresh(tmp), store::Database::Mode::kCreate),
+      : db(tmp, store::Database::Mode::kCreate),
         tx(with_schema(db)),
         insert_task(db, "INSERT INTO tasks (id, scene, level, type, chunk, slot) VALUES (?,?,?,?,?,?)"),
         insert_chunk(db, "INSERT INTO task_chunks (chunk, size, body) VALUES (?,?,?)"),
         hash(options.config_hash()) {}
 
-  // A stale .partial of an interrupted run goes first; the schema goes in before the transaction.
-  static const fs::path& fresh(const fs::path& tmp) {
-    fs::remove(tmp);
-    return tmp;
-  }
+  // The schema goes in before the transaction.
   static store::Database& with_schema(store::Database& db) {
     db.exec(kSchema);
     return db;
@@ -149,20 +145,17 @@ TaskDbWriter::TaskDbWriter(const fs::path& file, const TaskOptions& options, con
       jsonl_(jsonl),
       options_(options),
       jobs_(jobs),
-      open_(std::make_unique<Open>(partial_path(file), options)) {
+      db_partial_(file, PartialFile::Stale::kRemove),
+      open_(std::make_unique<Open>(db_partial_.path(), options)) {
   if (!jsonl_.empty()) {
-    open_->jsonl.open(partial_path(jsonl_), std::ios::binary | std::ios::trunc);
+    jsonl_partial_.emplace(jsonl_, PartialFile::Stale::kRemove);
+    open_->jsonl.open(jsonl_partial_->path(), std::ios::binary | std::ios::trunc);
     if (!open_->jsonl) throw Error(jsonl_.string() + ": cannot write");
   }
 }
 
-TaskDbWriter::~TaskDbWriter() {
-  if (!open_) return;
-  open_.reset();  // rolls back
-  std::error_code ignored;
-  fs::remove(partial_path(file_), ignored);
-  if (!jsonl_.empty()) fs::remove(partial_path(jsonl_), ignored);
-}
+// Without finish(), the transaction rolls back and the partial files go.
+TaskDbWriter::~TaskDbWriter() = default;
 
 void TaskDbWriter::end_scene(const TaskSet& set) {
   MTG_DEMAND(set.tasks.empty(), "end_scene() takes a scene whose tasks were stored; add() takes a whole one");
@@ -268,8 +261,8 @@ void TaskDbWriter::finish(const std::vector<Vote>& votes) {
     if (!o.jsonl) throw Error(jsonl_.string() + ": write failed");
   }
   open_.reset();
-  fs::rename(partial_path(file_), file_);
-  if (!jsonl_.empty()) fs::rename(partial_path(jsonl_), jsonl_);
+  db_partial_.commit();
+  if (jsonl_partial_) jsonl_partial_->commit();
 }
 
 void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const std::vector<Vote>& votes,

@@ -7,12 +7,14 @@
 #include <nlohmann/json.hpp>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/tasks/feasibility.h"
 #include "core/tasks/task.h"
+#include "core/util/atomic_file.h"
 
 namespace mtg::tasks {
 
@@ -33,7 +35,7 @@ struct TaskChunk {
 /// set, nor even one whole set. A scene's tasks are made into chunks as they come (make_chunks,
 /// which any thread may call for its own scene) and stored in order (store); end_scene() then
 /// records what was dropped and the files the scene came from; the metadata and votes go in at
-/// finish(), and the file appears (renamed from `<file>.partial`) only then. Without finish()
+/// finish(), and the file appears (renamed from this writer's own partial file, atomic_file.h) only then. Without finish()
 /// nothing is left behind. A scene's chunks are counted from its first task, and only its last
 /// chunk may be short, so the bytes depend only on the tasks and their order: not on how they
 /// were batched, nor on `jobs`, the threads each call compresses on. With `jsonl` not empty, the
@@ -64,6 +66,8 @@ class TaskDbWriter {
   std::filesystem::path file_, jsonl_;
   TaskOptions options_;
   int jobs_ = 1;
+  PartialFile db_partial_;  // before open_: the database closes before its file is moved or removed
+  std::optional<PartialFile> jsonl_partial_;
   std::unique_ptr<Open> open_;
   bool scene_open_ = false;  // chunks stored since the last end_scene()
 };

@@ -1,22 +1,86 @@
 #include "core/util/atomic_file.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <string>
+#include <system_error>
 
 #include "core/util/error.h"
+#include "core/util/host_name.h"
 
 namespace mtg {
+namespace fs = std::filesystem;
+namespace {
 
-std::filesystem::path partial_path(const std::filesystem::path& file) { return file.string() + ".partial"; }
+// Whether process `pid` of this host still runs (EPERM: it does, as another user's).
+bool process_alive(long pid) { return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM; }
 
-void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& write) {
-  const std::filesystem::path tmp = partial_path(file);
+// The pid a partial name of this host ends with, or -1 when `name` is none of this host's.
+long partial_pid(const std::string& name, const std::string& prefix) {
+  if (name.compare(0, prefix.size(), prefix) != 0) return -1;
+  const std::string digits = name.substr(prefix.size());
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stol(digits);
+}
+
+// Partials of `target` left by writers of this host that are gone (and the `.partial` of
+// versions before per-writer names), with their SQLite journals.
+void remove_stale_partials(const fs::path& target) {
+  const std::string base = target.filename().string();
+  const std::string prefix = base + ".partial-" + host_name() + "-";
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    const long pid = partial_pid(name, prefix);
+    const bool stale = name == base + ".partial" || (pid > 0 && !process_alive(pid));
+    if (!stale) continue;
+    fs::remove(e.path(), ec);
+    fs::remove(e.path().string() + "-journal", ec);
+  }
+}
+
+}  // namespace
+
+PartialFile::PartialFile(fs::path target, Stale stale) : target_(std::move(target)) {
+  if (stale == Stale::kRemove) remove_stale_partials(target_);
+  path_ = target_.string() + ".partial-" + host_name() + "-" + std::to_string(::getpid());
+  const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw Error(target_.string() + ": cannot create " + path_.filename().string() + " (" + std::strerror(errno) +
+                (errno == EEXIST ? "; this process is writing it already)" : ")"));
+  }
+  ::close(fd);
+}
+
+PartialFile::~PartialFile() {
+  if (committed_) return;
+  std::error_code ignored;
+  fs::remove(path_, ignored);
+  fs::remove(path_.string() + "-journal", ignored);
+}
+
+void PartialFile::commit() {
+  std::error_code ec;
+  fs::rename(path_, target_, ec);
+  if (ec) throw Error(target_.string() + ": cannot move the finished file into place (" + ec.message() + ")");
+  committed_ = true;
+}
+
+void write_file_atomically(const fs::path& file, const std::function<void(std::ostream&)>& write) {
+  PartialFile partial(file);
   {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    std::ofstream out(partial.path(), std::ios::binary | std::ios::trunc);
     if (!out) throw Error(file.string() + ": cannot write");
     write(out);
     if (!out) throw Error(file.string() + ": write failed");
   }
-  std::filesystem::rename(tmp, file);
+  partial.commit();
 }
 
 }  // namespace mtg

@@ -1,7 +1,13 @@
 #pragma once
-// Writing a file so that readers never see half of it: the content goes to `<file>.partial`,
-// which is renamed over `file` once complete. An interrupted writer leaves the old file (or
-// none) and at most a stale `.partial`.
+// Writing a file so that readers never see half of it: the content goes to a partial file next
+// to it, renamed over it once complete. An interrupted writer leaves the old file (or none).
+//
+// Each writer builds its own partial, `<file>.partial-<host>-<pid>`, so two writers of one file
+// (two runs given the same output) never write into each other's: both finish, and the last
+// rename wins. A partial of this host whose process is gone was left by a killed writer; a
+// writer of a long-lived file (the task database) removes such partials of its file first, with
+// their SQLite journals. Quick writes do not look: their folder may hold thousands of files
+// (episode logs, images), and a writer is rarely killed inside one.
 
 #include <filesystem>
 #include <functional>
@@ -9,11 +15,31 @@
 
 namespace mtg {
 
-/// Calls `write(stream)` on a binary stream to `<file>.partial`, then renames it to `file`.
+/// Calls `write(stream)` on a binary stream to a partial file, then renames it to `file`.
 /// @throws mtg::Error naming `file` when it cannot be written.
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& write);
 
-/// `<file>.partial`: where write_file_atomically() and the task database build a file.
-std::filesystem::path partial_path(const std::filesystem::path& file);
+/// The partial file of one writer of `target`: created (empty) with the writer, renamed over the
+/// target by commit(), removed if it goes uncommitted.
+class PartialFile {
+ public:
+  enum class Stale { kLeave, kRemove };
+  /// With Stale::kRemove, removes the partials of `target` that killed writers left first.
+  /// @throws mtg::Error naming `target` if the partial cannot be created (this process writes
+  /// `target` already, or its folder is not writable).
+  explicit PartialFile(std::filesystem::path target, Stale stale = Stale::kLeave);
+  ~PartialFile();
+  PartialFile(const PartialFile&) = delete;
+  PartialFile& operator=(const PartialFile&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& target() const { return target_; }
+  /// Renames the partial over the target. @throws mtg::Error naming the target if it cannot.
+  void commit();
+
+ private:
+  std::filesystem::path target_, path_;
+  bool committed_ = false;
+};
 
 }  // namespace mtg
