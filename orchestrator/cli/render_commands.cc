@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <ostream>
 
 #include "bus/channels.h"
@@ -86,12 +87,17 @@ int run_images(const ImagesOptions& o) {
     }
     if (o.episode >= 0 && obs.header.episode_id != o.episode) return;
     seen_episode = true;
+    // An observation may hold several images of one role (a close-up per look-alike): the
+    // second and later get _2, _3, ... so that none overwrites another.
+    std::map<std::string, int> of_role;
     for (const mtg::image_t& img : obs.images) {
       if (img.nbytes == 0) continue;
       const std::string ext = img.encoding == "jpeg" ? ".jpg" : ".png";
-      const fs::path file = fs::path(o.out) / ("e" + std::to_string(obs.header.episode_id) + "_a" +
-                                              std::to_string(obs.header.attempt) + "_s" + std::to_string(obs.step) +
-                                              "_" + img.role + ext);
+      const int n = ++of_role[img.role];
+      const std::string name = "e" + std::to_string(obs.header.episode_id) + "_a" + std::to_string(obs.header.attempt) +
+                               "_s" + std::to_string(obs.step) + "_" + img.role +
+                               (n > 1 ? "_" + std::to_string(n) : std::string()) + ext;
+      const fs::path file = fs::path(o.out) / name;
       write_bytes(file, img.data.data(), img.data.size());
       ++written;
     }

@@ -5,6 +5,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 
@@ -187,12 +190,17 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     task_of[r.episode_id.value()] = r.task_id;
   }
   int first_observations = 0;
+  std::size_t images = 0, most_close_ups = 0;
   bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
     mtg::observation_t obs{};
     ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
     std::size_t focus = 0;
-    for (const auto& img : obs.images) focus += img.role == "focus" ? 1 : 0;
+    for (const auto& img : obs.images) {
+      focus += img.role == "focus" ? 1 : 0;
+      images += img.nbytes > 0 ? 1 : 0;
+    }
+    most_close_ups = std::max(most_close_ups, focus);
     if (obs.step != 0) {
       EXPECT_EQ(focus, 0u) << "close-ups come once, at the start";
       return;
@@ -205,6 +213,17 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     EXPECT_THAT(obs.hint, ::testing::HasSubstr("lose-up"));
   });
   EXPECT_EQ(first_observations, 3);
+
+  // mtg images writes every one of them to a file of its own, two close-ups of one step included.
+  ASSERT_GE(most_close_ups, 2u) << "the fixture names an item and an anchor with look-alikes";
+  const auto folder = fx.root() / "images";
+  ASSERT_EQ(testing::ChildProcess({testing::bin("mtg"), "images", out.string(), "--out", folder.string()},
+                                  (fx.root() / "images.log").string())
+                .wait(60000),
+            0);
+  const auto files = static_cast<std::size_t>(
+      std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()));
+  EXPECT_EQ(files, images);
 }
 
 }  // namespace
