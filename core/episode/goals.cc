@@ -253,10 +253,13 @@ bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const 
            footprint_gap(s.objects[a].footprint,
                          s.objects[b].footprint) <= options.around_distance;
   };
-  auto listed = [](const std::vector<graph::PlatformId>& list, graph::PlatformId v) { return std::find(list.begin(), list.end(), v) != list.end(); };
+  auto listed = [](const std::vector<graph::PlatformId>& list, graph::PlatformId v) {
+    return std::find(list.begin(), list.end(), v) != list.end();
+  };
   switch (p.op) {
     case SetPredicate::Op::kAllOn:
-      return std::all_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId o) { return listed(p.platforms, on(o)); });
+      return std::all_of(p.objects.begin(), p.objects.end(),
+                         [&](graph::ObjectId o) { return listed(p.platforms, on(o)); });
     case SetPredicate::Op::kNoneOn:
       return std::none_of(p.objects.begin(), p.objects.end(),
                           [&](graph::ObjectId o) { return s.held == o || listed(p.platforms, on(o)); });
@@ -314,7 +317,9 @@ AtomicGoal atomic_goal_from_json(const graph::SceneGraph& g, const nlohmann::jso
   }
   const bool needs_anchor = goal.type == GoalType::kAround || goal.type == GoalType::kDirection ||
                             goal.type == GoalType::kBetween;
-  if (needs_anchor && !goal.anchor.valid()) throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'anchor'");
+  if (needs_anchor && !goal.anchor.valid()) {
+    throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'anchor'");
+  }
   if (goal.type == GoalType::kBetween && !goal.anchor2.valid()) throw Error("goal: a between goal needs 'anchor2'");
   if (side_dependent(goal.type) && goal.direction < 0) {
     throw Error(std::string("goal: a ") + to_string(goal.type) + " goal needs 'direction'");

@@ -75,8 +75,7 @@ Eigen::Isometry2d platform_frame(const graph::SceneGraph& g, const WorldState& s
 }
 
 double platform_height(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
-  return g.platforms[platform].height +
-         s.platform_offset[platform].z();
+  return g.platforms[platform].height + s.platform_offset[platform].z();
 }
 
 std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {

@@ -34,8 +34,7 @@ void fill_columns(const graph::SceneGraph& g, const episode::AtomicGoal& goal, T
 
 // Where the oracle puts an atomic part's item (Task::placements).
 OraclePlacement placement_of(const graph::SceneGraph& g, int part, const AtomicTask& a) {
-  return {part, g.objects[a.goal.item].name,
-          g.platforms[a.goal.platform].name, a.placed_at, a.margin};
+  return {part, g.objects[a.goal.item].name, g.platforms[a.goal.platform].name, a.placed_at, a.margin};
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ std::optional<Identified> identify(const graph::SceneGraph& g, const episode::Wo
   if (item->relation != Relation::kAlone) {
     out.lookalikes.push_back(make_identification(g, part, "item", goal.item, goal.source, *item));
   }
-  const std::pair<graph::ObjectId, Reference*> anchors[] = {{goal.anchor, &out.wording.anchor}, {goal.anchor2, &out.wording.anchor2}};
+  const std::pair<graph::ObjectId, Reference*> anchors[] = {{goal.anchor, &out.wording.anchor},
+                                                            {goal.anchor2, &out.wording.anchor2}};
   for (const auto& [anchor, slot] : anchors) {
     if (!anchor.valid()) continue;
     const auto r = referred(anchor, goal.platform, true);

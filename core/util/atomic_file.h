@@ -33,7 +33,6 @@ class PartialFile {
   PartialFile& operator=(const PartialFile&) = delete;
 
   const std::filesystem::path& path() const { return path_; }
-  const std::filesystem::path& target() const { return target_; }
   /// Renames the partial over the target. @throws mtg::Error naming the target if it cannot.
   void commit();
 

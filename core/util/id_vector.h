@@ -45,14 +45,10 @@ class IdVector {
   std::size_t size() const { return items_.size(); }
   bool empty() const { return items_.empty(); }
   IdRange<Id> ids() const { return IdRange<Id>(items_.size()); }
-  /// The id the next pushed entry will have.
-  Id next_id() const { return Id::of_index(items_.size()); }
 
-  void reserve(std::size_t n) { items_.reserve(n); }
   void resize(std::size_t n) { items_.resize(n); }
   void resize(std::size_t n, const T& value) { items_.resize(n, value); }
   void assign(std::size_t n, const T& value) { items_.assign(n, value); }
-  void clear() { items_.clear(); }
   /// Appends `value` and returns its id.
   Id push_back(T value) {
     items_.push_back(std::move(value));
