@@ -4,6 +4,7 @@
 #include <netinet/tcp.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -27,6 +28,10 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
   }
   tcp_ = parse_tcpq(url_).has_value();
   if (tcp_) tune_tcp();
+  if (const auto udpm = parse_udpm(url_)) {
+    udpm_port_ = udpm->port;
+    sockets_before_ = udp_sockets_on_port(udpm_port_);
+  }
 }
 
 void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler) {
@@ -35,6 +40,31 @@ void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler
   if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
   sub->setQueueCapacity(kQueueCapacity);
   handlers_.push_back(std::move(owned));
+  filter_channels(channel_regex);
+}
+
+void Bus::filter_channels(const std::string& subscription) {
+  if (udpm_port_ == 0 || !channels_.add(subscription)) return;
+  if (receive_socket_.fd < 0) {
+    std::vector<OpenSocket> opened;
+    for (const OpenSocket& s : udp_sockets_on_port(udpm_port_)) {
+      if (std::find(sockets_before_.begin(), sockets_before_.end(), s) == sockets_before_.end()) opened.push_back(s);
+    }
+    if (opened.size() != 1) {  // another bus of this process opened one too: leave both unfiltered
+      udpm_port_ = 0;
+      log::debug("LCM receive socket on " + url_ + " not found (" + std::to_string(opened.size()) +
+                 " candidates): every message wakes this process");
+      return;
+    }
+    receive_socket_ = opened.front();
+  }
+  if (const auto program = channels_.program()) {
+    attach_socket_filter(receive_socket_.fd, *program);
+    filtered_ = true;
+  } else {
+    detach_socket_filter(receive_socket_.fd);
+    filtered_ = false;
+  }
 }
 
 bool Bus::SchemaGate::admit_header(const mtg::header_t& header, const std::string& channel) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bus/authenticator.h"
+#include "bus/channel_filter.h"
 #include "core/util/error.h"
 #include "mtg/header_t.hpp"
 
@@ -87,6 +88,7 @@ class Bus {
     if (sub == nullptr) throw Error("LCM subscribe failed for " + channel_regex);
     sub->setQueueCapacity(kQueueCapacity);
     handlers_.push_back(std::move(owned));
+    filter_channels(channel_regex);
   }
 
   /// Like subscribe(), undecoded: `handler(channel, bytes, receive time in µs)`; on an
@@ -102,9 +104,15 @@ class Bus {
 
   int fileno() { return lcm_->getFileno(); }
   const std::string& url() const { return url_; }
+  /// On udpm: whether the kernel drops, before this process wakes, the messages of channels it
+  /// did not subscribe to (bus/channel_filter.h). False until a subscription names only channels,
+  /// or when liblcm's receive socket could not be told apart from another.
+  bool filters_channels() const { return filtered_; }
 
  private:
   void tune_tcp();
+  // After a subscription on udpm: the receive socket's filter lets through what is now subscribed.
+  void filter_channels(const std::string& subscription);
   // Drops typed messages of another schema version, saying so once per bus.
   struct SchemaGate {
     std::int64_t dropped = 0;
@@ -173,6 +181,13 @@ class Bus {
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
   std::shared_ptr<const Authenticator> auth_;
   SchemaGate schema_gate_;
+  // udpm only: liblcm opens its receive socket at the first subscription; it is the one socket
+  // on the bus's port that was not open when this bus was made.
+  int udpm_port_ = 0;
+  std::vector<OpenSocket> sockets_before_;
+  OpenSocket receive_socket_;
+  ChannelFilter channels_;
+  bool filtered_ = false;
 };
 
 }  // namespace mtg::bus

@@ -105,9 +105,12 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   db_->exec("PRAGMA synchronous=NORMAL");
   db_->exec(kSchema);
   add_missing_columns(*db_);
+  insert_ = std::make_unique<store::Statement>(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
+                                                         ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
 }
 
 ResultsDb::~ResultsDb() {
+  insert_.reset();  // no statement may stay prepared while the journal mode changes
   try {
     db_->exec("PRAGMA journal_mode=DELETE");
   } catch (const Error&) {
@@ -116,8 +119,8 @@ ResultsDb::~ResultsDb() {
 }
 
 bool ResultsDb::insert(const EpisodeRow& r) {
-  store::Statement q(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
-                               ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  store::Statement& q = *insert_;
+  q.reset();  // after a failed insert too
   q.bind(1, r.episode_id.value()).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);
   q.bind(6, r.agent).bind(7, std::int64_t{r.attempt}).bind(8, std::int64_t{r.success ? 1 : 0}).bind(9, r.ip);
   q.bind(10, r.stage).bind(11, r.cause).bind(12, std::int64_t{r.steps}).bind(13, std::int64_t{r.invalid_actions});

@@ -1,0 +1,56 @@
+#pragma once
+// A kernel-side channel filter for udpm buses (docs/bus.md "Who wakes for what").
+//
+// Every process on a udpm group gets every datagram: liblcm's receive thread wakes for each,
+// reads it, and only then drops a channel nothing subscribed to. With five processes sharing two
+// cores those wake-ups were a third of a run's CPU, and they are why two episodes in flight were
+// not much faster than one. A classic BPF socket filter on liblcm's receive socket drops the
+// unwanted datagrams in the kernel, before anyone wakes. It reads only the LCM wire format
+// (magic, then the NUL-terminated channel), so the bus, its recordings and stock lcm-logger,
+// lcm-spy and lcm-logplayer are untouched: they subscribe to everything and attach no filter.
+
+#include <linux/filter.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mtg::bus {
+
+/// The program for a UDP socket (the UDP header at offset 0): accepts an unfragmented LCM
+/// message whose channel is one of `channels`, every fragment of a fragmented message (only the
+/// first names its channel) and anything that is not LCM (liblcm judges it); drops the rest.
+std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels);
+
+/// Whether an LCM subscription string names exactly one channel (LCM reads it as a regex).
+bool is_literal_channel(const std::string& subscription);
+
+/// Attaches `program` to `fd`, replacing any filter. @throws mtg::Error with the reason.
+void attach_socket_filter(int fd, const std::vector<sock_filter>& program);
+/// Removes the filter of `fd`, if any.
+void detach_socket_filter(int fd);
+
+/// One open socket of this process: its descriptor and its inode (a descriptor may be reused).
+struct OpenSocket {
+  int fd = -1;
+  unsigned long inode = 0;
+  bool operator==(const OpenSocket&) const = default;
+};
+/// This process's UDP sockets bound to `port`, by descriptor.
+std::vector<OpenSocket> udp_sockets_on_port(int port);
+
+/// The subscriptions of one bus and the filter they make: literal channels are let through,
+/// and one pattern (the recorder's ".*") lets everything through.
+class ChannelFilter {
+ public:
+  /// Notes a subscription; true when the set of channels let through changed.
+  bool add(const std::string& subscription);
+  /// The program to attach, or nullopt when everything must pass.
+  std::optional<std::vector<sock_filter>> program() const;
+
+ private:
+  std::vector<std::string> channels_;
+  bool everything_ = false;
+};
+
+}  // namespace mtg::bus

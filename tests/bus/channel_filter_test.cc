@@ -1,0 +1,146 @@
+// The kernel-side channel filter (bus/channel_filter.h): its program on a real UDP socket, and a
+// udpm bus that attaches it, in this test's own network namespace.
+
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <linux/sock_diag.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bus/bus.h"
+#include "bus/channel_filter.h"
+#include "bus/header.h"
+#include "bus/url.h"
+#include "mtg/heartbeat_t.hpp"
+
+namespace mtg::bus {
+namespace {
+
+// A datagram as liblcm sends an unfragmented message: "LC02", a sequence number, the channel.
+std::string short_message(const std::string& channel, const std::string& payload) {
+  return std::string("LC02") + std::string("\0\0\0\7", 4) + channel + std::string(1, '\0') + payload;
+}
+
+// A receiving socket with the filter and a sender aimed at it, on loopback unicast: delivery
+// happens inside sendto(), so after it returns the datagram is queued or was dropped.
+class FilteredSocket {
+ public:
+  explicit FilteredSocket(const std::vector<std::string>& channels) {
+    rx_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+    tx_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(::bind(rx_, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    socklen_t len = sizeof to_;
+    ::getsockname(rx_, reinterpret_cast<sockaddr*>(&to_), &len);
+    attach_socket_filter(rx_, channel_filter_program(channels));
+  }
+  ~FilteredSocket() {
+    ::close(rx_);
+    ::close(tx_);
+  }
+  /// Whether `datagram` got through the filter, checked by reading it back.
+  bool passes(const std::string& datagram) {
+    EXPECT_EQ(::sendto(tx_, datagram.data(), datagram.size(), 0, reinterpret_cast<const sockaddr*>(&to_), sizeof to_),
+              static_cast<ssize_t>(datagram.size()));
+    std::string got(65536, '\0');
+    const ssize_t n = ::recv(rx_, got.data(), got.size(), MSG_DONTWAIT);
+    if (n < 0) return false;
+    got.resize(static_cast<std::size_t>(n));
+    EXPECT_EQ(got, datagram);
+    return true;
+  }
+
+ private:
+  int rx_ = -1, tx_ = -1;
+  sockaddr_in to_{};
+};
+
+TEST(ChannelFilter, LetsThroughOnlyTheSubscribedChannels) {
+  FilteredSocket s({"MTG_OBS", "A", "MTG_EPISODE_START"});
+  EXPECT_TRUE(s.passes(short_message("MTG_OBS", "payload")));
+  EXPECT_TRUE(s.passes(short_message("MTG_EPISODE_START", std::string(3000, 'x'))));
+  EXPECT_FALSE(s.passes(short_message("MTG_ACT", "payload")));
+  EXPECT_FALSE(s.passes(short_message("MTG_OB", "payload")));      // a prefix of a subscribed name
+  EXPECT_FALSE(s.passes(short_message("MTG_OBSX", "payload")));    // a subscribed name as a prefix
+  EXPECT_FALSE(s.passes(short_message("B", "")));
+  // The shortest datagram of a subscribed channel (no payload): every load stays inside it.
+  EXPECT_TRUE(s.passes(short_message("A", "")));
+  // liblcm's own test message, while it checks a new socket.
+  EXPECT_TRUE(s.passes(short_message("LCM_SELF_TEST", "lcm self test")));
+}
+
+TEST(ChannelFilter, LetsThroughFragmentsAndWhatIsNotLcm) {
+  FilteredSocket s({"MTG_OBS"});
+  // Only the first fragment of a large message names its channel: every fragment passes.
+  EXPECT_TRUE(s.passes(std::string("LC03") + std::string(16, '\1') + "data of fragment 3"));
+  EXPECT_TRUE(s.passes("hello, not LCM at all"));
+  EXPECT_FALSE(s.passes("LC"));  // too short to be anything: liblcm would discard it too
+}
+
+TEST(ChannelFilter, APatternSubscriptionLetsEverythingThrough) {
+  ChannelFilter f;
+  EXPECT_TRUE(f.add("MTG_OBS"));
+  EXPECT_FALSE(f.add("MTG_OBS"));
+  ASSERT_TRUE(f.program().has_value());
+  EXPECT_TRUE(f.add(".*"));
+  EXPECT_FALSE(f.program().has_value());
+  EXPECT_FALSE(f.add("MTG_ACT"));
+  EXPECT_TRUE(is_literal_channel("MTG_EPISODE_TRUTH"));
+  EXPECT_FALSE(is_literal_channel("MTG_(OBS|ACT)"));
+  EXPECT_FALSE(is_literal_channel(""));
+}
+
+std::uint32_t kernel_drops(int fd) {
+  std::uint32_t info[SK_MEMINFO_VARS] = {};
+  socklen_t len = sizeof info;
+  EXPECT_EQ(::getsockopt(fd, SOL_SOCKET, SO_MEMINFO, info, &len), 0);
+  return info[SK_MEMINFO_DROPS];
+}
+
+// On a real udpm bus: the subscriber's socket drops the channels it did not ask for in the
+// kernel (its drop count grows by exactly those) and still gets its own.
+TEST(ChannelFilter, AUdpmBusDropsUnsubscribedChannelsBeforeItsProcessWakes) {
+  const int port = parse_udpm(kDefaultUrl)->port;
+  Bus publisher(kDefaultUrl);
+  Bus subscriber(kDefaultUrl);
+  int got = 0;
+  subscriber.subscribe<mtg::heartbeat_t>("T_WANTED", [&](const std::string&, const mtg::heartbeat_t&) { ++got; });
+  ASSERT_TRUE(subscriber.filters_channels());
+  const std::vector<OpenSocket> sockets = udp_sockets_on_port(port);
+  ASSERT_EQ(sockets.size(), 1u);  // the subscriber's receive socket; the publisher never subscribed
+  const std::uint32_t drops_before = kernel_drops(sockets.front().fd);
+
+  mtg::heartbeat_t beat{};
+  beat.header.schema_version = kSchemaVersion;
+  for (int i = 0; i < 20; ++i) publisher.publish("T_UNWANTED", beat);
+  publisher.publish("T_WANTED", beat);
+  subscriber.handle_until([&] { return got == 1; }, 5000);
+  EXPECT_EQ(got, 1);
+  EXPECT_EQ(kernel_drops(sockets.front().fd) - drops_before, 20u);
+}
+
+TEST(ChannelFilter, ARecorderPatternBusGetsEveryChannel) {
+  Bus publisher(kDefaultUrl);
+  Bus everything(kDefaultUrl);
+  int got = 0;
+  everything.subscribe_raw(".*", [&](const std::string& channel, std::span<const std::uint8_t>, std::int64_t) {
+    if (channel.rfind("T_", 0) == 0) ++got;
+  });
+  EXPECT_FALSE(everything.filters_channels());
+  mtg::heartbeat_t beat{};
+  publisher.publish("T_ONE", beat);
+  publisher.publish("T_TWO", beat);
+  everything.handle_until([&] { return got == 2; }, 5000);
+  EXPECT_EQ(got, 2);
+}
+
+}  // namespace
+}  // namespace mtg::bus
