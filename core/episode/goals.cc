@@ -12,6 +12,7 @@ namespace mtg::episode {
 namespace {
 
 constexpr double kEps = 1e-9;
+constexpr double kPruneMargin = 1e-9;  // m: far above the rounding of a distance between footprints
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double segment_distance(const geom::Point2& p, const geom::Point2& a, const geom::Point2& b) {
@@ -184,13 +185,20 @@ double footprint_gap(const geom::Ring& a, const geom::Ring& b) {
   for (const auto& p : b) {
     if (inside_convex(a, p)) return 0.0;
   }
+  // The smallest distance from a vertex of either ring to an edge of the other. A vertex farther
+  // from the other ring's box than the best so far cannot lower it (the margin dwarfs rounding),
+  // so its edges are skipped: the minimum, and so every verdict, is the same to the bit.
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    for (std::size_t j = 0; j < b.size(); ++j) {
-      best = std::min(best, segment_distance(a[i], b[j], b[(j + 1) % b.size()]));
-      best = std::min(best, segment_distance(b[j], a[i], a[(i + 1) % a.size()]));
+  const auto vertex_to_edges = [&best](const geom::Point2& p, const geom::Ring& ring, const Eigen::AlignedBox2d& box) {
+    const double below = (box.min() - p).cwiseMax(p - box.max()).cwiseMax(0.0).norm();
+    if (below > best + kPruneMargin) return;
+    for (std::size_t j = 0, n = ring.size(); j < n; ++j) {
+      best = std::min(best, segment_distance(p, ring[j], ring[(j + 1) % n]));
     }
-  }
+  };
+  const Eigen::AlignedBox2d box_a = geom::bounds(a), box_b = geom::bounds(b);
+  for (const auto& p : a) vertex_to_edges(p, b, box_b);
+  for (const auto& p : b) vertex_to_edges(p, a, box_a);
   return best;
 }
 
