@@ -57,6 +57,16 @@ void Bus::filter_channels(const std::string& subscription) {
       return;
     }
     receive_socket_ = opened.front();
+  } else {
+    // liblcm keeps its socket for the bus's life; should it ever replace it, the descriptor
+    // may name another socket by now, which must never get this filter.
+    const auto now = udp_sockets_on_port(udpm_port_);
+    if (std::find(now.begin(), now.end(), receive_socket_) == now.end()) {
+      udpm_port_ = 0;
+      filtered_ = false;
+      log::warn("LCM receive socket on " + url_ + " was replaced: this bus is no longer filtered by channel");
+      return;
+    }
   }
   if (const auto program = channels_.program()) {
     attach_socket_filter(receive_socket_.fd, *program);

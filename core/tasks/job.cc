@@ -20,6 +20,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   if (job.out.empty()) throw Error("no output database given");
   const Stopwatch total;
   const auto dataset = scene::index_dataset(scene::resolve_data_root(job.data_dir));
+  for (const std::string& name : job.scenes) dataset.scene_file(name);  // a typo fails now, not after other scenes
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
 

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "agents/vlm/model_client.h"
 #include "agents/vlm/model_setup.h"
@@ -61,10 +62,13 @@ int run_tasks(const TasksOptions& o) {
     }
   }
 
-  // A row as each scene is done: a job over several apartments takes a while.
-  std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
-  std::fflush(stdout);
-  const tasks::GenerationReport report = tasks::run_generation(job, [](const tasks::SceneReport& s) {
+  // A row as each scene is done: a job over several apartments takes a while. The header comes
+  // with the first row, so a job refused at once (a misspelt scene) prints only its error.
+  bool header = false;
+  const tasks::GenerationReport report = tasks::run_generation(job, [&header](const tasks::SceneReport& s) {
+    if (!std::exchange(header, true)) {
+      std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
+    }
     std::printf("%-8s %8ld %8ld %8ld %8ld %9ld %7.1f s\n", s.scene.c_str(), static_cast<long>(s.levels[0]),
                 static_cast<long>(s.levels[1]), static_cast<long>(s.levels[2]), static_cast<long>(s.levels[3]),
                 static_cast<long>(s.total), s.seconds);
