@@ -45,35 +45,42 @@ void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler
 
 void Bus::filter_channels(const std::string& subscription) {
   if (udpm_port_ == 0 || !channels_.add(subscription)) return;
+  // Every way this can fail leaves the bus unfiltered: slower, never deaf to a subscription.
+  auto give_up = [&](const std::string& why) {
+    if (receive_socket_.fd >= 0 && is_open_socket(receive_socket_, udpm_port_)) detach_socket_filter(receive_socket_.fd);
+    udpm_port_ = 0;
+    filtered_ = false;
+    log::warn("LCM on " + url_ + ": " + why + "; every message on the bus wakes this process");
+  };
   if (receive_socket_.fd < 0) {
     std::vector<OpenSocket> opened;
     for (const OpenSocket& s : udp_sockets_on_port(udpm_port_)) {
       if (std::find(sockets_before_.begin(), sockets_before_.end(), s) == sockets_before_.end()) opened.push_back(s);
     }
-    if (opened.size() != 1) {  // another bus of this process opened one too: leave both unfiltered
+    if (opened.size() != 1) {  // e.g. another bus of this process opened one too: leave both alone
       udpm_port_ = 0;
-      log::debug("LCM receive socket on " + url_ + " not found (" + std::to_string(opened.size()) +
+      log::debug("LCM receive socket on " + url_ + " not told apart (" + std::to_string(opened.size()) +
                  " candidates): every message wakes this process");
       return;
     }
     receive_socket_ = opened.front();
-  } else {
-    // liblcm keeps its socket for the bus's life; should it ever replace it, the descriptor
-    // may name another socket by now, which must never get this filter.
-    const auto now = udp_sockets_on_port(udpm_port_);
-    if (std::find(now.begin(), now.end(), receive_socket_) == now.end()) {
-      udpm_port_ = 0;
-      filtered_ = false;
-      log::warn("LCM receive socket on " + url_ + " was replaced: this bus is no longer filtered by channel");
-      return;
-    }
+  } else if (!is_open_socket(receive_socket_, udpm_port_)) {
+    // liblcm keeps its socket for the bus's life; had it replaced it, the descriptor could name
+    // another socket by now, which must never get this filter (the old one went with its socket).
+    receive_socket_ = {};
+    give_up("the receive socket was replaced");
+    return;
   }
-  if (const auto program = channels_.program()) {
-    attach_socket_filter(receive_socket_.fd, *program);
-    filtered_ = true;
-  } else {
-    detach_socket_filter(receive_socket_.fd);
-    filtered_ = false;
+  try {
+    if (const auto program = channels_.program()) {
+      attach_socket_filter(receive_socket_.fd, *program);
+      filtered_ = true;
+    } else {
+      detach_socket_filter(receive_socket_.fd);
+      filtered_ = false;
+    }
+  } catch (const Error& e) {
+    give_up(e.what());
   }
 }
 

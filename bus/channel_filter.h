@@ -19,7 +19,9 @@ namespace mtg::bus {
 
 /// The program for a UDP socket (the UDP header at offset 0): accepts an unfragmented LCM
 /// message whose channel is one of `channels`, every fragment of a fragmented message (only the
-/// first names its channel) and anything that is not LCM (liblcm judges it); drops the rest.
+/// first names its channel) and any other datagram of 4 bytes or more (liblcm judges it); drops
+/// the rest. The kernel counts what it drops as receive errors of the socket (`sk_drops`) and of
+/// UDP (`InErrors`): on a filtered bus those counters no longer mean lost messages.
 std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels);
 
 /// Whether an LCM subscription string names exactly one channel (LCM reads it as a regex).
@@ -36,8 +38,10 @@ struct OpenSocket {
   unsigned long inode = 0;
   bool operator==(const OpenSocket&) const = default;
 };
-/// This process's UDP sockets bound to `port`, by descriptor.
+/// This process's UDP sockets bound to `port`, by descriptor (none when /proc cannot be read).
 std::vector<OpenSocket> udp_sockets_on_port(int port);
+/// Whether `socket` is still that socket (same inode) and still bound to `port`.
+bool is_open_socket(const OpenSocket& socket, int port);
 
 /// The subscriptions of one bus and the filter they make: literal channels are let through,
 /// and one pattern (the recorder's ".*") lets everything through.

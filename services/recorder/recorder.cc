@@ -61,6 +61,12 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
   }
 }
 
-void Recorder::flush() { std::fflush(log_.getFilePtr()); }
+void Recorder::flush() {
+  // With a large buffer most write errors surface here: a result must never be acknowledged
+  // before its bytes are on disk.
+  if (std::fflush(log_.getFilePtr()) != 0) {
+    throw Error(path_.string() + ": cannot write to the recording (disk full?)");
+  }
+}
 
 }  // namespace mtg::services
