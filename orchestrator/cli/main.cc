@@ -300,6 +300,8 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_runtime_cmd->add_option("--work", bench_runtime->work, "scratch folder for tasks and runs (emptied first)");
   bench_runtime_cmd->add_option("--per-level", bench_runtime->per_level, "tasks per level (Levels 1-3)");
   bench_runtime_cmd->add_option("--parallel", bench_runtime->parallel, "episodes in flight (repeatable)");
+  bench_runtime_cmd->add_option("--rounds", bench_runtime->rounds, "times each parallelism runs, alternating (default 3)")
+      ->check(CLI::PositiveNumber);
 
   auto bench_render = std::make_shared<BenchRenderOptions>();
   CLI::App* bench_render_cmd = bench->add_subcommand("render", "Renderer: ms per annotated observation, episodes with images");
