@@ -1,6 +1,7 @@
 #include "core/tasks/generator.h"
 
 #include <cstdio>
+#include <future>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -154,14 +155,31 @@ void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& i
                      [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); });
 }
 
+// Level 4's candidates, with what making them dropped and said; they need nothing of Levels 1-3.
+struct OutcomeCandidates {
+  std::vector<OutcomeTemplate> templates;  // the candidates point into it
+  std::vector<OutcomeTask> tasks;
+  std::vector<std::string> warnings;
+  DropCounts dropped;
+};
+
+OutcomeCandidates make_outcome_candidates(const graph::SceneGraph& g, const episode::WorldState& initial,
+                                          const TaskOptions& options) {
+  OutcomeCandidates out;
+  out.templates = load_templates(options.level4_templates);
+  out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped);
+  return out;
+}
+
 // Level 4: outcome candidates from the templates, then the votes (rules, live voters, recorded).
-void add_outcome_tasks(const graph::SceneGraph& g, const episode::WorldState& initial, const TaskOptions& options,
+void add_outcome_tasks(const graph::SceneGraph& g, OutcomeCandidates made, const TaskOptions& options,
                        const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
                        TaskNumbering& numbering, GenerationResult& result) {
-  const auto templates = load_templates(options.level4_templates);
+  result.set.warnings.insert(result.set.warnings.end(), made.warnings.begin(), made.warnings.end());
+  result.set.dropped.merge(made.dropped);
   // Candidates first (ids are fixed by their order), then every voter on all of them at once.
   std::vector<std::pair<std::string, Task>> candidates;
-  for (OutcomeTask& o : generate_outcomes(g, initial, templates, options, result.set.warnings, result.set.dropped)) {
+  for (OutcomeTask& o : made.tasks) {
     Task t;
     t.level = 4;
     t.scene = g.scene;
@@ -219,6 +237,15 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   const episode::WorldState initial = episode::initial_state(g);
   TaskNumbering numbering(g.scene, sink);
 
+  // Level 4 is made on one thread of its own alongside Levels 1-3 when there are threads to
+  // spare (its work is serial, and would otherwise leave them idle at the end); it is numbered
+  // after Level 3 all the same, so the set is the one a single thread makes.
+  std::future<OutcomeCandidates> outcomes;
+  if (options.levels.count(4) && jobs > 1) {
+    outcomes = std::async(std::launch::async, [&g, &initial, &options] {
+      return make_outcome_candidates(g, initial, options);
+    });
+  }
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
   const bool want_levels_1_2 = options.levels.count(1) || options.levels.count(2);
@@ -226,7 +253,10 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
   if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs);
   std::vector<AtomicTask>().swap(atomic);  // Level 4 does not need it
-  if (options.levels.count(4)) add_outcome_tasks(g, initial, options, recorded_votes, live_voters, numbering, result);
+  if (options.levels.count(4)) {
+    OutcomeCandidates made = outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options);
+    add_outcome_tasks(g, std::move(made), options, recorded_votes, live_voters, numbering, result);
+  }
   numbering.flush(set);
   return result;
 }
