@@ -47,7 +47,9 @@ void Bus::filter_channels(const std::string& subscription) {
   if (udpm_port_ == 0 || !channels_.add(subscription)) return;
   // Every way this can fail leaves the bus unfiltered: slower, never deaf to a subscription.
   auto give_up = [&](const std::string& why) {
-    if (receive_socket_.fd >= 0 && is_open_socket(receive_socket_, udpm_port_)) detach_socket_filter(receive_socket_.fd);
+    if (receive_socket_.fd >= 0 && is_open_socket(receive_socket_, udpm_port_)) {
+      detach_socket_filter(receive_socket_.fd);
+    }
     udpm_port_ = 0;
     filtered_ = false;
     log::warn("LCM on " + url_ + ": " + why + "; every message on the bus wakes this process");

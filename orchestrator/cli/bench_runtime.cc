@@ -120,7 +120,9 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
       const fs::path dir = work / plan.run_id;
       fs::create_directories(dir);
       orchestrator::save_plan(plan, dir);
-      const auto summary = orchestrator::run_plan(plan, dir, by_id, orchestrator::EngineOptions{.progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}, .dataset_json = {}});
+      const orchestrator::EngineOptions engine{
+          .progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}, .dataset_json = {}};
+      const auto summary = orchestrator::run_plan(plan, dir, by_id, engine);
       long steps = 0, succeeded = 0;
       for (const auto& row : orchestrator::read_results(dir / "results.sqlite")) {
         steps += row.steps;
@@ -130,8 +132,8 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
       if (one == 0.0) one = eps;
       rates[k].push_back(eps);
       speedups[k].push_back(eps / one);
-      std::printf("  round %d, parallel %d: %ld episodes (%ld succeeded, %ld steps) in %.2f s = %6.1f episodes/s  (%.2fx"
-                  " one; %.2f s with process start and stop)\n",
+      std::printf("  round %d, parallel %d: %ld episodes (%ld succeeded, %ld steps) in %.2f s = %6.1f episodes/s"
+                  "  (%.2fx one; %.2f s with process start and stop)\n",
                   round, k, static_cast<long>(summary.completed), succeeded, steps, summary.episode_seconds, eps,
                   eps / one, summary.seconds);
       if (k == 1 && round == 1) {

@@ -105,8 +105,9 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   db_->exec("PRAGMA synchronous=NORMAL");
   db_->exec(kSchema);
   add_missing_columns(*db_);
-  insert_ = std::make_unique<store::Statement>(*db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
-                                                         ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  insert_ = std::make_unique<store::Statement>(
+      *db_, std::string("INSERT OR IGNORE INTO episodes (") + kColumns +
+                ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
 }
 
 ResultsDb::~ResultsDb() {
