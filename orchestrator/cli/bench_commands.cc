@@ -115,6 +115,15 @@ int run_bench_tasks(const BenchTasksOptions& options) {
   const auto bytes = std::filesystem::file_size(options.out);
   std::printf("  task database: %.1f MB, %.0f B per task\n", static_cast<double>(bytes) / 1e6,
               static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, report.total)));
+  // One apartment alone: above, the apartments shared the threads, so their own times overlap.
+  tasks::GenerationJob alone = job;
+  alone.scenes = {options.scenes.front()};
+  alone.out = options.out + ".alone";
+  const auto one = tasks::run_generation(alone);
+  std::printf("  %-8s all levels alone: %ld tasks in %.1f s (load, graph, tasks, database) on %d thread%s\n",
+              alone.scenes.front().c_str(), static_cast<long>(one.total), one.seconds, alone.jobs,
+              alone.jobs == 1 ? "" : "s");
+  std::filesystem::remove(alone.out);
 
   for (const std::string& name : options.scenes) {
     scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
