@@ -103,6 +103,14 @@ TEST_F(MultiHostTest, AWorkerWithAnotherDatasetStaysOutAndSaysWhy) {
   make_hosts(2);
   start_worker(0);
   start_worker(1, 2, {"--data", copy.string()});
+  // Both workers listen before the run starts (a worker logs its first line once subscribed):
+  // the run's fingerprints come in one announcement of five, one a second, and this run is over
+  // in well under a second, so a worker still starting would never hear them.
+  for (const int i : {0, 1}) {
+    const fs::path log = fx_.root() / ("worker" + std::to_string(i) + ".log");
+    const auto listening = [&] { return testing_multihost::read_text(log).find("capacity") != std::string::npos; };
+    ASSERT_TRUE(wait_for(listening, 15000)) << log_text();
+  }
   auto args = run_args("mixed", 2, 4, 1);
   ASSERT_EQ(mtg(args), 0) << log_text();
   const auto rows = results("mixed");
