@@ -12,7 +12,7 @@ namespace mtg::episode {
 namespace {
 
 constexpr double kEps = 1e-9;
-constexpr double kPruneMargin = 1e-9;  // m: far above the rounding of a distance between footprints
+constexpr double kPruneMargin = 1e-9;  // m: far above the rounding of a distance at metre-scale coordinates
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double segment_distance(const geom::Point2& p, const geom::Point2& a, const geom::Point2& b) {

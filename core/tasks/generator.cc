@@ -156,7 +156,14 @@ void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& i
 }
 
 // Level 4's candidates, with what making them dropped and said; they need nothing of Levels 1-3.
+// Move-only: a copy's candidates would point into the original's templates.
 struct OutcomeCandidates {
+  OutcomeCandidates() = default;
+  OutcomeCandidates(OutcomeCandidates&&) = default;
+  OutcomeCandidates& operator=(OutcomeCandidates&&) = default;
+  OutcomeCandidates(const OutcomeCandidates&) = delete;
+  OutcomeCandidates& operator=(const OutcomeCandidates&) = delete;
+
   std::vector<OutcomeTemplate> templates;  // the candidates point into it
   std::vector<OutcomeTask> tasks;
   std::vector<std::string> warnings;

@@ -23,7 +23,8 @@ using TaskSink = std::function<void(std::vector<Task>)>;
 
 /// @throws mtg::Error for an unknown level, a scene with no navigable platform, or a template
 /// library that does not load.
-/// `jobs` threads share the work of Levels 1-3; the result is the same for any number.
+/// `jobs` threads share the work of Levels 1-3, and with more than one, Level 4 runs on one more
+/// thread alongside them; the result is the same for any number.
 /// With a `sink`, the tasks go to it as they are made and the result's set holds none of them.
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes = {},

@@ -60,7 +60,8 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   };
   // The threads go to scenes first, and each scene's levels get twice its share: when scenes
   // finish unevenly (three scenes on two cores) the last ones still use every core. At most
-  // twice the threads asked for, never jobs x jobs.
+  // twice the threads asked for, plus one per running scene for its Level 4 (generate_tasks),
+  // never jobs x jobs.
   const int scene_jobs = job.voters.empty() ? std::min<int>(job.jobs, static_cast<int>(job.scenes.size())) : 1;
   const int level_jobs = std::min(job.jobs, std::max(1, 2 * job.jobs / std::max(1, scene_jobs)));
   parallel_for(job.scenes.size(), scene_jobs, [&](std::size_t i) {

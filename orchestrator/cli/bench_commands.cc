@@ -97,7 +97,8 @@ int run_bench_tasks(const BenchTasksOptions& options) {
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, graph::kDefaultProfile);
   // The whole job first, so the peak RSS is that of `mtg tasks`, not of the timings after it.
-  std::printf("tasks: all four levels (mtg tasks), then Levels 1+2 per apartment and Level 3 alone\n");
+  std::printf("tasks: all four levels (mtg tasks), the first apartment alone, then Levels 1+2 per apartment"
+              " and Level 3 alone\n");
   tasks::GenerationJob job;
   job.scenes = options.scenes;
   job.data_dir = options.data_dir;

@@ -27,7 +27,7 @@ struct BenchTasksOptions {
 struct BenchRuntimeOptions {
   std::string scene = "apt_0";
   std::string data_dir;
-  std::string work = "/tmp/mtg_bench_runtime";  // tasks and one run folder per parallelism
+  std::string work = "/tmp/mtg_bench_runtime";  // tasks and one run folder per parallelism and round
   int per_level = 200;                          // tasks per level, Levels 1-3
   std::vector<int> parallel = {1, 2, 4};
   int rounds = 3;  // the parallelisms alternate this many times: a drifting machine hits all alike

@@ -29,6 +29,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The middle value, or the mean of the two middle ones.
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2.0;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -148,8 +156,8 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
     const auto& r = rates[k];
     std::printf("  parallel %d: median %6.1f episodes/s (%.1f-%.1f), median %.2fx one in the same round, over %d"
                 " rounds\n",
-                k, percentile(r, 0.5), *std::min_element(r.begin(), r.end()), *std::max_element(r.begin(), r.end()),
-                percentile(speedups[k], 0.5), options.rounds);
+                k, median(r), *std::min_element(r.begin(), r.end()), *std::max_element(r.begin(), r.end()),
+                median(speedups[k]), options.rounds);
   }
   std::printf("  runs kept in %s\n", work.c_str());
   return 0;

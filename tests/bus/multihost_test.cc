@@ -108,7 +108,7 @@ TEST_F(MultiHostTest, AWorkerWithAnotherDatasetStaysOutAndSaysWhy) {
   // in well under a second, so a worker still starting would never hear them.
   for (const int i : {0, 1}) {
     const fs::path log = fx_.root() / ("worker" + std::to_string(i) + ".log");
-    const auto listening = [&] { return testing_multihost::read_text(log).find("capacity") != std::string::npos; };
+    const auto listening = [&] { return testing_multihost::read_text(log).find(", capacity ") != std::string::npos; };
     ASSERT_TRUE(wait_for(listening, 15000)) << log_text();
   }
   auto args = run_args("mixed", 2, 4, 1);
