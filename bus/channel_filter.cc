@@ -60,6 +60,19 @@ void match_channel(const std::string& channel, std::vector<sock_filter>& p) {
   p.push_back(stmt(BPF_RET | BPF_K, kAccept));
 }
 
+// The inode of `fd` when it is an IPv4 socket bound to `port`.
+std::optional<unsigned long> inode_if_bound(int fd, int port) {
+  struct stat st{};
+  if (::fstat(fd, &st) != 0 || !S_ISSOCK(st.st_mode)) return std::nullopt;
+  sockaddr_in addr{};
+  socklen_t len = sizeof addr;
+  if (::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0 || addr.sin_family != AF_INET ||
+      ntohs(addr.sin_port) != port) {
+    return std::nullopt;
+  }
+  return static_cast<unsigned long>(st.st_ino);
+}
+
 }  // namespace
 
 std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels) {
@@ -95,16 +108,7 @@ void detach_socket_filter(int fd) {
   ::setsockopt(fd, SOL_SOCKET, SO_DETACH_FILTER, &unused, sizeof unused);  // ENOENT: none attached
 }
 
-bool is_open_socket(const OpenSocket& socket, int port) {
-  struct stat st{};
-  if (::fstat(socket.fd, &st) != 0 || !S_ISSOCK(st.st_mode) || static_cast<unsigned long>(st.st_ino) != socket.inode) {
-    return false;
-  }
-  sockaddr_in addr{};
-  socklen_t len = sizeof addr;
-  return ::getsockname(socket.fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0 && addr.sin_family == AF_INET &&
-         ntohs(addr.sin_port) == port;
-}
+bool is_open_socket(const OpenSocket& socket, int port) { return inode_if_bound(socket.fd, port) == socket.inode; }
 
 std::vector<OpenSocket> udp_sockets_on_port(int port) {
   std::vector<OpenSocket> out;
@@ -114,18 +118,13 @@ std::vector<OpenSocket> udp_sockets_on_port(int port) {
     char* end = nullptr;
     const long fd = std::strtol(e->d_name, &end, 10);
     if (end == e->d_name || *end != '\0' || fd == ::dirfd(dir)) continue;
-    struct stat st{};
-    if (::fstat(static_cast<int>(fd), &st) != 0 || !S_ISSOCK(st.st_mode)) continue;
+    const auto inode = inode_if_bound(static_cast<int>(fd), port);
     int type = 0;
     socklen_t len = sizeof type;
-    if (::getsockopt(static_cast<int>(fd), SOL_SOCKET, SO_TYPE, &type, &len) != 0 || type != SOCK_DGRAM) continue;
-    sockaddr_in addr{};
-    len = sizeof addr;
-    if (::getsockname(static_cast<int>(fd), reinterpret_cast<sockaddr*>(&addr), &len) != 0 ||
-        addr.sin_family != AF_INET || ntohs(addr.sin_port) != port) {
+    if (!inode || ::getsockopt(static_cast<int>(fd), SOL_SOCKET, SO_TYPE, &type, &len) != 0 || type != SOCK_DGRAM) {
       continue;
     }
-    out.push_back({static_cast<int>(fd), static_cast<unsigned long>(st.st_ino)});
+    out.push_back({static_cast<int>(fd), *inode});
   }
   ::closedir(dir);
   std::sort(out.begin(), out.end(), [](const OpenSocket& a, const OpenSocket& b) { return a.fd < b.fd; });
