@@ -345,6 +345,14 @@ void add_view_commands(CLI::App& app, Commands& commands) {
 }  // namespace
 }  // namespace mtg::cli
 
+// jemalloc, the allocator every program links (CMakeLists.txt), reads its settings from this
+// symbol. Task generation frees each scene's working memory in bursts: handing unused pages back
+// after one second instead of jemalloc's ten keeps the peak of `mtg tasks` over the three shipped
+// apartments about a tenth lower, at no measurable cost in time (docs/build.md).
+extern "C" {
+const char* malloc_conf = "dirty_decay_ms:1000";
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"ManiTaskGen-LCM: scene graphs, task generation and closed-loop VLM benchmarks"};
   app.require_subcommand(1);
