@@ -22,6 +22,23 @@ geom::Point2 aim_on_box(const Eigen::AlignedBox2d& b, int dir) {
   }
 }
 
+// A ring's coordinates, appended to a memo key.
+void append_ring(std::string& key, const geom::Ring& ring) {
+  append_key(key, ring.size());
+  for (const geom::Point2& q : ring) {
+    append_key(key, q.x());
+    append_key(key, q.y());
+  }
+}
+
+geom::Region inset_of(const geom::Region& region, PlacementMemo* memo) {
+  const auto make = [&] { return geom::offset(region, -kPlacementInset); };
+  if (memo == nullptr) return make();
+  std::string key;
+  for (const geom::Ring& ring : region.rings) append_ring(key, ring);
+  return memo->insets.get(key, make);
+}
+
 }  // namespace
 
 std::string display_name(const graph::GraphObject& o) {
@@ -77,8 +94,8 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
   return out;
 }
 
-void with_insets(std::vector<PlaceTarget>& targets) {
-  for (PlaceTarget& t : targets) t.region_inset_P = geom::offset(t.region_P, -kPlacementInset);
+void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo) {
+  for (PlaceTarget& t : targets) t.region_inset_P = inset_of(t.region_P, memo);
 }
 
 geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
@@ -90,25 +107,40 @@ geom::Ring held_footprint_P(const graph::SceneGraph& g, const WorldState& s, gra
   return out;
 }
 
-FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
+                                      PlacementMemo* memo) {
   const graph::Platform& p = g.platforms.at(platform);
-  const geom::Region free =
-      graph::feasible_positions(p, obstacles_on(g, s, platform), held_footprint_P(g, s, platform));
-  FeasibleCentres out;
-  if (free.empty()) return out;
-  out.all = geom::offset(free, -kMargin);
-  if (!out.all.empty()) out.inset = geom::offset(out.all, -kPlacementInset);
-  return out;
+  const std::vector<graph::Obstacle> obstacles = obstacles_on(g, s, platform);
+  const geom::Ring item = held_footprint_P(g, s, platform);
+  std::string key;  // the platform and the item's footprint, then the obstacles'
+  if (memo != nullptr) {
+    append_key(key, platform.value());
+    append_ring(key, item);
+  }
+  const auto make = [&] {
+    const auto interior = [&] { return graph::placeable_interior(p, item); };
+    const geom::Region free =
+        graph::clear_of(memo == nullptr ? interior() : memo->interiors.get(key, interior), obstacles, item);
+    FeasibleCentres out;
+    if (free.empty()) return out;
+    out.all = geom::offset(free, -kMargin);
+    if (!out.all.empty()) out.inset = geom::offset(out.all, -kPlacementInset);
+    return out;
+  };
+  if (memo == nullptr || !memo->whole_results) return make();
+  std::string full = key;
+  for (const graph::Obstacle& o : obstacles) append_ring(full, o.hull_P);
+  return memo->feasible.get(full, make);
 }
 
 std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const WorldState& s,
                                               graph::PlatformId platform, const PlaceTarget& target,
-                                              const FeasibleCentres& feasible_centres) {
+                                              const FeasibleCentres& feasible_centres, PlacementMemo* memo) {
   // Erosion distributes over intersection: the inset candidates are the inset pieces' overlap.
   const auto usable = [](const geom::Region& r) { return !r.empty() && geom::area(r) >= 1e-10; };
-  geom::Region candidates = geom::intersect(
-      feasible_centres.inset,
-      target.region_inset_P ? *target.region_inset_P : geom::offset(target.region_P, -kPlacementInset));
+  const geom::Region computed = target.region_inset_P ? geom::Region{} : inset_of(target.region_P, memo);
+  geom::Region candidates =
+      geom::intersect(feasible_centres.inset, target.region_inset_P ? *target.region_inset_P : computed);
   if (!usable(candidates)) {
     candidates = geom::intersect(feasible_centres.all, target.region_P);
     if (!usable(candidates)) return std::nullopt;

@@ -119,7 +119,7 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
 }
 
 StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_view key,
-                         const TaskConstraints& constraints, const RuleOptions& options) {
+                         const TaskConstraints& constraints, const RuleOptions& options, PlacementMemo* memo) {
   StepOutcome out;
   if (s.phase == Phase::kDone) {
     out.hint = "the episode has ended";
@@ -183,8 +183,8 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
     }
   } else {  // a placement target
     const auto it = std::find_if(targets.begin(), targets.end(), [&](const PlaceTarget& t) { return t.key == key; });
-    const FeasibleCentres feasible = held_feasible_centres(g, s, s.at_platform);
-    const auto xy = resolve_target(g, s, s.at_platform, *it, feasible);
+    const FeasibleCentres feasible = held_feasible_centres(g, s, s.at_platform, memo);
+    const auto xy = resolve_target(g, s, s.at_platform, *it, feasible, memo);
     if (!xy) {
       out.hint = "the object does not fit in " + std::string(key == kAnywhereKey ? "any free space of this platform"
                                                                                   : "free space " + std::string(key)) +

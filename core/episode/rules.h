@@ -56,9 +56,11 @@ struct StepOutcome {
 std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldState& s,
                                        const RuleOptions& options);
 
-/// Applies one answer. Never throws for bad keys; counts the step.
+/// Applies one answer. Never throws for bad keys; counts the step. `memo`, when given, keeps the
+/// placement geometry for the next calls (placement.h).
 StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_view key,
-                         const TaskConstraints& constraints, const RuleOptions& options);
+                         const TaskConstraints& constraints, const RuleOptions& options,
+                         PlacementMemo* memo = nullptr);
 
 /// Where the robot stands and what it holds and sees, in plain English.
 std::string situation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options);

@@ -210,14 +210,21 @@ geom::Ring minkowski_convex(const geom::Ring& a, const geom::Ring& b) {
   return geom::convex_hull(std::move(sums));
 }
 
-geom::Region feasible_positions(const Platform& platform, const std::vector<Obstacle>& obstacles,
-                                const geom::Ring& item_hull) {
-  geom::Region inside = geom::erode(platform.polygon_P, item_hull);
+geom::Region placeable_interior(const Platform& platform, const geom::Ring& item_hull) {
+  return geom::erode(platform.polygon_P, item_hull);
+}
+
+geom::Region clear_of(const geom::Region& inside, const std::vector<Obstacle>& obstacles, const geom::Ring& item_hull) {
   if (inside.empty() || obstacles.empty()) return inside;
   const geom::Ring minus_item = geom::mirrored(item_hull);
   std::vector<geom::Ring> blocked;
   for (const Obstacle& o : obstacles) blocked.push_back(minkowski_convex(o.hull_P, minus_item));
   return geom::subtract(inside, geom::unite_rings(blocked));
+}
+
+geom::Region feasible_positions(const Platform& platform, const std::vector<Obstacle>& obstacles,
+                                const geom::Ring& item_hull) {
+  return clear_of(placeable_interior(platform, item_hull), obstacles, item_hull);
 }
 
 }  // namespace mtg::graph

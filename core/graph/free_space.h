@@ -65,6 +65,10 @@ std::array<FreeRegion, 9> grid_cells(const Platform& platform);
 /// overlaps no obstacle.
 geom::Region feasible_positions(const Platform& platform, const std::vector<Obstacle>& obstacles,
                                 const geom::Ring& item_hull);
+/// feasible_positions in two parts, for callers that keep the first: where the item lies inside
+/// the platform polygon, then the part of `inside` where it also overlaps no obstacle.
+geom::Region placeable_interior(const Platform& platform, const geom::Ring& item_hull);
+geom::Region clear_of(const geom::Region& inside, const std::vector<Obstacle>& obstacles, const geom::Ring& item_hull);
 
 /// a ⊕ b for convex rings (the hull of pairwise sums).
 geom::Ring minkowski_convex(const geom::Ring& a, const geom::Ring& b);

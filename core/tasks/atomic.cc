@@ -135,13 +135,14 @@ class TrialPlacement {
 // a reference handed out stays valid.
 class TargetCache {
  public:
-  TargetCache(const graph::SceneGraph& g, const TaskOptions& options) : g_(g), options_(options) {}
+  TargetCache(const graph::SceneGraph& g, const TaskOptions& options, episode::PlacementMemo* memo)
+      : g_(g), options_(options), memo_(memo) {}
 
   std::vector<episode::PlaceTarget> build(const episode::WorldState& placing, graph::PlatformId pd, graph::Side side) const {
     std::vector<episode::PlaceTarget> t = episode::place_targets(g_, placing, pd, side, options_.rules.min_region_size);
     std::stable_partition(t.begin(), t.end(),
                           [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
-    episode::with_insets(t);
+    episode::with_insets(t, memo_);
     return t;
   }
   const std::vector<episode::PlaceTarget>& shared(const episode::WorldState& placing, graph::PlatformId pd,
@@ -155,6 +156,7 @@ class TargetCache {
  private:
   const graph::SceneGraph& g_;
   const TaskOptions& options_;
+  episode::PlacementMemo* memo_;
   std::map<graph::PlatformId, std::vector<episode::PlaceTarget>> targets_;
   std::mutex mutex_;
 };
@@ -169,8 +171,8 @@ struct Source {
 class ItemEnumeration {
  public:
   ItemEnumeration(const graph::SceneGraph& g, const episode::WorldState& s, const TaskOptions& options,
-                  const AtomicFilter& filter, TargetCache& cache, const Source& source)
-      : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), source_(source),
+                  const AtomicFilter& filter, TargetCache& cache, episode::PlacementMemo* memo, const Source& source)
+      : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), memo_(memo), source_(source),
         ps_(g.navigable[source.src_label]), held_(s) {
     held_.at_platform = ps_;
     held_.side = g.platforms[ps_].default_side;
@@ -245,7 +247,7 @@ class ItemEnumeration {
     d.placing.side = dest.default_side;
     d.placing.phase = episode::Phase::kPlacing;
     d.side = static_cast<graph::Side>(dest.default_side);
-    d.feasible = episode::held_feasible_centres(g_, d.placing, d.pd);
+    d.feasible = episode::held_feasible_centres(g_, d.placing, d.pd, memo_);
     if (d.feasible.empty()) return;
     const bool from_here = episode::objects_on(d.placing, d.pd) != episode::objects_on(s_, d.pd);
     if (from_here) d.own_targets = cache_.build(d.placing, d.pd, d.side);
@@ -358,6 +360,7 @@ class ItemEnumeration {
   const TaskOptions& options_;
   const AtomicFilter& filter_;
   TargetCache& cache_;
+  episode::PlacementMemo* memo_;
   Source source_;
   graph::PlatformId ps_;
   episode::WorldState held_;
@@ -372,7 +375,7 @@ class ItemEnumeration {
 
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
                                          const TaskOptions& options, const AtomicFilter& filter, DropCounts* dropped,
-                                         int jobs) {
+                                         int jobs, episode::PlacementMemo* memo) {
   MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && !filter.anchor.valid()),
              "drop counts of a partial enumeration would be partial");
   // Every item to enumerate, in output order: source platforms by label, items in o-order.
@@ -390,9 +393,9 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
     DropCounts dropped;
   };
   std::vector<Found> found(sources.size());
-  TargetCache cache(g, options);
+  TargetCache cache(g, options, memo);
   parallel_for(sources.size(), jobs, [&](std::size_t i) {
-    ItemEnumeration item(g, s, options, filter, cache, sources[i]);
+    ItemEnumeration item(g, s, options, filter, cache, memo, sources[i]);
     item.run();
     found[i].tasks = std::move(item.tasks());
     if (dropped != nullptr) found[i].dropped = item.drops();

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/episode/goals.h"
+#include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 #include "core/tasks/task.h"
 
@@ -41,10 +42,12 @@ struct AtomicFilter {
 /// All atomic tasks of state `s` (nothing held), in a deterministic order: source platforms by
 /// label, items in o-order, destinations by label, placement keys in order.
 /// `dropped`, when given, counts the goals left out by the rules above (per level, by look-alikes).
-/// Items are enumerated on up to `jobs` threads; the result does not depend on it.
+/// Items are enumerated on up to `jobs` threads; the result does not depend on it, nor on `memo`
+/// (the scene graph's placement memo, which saves repeating geometry between calls).
 std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episode::WorldState& s,
                                          const TaskOptions& options, const AtomicFilter& filter = {},
-                                         DropCounts* dropped = nullptr, int jobs = 1);
+                                         DropCounts* dropped = nullptr, int jobs = 1,
+                                         episode::PlacementMemo* memo = nullptr);
 
 /// Leaves `s` as the task's oracle plan would, without replaying its keys: the item picked and
 /// put down where the plan's target resolved when the task was enumerated, the robot at the

@@ -150,9 +150,10 @@ Task sequence_task(const graph::SceneGraph& g, const Sequence& seq, const TaskOp
 // Level 3: each chain becomes a task as it is drawn.
 void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
-                        TaskSet& set, int jobs) {
-  generate_sequences(g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs,
-                     [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); });
+                        TaskSet& set, int jobs, episode::PlacementMemo& memo) {
+  generate_sequences(
+      g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs,
+      [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); }, &memo);
 }
 
 // Level 4's candidates, with what making them dropped and said; they need nothing of Levels 1-3.
@@ -174,7 +175,8 @@ OutcomeCandidates make_outcome_candidates(const graph::SceneGraph& g, const epis
                                           const TaskOptions& options) {
   OutcomeCandidates out;
   out.templates = load_templates(options.level4_templates);
-  out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped);
+  episode::PlacementMemo memo(/*keep_whole_results=*/true);  // its plans all start from the initial state
+  out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped, &memo);
   return out;
 }
 
@@ -243,6 +245,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   set.scene = g.scene;
   const episode::WorldState initial = episode::initial_state(g);
   TaskNumbering numbering(g.scene, sink);
+  episode::PlacementMemo memo;  // Levels 1-3 of this scene, on every thread
 
   // Level 4 is made on one thread of its own alongside Levels 1-3 when there are threads to
   // spare (its work is serial, and would otherwise leave them idle at the end); it is numbered
@@ -256,9 +259,11 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   std::vector<AtomicTask> atomic;
   const bool want_atomic = options.levels.count(1) || options.levels.count(2) || options.levels.count(3);
   const bool want_levels_1_2 = options.levels.count(1) || options.levels.count(2);
-  if (want_atomic) atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr, jobs);
+  if (want_atomic) {
+    atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr, jobs, &memo);
+  }
   if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
-  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs);
+  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs, memo);
   std::vector<AtomicTask>().swap(atomic);  // Level 4 does not need it
   if (options.levels.count(4)) {
     OutcomeCandidates made = outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options);

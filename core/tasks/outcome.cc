@@ -120,12 +120,12 @@ struct Plan {
 // Plays a greedy plan with the episode rules. Returns the keys and the world they leave, or
 // nullopt when a move fails.
 std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const std::vector<Move>& moves,
-                               const TaskOptions& options) {
+                               const TaskOptions& options, episode::PlacementMemo* memo) {
   episode::RuleOptions rules = options.rules;
   rules.step_limit = 1 << 20;
   std::vector<std::string> keys;
   auto play = [&](const std::string& key) {
-    return episode::apply_action(g, s, key, {}, rules).applied ? (keys.push_back(key), true) : false;
+    return episode::apply_action(g, s, key, {}, rules, memo).applied ? (keys.push_back(key), true) : false;
   };
   for (const Move& m : moves) {
     const PlatformId from = episode::furniture_platform_of(g, s, m.object);
@@ -150,10 +150,10 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
         continue;
       }
       const auto targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size);
-      const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to);
+      const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to, memo);
       for (const episode::PlaceTarget& t : targets) {
         const bool wanted = m.next_to.valid() ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
-        if (!wanted || !episode::resolve_target(g, s, to, t, feasible)) continue;
+        if (!wanted || !episode::resolve_target(g, s, to, t, feasible, memo)) continue;
         placed = play(t.key);
         if (placed) break;
       }
@@ -182,8 +182,9 @@ struct NamedObject {
 
 class Instantiator {
  public:
-  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options, DropCounts& dropped)
-      : g_(g), s_(s), options_(options), dropped_(dropped), f_(facts(g, s)) {}
+  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options, DropCounts& dropped,
+               episode::PlacementMemo* memo)
+      : g_(g), s_(s), options_(options), dropped_(dropped), memo_(memo), f_(facts(g, s)) {}
 
   void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
     tmpl_ = &t;
@@ -299,7 +300,7 @@ class Instantiator {
       dropped_.add("trivial", 4);
       return false;
     }
-    auto plan = plan_moves(g_, s_, moves, options_);
+    auto plan = plan_moves(g_, s_, moves, options_, memo_);
     if (!plan || !episode::outcome_satisfied(g_, plan->after, goal, options_.goals)) return false;
     OutcomeTask task;
     task.tmpl = tmpl_;
@@ -578,6 +579,7 @@ class Instantiator {
   const WorldState& s_;
   const TaskOptions& options_;
   DropCounts& dropped_;
+  episode::PlacementMemo* memo_;
   SceneFacts f_;
   const OutcomeTemplate* tmpl_ = nullptr;
   std::vector<OutcomeTask>* out_ = nullptr;
@@ -634,9 +636,10 @@ std::vector<OutcomeTemplate> load_templates(const std::string& source) {
 
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
-                                           std::vector<std::string>& warnings, DropCounts& dropped) {
+                                           std::vector<std::string>& warnings, DropCounts& dropped,
+                                           episode::PlacementMemo* memo) {
   std::vector<OutcomeTask> all;
-  Instantiator inst(g, initial, options, dropped);
+  Instantiator inst(g, initial, options, dropped, memo);
   for (const OutcomeTemplate& t : templates) inst.run(t, all);
   // One task per goal: the first template that produced it keeps it.
   std::vector<OutcomeTask> out;

@@ -73,6 +73,7 @@ struct OutcomeTask {
 /// the outcome already holds.
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
-                                           std::vector<std::string>& warnings, DropCounts& dropped);
+                                           std::vector<std::string>& warnings, DropCounts& dropped,
+                                           episode::PlacementMemo* memo = nullptr);
 
 }  // namespace mtg::tasks

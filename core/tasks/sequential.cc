@@ -15,10 +15,10 @@ constexpr int kAttemptsPerChain = 25;
 
 // Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
 std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,
-                                 const AtomicTask& task, const TaskOptions& options) {
+                                 const AtomicTask& task, const TaskOptions& options, episode::PlacementMemo* memo) {
   // A goal relative to an object has that object among its anchors: the rest need no look.
   AtomicFilter filter{{task.goal.item}, {task.goal.platform}, task.key, task.goal.anchor};
-  auto found = enumerate_atomic(g, s, options, filter);
+  auto found = enumerate_atomic(g, s, options, filter, nullptr, 1, memo);
   if (found.empty()) return std::nullopt;
   return std::move(found.front());
 }
@@ -33,7 +33,7 @@ struct Drawn {
 };
 
 Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial, const std::vector<AtomicTask>& atomic,
-                 int n, int from, const TaskOptions& options) {
+                 int n, int from, const TaskOptions& options, episode::PlacementMemo* memo) {
   Drawn drawn;
   const int chain = std::max(2, options.level3_chain);
   for (int attempt = from; attempt < kAttemptsPerChain; ++attempt) {
@@ -72,7 +72,7 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
           // An item the text could not name is not worth enumerating.
           if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
             const std::vector<AtomicTask> options_here =
-                enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}, "", last_item});
+                enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}, "", last_item}, nullptr, 1, memo);
             if (!options_here.empty()) {
               next = options_here[rng.uniform_index(options_here.size())];
               words = wording(next->goal);
@@ -88,7 +88,7 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
         if (!words) break;
         bool touched = changed.count(pick.goal.source) != 0 || changed.count(pick.goal.platform) != 0;
         for (const graph::ObjectId a : pick.goal.anchors()) touched = touched || moved.count(a) != 0;
-        next = touched ? replan(g, s, pick, options) : std::optional<AtomicTask>(pick);
+        next = touched ? replan(g, s, pick, options, memo) : std::optional<AtomicTask>(pick);
         if (!next) break;
       }
       apply_effect(g, s, *next);
@@ -126,7 +126,8 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
 
 void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,
-                        std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take) {
+                        std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take,
+                        episode::PlacementMemo* memo) {
   if (atomic.empty() || count <= 0) return;
   // Each chain's attempts depend only on its number, so chains are drawn in parallel, a block at
   // a time; taking them in order, with a duplicate drawn on from its next attempt, gives the
@@ -138,14 +139,14 @@ void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& i
   for (int from = 0; from < count; from += kBlock) {
     first.assign(static_cast<std::size_t>(std::min(kBlock, count - from)), Drawn{});
     parallel_for(first.size(), jobs, [&](std::size_t k) {
-      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options);
+      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options, memo);
     });
     for (std::size_t k = 0; k < first.size(); ++k) {
       const int n = from + static_cast<int>(k);
       Drawn drawn = std::move(first[k]);
       dropped.merge(drawn.dropped);
       while (drawn.sequence && !seen.insert(drawn.key).second) {
-        drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options);
+        drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options, memo);
         dropped.merge(drawn.dropped);
       }
       if (drawn.sequence) {

@@ -16,6 +16,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/tasks/outcome.h"
+#include "core/tasks/sequential.h"
 #include "core/tasks/task_db.h"
 #include "core/tasks/validate.h"
 #include "core/store/sqlite.h"
@@ -281,6 +282,56 @@ TEST(AtomicTasks, APartialEnumerationHoldsExactlyItsPartOfTheWhole) {
     }
   }
   EXPECT_GT(anchored, 0) << "the fixture has goals relative to objects";
+}
+
+// Generation keeps placement geometry in a memo (placement.h): a cold memo, a warm one and none
+// must give the same bits, down to the placed positions and margins.
+TEST(AtomicTasks, ThePlacementMemoChangesNoBit) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const TaskOptions options = small_options();
+  const episode::WorldState s = episode::initial_state(b.graph);
+  auto bits_of = [](const std::vector<AtomicTask>& tasks) {
+    std::vector<std::string> out;
+    for (const AtomicTask& t : tasks) {
+      std::string line = t.key;
+      for (const auto& k : t.oracle) line += " " + k;
+      for (const double v : {t.place_xy.x(), t.place_xy.y(), t.placed_at.x(), t.placed_at.y(), t.placed_at.z(), t.margin}) {
+        line.append(reinterpret_cast<const char*>(&v), sizeof v);
+      }
+      out.push_back(line);
+    }
+    return out;
+  };
+  const auto plain = enumerate_atomic(b.graph, s, options);
+  episode::PlacementMemo memo(/*keep_whole_results=*/true);
+  const auto cold = enumerate_atomic(b.graph, s, options, {}, nullptr, 2, &memo);
+  const std::size_t kept = memo.feasible.size();
+  const auto warm = enumerate_atomic(b.graph, s, options, {}, nullptr, 1, &memo);
+  ASSERT_FALSE(plain.empty());
+  EXPECT_GT(memo.insets.size(), 0u);
+  EXPECT_GT(memo.interiors.size(), 0u);
+  EXPECT_GT(kept, 0u);
+  EXPECT_EQ(memo.feasible.size(), kept) << "the second enumeration found everything in the memo";
+  EXPECT_EQ(bits_of(cold), bits_of(plain));
+  EXPECT_EQ(bits_of(warm), bits_of(plain));
+
+  // Level 3 chains re-plan in changed states: with or without a memo, the same chains.
+  auto chains = [&](episode::PlacementMemo* m) {
+    std::vector<std::string> out;
+    std::vector<std::string> warnings;
+    DropCounts dropped;
+    generate_sequences(
+        b.graph, s, plain, 40, options, warnings, dropped, 2,
+        [&](Sequence seq) {
+          for (const auto& line : bits_of(seq.parts)) out.push_back(line);
+          out.push_back("|");
+        },
+        m);
+    return out;
+  };
+  episode::PlacementMemo chain_memo;
+  EXPECT_EQ(chains(&chain_memo), chains(nullptr));
 }
 
 TEST(TaskGeneration, NoDuplicateGoals) {
