@@ -55,8 +55,13 @@ Region execute(cl::ClipType type, const cl::Paths& subject, const cl::Paths& cli
 
 // The rings of `r` whose boxes meet `box`. A ring wholly outside the box of the other operand of
 // an intersection winds zero times around every point of the result (its box holds none of
-// them), and the rings of one region never cross: leaving it out changes no winding number, so
-// Clipper makes the same output from less work.
+// them): leaving it out gives the same point set from less work (resolving a placement target
+// intersects a platform's free space, with a hole per object, with one small rectangle).
+// Clipper's rounding is not quite blind to it: every vertex bounds a scanbeam, where Clipper
+// snaps intersection points, so a vertex of the result may land 1 µm (its grid) from where the
+// full input would have put it. Either is as exact as Clipper is; what matters is that the
+// same input always gives the same output, which it does. The three shipped apartments'
+// task sets came out the same bytes with and without it.
 cl::Paths paths_meeting(const Region& r, const Eigen::AlignedBox2d& box) {
   cl::Paths paths;
   paths.reserve(r.rings.size());

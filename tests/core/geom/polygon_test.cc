@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace mtg::geom {
 namespace {
@@ -28,6 +30,26 @@ TEST(Polygon, HoleIsSubtractedAndPointsClassified) {
   EXPECT_FALSE(contains(ring_shape, {1.5, 1.5}));
   EXPECT_EQ(components(ring_shape).size(), 1u);
   EXPECT_EQ(components(unite(rectangle({0, 0}, {1, 1}), rectangle({2, 0}, {3, 1}))).size(), 2u);
+}
+
+// intersect() leaves out the rings outside the other operand's box (a free space with a hole per
+// object, against one small target): the point set must be what the rings give together.
+TEST(Polygon, IntersectingAFreeSpaceWithManyHolesKeepsEveryHoleThatMatters) {
+  Region free = rectangle({0, 0}, {2, 1});
+  std::vector<Ring> holes;
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 4; ++j) holes.push_back(square(0.1 + 0.22 * i, 0.12 + 0.25 * j, 0.05));
+  }
+  free = subtract(free, unite_rings(holes));
+  ASSERT_EQ(free.rings.size(), 37u);
+  for (const auto& [min, max] : {std::pair<Point2, Point2>{{0.3, 0.3}, {0.5, 0.45}}, {{0.0, 0.0}, {0.12, 0.2}},
+                                 {{1.1, 0.05}, {1.9, 0.95}}, {{-1.0, -1.0}, {3.0, 2.0}}}) {
+    const Region target = rectangle(min, max);
+    const double expected = area(target) - area(subtract(target, free));  // not through intersect()
+    EXPECT_NEAR(area(intersect(free, target)), expected, 1e-9);
+    EXPECT_NEAR(area(intersect(target, free)), expected, 1e-9);
+  }
+  EXPECT_TRUE(intersect(free, rectangle({2.5, 0}, {3, 1})).empty()) << "disjoint boxes";
 }
 
 TEST(Polygon, ErodeByASquareShrinksEachSide) {
