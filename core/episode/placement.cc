@@ -39,21 +39,17 @@ geom::Region inset_of(const geom::Region& region, PlacementMemo* memo) {
   return memo->insets.get(key, make);
 }
 
-}  // namespace
-
-std::string display_name(const graph::GraphObject& o) {
-  std::string name = o.short_name.empty() ? o.name : o.short_name;
-  std::replace(name.begin(), name.end(), '_', ' ');
-  return name;
-}
-
-std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
-                                       graph::Side side, double min_region_size) {
+std::vector<PlaceTarget> targets_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
+                                    graph::Side side, double min_region_size, PlacementMemo* memo) {
   std::vector<PlaceTarget> out;
   const graph::Platform& p = g.platforms.at(platform);
   const std::vector<graph::ObjectId>& on = objects_on(s, platform);
   if (on.empty()) {
-    const auto cells = graph::grid_cells(p);
+    const auto make_cells = [&] { return graph::grid_cells(p); };  // the platform's alone
+    std::string key;
+    if (memo != nullptr) append_key(key, platform.value());
+    std::array<graph::FreeRegion, 9> own;
+    const auto& cells = memo == nullptr ? (own = make_cells()) : memo->cells.get(key, make_cells);
     for (int rel = 0; rel <= graph::kCentre; ++rel) {
       const int dir = graph::platform_direction(rel, side);
       PlaceTarget t;
@@ -92,6 +88,30 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
   any.aim_P = geom::centroid(p.polygon_P);
   out.push_back(std::move(any));
   return out;
+}
+
+}  // namespace
+
+std::string display_name(const graph::GraphObject& o) {
+  std::string name = o.short_name.empty() ? o.name : o.short_name;
+  std::replace(name.begin(), name.end(), '_', ' ');
+  return name;
+}
+
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
+                                       graph::Side side, double min_region_size, PlacementMemo* memo) {
+  const std::vector<graph::ObjectId>& on = objects_on(s, platform);
+  if (memo == nullptr || !memo->whole_results || on.empty()) return targets_on(g, s, platform, side, min_region_size, memo);
+  // What the targets depend on: the platform, the side, the size rule and every obstacle.
+  std::string key;
+  append_key(key, platform.value());
+  append_key(key, side);
+  append_key(key, min_region_size);
+  for (const graph::Obstacle& o : obstacles_on(g, s, platform)) {
+    append_key(key, o.object.value());
+    append_ring(key, o.hull_P);
+  }
+  return memo->last_targets.get(key, [&] { return targets_on(g, s, platform, side, min_region_size, memo); });
 }
 
 void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo) {

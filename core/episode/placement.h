@@ -16,6 +16,7 @@
 // kPlacementInset inside the region are used when there are any, so a placement never grazes an
 // edge.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,11 +47,11 @@ struct PlaceTarget {
   geom::Point2 aim_P = geom::Point2::Zero();
 };
 
-/// Targets offered on `platform` for a robot standing at `side`.
-std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
-                                       graph::Side side, double min_region_size);
-
 struct PlacementMemo;
+
+/// Targets offered on `platform` for a robot standing at `side` (the same with or without `memo`).
+std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
+                                       graph::Side side, double min_region_size, PlacementMemo* memo = nullptr);
 
 /// Fills every target's region_inset_P (from `memo` when given).
 void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo = nullptr);
@@ -88,6 +89,11 @@ struct PlacementMemo {
   MemoTable<geom::Region> insets;       // a target region kPlacementInset smaller
   MemoTable<geom::Region> interiors;    // graph::placeable_interior: platform, item footprint
   MemoTable<FeasibleCentres> feasible;  // held_feasible_centres: platform, obstacles, item footprint
+  MemoTable<std::array<graph::FreeRegion, 9>> cells;  // graph::grid_cells: platform
+  /// With whole_results, the targets of the last placing state asked about (a plan that chooses
+  /// a target asks for them, then the step that places asks again), not every state's: they
+  /// are large and seldom asked for a third time.
+  MemoSlot<std::vector<PlaceTarget>> last_targets;
 };
 
 /// Short display name of an object for the agent: template without instance id, spaced

@@ -139,7 +139,8 @@ class TargetCache {
       : g_(g), options_(options), memo_(memo) {}
 
   std::vector<episode::PlaceTarget> build(const episode::WorldState& placing, graph::PlatformId pd, graph::Side side) const {
-    std::vector<episode::PlaceTarget> t = episode::place_targets(g_, placing, pd, side, options_.rules.min_region_size);
+    std::vector<episode::PlaceTarget> t =
+        episode::place_targets(g_, placing, pd, side, options_.rules.min_region_size, memo_);
     std::stable_partition(t.begin(), t.end(),
                           [](const episode::PlaceTarget& x) { return x.key == episode::kAnywhereKey; });
     episode::with_insets(t, memo_);

@@ -149,7 +149,8 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
         keys.resize(mark);
         continue;
       }
-      const auto targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size);
+      const auto targets =
+          episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size, memo);
       const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to, memo);
       for (const episode::PlaceTarget& t : targets) {
         const bool wanted = m.next_to.valid() ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;

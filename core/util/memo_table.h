@@ -5,6 +5,7 @@
 // deterministic result. Safe to share between threads; a value, once in, stays where it is.
 
 #include <mutex>
+#include <optional>
 #include <shared_mutex>
 #include <string>
 #include <type_traits>
@@ -43,6 +44,30 @@ class MemoTable {
  private:
   mutable std::shared_mutex mutex_;
   std::unordered_map<std::string, Value> values_;  // rehashing keeps elements where they are
+};
+
+/// A memo of one entry: the value for the last key asked about. For results that are large and
+/// asked for again right away, but rarely later. Safe to share between threads.
+template <class Value>
+class MemoSlot {
+ public:
+  template <class Make>
+  Value get(const std::string& key, Make&& make) {
+    {
+      const std::lock_guard lock(mutex_);
+      if (value_ && key_ == key) return *value_;
+    }
+    Value made = make();
+    const std::lock_guard lock(mutex_);
+    key_ = key;
+    value_ = made;
+    return made;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::string key_;
+  std::optional<Value> value_;
 };
 
 }  // namespace mtg

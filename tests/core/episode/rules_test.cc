@@ -54,6 +54,25 @@ TEST_F(RulesTest, ActionSpaceFollowsThePapersStates) {
   EXPECT_EQ(s.steps, 6);
 }
 
+// apply_action() checks a key without writing the action space's descriptions: in every state a
+// walk through the fixture reaches, it must accept exactly the keys action_space() offers.
+TEST_F(RulesTest, TheKeysAStepAcceptsAreTheOnesTheActionSpaceOffers) {
+  const std::vector<std::string> probes = {"0",  "-1", "startplace", "o1", "o2", "o3", "o4",  "o0", "o01", "l0",
+                                           "l1", "l2", "l3",         "l01", "l1x", "o-1", "x1", "1",  "999", "o99999999999999999999"};
+  WorldState s = initial_state(g());
+  int states = 0;
+  for (const std::string& step : {"l1", "-1", "o2", "l2", "startplace", "5", "l1", "o1", "l1", "startplace", "999"}) {
+    const auto offered = keys(action_space(g(), s, options_));
+    for (const std::string& key : probes) {
+      WorldState trial = s;
+      const bool listed = std::find(offered.begin(), offered.end(), key) != offered.end();
+      EXPECT_EQ(act(trial, key).available, listed) << "key " << key << " after " << states << " steps";
+    }
+    ASSERT_TRUE(act(s, step).applied) << step;
+    ++states;
+  }
+}
+
 TEST_F(RulesTest, FrontPartIsTheCellFarthestFromTheRobot) {
   WorldState s = initial_state(g());
   for (const char* k : {"l1", "o1", "l2", "startplace", "5"}) ASSERT_TRUE(act(s, k).applied) << k;
