@@ -39,54 +39,51 @@ geom::Region inset_of(const geom::Region& region, PlacementMemo* memo) {
   return memo->insets.get(key, make);
 }
 
-std::vector<PlaceTarget> targets_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
-                                    graph::Side side, double min_region_size, PlacementMemo* memo) {
+// An empty platform's targets: its nine grid cells (which depend on the platform alone).
+std::vector<PlaceTarget> grid_targets(const graph::Platform& p, graph::PlatformId platform, graph::Side side,
+                                      PlacementMemo* memo) {
+  const auto make_cells = [&] { return graph::grid_cells(p); };
+  std::string key;
+  if (memo != nullptr) append_key(key, platform.value());
+  std::array<graph::FreeRegion, 9> own;
+  const auto& cells = memo == nullptr ? (own = make_cells()) : memo->cells.get(key, make_cells);
   std::vector<PlaceTarget> out;
-  const graph::Platform& p = g.platforms.at(platform);
-  const std::vector<graph::ObjectId>& on = objects_on(s, platform);
-  if (on.empty()) {
-    const auto make_cells = [&] { return graph::grid_cells(p); };  // the platform's alone
-    std::string key;
-    if (memo != nullptr) append_key(key, platform.value());
-    std::array<graph::FreeRegion, 9> own;
-    const auto& cells = memo == nullptr ? (own = make_cells()) : memo->cells.get(key, make_cells);
-    for (int rel = 0; rel <= graph::kCentre; ++rel) {
+  for (int rel = 0; rel <= graph::kCentre; ++rel) {
+    const int dir = graph::platform_direction(rel, side);
+    PlaceTarget t;
+    t.key = std::to_string(rel + 1);
+    t.kind = PlaceTarget::Kind::kGridCell;
+    t.relative_dir = rel;
+    t.platform_dir = dir;
+    t.region_P = cells[static_cast<std::size_t>(dir)].region_P;
+    t.aim_P = cells[static_cast<std::size_t>(dir)].rect_P.center();
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+// An occupied platform's targets: the numbered free regions of the objects on it.
+std::vector<PlaceTarget> object_targets(const graph::Platform& p, const std::vector<graph::Obstacle>& obstacles,
+                                        graph::Side side, double min_region_size) {
+  const auto regions = graph::object_regions(p, obstacles, min_region_size);
+  std::vector<PlaceTarget> out;
+  int next = 1;
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    for (int rel = 0; rel < graph::kNumDirections; ++rel) {
       const int dir = graph::platform_direction(rel, side);
+      const graph::FreeRegion& r = regions[8 * k + static_cast<std::size_t>(dir)];
+      if (!r.numbered) continue;
       PlaceTarget t;
-      t.key = std::to_string(rel + 1);
-      t.kind = PlaceTarget::Kind::kGridCell;
+      t.key = std::to_string(next++);
+      t.kind = PlaceTarget::Kind::kObjectRegion;
       t.relative_dir = rel;
       t.platform_dir = dir;
-      t.region_P = cells[static_cast<std::size_t>(dir)].region_P;
-      t.aim_P = cells[static_cast<std::size_t>(dir)].rect_P.center();
+      t.anchor = obstacles[k].object;
+      t.region_P = r.region_P;
+      t.aim_P = aim_on_box(obstacles[k].box_P, dir);
       out.push_back(std::move(t));
     }
-  } else {
-    const auto obstacles = obstacles_on(g, s, platform);
-    const auto regions = graph::object_regions(p, obstacles, min_region_size);
-    int next = 1;
-    for (std::size_t k = 0; k < obstacles.size(); ++k) {
-      for (int rel = 0; rel < graph::kNumDirections; ++rel) {
-        const int dir = graph::platform_direction(rel, side);
-        const graph::FreeRegion& r = regions[8 * k + static_cast<std::size_t>(dir)];
-        if (!r.numbered) continue;
-        PlaceTarget t;
-        t.key = std::to_string(next++);
-        t.kind = PlaceTarget::Kind::kObjectRegion;
-        t.relative_dir = rel;
-        t.platform_dir = dir;
-        t.anchor = obstacles[k].object;
-        t.region_P = r.region_P;
-        t.aim_P = aim_on_box(obstacles[k].box_P, dir);
-        out.push_back(std::move(t));
-      }
-    }
   }
-  PlaceTarget any;
-  any.key = kAnywhereKey;
-  any.region_P = p.polygon_P;
-  any.aim_P = geom::centroid(p.polygon_P);
-  out.push_back(std::move(any));
   return out;
 }
 
@@ -100,18 +97,34 @@ std::string display_name(const graph::GraphObject& o) {
 
 std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size, PlacementMemo* memo) {
-  const std::vector<graph::ObjectId>& on = objects_on(s, platform);
-  if (memo == nullptr || !memo->whole_results || on.empty()) return targets_on(g, s, platform, side, min_region_size, memo);
-  // What the targets depend on: the platform, the side, the size rule and every obstacle.
-  std::string key;
-  append_key(key, platform.value());
-  append_key(key, side);
-  append_key(key, min_region_size);
-  for (const graph::Obstacle& o : obstacles_on(g, s, platform)) {
-    append_key(key, o.object.value());
-    append_ring(key, o.hull_P);
+  const graph::Platform& p = g.platforms.at(platform);
+  std::vector<PlaceTarget> out;
+  if (objects_on(s, platform).empty()) {
+    out = grid_targets(p, platform, side, memo);
+  } else {
+    const std::vector<graph::Obstacle> obstacles = obstacles_on(g, s, platform);
+    const auto make = [&] { return object_targets(p, obstacles, side, min_region_size); };
+    if (memo == nullptr || !memo->whole_results) {
+      out = make();
+    } else {
+      // What the targets depend on: the platform, the side, the size rule and every obstacle.
+      std::string key;
+      append_key(key, platform.value());
+      append_key(key, side);
+      append_key(key, min_region_size);
+      for (const graph::Obstacle& o : obstacles) {
+        append_key(key, o.object.value());
+        append_ring(key, o.hull_P);
+      }
+      out = memo->last_targets.get(key, make);
+    }
   }
-  return memo->last_targets.get(key, [&] { return targets_on(g, s, platform, side, min_region_size, memo); });
+  PlaceTarget any;
+  any.key = kAnywhereKey;
+  any.region_P = p.polygon_P;
+  any.aim_P = geom::centroid(p.polygon_P);
+  out.push_back(std::move(any));
+  return out;
 }
 
 void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo) {

@@ -146,6 +146,7 @@ class TargetCache {
     episode::with_insets(t, memo_);
     return t;
   }
+  episode::PlacementMemo* memo() const { return memo_; }
   const std::vector<episode::PlaceTarget>& shared(const episode::WorldState& placing, graph::PlatformId pd,
                                                  graph::Side side) {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -172,8 +173,8 @@ struct Source {
 class ItemEnumeration {
  public:
   ItemEnumeration(const graph::SceneGraph& g, const episode::WorldState& s, const TaskOptions& options,
-                  const AtomicFilter& filter, TargetCache& cache, episode::PlacementMemo* memo, const Source& source)
-      : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), memo_(memo), source_(source),
+                  const AtomicFilter& filter, TargetCache& cache, const Source& source)
+      : g_(g), s_(s), options_(options), filter_(filter), cache_(cache), source_(source),
         ps_(g.navigable[source.src_label]), held_(s) {
     held_.at_platform = ps_;
     held_.side = g.platforms[ps_].default_side;
@@ -248,7 +249,7 @@ class ItemEnumeration {
     d.placing.side = dest.default_side;
     d.placing.phase = episode::Phase::kPlacing;
     d.side = static_cast<graph::Side>(dest.default_side);
-    d.feasible = episode::held_feasible_centres(g_, d.placing, d.pd, memo_);
+    d.feasible = episode::held_feasible_centres(g_, d.placing, d.pd, cache_.memo());
     if (d.feasible.empty()) return;
     const bool from_here = episode::objects_on(d.placing, d.pd) != episode::objects_on(s_, d.pd);
     if (from_here) d.own_targets = cache_.build(d.placing, d.pd, d.side);
@@ -361,7 +362,6 @@ class ItemEnumeration {
   const TaskOptions& options_;
   const AtomicFilter& filter_;
   TargetCache& cache_;
-  episode::PlacementMemo* memo_;
   Source source_;
   graph::PlatformId ps_;
   episode::WorldState held_;
@@ -396,7 +396,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
   std::vector<Found> found(sources.size());
   TargetCache cache(g, options, memo);
   parallel_for(sources.size(), jobs, [&](std::size_t i) {
-    ItemEnumeration item(g, s, options, filter, cache, memo, sources[i]);
+    ItemEnumeration item(g, s, options, filter, cache, sources[i]);
     item.run();
     found[i].tasks = std::move(item.tasks());
     if (dropped != nullptr) found[i].dropped = item.drops();
