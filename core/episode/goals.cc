@@ -202,6 +202,15 @@ double footprint_gap(const geom::Ring& a, const geom::Ring& b) {
   return best;
 }
 
+double footprint_gap_up_to(const geom::Ring& a, const Eigen::AlignedBox2d& box_a, const geom::Ring& b,
+                           const Eigen::AlignedBox2d& box_b, double limit) {
+  // Each footprint lies in its box, so the boxes are no farther apart than the footprints; the
+  // margin keeps a gap that rounds either side of `limit` on the exact path.
+  const double boxes = (box_a.min() - box_b.max()).cwiseMax(box_b.min() - box_a.max()).cwiseMax(0.0).norm();
+  if (boxes > limit + kPruneMargin) return boxes;
+  return footprint_gap(a, b);
+}
+
 bool goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const AtomicGoal& goal,
                     const GoalOptions& options) {
   return goal_margin(g, s, goal, options) > 0.0;

@@ -121,4 +121,11 @@ bool task_goal_satisfied(const graph::SceneGraph& g, const WorldState& s, const 
 /// Distance between two convex footprints (0 when they touch or overlap).
 double footprint_gap(const geom::Ring& a, const geom::Ring& b);
 
+/// footprint_gap(a, b) where it is at most `limit`; beyond, some distance above `limit` (the gap
+/// between the footprints' boxes, given), without looking at their edges. A test `gap <= d` or
+/// `gap > d` for any d <= limit, and the least of several gaps when it is at most `limit`, read
+/// the same as with footprint_gap.
+double footprint_gap_up_to(const geom::Ring& a, const Eigen::AlignedBox2d& box_a, const geom::Ring& b,
+                           const Eigen::AlignedBox2d& box_b, double limit);
+
 }  // namespace mtg::episode

@@ -23,6 +23,7 @@ struct AnchorInfo {
   graph::ObjectId object;
   Eigen::AlignedBox2d box_P;
   const geom::Ring* footprint;
+  Eigen::AlignedBox2d box_W;  // the footprint's
 };
 
 // Identity of a goal for de-duplication (cheaper than its JSON).
@@ -40,16 +41,15 @@ std::string goal_key(const AtomicGoal& goal) {
 // with box tests; each is confirmed by the judge's predicate before it becomes a task. With
 // a valid `only_anchor`, only the goals relative to that object, in the same order.
 void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2& c_P,
-                     const geom::Ring& item_W, graph::Side side, const TaskOptions& options,
+                     const geom::Ring& item_W, const Eigen::AlignedBox2d& item_box_W, graph::Side side, const TaskOptions& options,
                      AtomicGoal base, graph::ObjectId only_anchor, std::vector<AtomicGoal>& out) {
   for (std::size_t a = 0; a < anchors.size(); ++a) {
     const AnchorInfo& A = anchors[a];
     const bool wanted = !only_anchor.valid() || A.object == only_anchor;
     const Eigen::AlignedBox2d& b = A.box_P;
-    // around: the footprints' gap within the distance (box test first).
-    const Eigen::Vector2d d = (b.min() - c_P).cwiseMax(c_P - b.max()).cwiseMax(0.0);
-    if (wanted && d.norm() < options.goals.around_distance + 1.0 &&
-        episode::footprint_gap(item_W, *A.footprint) <= options.goals.around_distance) {
+    // around: the footprints' gap within the distance.
+    const double around = options.goals.around_distance;
+    if (wanted && episode::footprint_gap_up_to(item_W, item_box_W, *A.footprint, A.box_W, around) <= around) {
       AtomicGoal goal = base;
       goal.type = GoalType::kAround;
       goal.anchor = A.object;
@@ -258,7 +258,7 @@ class ItemEnumeration {
     d.X_PW = episode::platform_frame(g_, d.placing, d.pd).inverse();
     for (const graph::ObjectId o : episode::objects_on(d.placing, d.pd)) {
       const geom::Ring& fp = d.placing.objects[o].footprint;
-      d.anchors.push_back({o, geom::bounds(geom::transform(fp, d.X_PW)), &fp});
+      d.anchors.push_back({o, geom::bounds(geom::transform(fp, d.X_PW)), &fp, geom::bounds(fp)});
     }
     if (filter_.anchor.valid() && std::none_of(d.anchors.begin(), d.anchors.end(),
                                             [&](const AnchorInfo& a) { return a.object == filter_.anchor; })) {
@@ -295,7 +295,7 @@ class ItemEnumeration {
         goals.push_back(part);
       }
     } else {
-      candidate_goals(d.anchors, j.c_P, moved.footprint, d.side, options_, d.base, filter_.anchor, goals);
+      candidate_goals(d.anchors, j.c_P, moved.footprint, geom::bounds(moved.footprint), d.side, options_, d.base, filter_.anchor, goals);
     }
     for (const AtomicGoal& goal : goals) {
       if (filter_.anchor.valid()) {  // the surface and its parts have no anchor

@@ -37,6 +37,7 @@ class PlatformView {
     for (const graph::ObjectId o : objects_) {
       nouns_.push_back(noun_of(g.objects[o], rule));
       centres_P_.push_back(X_PW * episode::footprint_centre(s.objects[o]));
+      boxes_W_.push_back(geom::bounds(s.objects[o].footprint));
     }
   }
 
@@ -66,15 +67,18 @@ class PlatformView {
     }
     return out;
   }
-  double gap(std::size_t i, std::size_t k) const {
-    return episode::footprint_gap(s_.objects[objects_[i]].footprint,
-                                  s_.objects[objects_[k]].footprint);
+  // The gap between objects i and k where it is at most `limit`; beyond, some distance above it
+  // (episode::footprint_gap_up_to): the relations only compare gaps with their limits.
+  double gap(std::size_t i, std::size_t k, double limit) const {
+    return episode::footprint_gap_up_to(s_.objects[objects_[i]].footprint, boxes_W_[i],
+                                        s_.objects[objects_[k]].footprint, boxes_W_[k], limit);
   }
-  // Smallest gap from object i to any object called `landmark` (other than itself).
-  double gap_to(std::size_t i, const std::string& landmark) const {
+  // Smallest gap from object i to any object called `landmark` (other than itself), exact where
+  // it is at most `limit`.
+  double gap_to(std::size_t i, const std::string& landmark, double limit) const {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < size(); ++k) {
-      if (k != i && nouns_[k] == landmark) best = std::min(best, gap(i, k));
+      if (k != i && nouns_[k] == landmark) best = std::min(best, gap(i, k, limit));
     }
     return best;
   }
@@ -105,10 +109,10 @@ class PlatformView {
       case Relation::kNextTo:
         if (r.landmark == r.noun) return candidates;  // symmetric: never picks one out
         for (const std::size_t c : candidates) {
-          if (gap_to(c, r.landmark) <= kNextToClear) out.push_back(c);
+          if (gap_to(c, r.landmark, kNextToClear) <= kNextToClear) out.push_back(c);
         }
         // One candidate in the clear zone, and really next to its landmark.
-        if (out.size() == 1 && gap_to(out.front(), r.landmark) > kNextTo) out.clear();
+        if (out.size() == 1 && gap_to(out.front(), r.landmark, kNextTo) > kNextTo) out.clear();
         return out;
       case Relation::kFromLeft: return counted(candidates, 2, r.rank);
       case Relation::kFromRight: return counted(candidates, 6, r.rank);
@@ -127,7 +131,7 @@ class PlatformView {
       for (const std::size_t k : above(i)) out.insert(nouns_[k]);
     } else if (r == Relation::kNextTo) {
       for (std::size_t k = 0; k < size(); ++k) {
-        if (k != i && nouns_[k] != nouns_[i] && gap(i, k) <= kNextTo) out.insert(nouns_[k]);
+        if (k != i && nouns_[k] != nouns_[i] && gap(i, k, kNextTo) <= kNextTo) out.insert(nouns_[k]);
       }
     }
     return {out.begin(), out.end()};
@@ -155,6 +159,7 @@ class PlatformView {
   std::vector<graph::ObjectId> objects_;
   std::vector<std::string> nouns_;
   std::vector<geom::Point2> centres_P_;
+  std::vector<Eigen::AlignedBox2d> boxes_W_;  // the footprints' boxes
 };
 
 }  // namespace
