@@ -100,7 +100,7 @@ class TaskNumbering {
 void add_atomic_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                       const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
                       TaskSet& set) {
-  ReferenceMemo memo;  // every atomic task is named in the initial state
+  const ReferenceMemo memo(g, initial, options.ambiguity);  // every atomic task is named in the initial state
   for (const AtomicTask& a : atomic) {
     const auto words = identify(g, initial, a.goal, options.ambiguity, 0, &memo);
     if (!words) {

@@ -1,17 +1,8 @@
 #include "core/tasks/identify.h"
 
+#include "core/util/error.h"
+
 namespace mtg::tasks {
-namespace {
-
-// The start state with the item in hand: what the destination looks like while placing.
-episode::WorldState with_item_held(const graph::SceneGraph& g, const episode::WorldState& start,
-                                   graph::ObjectId item) {
-  episode::WorldState held = start;
-  episode::pick(g, held, item);
-  return held;
-}
-
-}  // namespace
 
 Identification make_identification(const graph::SceneGraph& g, int part, const std::string& role,
                                    graph::ObjectId object, graph::PlatformId platform, const Reference& r) {
@@ -26,21 +17,15 @@ Identification make_identification(const graph::SceneGraph& g, int part, const s
 }
 
 std::optional<Identified> identify(const graph::SceneGraph& g, const episode::WorldState& start,
-                                   const episode::AtomicGoal& goal, Ambiguity rule, int part, ReferenceMemo* memo) {
+                                   const episode::AtomicGoal& goal, Ambiguity rule, int part,
+                                   const ReferenceMemo* memo) {
+  MTG_DEMAND(memo == nullptr || memo->rule() == rule, "identify: the reference memo uses another ambiguity rule");
   // The destination looks the same with the item in hand unless the item comes from there.
   const bool same_platform = goal.source == goal.platform;
-  std::optional<episode::WorldState> held;
   auto referred = [&](graph::ObjectId object, graph::PlatformId platform,
                       bool while_placing) -> std::optional<Reference> {
-    const bool two_states = while_placing && same_platform;
-    const auto key = std::make_tuple(object, platform, two_states ? goal.item : graph::ObjectId());
-    if (memo != nullptr) {
-      if (const auto it = memo->find(key); it != memo->end()) return it->second;
-    }
-    if (two_states && !held) held = with_item_held(g, start, goal.item);
-    auto r = two_states ? refer(g, {&start, &*held}, object, platform, rule) : refer(g, {&start}, object, platform, rule);
-    if (memo != nullptr) memo->emplace(key, r);
-    return r;
+    const graph::ObjectId held = while_placing && same_platform ? goal.item : graph::ObjectId();
+    return memo != nullptr ? memo->refer(start, object, platform, held) : refer_in(g, start, object, platform, held, rule);
   };
   Identified out;
   const auto item = referred(goal.item, goal.source, false);

@@ -5,13 +5,12 @@
 // is in hand, when the agent chooses where to put it). A goal with look-alikes is Level 2; one
 // whose objects cannot be told apart by any reference is not generated.
 
-#include <map>
 #include <optional>
-#include <tuple>
 #include <string>
 #include <vector>
 
 #include "core/episode/goals.h"
+#include "core/tasks/reference_memo.h"
 #include "core/tasks/referring.h"
 #include "core/tasks/task.h"
 
@@ -29,17 +28,12 @@ struct Identified {
   std::vector<Identification> lookalikes;  // the objects whose reference is not "alone"
 };
 
-/// References already found in one start state, by (object, platform, item held or none): many
-/// atomic tasks of a scene name the same objects. Valid for that one state only.
-using ReferenceMemo =
-    std::map<std::tuple<graph::ObjectId, graph::PlatformId, graph::ObjectId>, std::optional<Reference>>;
-
 /// The wording of `goal` in state `start` (nothing held), or nullopt when an object cannot be
 /// named uniquely. `part` is recorded in the identifications (Level 3 sub-task index). `memo`,
-/// when given, must belong to `start`.
+/// when given, must use `rule`; the words are the same with or without it.
 std::optional<Identified> identify(const graph::SceneGraph& g, const episode::WorldState& start,
                                    const episode::AtomicGoal& goal, Ambiguity rule, int part = 0,
-                                   ReferenceMemo* memo = nullptr);
+                                   const ReferenceMemo* memo = nullptr);
 
 /// Whether some object of the goal has a look-alike (the Level 2 test), without building
 /// references: cheap enough for counting dropped tasks.

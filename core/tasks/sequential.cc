@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <set>
 
-#include "core/tasks/referring.h"
+#include "core/tasks/reference_memo.h"
 #include "core/util/hash.h"
 #include "core/util/parallel.h"
 #include "core/util/rng.h"
@@ -33,7 +33,8 @@ struct Drawn {
 };
 
 Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial, const std::vector<AtomicTask>& atomic,
-                 int n, int from, const TaskOptions& options, episode::PlacementMemo* memo) {
+                 int n, int from, const TaskOptions& options, const ReferenceMemo& references,
+                 episode::PlacementMemo* memo) {
   Drawn drawn;
   const int chain = std::max(2, options.level3_chain);
   for (int attempt = from; attempt < kAttemptsPerChain; ++attempt) {
@@ -50,7 +51,7 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
           drawn.dropped.add("trivial", 3);
           return std::nullopt;
         }
-        auto words = identify(g, s, goal, options.ambiguity, part);
+        auto words = identify(g, s, goal, options.ambiguity, part, &references);
         if (!words) drawn.dropped.add("unidentifiable", 3);
         return words;
       };
@@ -70,7 +71,7 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
         if (!items.empty()) {
           const graph::ObjectId item = items[rng.uniform_index(items.size())];
           // An item the text could not name is not worth enumerating.
-          if (refer(g, {&s}, item, episode::furniture_platform_of(g, s, item), options.ambiguity)) {
+          if (references.refer(s, item, episode::furniture_platform_of(g, s, item), {})) {
             const std::vector<AtomicTask> options_here =
                 enumerate_atomic(g, s, options, AtomicFilter{{item}, {platform}, "", last_item}, nullptr, 1, memo);
             if (!options_here.empty()) {
@@ -133,20 +134,21 @@ void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& i
   // a time; taking them in order, with a duplicate drawn on from its next attempt, gives the
   // one-thread result.
   constexpr int kBlock = 2048;
+  const ReferenceMemo references(g, initial, options.ambiguity);  // every chain starts from `initial`
   std::set<std::string> seen;
   int failures = 0;
   std::vector<Drawn> first;
   for (int from = 0; from < count; from += kBlock) {
     first.assign(static_cast<std::size_t>(std::min(kBlock, count - from)), Drawn{});
     parallel_for(first.size(), jobs, [&](std::size_t k) {
-      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options, memo);
+      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options, references, memo);
     });
     for (std::size_t k = 0; k < first.size(); ++k) {
       const int n = from + static_cast<int>(k);
       Drawn drawn = std::move(first[k]);
       dropped.merge(drawn.dropped);
       while (drawn.sequence && !seen.insert(drawn.key).second) {
-        drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options, memo);
+        drawn = draw_chain(g, initial, atomic, n, drawn.attempt + 1, options, references, memo);
         dropped.merge(drawn.dropped);
       }
       if (drawn.sequence) {

@@ -7,7 +7,9 @@
 
 #include "core/episode/rules.h"
 #include "core/tasks/generator.h"
+#include "core/tasks/atomic.h"
 #include "core/tasks/identify.h"
+#include "core/tasks/reference_memo.h"
 #include "core/tasks/referring.h"
 #include "core/tasks/validate.h"
 #include "core/util/error.h"
@@ -155,6 +157,44 @@ TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
     EXPECT_FALSE(t.item == "box_1" && t.destination == g.platforms[shelf].name) << t.text;
   }
   EXPECT_GT(r.set.dropped.by_reason.at("stack").at(2), 0);
+}
+
+// The memo Level 3 shares answers as refer() does, in its base state and in states where a box
+// moved: there the table it left names its boxes differently, and the memo must not answer for
+// that table from the base state. Asked twice, the second time from what it kept.
+TEST(References, TheMemoAnswersAsReferDoesInStatesDerivedFromItsBase) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  const auto& g = b.graph;
+  const episode::WorldState initial = episode::initial_state(g);
+  const ReferenceMemo memo(g, initial, Ambiguity::kCategory);
+  const std::vector<AtomicTask> atomic = enumerate_atomic(g, initial, TaskOptions{});
+  ASSERT_GE(atomic.size(), 2u);
+  std::vector<episode::WorldState> states = {initial};
+  for (std::size_t k = 0; k < std::min<std::size_t>(atomic.size(), 12); ++k) {
+    states.push_back(initial);
+    apply_effect(g, states.back(), atomic[k]);
+  }
+  const auto words = [](const std::optional<Reference>& r) { return r ? r->to_json().dump() : std::string("none"); };
+  int asked = 0, differ_from_base = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const episode::WorldState& s : states) {
+      for (const graph::PlatformId p : g.navigable) {
+        std::vector<graph::ObjectId> held = {graph::ObjectId()};
+        for (const graph::ObjectId o : episode::pickable_on(g, s, p)) held.push_back(o);
+        for (const graph::ObjectId o : episode::everything_on(g, s, p)) {
+          for (const graph::ObjectId h : held) {
+            const std::string expected = words(refer_in(g, s, o, p, h, Ambiguity::kCategory));
+            EXPECT_EQ(words(memo.refer(s, o, p, h)), expected) << g.objects[o].name << " held " << h;
+            differ_from_base += expected != words(refer_in(g, initial, o, p, h, Ambiguity::kCategory)) ? 1 : 0;
+            ++asked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(asked, 100);
+  EXPECT_GT(differ_from_base, 0) << "no moved state named an object differently: the test proves nothing";
 }
 
 }  // namespace
