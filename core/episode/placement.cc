@@ -63,9 +63,19 @@ std::vector<PlaceTarget> grid_targets(const graph::Platform& p, graph::PlatformI
 }
 
 // An occupied platform's targets: the numbered free regions of the objects on it.
-std::vector<PlaceTarget> object_targets(const graph::Platform& p, const std::vector<graph::Obstacle>& obstacles,
-                                        graph::Side side, double min_region_size) {
-  const auto regions = graph::object_regions(p, obstacles, min_region_size);
+std::vector<PlaceTarget> object_targets(const graph::Platform& p, graph::PlatformId platform,
+                                        const std::vector<graph::Obstacle>& obstacles, graph::Side side,
+                                        double min_region_size, PlacementMemo* memo) {
+  graph::RectClip clip;
+  if (memo != nullptr) {
+    clip = [&](const Eigen::AlignedBox2d& rect) {
+      std::string key;
+      append_key(key, platform.value());
+      for (const double v : {rect.min().x(), rect.min().y(), rect.max().x(), rect.max().y()}) append_key(key, v);
+      return memo->clips.get(key, [&] { return geom::intersect(p.polygon_P, geom::rectangle(rect.min(), rect.max())); });
+    };
+  }
+  const auto regions = graph::object_regions(p, obstacles, min_region_size, clip);
   std::vector<PlaceTarget> out;
   int next = 1;
   for (std::size_t k = 0; k < obstacles.size(); ++k) {
@@ -103,7 +113,7 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
     out = grid_targets(p, platform, side, memo);
   } else {
     const std::vector<graph::Obstacle> obstacles = obstacles_on(g, s, platform);
-    const auto make = [&] { return object_targets(p, obstacles, side, min_region_size); };
+    const auto make = [&] { return object_targets(p, platform, obstacles, side, min_region_size, memo); };
     if (memo == nullptr || !memo->whole_results) {
       out = make();
     } else {

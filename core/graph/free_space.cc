@@ -149,15 +149,16 @@ bool fills_its_box(const Platform& platform) {
   return geom::area(platform.polygon_P) >= platform.box_P.volume() * (1.0 - 1e-9);
 }
 
-geom::Region clip_to_platform(const Platform& platform, bool rectangular, const Eigen::AlignedBox2d& rect) {
-  const geom::Region r = geom::rectangle(rect.min(), rect.max());
-  return rectangular ? r : geom::intersect(platform.polygon_P, r);
+geom::Region clip_to_platform(const Platform& platform, bool rectangular, const Eigen::AlignedBox2d& rect,
+                              const RectClip& clip = {}) {
+  if (rectangular) return geom::rectangle(rect.min(), rect.max());
+  return clip ? clip(rect) : geom::intersect(platform.polygon_P, geom::rectangle(rect.min(), rect.max()));
 }
 
 }  // namespace
 
-std::vector<FreeRegion> object_regions(const Platform& platform,
-                                       const std::vector<Obstacle>& obstacles, double min_size) {
+std::vector<FreeRegion> object_regions(const Platform& platform, const std::vector<Obstacle>& obstacles,
+                                       double min_size, const RectClip& clip) {
   std::vector<FreeRegion> out;
   const Eigen::AlignedBox2d limit = platform.box_P;
   const bool rectangular = fills_its_box(platform);
@@ -170,7 +171,7 @@ std::vector<FreeRegion> object_regions(const Platform& platform,
                               : corner_rect(a.box_P, direction_step(dir).x(), direction_step(dir).y(), limit,
                                             obstacles, a.object);
       const Eigen::Vector2d size = r.rect_P.sizes();
-      if (size.x() > kEps && size.y() > kEps) r.region_P = clip_to_platform(platform, rectangular, r.rect_P);
+      if (size.x() > kEps && size.y() > kEps) r.region_P = clip_to_platform(platform, rectangular, r.rect_P, clip);
       const Eigen::AlignedBox2d clipped = geom::bounds(r.region_P);
       r.numbered = !r.region_P.empty() && clipped.sizes().x() >= min_size &&
                    clipped.sizes().y() >= min_size;

@@ -5,6 +5,7 @@
 // Everything here is in the platform frame P (x = right, y = front of the platform).
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "core/geom/polygon.h"
@@ -50,8 +51,12 @@ struct FreeRegion {
 /// extend from the object's edge to the nearest obstacle in that direction (or the platform
 /// edge); corner regions are the largest rectangle anchored at the object's corner that holds
 /// no obstacle.
-std::vector<FreeRegion> object_regions(const Platform& platform,
-                                       const std::vector<Obstacle>& obstacles, double min_size);
+/// `clip`, when given, computes what a rectangle leaves of a platform polygon that does not fill
+/// its box (geom::intersect of the two), for callers that remember the results: a region
+/// depends on nearby obstacles only, so it repeats from state to state.
+using RectClip = std::function<geom::Region(const Eigen::AlignedBox2d& rect)>;
+std::vector<FreeRegion> object_regions(const Platform& platform, const std::vector<Obstacle>& obstacles,
+                                       double min_size, const RectClip& clip = {});
 
 /// Rectangle of grid cell `dir` (0..7, kCentre) of the platform's bounding box, in P.
 Eigen::AlignedBox2d grid_cell_rect(const Platform& platform, int dir);

@@ -46,6 +46,40 @@ class MemoTable {
   std::unordered_map<std::string, Value> values_;  // rehashing keeps elements where they are
 };
 
+/// A MemoTable that holds at most `capacity` values: when full, it forgets them all and starts
+/// again. For results asked for again and again among many asked for once or twice (the regions
+/// of the objects a Level 3 step did not disturb, among those of the objects it did): the ones
+/// asked for often are back after a few questions, and memory stays bounded. A value is handed
+/// out as a copy, since forgetting frees it.
+template <class Value>
+class BoundedMemoTable {
+ public:
+  explicit BoundedMemoTable(std::size_t capacity) : capacity_(capacity) {}
+
+  template <class Make>
+  Value get(const std::string& key, Make&& make) {
+    {
+      const std::shared_lock lock(mutex_);
+      if (const auto it = values_.find(key); it != values_.end()) return it->second;
+    }
+    Value made = make();
+    const std::unique_lock lock(mutex_);
+    if (values_.size() >= capacity_) values_.clear();
+    values_.try_emplace(key, made);
+    return made;
+  }
+
+  std::size_t size() const {
+    const std::shared_lock lock(mutex_);
+    return values_.size();
+  }
+
+ private:
+  const std::size_t capacity_;
+  mutable std::shared_mutex mutex_;
+  std::unordered_map<std::string, Value> values_;
+};
+
 /// A memo of one entry: the value for the last key asked about. For results that are large and
 /// asked for again right away, but rarely later. Safe to share between threads.
 template <class Value>
