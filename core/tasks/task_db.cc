@@ -24,6 +24,10 @@ constexpr const char* kFormat = "mtg-task-db/3";
 // The view gives each task's JSON back in the stock sqlite3 shell (its sqlar_uncompress); mtg
 // itself reads the chunks.
 constexpr std::size_t kTasksPerChunk = 64;
+// zlib's level for the chunks. Measured on the three shipped apartments' 107 MB of task JSON:
+// level 6 (zlib's default) takes 2.2 s of CPU for 118 B a task, level 3 0.95 s for 144 B. The
+// database stays well under 250 B a task; the time was an eighth of generating the three.
+constexpr int kChunkLevel = 3;
 
 constexpr const char* kSchema = R"sql(
 CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
@@ -202,7 +206,7 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
     json += ']';
     chunk.size = json.size();
     try {
-      chunk.body = zlib_compress(json);
+      chunk.body = zlib_compress(json, kChunkLevel);
     } catch (const Error& e) {
       throw Error(file_.string() + ": " + e.what());
     }
