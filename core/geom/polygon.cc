@@ -316,11 +316,17 @@ Eigen::AlignedBox2d bounds(const Region& region) {
   return b;
 }
 
-Ring convex_hull(std::vector<Point2> pts) {
-  // Andrew's monotone chain: lower then upper chain, counter-clockwise.
-  std::sort(pts.begin(), pts.end(), [](const Point2& a, const Point2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
+namespace {
+
+// A type, not a function, so that sort and merge inline it.
+struct LexicographicLess {
+  bool operator()(const Point2& a, const Point2& b) const { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); }
+};
+constexpr LexicographicLess lexicographic_less;
+
+// Andrew's monotone chain over points in lexicographic order: lower then upper chain,
+// counter-clockwise.
+Ring hull_of_sorted(std::vector<Point2>& pts) {
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
   if (pts.size() < 3) return pts;
   Ring hull(2 * pts.size());
@@ -340,6 +346,42 @@ Ring convex_hull(std::vector<Point2> pts) {
   });
   std::rotate(hull.begin(), start, hull.end());
   return hull;
+}
+
+}  // namespace
+
+Ring convex_hull(std::vector<Point2> pts) {
+  std::sort(pts.begin(), pts.end(), lexicographic_less);
+  return hull_of_sorted(pts);
+}
+
+Ring convex_hull_of_sums(const Ring& a, const Ring& b) {
+  if (a.empty() || b.empty()) return {};
+  // The sums come as one run per point of a, each b's points in order plus that point. Adding a
+  // point keeps the order except where rounding ties two sums in x (insertion puts those right,
+  // moving little); merging the runs then gives the order a sort of all the sums gives, which is
+  // unique up to equal points, and those are dropped. So the hull is convex_hull's, bit for bit.
+  std::vector<Point2> bs(b.begin(), b.end());
+  std::sort(bs.begin(), bs.end(), lexicographic_less);
+  const std::size_t m = bs.size(), total = a.size() * m;
+  std::vector<Point2> pts(total), merged(total);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    Point2* run = pts.data() + i * m;
+    for (std::size_t j = 0; j < m; ++j) run[j] = a[i] + bs[j];
+    for (std::size_t j = 1; j < m; ++j) {
+      for (std::size_t k = j; k > 0 && lexicographic_less(run[k], run[k - 1]); --k) std::swap(run[k], run[k - 1]);
+    }
+  }
+  for (std::size_t width = m; width < total; width *= 2) {
+    for (std::size_t lo = 0; lo < total; lo += 2 * width) {
+      const std::size_t mid = std::min(lo + width, total), hi = std::min(lo + 2 * width, total);
+      std::merge(pts.begin() + static_cast<std::ptrdiff_t>(lo), pts.begin() + static_cast<std::ptrdiff_t>(mid),
+                 pts.begin() + static_cast<std::ptrdiff_t>(mid), pts.begin() + static_cast<std::ptrdiff_t>(hi),
+                 merged.begin() + static_cast<std::ptrdiff_t>(lo), lexicographic_less);
+    }
+    std::swap(pts, merged);
+  }
+  return hull_of_sorted(pts);
 }
 
 double wrap_angle(double a) {

@@ -202,14 +202,7 @@ std::array<FreeRegion, 9> grid_cells(const Platform& platform) {
   return out;
 }
 
-geom::Ring minkowski_convex(const geom::Ring& a, const geom::Ring& b) {
-  std::vector<geom::Point2> sums;
-  sums.reserve(a.size() * b.size());
-  for (const auto& p : a) {
-    for (const auto& q : b) sums.push_back(p + q);
-  }
-  return geom::convex_hull(std::move(sums));
-}
+geom::Ring minkowski_convex(const geom::Ring& a, const geom::Ring& b) { return geom::convex_hull_of_sums(a, b); }
 
 geom::Region placeable_interior(const Platform& platform, const geom::Ring& item_hull) {
   return geom::erode(platform.polygon_P, item_hull);

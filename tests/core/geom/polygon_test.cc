@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -74,6 +76,51 @@ TEST(Polygon, ConvexHullIsCounterClockwiseAndCanonical) {
   ASSERT_EQ(hull.size(), 4u);
   EXPECT_GT(signed_area(hull), 0.0);
   EXPECT_EQ(hull.front(), Point2(0, 0));
+}
+
+// The Minkowski sums of placement (an obstacle's footprint and an item's, both convex) must be
+// convex_hull's to the bit, or task placements would move: rotated and axis-aligned boxes (whose
+// sums tie in x), random hulls at metre-scale coordinates, repeated points, and tiny rings.
+TEST(Polygon, TheHullOfSumsIsTheHullOfEverySumToTheBit) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto box = [&](double cx, double cy, double hx, double hy, double yaw) {
+    Ring r;
+    for (const auto& [sx, sy] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+      const double x = sx * hx, y = sy * hy;
+      r.push_back({cx + std::cos(yaw) * x - std::sin(yaw) * y, cy + std::sin(yaw) * x + std::cos(yaw) * y});
+    }
+    return r;
+  };
+  const auto random_hull = [&](int n, double scale, double cx, double cy) {
+    std::vector<Point2> pts;
+    for (int i = 0; i < n; ++i) pts.push_back({cx + scale * u(rng), cy + scale * u(rng)});
+    return convex_hull(pts);
+  };
+  const auto same_bits = [](const Ring& a, const Ring& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Point2)) == 0;
+  };
+  std::vector<std::pair<Ring, Ring>> cases = {
+      {box(1.25, -3.5, 0.2, 0.1, 0.0), box(0.0, 0.0, 0.05, 0.05, 0.0)},
+      {box(1.25, -3.5, 0.2, 0.1, 0.0), box(0.0, 0.0, 0.1, 0.2, 0.0)},
+      {square(0.3, 0.3, 0.1), square(-0.3, -0.3, 0.1)},
+      {{{0.5, 0.5}}, square(0, 0, 0.1)},
+      {{{0.5, 0.5}, {0.5, 0.5}, {0.7, 0.5}}, {{0.1, 0.1}, {0.2, 0.2}}},
+  };
+  for (int k = 0; k < 300; ++k) {
+    const double yaw = k % 3 == 0 ? 0.0 : u(rng) * M_PI;
+    cases.push_back({box(3 * u(rng), 3 * u(rng), 0.3 * std::abs(u(rng)) + 0.01, 0.3 * std::abs(u(rng)) + 0.01, yaw),
+                     mirrored(box(0, 0, 0.1, 0.05, k % 2 == 0 ? 0.0 : yaw))});
+    cases.push_back({random_hull(20 + k % 30, 0.4, 3 * u(rng), 3 * u(rng)), mirrored(random_hull(12, 0.1, 0, 0))});
+  }
+  for (const auto& [a, b] : cases) {
+    std::vector<Point2> sums;
+    for (const Point2& p : a) {
+      for (const Point2& q : b) sums.push_back(p + q);
+    }
+    EXPECT_TRUE(same_bits(convex_hull_of_sums(a, b), convex_hull(sums))) << a.size() << " x " << b.size();
+  }
+  EXPECT_TRUE(convex_hull_of_sums({}, square(0, 0, 1)).empty());
 }
 
 TEST(Polygon, MinAreaRectPicksTheAxisNearestThePreferredYaw) {
