@@ -1,6 +1,7 @@
 #include "core/tasks/sequential.h"
 
 #include <algorithm>
+#include <future>
 #include <set>
 
 #include "core/tasks/reference_memo.h"
@@ -132,17 +133,23 @@ void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& i
   if (atomic.empty() || count <= 0) return;
   // Each chain's attempts depend only on its number, so chains are drawn in parallel, a block at
   // a time; taking them in order, with a duplicate drawn on from its next attempt, gives the
-  // one-thread result.
+  // one-thread result. With threads to spare, the next block is drawn while this thread takes
+  // the last one in order, so no core waits on that serial part.
   constexpr int kBlock = 2048;
   const ReferenceMemo references(g, initial, options.ambiguity);  // every chain starts from `initial`
   std::set<std::string> seen;
   int failures = 0;
-  std::vector<Drawn> first;
-  for (int from = 0; from < count; from += kBlock) {
-    first.assign(static_cast<std::size_t>(std::min(kBlock, count - from)), Drawn{});
-    parallel_for(first.size(), jobs, [&](std::size_t k) {
-      first[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options, references, memo);
+  const auto draw_block = [&](int from) {
+    std::vector<Drawn> block(static_cast<std::size_t>(std::min(kBlock, count - from)));
+    parallel_for(block.size(), jobs, [&](std::size_t k) {
+      block[k] = draw_chain(g, initial, atomic, from + static_cast<int>(k), 0, options, references, memo);
     });
+    return block;
+  };
+  std::future<std::vector<Drawn>> next;  // after what it reads: waited for before they go
+  for (int from = 0; from < count; from += kBlock) {
+    std::vector<Drawn> first = next.valid() ? next.get() : draw_block(from);
+    if (jobs > 1 && from + kBlock < count) next = std::async(std::launch::async, draw_block, from + kBlock);
     for (std::size_t k = 0; k < first.size(); ++k) {
       const int n = from + static_cast<int>(k);
       Drawn drawn = std::move(first[k]);
