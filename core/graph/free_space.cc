@@ -85,13 +85,16 @@ Eigen::AlignedBox2d corner_rect(const Eigen::AlignedBox2d& a, int sx, int sy,
   std::vector<double> widths = {u_max};
   for (const auto& q : quads) widths.push_back(q.u0);
   std::sort(widths.begin(), widths.end());
+  // A rectangle u wide may reach up to the nearest obstacle that starts before u. Widths grow, so
+  // those obstacles only ever join: with them by their start, the bound is a running minimum
+  // (the same minimum, over the same obstacles, as asking each of them at every width).
+  std::sort(quads.begin(), quads.end(), [](const Quad& a, const Quad& b) { return a.u0 < b.u0; });
   double best_u = 0.0, best_v = 0.0, best_area = -1.0;
+  double v = v_max;
+  std::size_t started = 0;
   for (const double u : widths) {
+    for (; started < quads.size() && quads[started].u0 < u - kEps; ++started) v = std::min(v, quads[started].v0);
     if (u <= kEps) continue;
-    double v = v_max;
-    for (const auto& q : quads) {
-      if (q.u0 < u - kEps) v = std::min(v, q.v0);
-    }
     if (u * v > best_area + 1e-12) {
       best_area = u * v;
       best_u = u;
