@@ -360,7 +360,9 @@ Ring convex_hull_of_sums(const Ring& a, const Ring& b) {
   // The sums come as one run per point of a, each b's points in order plus that point. Adding a
   // point keeps the order except where rounding ties two sums in x (insertion puts those right,
   // moving little); merging the runs then gives the order a sort of all the sums gives, which is
-  // unique up to equal points, and those are dropped. So the hull is convex_hull's, bit for bit.
+  // unique up to equal points, and those are dropped. So the hull is convex_hull's, bit for bit,
+  // except that of two sums equal but for the sign of a zero coordinate another may be kept
+  // (both round to the same Clipper point, the only use of a Minkowski sum).
   std::vector<Point2> bs(b.begin(), b.end());
   std::sort(bs.begin(), bs.end(), lexicographic_less);
   const std::size_t m = bs.size(), total = a.size() * m;

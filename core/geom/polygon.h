@@ -65,8 +65,8 @@ Eigen::AlignedBox2d bounds(const Region& region);
 
 /// Convex hull, counter-clockwise, starting from the lowest-then-leftmost point.
 Ring convex_hull(std::vector<Point2> points);
-/// convex_hull of every a_i + b_j (the Minkowski sum of two convex rings), the same ring, without
-/// sorting all a.size() * b.size() points at once.
+/// convex_hull of every a_i + b_j (the Minkowski sum of two convex rings), the same ring (up to
+/// the sign of a zero coordinate), without sorting all a.size() * b.size() points at once.
 Ring convex_hull_of_sums(const Ring& a, const Ring& b);
 
 /// A rectangle of half extents `half` centred at `centre`, its x axis at angle `yaw`.

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "core/util/error.h"
+
 namespace mtg::tasks {
 
 std::optional<Reference> refer_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
@@ -19,7 +21,7 @@ bool ReferenceMemo::as_in_base(const episode::WorldState& s, graph::PlatformId p
   if (&s == &base_) return true;
   // What a view of the platform reads (referring.cc, PlatformView): its frame, everything on it
   // in order, and each object's footprint and support. Picking an item changes only these.
-  if (s.platform_offset[platform] != base_.platform_offset[platform]) return false;
+  if (s.platform_offset.at(platform) != base_.platform_offset.at(platform)) return false;
   const std::vector<graph::ObjectId> here = episode::everything_on(g_, s, platform);
   if (here != episode::everything_on(g_, base_, platform)) return false;
   for (const graph::ObjectId o : here) {
@@ -31,6 +33,7 @@ bool ReferenceMemo::as_in_base(const episode::WorldState& s, graph::PlatformId p
 
 std::optional<Reference> ReferenceMemo::refer(const episode::WorldState& s, graph::ObjectId object,
                                               graph::PlatformId platform, graph::ObjectId held_item) const {
+  MTG_DEMAND(!held_item.valid() || !s.held.valid(), "refer: an item is already in hand");
   const auto make = [&](const episode::WorldState& in) { return refer_in(g_, in, object, platform, held_item, rule_); };
   if (!as_in_base(s, platform)) return make(s);
   std::string key;

@@ -106,6 +106,10 @@ TEST(Polygon, TheHullOfSumsIsTheHullOfEverySumToTheBit) {
       {square(0.3, 0.3, 0.1), square(-0.3, -0.3, 0.1)},
       {{{0.5, 0.5}}, square(0, 0, 0.1)},
       {{{0.5, 0.5}, {0.5, 0.5}, {0.7, 0.5}}, {{0.1, 0.1}, {0.2, 0.2}}},
+      // x one ulp apart in b, equal once 3 is added: the run's y order is put right (this path of
+      // the code runs; no case found shows a hull that depends on it).
+      {{{3.0, 0.0}, {3.5, 0.0}, {3.5, 1.0}},
+       {{0.1, 0.5}, {std::nextafter(0.1, 1.0), 0.2}, {0.3, 0.1}, {0.3, 0.9}}},
   };
   for (int k = 0; k < 300; ++k) {
     const double yaw = k % 3 == 0 ? 0.0 : u(rng) * M_PI;

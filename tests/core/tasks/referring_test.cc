@@ -159,9 +159,10 @@ TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
   EXPECT_GT(r.set.dropped.by_reason.at("stack").at(2), 0);
 }
 
-// The memo Level 3 shares answers as refer() does, in its base state and in states where a box
-// moved: there the table it left names its boxes differently, and the memo must not answer for
-// that table from the base state. Asked twice, the second time from what it kept.
+// The memo Level 3 shares answers as refer() does, in its base state and in the state after each
+// atomic task: where a box left a table, or moved along it (box_3 put back on table_0 keeps the
+// boxes' order, only its footprint tells), the table names its boxes differently, and the memo
+// must not answer for it from the base state. Asked twice, the second time from what it kept.
 TEST(References, TheMemoAnswersAsReferDoesInStatesDerivedFromItsBase) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
@@ -171,9 +172,9 @@ TEST(References, TheMemoAnswersAsReferDoesInStatesDerivedFromItsBase) {
   const std::vector<AtomicTask> atomic = enumerate_atomic(g, initial, TaskOptions{});
   ASSERT_GE(atomic.size(), 2u);
   std::vector<episode::WorldState> states = {initial};
-  for (std::size_t k = 0; k < std::min<std::size_t>(atomic.size(), 12); ++k) {
+  for (const AtomicTask& task : atomic) {
     states.push_back(initial);
-    apply_effect(g, states.back(), atomic[k]);
+    apply_effect(g, states.back(), task);
   }
   const auto words = [](const std::optional<Reference>& r) { return r ? r->to_json().dump() : std::string("none"); };
   int asked = 0, differ_from_base = 0;

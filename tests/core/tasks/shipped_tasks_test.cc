@@ -9,9 +9,12 @@
 #include <cstdio>
 #include <map>
 
+#include "core/episode/placement.h"
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
+#include "core/tasks/atomic.h"
 #include "core/tasks/generator.h"
+#include "core/tasks/sequential.h"
 #include "core/tasks/validate.h"
 #include "tests/support/shipped_data.h"
 
@@ -54,6 +57,55 @@ TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Apartments, ShippedTasks, ::testing::Values("apt_0", "apt_1", "apt_2"));
+
+// Every bit a generated part carries: its key, oracle, where it was put and its margin.
+std::string bits_of(const AtomicTask& t) {
+  std::string line = t.key;
+  for (const auto& k : t.oracle) line += " " + k;
+  for (const double v : {t.place_xy.x(), t.place_xy.y(), t.placed_at.x(), t.placed_at.y(), t.placed_at.z(), t.margin}) {
+    line.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  return line;
+}
+
+// On real platforms (some do not fill their box: their regions are clipped through the memo)
+// and past one block of 2,048 chains (the next block is drawn while the last is taken), the
+// atomic set and the chains made with the memo on two threads are those made without it on one.
+TEST(ShippedChains, TheMemoAndTheThreadsChangeNoBit) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  const graph::SceneGraph g =
+      graph::build_scene_graph(scene::load_scene(*testing::shipped_dataset(), "apt_0", meshes), graph_options);
+  const TaskOptions options;
+  const episode::WorldState initial = episode::initial_state(g);
+  episode::PlacementMemo memo;
+  const std::vector<AtomicTask> atomic = enumerate_atomic(g, initial, options, {}, nullptr, 2, &memo);
+  const std::vector<AtomicTask> plain = enumerate_atomic(g, initial, options, {}, nullptr, 1);
+  ASSERT_EQ(atomic.size(), plain.size());
+  for (std::size_t k = 0; k < atomic.size(); ++k) ASSERT_EQ(bits_of(atomic[k]), bits_of(plain[k])) << k;
+  const auto chains = [&](int jobs, episode::PlacementMemo* m) {
+    std::vector<std::string> out;
+    std::vector<std::string> warnings;
+    DropCounts dropped;
+    generate_sequences(
+        g, initial, atomic, 2100, options, warnings, dropped, jobs,
+        [&](Sequence seq) {
+          std::string line;
+          for (std::size_t k = 0; k < seq.parts.size(); ++k) {
+            line += bits_of(seq.parts[k]) + " '" + seq.words[k].wording.item.phrase() + "' | ";
+          }
+          out.push_back(line);
+        },
+        m);
+    return out;
+  };
+  const std::vector<std::string> with_memo = chains(2, &memo);
+  EXPECT_EQ(with_memo.size(), 2100u);
+  EXPECT_EQ(with_memo, chains(1, nullptr));
+  EXPECT_GT(memo.clips.size(), 0u) << "no platform here clipped a region: the test misses the clip memo";
+}
 
 }  // namespace
 }  // namespace mtg::tasks

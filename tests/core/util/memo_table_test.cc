@@ -58,5 +58,30 @@ TEST(MemoTable, ThreadsAskingForTheSameKeysAllGetTheOneStoredValue) {
   }
 }
 
+// Full, a bounded table forgets what it holds and starts again: a forgotten key is made anew (the
+// same value: it is a memo), the others are handed back, and it never holds more than asked.
+TEST(BoundedMemoTable, ForgetsWhenFullAndMakesAForgottenValueAgain) {
+  BoundedMemoTable<std::string> table(2);
+  int made = 0;
+  const auto value_of = [&](int k) {
+    std::string key;
+    append_key(key, k);
+    return table.get(key, [&] {
+      ++made;
+      return "value " + std::to_string(k);
+    });
+  };
+  EXPECT_EQ(value_of(1), "value 1");
+  EXPECT_EQ(value_of(2), "value 2");
+  EXPECT_EQ(value_of(1), "value 1");
+  EXPECT_EQ(made, 2) << "a hit makes nothing";
+  EXPECT_EQ(value_of(3), "value 3");
+  EXPECT_LE(table.size(), 2u);
+  EXPECT_EQ(value_of(1), "value 1");
+  EXPECT_EQ(value_of(2), "value 2");
+  EXPECT_EQ(made, 5) << "1 and 2 were forgotten when 3 came, and made again";
+  EXPECT_LE(table.size(), 2u);
+}
+
 }  // namespace
 }  // namespace mtg
