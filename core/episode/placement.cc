@@ -72,7 +72,7 @@ std::vector<PlaceTarget> object_targets(const graph::Platform& p, graph::Platfor
       std::string key;
       append_key(key, platform.value());
       for (const double v : {rect.min().x(), rect.min().y(), rect.max().x(), rect.max().y()}) append_key(key, v);
-      return memo->clips.get(key, [&] { return geom::intersect(p.polygon_P, geom::rectangle(rect.min(), rect.max())); });
+      return memo->clips.get(key, [&] { return graph::clip_to_polygon(p, rect); });
     };
   }
   const auto regions = graph::object_regions(p, obstacles, min_region_size, clip);

@@ -155,10 +155,14 @@ bool fills_its_box(const Platform& platform) {
 geom::Region clip_to_platform(const Platform& platform, bool rectangular, const Eigen::AlignedBox2d& rect,
                               const RectClip& clip = {}) {
   if (rectangular) return geom::rectangle(rect.min(), rect.max());
-  return clip ? clip(rect) : geom::intersect(platform.polygon_P, geom::rectangle(rect.min(), rect.max()));
+  return clip ? clip(rect) : clip_to_polygon(platform, rect);
 }
 
 }  // namespace
+
+geom::Region clip_to_polygon(const Platform& platform, const Eigen::AlignedBox2d& rect) {
+  return geom::intersect(platform.polygon_P, geom::rectangle(rect.min(), rect.max()));
+}
 
 std::vector<FreeRegion> object_regions(const Platform& platform, const std::vector<Obstacle>& obstacles,
                                        double min_size, const RectClip& clip) {

@@ -51,9 +51,12 @@ struct FreeRegion {
 /// extend from the object's edge to the nearest obstacle in that direction (or the platform
 /// edge); corner regions are the largest rectangle anchored at the object's corner that holds
 /// no obstacle.
-/// `clip`, when given, computes what a rectangle leaves of a platform polygon that does not fill
-/// its box (geom::intersect of the two), for callers that remember the results: a region
-/// depends on nearby obstacles only, so it repeats from state to state.
+/// The part of rectangle `rect` inside the platform's polygon.
+geom::Region clip_to_polygon(const Platform& platform, const Eigen::AlignedBox2d& rect);
+
+/// `clip`, when given, computes clip_to_polygon for a platform that does not fill its box, for
+/// callers that remember the results: a region depends on nearby obstacles only, so it repeats
+/// from state to state.
 using RectClip = std::function<geom::Region(const Eigen::AlignedBox2d& rect)>;
 std::vector<FreeRegion> object_regions(const Platform& platform, const std::vector<Obstacle>& obstacles,
                                        double min_size, const RectClip& clip = {});
