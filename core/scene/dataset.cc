@@ -140,7 +140,10 @@ Dataset index_dataset(const fs::path& root) {
     }
   }
   nlohmann::json config = nlohmann::json::object();
-  if (!dataset_config.empty()) config = read_json_file(dataset_config);
+  if (!dataset_config.empty()) {
+    config = read_json_file(dataset_config);
+    ds.config_files.push_back(dataset_config);
+  }
 
   auto dirs_or = [&](const char* section, const std::string& ext, const char* fallback) {
     auto dirs = config.contains(section) ? config_dirs(root, config[section], ext)
@@ -174,6 +177,7 @@ Dataset index_dataset(const fs::path& root) {
       const fs::path lexicon = root / item.value().get<std::string>();
       if (!fs::exists(lexicon)) continue;
       const nlohmann::json j = read_json_file(lexicon);
+      ds.config_files.push_back(lexicon);
       const JsonField classes = JsonField(j, lexicon.string()).at("classes");
       for (std::size_t i = 0; i < classes.size(); ++i) {
         const JsonField c = classes.at(i);

@@ -24,6 +24,7 @@ struct Dataset {
   std::map<std::string, std::filesystem::path> urdfs;           // template (file stem) -> *.urdf
   std::map<int, std::string> semantic_classes;                  // lexicon id -> class name
   std::string object_prefix;  // common prefix of object templates, e.g. "frl_apartment_"
+  std::vector<std::filesystem::path> config_files;  // the dataset config and lexicons read (not a scene's)
 
   std::vector<std::string> scene_names() const;
   /// @throws mtg::Error "unknown scene 'x' (available: a, b, ...)".

@@ -346,4 +346,15 @@ Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& ca
   return scene;
 }
 
+std::vector<std::filesystem::path> files_to_copy(const Dataset& dataset, const Scene& scene) {
+  std::set<std::filesystem::path> files(scene.source_files);
+  files.insert(dataset.config_files.begin(), dataset.config_files.end());
+  std::vector<std::filesystem::path> out;
+  // Files looked for in vain (an absent mesh) stay out: a copy has them absent too.
+  for (const std::filesystem::path& f : files) {
+    if (std::filesystem::is_regular_file(f)) out.push_back(f);
+  }
+  return out;
+}
+
 }  // namespace mtg::scene

@@ -1,7 +1,9 @@
 #pragma once
 // Loading one scene instance of a ReplicaCAD-format dataset into a typed Scene.
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/scene/dataset.h"
 #include "core/scene/mesh.h"
@@ -19,5 +21,9 @@ struct SceneLoadOptions {
 /// @throws mtg::Error for an unknown scene or a malformed scene/config JSON (file + JSON path).
 Scene load_scene(const Dataset& dataset, const std::string& scene_name, MeshCache& cache,
                  const SceneLoadOptions& options = {});
+
+/// The files a copy of `dataset` needs to load `scene` as it loaded here, sorted: the dataset's
+/// config files and the scene's sources that exist (`mtg scene info --files`, scripts/gpu-bundle).
+std::vector<std::filesystem::path> files_to_copy(const Dataset& dataset, const Scene& scene);
 
 }  // namespace mtg::scene

@@ -12,6 +12,7 @@
 #include "core/episode/rules.h"
 #include "core/render/image_codec.h"
 #include "core/render/image_renderer.h"
+#include "core/render/overlay.h"
 #include "core/render/view.h"
 #include "core/tasks/generator.h"
 #include "core/util/stopwatch.h"
@@ -63,7 +64,7 @@ int run_bench_render(const BenchRenderOptions& o) {
 
   const episode::WorldState initial = episode::initial_state(g);
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{640, 480}, {1280, 720}}) {
-    std::vector<double> frame_ms, observation_ms;
+    std::vector<double> frame_ms, observation_ms, plan_ms, draw_ms, marks_ms;
     std::int64_t triangles = 0;
     std::size_t bytes = 0;
     int frames = 0;
@@ -74,10 +75,18 @@ int run_bench_render(const BenchRenderOptions& o) {
         r.width = w;
         r.height = h;
         r.marks = render::MarkKind::kItems;
+        // The phases of draw_view(..., true), timed apart: planning is CPU work, drawing is the GL
+        // draw and read-back, marking is CPU work on the read-back image.
         Stopwatch watch;
         const render::ViewPlan plan = render::plan_view(g, initial, r);
-        const render::ViewImages images = render::draw_view(gpu, g, initial, plan, true);
+        const double planned = watch.elapsed_ms();
+        render::ViewImages images = render::draw_view(gpu, g, initial, plan, false);
+        const double drawn = watch.elapsed_ms();
+        images.marked = render::annotate(images.plain, plan.camera, plan.marks);
         frame_ms.push_back(watch.elapsed_ms());
+        plan_ms.push_back(planned);
+        draw_ms.push_back(drawn - planned);
+        marks_ms.push_back(frame_ms.back() - drawn);
         bytes += render::encode_image(images.plain, "png").size() + render::encode_image(images.marked, "png").size();
         observation_ms.push_back(watch.elapsed_ms());
         triangles += images.triangles;
@@ -90,6 +99,8 @@ int run_bench_render(const BenchRenderOptions& o) {
                 w, h, frames, o.rounds, median(frame_ms), mean(frame_ms), 1000.0 / mean(frame_ms),
                 median(observation_ms), 1000.0 / mean(observation_ms), static_cast<long long>(triangles / frames),
                 static_cast<double>(bytes) / frames / 1024.0);
+    std::printf("  of a frame (medians): plan %.2f ms, draw + read back %.2f ms, marks %.2f ms\n", median(plan_ms),
+                median(draw_ms), median(marks_ms));
   }
 
   // Whole oracle episodes, rendered as the service would: every observation's views at 640x480.
@@ -116,9 +127,10 @@ int run_bench_render(const BenchRenderOptions& o) {
     steps.push_back(static_cast<double>(task.oracle.size()));
   }
   std::printf("oracle episodes with images (640x480, %zu Level 1-2 tasks, %.1f steps on average): median %.0f ms, "
-              "max %.0f ms per episode\n",
+              "max %.0f ms per episode = %.1f episodes/s in one process\n",
               episode_ms.size(), mean(steps), median(episode_ms),
-              episode_ms.empty() ? 0.0 : *std::max_element(episode_ms.begin(), episode_ms.end()));
+              episode_ms.empty() ? 0.0 : *std::max_element(episode_ms.begin(), episode_ms.end()),
+              episode_ms.empty() ? 0.0 : 1000.0 / mean(episode_ms));
   std::printf("peak RSS %.0f MiB\n", peak_rss_mib());
   return 0;
 }

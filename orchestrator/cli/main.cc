@@ -58,6 +58,9 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
   scene_info->add_option("--scene", info_opts->scene, "scene name, e.g. apt_0")->required();
   scene_info->add_option("--data", info_opts->data_dir, "dataset root (default: search order)");
   scene_info->add_flag("--json", info_opts->json, "print one JSON object");
+  scene_info->add_flag("--files", info_opts->files,
+                       "print the files the scene is made from, relative to the dataset root (to copy a scene)")
+      ->excludes("--json");
 
   auto graph_opts = std::make_shared<SceneGraphOptions>();
   CLI::App* scene_graph = scene->add_subcommand("graph", "Build the scene graph of a scene");

@@ -1,6 +1,7 @@
 #include "orchestrator/cli/scene_commands.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "core/graph/build.h"
@@ -24,6 +25,12 @@ int run_scene_info(const SceneInfoOptions& options) {
   const auto dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));
   scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
   const scene::Scene loaded = scene::load_scene(dataset, options.scene, cache);
+  if (options.files) {
+    for (const std::filesystem::path& f : scene::files_to_copy(dataset, loaded)) {
+      std::cout << f.lexically_relative(dataset.root).string() << '\n';
+    }
+    return 0;
+  }
   const nlohmann::json summary = scene::summarize_scene(loaded);
   if (options.json) {
     std::cout << summary.dump() << '\n';

@@ -12,7 +12,8 @@ struct SceneListOptions {
 struct SceneInfoOptions {
   std::string scene;
   std::string data_dir;
-  bool json = false;  // one JSON object on stdout instead of the human summary
+  bool json = false;   // one JSON object on stdout instead of the human summary
+  bool files = false;  // the scene's files that exist, relative to the dataset root, one a line
 };
 
 struct SceneGraphOptions {

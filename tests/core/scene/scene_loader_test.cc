@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <map>
+#include <vector>
 
+#include "core/scene/scene_summary.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "tests/support/fixture_dataset.h"
@@ -214,6 +217,37 @@ TEST(LoadSceneShipped, EveryObjectStandsOnOrAboveTheFloor) {
       EXPECT_LT(b.max().z(), 3.0) << name << " " << o.name;
     }
   }
+}
+
+// scripts/gpu-bundle copies a scene by this list: a dataset holding only the listed files (linked
+// from the shipped one) must load the same scene, down to the meshes and semantic classes.
+TEST(LoadSceneShipped, ACopyOfTheFilesToCopyLoadsTheSameScene) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  const Dataset& shipped_ds = *testing::shipped_dataset();
+  const Scene& original = shipped("apt_0");
+  const std::vector<std::filesystem::path> files = files_to_copy(shipped_ds, original);
+  FixtureDataset copy;  // an empty temporary root
+  for (const std::filesystem::path& f : files) {
+    const std::filesystem::path to = copy.root() / f.lexically_relative(shipped_ds.root);
+    std::filesystem::create_directories(to.parent_path());
+    std::filesystem::create_symlink(f, to);
+  }
+  const Dataset copied_ds = index_dataset(copy.root());
+  MeshCache cache(MeshLoadOptions{.keep_textures = false});
+  const Scene copied = load_scene(copied_ds, "apt_0", cache);
+  EXPECT_EQ(copied_ds.semantic_classes, shipped_ds.semantic_classes);
+  EXPECT_EQ(copied.stats.meshes_loaded, original.stats.meshes_loaded);
+  EXPECT_EQ(copied.stats.meshes_missing, original.stats.meshes_missing);
+  EXPECT_EQ(summarize_scene(copied)["triangles"], summarize_scene(original)["triangles"]);
+  EXPECT_EQ(copied.warnings.size(), original.warnings.size());
+  ASSERT_EQ(copied.objects.size(), original.objects.size());
+  for (std::size_t i = 0; i < copied.objects.size(); ++i) {
+    EXPECT_EQ(copied.objects[i].name, original.objects[i].name);
+    EXPECT_EQ(copied.objects[i].parts.size(), original.objects[i].parts.size()) << copied.objects[i].name;
+  }
+  // Nothing the dataset does not need: an absent mesh stays off the list.
+  for (const std::filesystem::path& f : files) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
+  EXPECT_LT(files.size(), original.source_files.size() + shipped_ds.config_files.size());
 }
 
 }  // namespace
