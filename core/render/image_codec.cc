@@ -4,6 +4,7 @@
 
 #include "core/render/png_writer.h"
 #include "core/util/error.h"
+#include "core/util/parallel.h"
 
 namespace mtg::render {
 
@@ -25,6 +26,14 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& 
   }
   if (!ok) throw Error("render: encoding a " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                        " image as " + encoding + " failed");
+  return out;
+}
+
+std::vector<std::vector<std::uint8_t>> encode_images(const std::vector<const cv::Mat*>& images,
+                                                     const std::string& encoding, int jobs) {
+  require_encoding(encoding);
+  std::vector<std::vector<std::uint8_t>> out(images.size());
+  parallel_for(images.size(), jobs, [&](std::size_t i) { out[i] = encode_image(*images[i], encoding); });
   return out;
 }
 

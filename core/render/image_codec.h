@@ -14,4 +14,10 @@ void require_encoding(const std::string& encoding);
 /// "png" or "jpeg" ("jpg" accepted). @throws mtg::Error for another encoding or a failed encode.
 std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& encoding);
 
+/// encode_image of every image, on up to `jobs` threads: an observation's images are encoded at
+/// once (the bytes are the same on any number of threads). @throws as encode_image does, for the
+/// first image that fails.
+std::vector<std::vector<std::uint8_t>> encode_images(const std::vector<const cv::Mat*>& images,
+                                                     const std::string& encoding, int jobs);
+
 }  // namespace mtg::render

@@ -5,6 +5,7 @@
 #include "core/render/view.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 
 namespace mtg::render {
 namespace {
@@ -19,20 +20,10 @@ const char* role_of(ViewKind kind) {
   return "view";
 }
 
-EncodedImage encode(const cv::Mat& image, const std::string& role, const std::string& encoding) {
-  EncodedImage out;
-  out.role = role;
-  out.encoding = encoding == "jpg" ? "jpeg" : encoding;
-  out.width = image.cols;
-  out.height = image.rows;
-  out.bytes = encode_image(image, encoding);
-  return out;
-}
-
 }  // namespace
 
 ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
-    : scenes_(std::move(profile), /*with_textures=*/true), options_(options) {
+    : scenes_(std::move(profile), /*with_textures=*/true), options_(options), encode_jobs_(default_jobs()) {
   log::info("renderer: " + context_.description());
 }
 
@@ -53,7 +44,11 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   const episode::WorldState state = episode::apply_delta(g, request.state);
   SceneRenderer& renderer = scene_renderer(entry);
 
+  // Every view is drawn first (the GL context is this thread's), then all images are encoded at
+  // once: encoding is most of an observation's time, and each image is encoded on its own.
   ImageReply reply;
+  std::vector<ViewImages> drawn;
+  std::vector<std::string> roles;
   for (const ViewSpec& v : request.views) {
     ViewRequest r;
     r.view = v.view;
@@ -71,11 +66,29 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
       if (!r.object.valid()) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }
     const ViewPlan plan = plan_view(g, state, r);
-    const ViewImages images = draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone);
-    reply.triangles += images.triangles;
-    const std::string role = role_of(r.view);
-    reply.images.push_back(encode(images.plain, role, request.encoding));
-    if (!images.marked.empty()) reply.images.push_back(encode(images.marked, role + "_marked", request.encoding));
+    drawn.push_back(draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone));
+    reply.triangles += drawn.back().triangles;
+    roles.push_back(role_of(r.view));
+  }
+  std::vector<const cv::Mat*> images;
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    images.push_back(&drawn[k].plain);
+    if (!drawn[k].marked.empty()) images.push_back(&drawn[k].marked);
+  }
+  std::vector<std::vector<std::uint8_t>> bytes = encode_images(images, request.encoding, encode_jobs_);
+  std::size_t next = 0;
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    for (const bool marked : {false, true}) {
+      if (marked && drawn[k].marked.empty()) continue;
+      const cv::Mat& image = marked ? drawn[k].marked : drawn[k].plain;
+      EncodedImage e;
+      e.role = marked ? roles[k] + "_marked" : roles[k];
+      e.encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
+      e.width = image.cols;
+      e.height = image.rows;
+      e.bytes = std::move(bytes[next++]);
+      reply.images.push_back(std::move(e));
+    }
   }
   return reply;
 }

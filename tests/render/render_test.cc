@@ -11,6 +11,7 @@
 
 #include "core/episode/rules.h"
 #include "core/episode/state_delta.h"
+#include "core/render/image_codec.h"
 #include "core/render/image_renderer.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
@@ -264,6 +265,41 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
   ASSERT_EQ(reply.images.size(), 2u);
   EXPECT_EQ(decode(reply.images[0]).cols, 640);
   EXPECT_GT(reply.triangles, 0);
+}
+
+// The renderer draws every view, then encodes all the images at once on several threads: the
+// reply must hold each view's images in order, with the bytes one thread would give.
+TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
+  const episode::WorldState s = at(table());
+  const std::vector<render::ViewSpec> views = {platform_view(table(), render::MarkKind::kItems),
+                                               platform_view(empty_table(), render::MarkKind::kNone),
+                                               platform_view(empty_table(), render::MarkKind::kTargets)};
+  const render::ImageReply reply = renderer_->render(request(s, views));
+  ASSERT_EQ(reply.images.size(), 5u);
+  std::vector<std::vector<std::uint8_t>> expected;
+  std::vector<std::string> roles;
+  for (const render::ViewSpec& v : views) {
+    render::ViewRequest r;
+    r.platform = g().find_platform(v.platform);
+    r.marks = v.marks;
+    const render::ViewImages images = draw(s, render::plan_view(g(), s, r), v.marks != render::MarkKind::kNone);
+    expected.push_back(render::encode_image(images.plain, "png"));
+    roles.push_back("view");
+    if (!images.marked.empty()) {
+      expected.push_back(render::encode_image(images.marked, "png"));
+      roles.push_back("view_marked");
+    }
+  }
+  ASSERT_EQ(expected.size(), reply.images.size());
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(reply.images[k].role, roles[k]) << k;
+    EXPECT_EQ(reply.images[k].bytes, expected[k]) << k;
+  }
+  // And on any number of threads.
+  const render::ViewImages images = draw(s, render::plan_view(g(), s, render::ViewRequest{.platform = table()}), true);
+  const std::vector<const cv::Mat*> both = {&images.plain, &images.marked};
+  EXPECT_EQ(render::encode_images(both, "png", 1), render::encode_images(both, "png", 3));
+  EXPECT_THROW(render::encode_images(both, "bmp", 2), Error);
 }
 
 TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) {
