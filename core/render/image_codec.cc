@@ -16,6 +16,7 @@ void require_encoding(const std::string& encoding) {
 
 std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& encoding) {
   require_encoding(encoding);
+  if (image.empty()) throw Error("render: an empty image cannot be encoded as " + encoding);
   std::vector<std::uint8_t> out;
   bool ok = false;
   if (encoding == "png") {

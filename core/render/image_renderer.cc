@@ -23,7 +23,7 @@ const char* role_of(ViewKind kind) {
 }  // namespace
 
 ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
-    : scenes_(std::move(profile), /*with_textures=*/true), options_(options), encode_jobs_(default_jobs()) {
+    : scenes_(std::move(profile), /*with_textures=*/true), options_(options) {
   log::info("renderer: " + context_.description());
 }
 
@@ -75,7 +75,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
     images.push_back(&drawn[k].plain);
     if (!drawn[k].marked.empty()) images.push_back(&drawn[k].marked);
   }
-  std::vector<std::vector<std::uint8_t>> bytes = encode_images(images, request.encoding, encode_jobs_);
+  std::vector<std::vector<std::uint8_t>> bytes = encode_images(images, request.encoding, options_.encode_jobs > 0 ? options_.encode_jobs : default_jobs());
   std::size_t next = 0;
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     for (const bool marked : {false, true}) {

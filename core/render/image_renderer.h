@@ -30,7 +30,6 @@ class ImageRenderer {
  private:
   graph::SceneCache scenes_;
   RendererOptions options_;
-  int encode_jobs_;  // threads encoding one reply's images: the machine's cores
   GlContext context_;
   std::map<std::string, std::unique_ptr<SceneRenderer>> renderers_;
 };

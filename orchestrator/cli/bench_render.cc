@@ -32,25 +32,30 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
 
-// An observation's images encoded as the renderer encodes them: at once, one per core.
-std::vector<std::vector<std::uint8_t>> encode_pair(const render::ViewImages& images) {
-  std::vector<const cv::Mat*> both{&images.plain};
-  if (!images.marked.empty()) both.push_back(&images.marked);
-  return render::encode_images(both, "png", default_jobs());
+// Images encoded as the renderer encodes a reply's: all at once, one thread per core.
+std::size_t encoded_bytes(const std::vector<const cv::Mat*>& images) {
+  std::size_t bytes = 0;
+  for (const auto& b : render::encode_images(images, "png", default_jobs())) bytes += b.size();
+  return bytes;
 }
 
-// Renders, marks and encodes every view an observation in `s` asks for; returns the bytes.
+// Renders, marks and encodes every view an observation in `s` asks for, as the renderer does
+// (every view drawn, then all images encoded together); returns the bytes.
 std::size_t observation_images(render::SceneRenderer& renderer, const graph::SceneGraph& g,
                                const episode::WorldState& s, int width, int height, double min_region,
                                std::int64_t& triangles) {
-  std::size_t bytes = 0;
+  std::vector<render::ViewImages> drawn;
   for (const render::ViewRequest& v : render::observation_views(s, width, height, min_region)) {
     const render::ViewPlan plan = render::plan_view(g, s, v);
-    const render::ViewImages images = render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone);
-    triangles += images.triangles;
-    for (const auto& b : encode_pair(images)) bytes += b.size();
+    drawn.push_back(render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone));
+    triangles += drawn.back().triangles;
   }
-  return bytes;
+  std::vector<const cv::Mat*> images;
+  for (const render::ViewImages& d : drawn) {
+    images.push_back(&d.plain);
+    if (!d.marked.empty()) images.push_back(&d.marked);
+  }
+  return encoded_bytes(images);
 }
 
 }  // namespace
@@ -104,7 +109,7 @@ int run_bench_render(const BenchRenderOptions& o) {
         plan_ms.push_back(planned);
         draw_ms.push_back(drawn - planned);
         marks_ms.push_back(frame_ms.back() - drawn);
-        for (const auto& b : encode_pair(images)) bytes += b.size();
+        bytes += encoded_bytes({&images.plain, &images.marked});
         observation_ms.push_back(watch.elapsed_ms());
         triangles += images.triangles;
         ++frames;

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   app.add_option("--max-texture", options.max_texture_size, "largest texture edge kept on the GPU (pixels)")
       ->check(CLI::Range(16, 8192));
+  app.add_option("--encode-jobs", options.encode_jobs, "threads encoding one reply's images (0 = one per core)")
+      ->check(CLI::Range(0, 256));
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("renderer");
   mtg::process::install_stop_signals();

@@ -271,23 +271,26 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
 // reply must hold each view's images in order, with the bytes one thread would give.
 TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
   const episode::WorldState s = at(table());
+  const render::ViewSpec topdown{render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels};
   const std::vector<render::ViewSpec> views = {platform_view(table(), render::MarkKind::kItems),
-                                               platform_view(empty_table(), render::MarkKind::kNone),
+                                               platform_view(empty_table(), render::MarkKind::kNone), topdown,
                                                platform_view(empty_table(), render::MarkKind::kTargets)};
   const render::ImageReply reply = renderer_->render(request(s, views));
-  ASSERT_EQ(reply.images.size(), 5u);
+  ASSERT_EQ(reply.images.size(), 7u);
   std::vector<std::vector<std::uint8_t>> expected;
   std::vector<std::string> roles;
   for (const render::ViewSpec& v : views) {
     render::ViewRequest r;
-    r.platform = g().find_platform(v.platform);
+    r.view = v.view;
+    if (v.view == render::ViewKind::kPlatform) r.platform = g().find_platform(v.platform);
     r.marks = v.marks;
     const render::ViewImages images = draw(s, render::plan_view(g(), s, r), v.marks != render::MarkKind::kNone);
+    const std::string role = v.view == render::ViewKind::kTopdown ? "topdown" : "view";
     expected.push_back(render::encode_image(images.plain, "png"));
-    roles.push_back("view");
+    roles.push_back(role);
     if (!images.marked.empty()) {
       expected.push_back(render::encode_image(images.marked, "png"));
-      roles.push_back("view_marked");
+      roles.push_back(role + "_marked");
     }
   }
   ASSERT_EQ(expected.size(), reply.images.size());
@@ -299,7 +302,16 @@ TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
   const render::ViewImages images = draw(s, render::plan_view(g(), s, render::ViewRequest{.platform = table()}), true);
   const std::vector<const cv::Mat*> both = {&images.plain, &images.marked};
   EXPECT_EQ(render::encode_images(both, "png", 1), render::encode_images(both, "png", 3));
-  EXPECT_THROW(render::encode_images(both, "bmp", 2), Error);
+  // An image that cannot be encoded fails the call with its own error, on any thread.
+  const cv::Mat nothing;
+  for (const int jobs : {1, 2}) {
+    try {
+      render::encode_images({&images.plain, &nothing, &images.marked}, "png", jobs);
+      ADD_FAILURE() << "expected an error on " << jobs << " threads";
+    } catch (const Error& e) {
+      EXPECT_THAT(e.what(), HasSubstr("render: an empty image cannot be encoded as png"));
+    }
+  }
 }
 
 TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) {

@@ -21,6 +21,7 @@ namespace mtg::render {
 
 struct RendererOptions {
   int max_texture_size = 512;  // textures are downsampled to this edge on upload (memory, speed)
+  int encode_jobs = 0;         // threads encoding one reply's images (ImageRenderer); 0: one per core
   cv::Scalar background{235, 222, 214};  // BGR: a light neutral, distinct from white surfaces
 };
 
