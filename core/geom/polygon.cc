@@ -71,6 +71,12 @@ cl::Paths paths_meeting(const Region& r, const Eigen::AlignedBox2d& box) {
   return paths;
 }
 
+// Relative to the product of the two edges' lengths: the sine of the angle below which a turn
+// is not trusted to be a turn, and below which two edges count as parallel. Doubles round at
+// about 1e-16 of a value; these leave a wide margin.
+constexpr double kTurnTolerance = 1e-9;
+constexpr double kParallelTolerance = 1e-6;
+
 double cross(const Point2& o, const Point2& a, const Point2& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
@@ -355,8 +361,10 @@ Ring convex_hull(std::vector<Point2> pts) {
   return hull_of_sorted(pts);
 }
 
-Ring convex_hull_of_sums(const Ring& a, const Ring& b) {
-  if (a.empty() || b.empty()) return {};
+namespace {
+
+// convex_hull of every a_i + b_j, from all of them.
+Ring hull_of_all_sums(const Ring& a, const Ring& b) {
   // The sums come as one run per point of a, each b's points in order plus that point. Adding a
   // point keeps the order except where rounding ties two sums in x (insertion puts those right,
   // moving little); merging the runs then gives the order a sort of all the sums gives, which is
@@ -383,6 +391,78 @@ Ring convex_hull_of_sums(const Ring& a, const Ring& b) {
     }
     std::swap(pts, merged);
   }
+  return hull_of_sorted(pts);
+}
+
+// Whether `ring` is convex and counter-clockwise, going round once, with no edge of zero length:
+// what the merge below needs. A turn to the right is allowed only within rounding (a hull turned
+// into another frame), and going round once means the edges' x direction changes sign twice.
+bool convex_once_round(const Ring& ring) {
+  const std::size_t n = ring.size();
+  if (n < 3) return false;
+  int x_sign_changes = 0, last_x_sign = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point2& p = ring[(i + n - 1) % n];
+    const Point2& q = ring[i];
+    const Point2& r = ring[(i + 1) % n];
+    const double lengths = (q - p).norm() * (r - q).norm();
+    if (!(lengths > 0.0) || cross(p, q, r) < -kTurnTolerance * lengths) return false;
+    const int x_sign = (r.x() > q.x()) - (r.x() < q.x());
+    if (x_sign != 0) {
+      if (last_x_sign != 0 && x_sign != last_x_sign) ++x_sign_changes;
+      last_x_sign = x_sign;
+    }
+  }
+  // The count above misses the change between the last signed edge and the first.
+  for (std::size_t i = 0; i < n; ++i) {
+    const int x_sign = (ring[(i + 1) % n].x() > ring[i].x()) - (ring[(i + 1) % n].x() < ring[i].x());
+    if (x_sign != 0) {
+      if (x_sign != last_x_sign) ++x_sign_changes;
+      break;
+    }
+  }
+  return x_sign_changes <= 2;
+}
+
+}  // namespace
+
+Ring convex_hull_of_sums(const Ring& a, const Ring& b) {
+  if (a.empty() || b.empty()) return {};
+  if (!convex_once_round(a) || !convex_once_round(b)) return hull_of_all_sums(a, b);
+  // The sum of two convex rings is walked by merging their edges in the order of their
+  // directions, from the two lowest-then-leftmost vertices: n + m sums instead of n * m. Where
+  // two edges are nearly parallel both of the sums between them are kept, so every sum that can
+  // be a vertex is among the candidates; the hull of the candidates is then the hull of all sums
+  // (a test compares them bit for bit).
+  const auto lowest = [](const Ring& r) {
+    return static_cast<std::size_t>(std::min_element(r.begin(), r.end(), [](const Point2& p, const Point2& q) {
+                                      return p.y() < q.y() || (p.y() == q.y() && p.x() < q.x());
+                                    }) - r.begin());
+  };
+  const std::size_t n = a.size(), m = b.size(), ia = lowest(a), ib = lowest(b);
+  const auto A = [&](std::size_t i) -> const Point2& { return a[(ia + i) % n]; };
+  const auto B = [&](std::size_t j) -> const Point2& { return b[(ib + j) % m]; };
+  std::vector<Point2> pts;
+  pts.reserve(2 * (n + m));
+  std::size_t i = 0, j = 0;
+  while (i < n || j < m) {
+    pts.push_back(A(i) + B(j));
+    if (i == n) { ++j; continue; }
+    if (j == m) { ++i; continue; }
+    const Point2 ea = A(i + 1) - A(i), eb = B(j + 1) - B(j);
+    const double turn = ea.x() * eb.y() - ea.y() * eb.x();
+    if (std::abs(turn) <= kParallelTolerance * ea.norm() * eb.norm()) {
+      pts.push_back(A(i + 1) + B(j));
+      pts.push_back(A(i) + B(j + 1));
+      ++i;
+      ++j;
+    } else if (turn > 0) {
+      ++i;  // a's edge turns less: it comes first
+    } else {
+      ++j;
+    }
+  }
+  std::sort(pts.begin(), pts.end(), lexicographic_less);
   return hull_of_sorted(pts);
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -117,6 +118,35 @@ TEST(Polygon, TheHullOfSumsIsTheHullOfEverySumToTheBit) {
                      mirrored(box(0, 0, 0.1, 0.05, k % 2 == 0 ? 0.0 : yaw))});
     cases.push_back({random_hull(20 + k % 30, 0.4, 3 * u(rng), 3 * u(rng)), mirrored(random_hull(12, 0.1, 0, 0))});
   }
+  // The sum is walked edge by edge where both rings are convex and go round once: rings turned
+  // into a platform's frame (turns that round to a hair to the right), many-sided rings with
+  // nearly parallel edges, exactly parallel edges at any angle, and rings the walk must leave to
+  // the sort (clockwise, a pentagram, repeated points).
+  const auto turned = [](Ring r, double yaw, double cx, double cy) {
+    for (Point2& q : r) q = Point2(cx + std::cos(yaw) * q.x() - std::sin(yaw) * q.y(), cy + std::sin(yaw) * q.x() + std::cos(yaw) * q.y());
+    return r;
+  };
+  const auto circle = [](int n, double radius, double phase) {
+    Ring r;
+    for (int i = 0; i < n; ++i) r.push_back({radius * std::cos(phase + 2 * M_PI * i / n), radius * std::sin(phase + 2 * M_PI * i / n)});
+    return r;
+  };
+  for (int k = 0; k < 400; ++k) {
+    const double yaw = u(rng) * M_PI;
+    cases.push_back({turned(random_hull(8 + k % 40, 0.5, 0, 0), yaw, 3 * u(rng), 3 * u(rng)),
+                     mirrored(turned(random_hull(4 + k % 12, 0.15, 0, 0), u(rng) * M_PI, 0, 0))});
+    cases.push_back({turned(circle(16 + k % 50, 0.4, u(rng)), yaw, u(rng), u(rng)), mirrored(circle(8 + k % 20, 0.1, u(rng)))});
+    cases.push_back({box(3 * u(rng), 3 * u(rng), 0.25, 0.1, yaw), mirrored(box(0, 0, 0.05, 0.08, yaw + (k % 4) * M_PI / 2))});
+    cases.push_back({turned(circle(8, 0.3, 0), yaw, u(rng), u(rng)), turned(circle(4, 0.1, M_PI / 4), yaw, 0, 0)});
+  }
+  Ring clockwise = square(0.2, 0.1, 0.3);
+  std::reverse(clockwise.begin(), clockwise.end());
+  Ring pentagram;
+  for (int i = 0; i < 5; ++i) pentagram.push_back({std::cos(4 * M_PI * i / 5), std::sin(4 * M_PI * i / 5)});
+  cases.push_back({clockwise, square(0, 0, 0.1)});
+  cases.push_back({pentagram, square(0, 0, 0.1)});
+  cases.push_back({square(0, 0, 0.1), pentagram});
+  cases.push_back({{{0, 0}, {1, 0}, {1, 0}, {1, 1}}, circle(7, 0.2, 0.1)});
   for (const auto& [a, b] : cases) {
     std::vector<Point2> sums;
     for (const Point2& p : a) {
