@@ -155,7 +155,10 @@ Region offset(const Region& region, double delta) {
   co.AddPaths(to_paths(region), cl::jtMiter, cl::etClosedPolygon);
   cl::Paths out;
   co.Execute(out, delta * kScale);
-  return execute(cl::ctUnion, out, {});
+  // ClipperOffset ends with a union of its own (outer rings counter-clockwise, holes clockwise,
+  // shrinking too: it unites with a frame and drops the frame), so its rings are used as they
+  // come; another union cost a tenth of task generation's Clipper time and changed no task.
+  return to_region(out);
 }
 
 namespace {

@@ -16,6 +16,34 @@ Ring square(double cx, double cy, double half) {
   return {{cx - half, cy - half}, {cx + half, cy - half}, {cx + half, cy + half}, {cx - half, cy + half}};
 }
 
+// offset() returns ClipperOffset's rings as they come (no union after it): outer rings must still
+// be counter-clockwise and holes clockwise, growing and shrinking, with and without holes, and
+// a region that shrinks away or splits in two.
+TEST(Polygon, OffsetRingsAreOrientedLikeEveryOtherResult) {
+  const Region frame = subtract(rectangle({0, 0}, {3, 3}), rectangle({1, 1}, {2, 2}));  // one hole
+  const Region dumbbell = unite(unite(rectangle({0, 0}, {1, 1}), rectangle({2, 0}, {3, 1})), rectangle({1, 0.45}, {2, 0.55}));
+  for (const Region& r : {frame, dumbbell, rectangle({0, 0}, {1, 0.5})}) {
+    for (const double d : {0.2, 0.01, -0.01, -0.1, -0.3}) {
+      const Region o = offset(r, d);
+      double outer = 0.0, holes = 0.0;
+      for (const Ring& ring : o.rings) (signed_area(ring) > 0 ? outer : holes) += signed_area(ring);
+      EXPECT_NEAR(area(o), area(unite(o, o)), 1e-9) << d;  // the same set a union gives
+      if (!o.empty()) EXPECT_GT(outer, 0.0) << d;
+      EXPECT_NEAR(outer + holes, area(o), 1e-12) << d;
+    }
+  }
+  // The frame's hole grows as the frame shrinks: 0.1 on every side of the 1 x 1 hole.
+  const Region shrunk = offset(frame, -0.1);
+  EXPECT_NEAR(area(shrunk), 2.8 * 2.8 - 1.2 * 1.2, 1e-6);
+  ASSERT_EQ(shrunk.rings.size(), 2u);
+  EXPECT_EQ((signed_area(shrunk.rings[0]) > 0) + (signed_area(shrunk.rings[1]) > 0), 1);
+  // The dumbbell's bar (0.1 wide) vanishes at -0.1: two parts, both counter-clockwise.
+  const Region split = offset(dumbbell, -0.1);
+  ASSERT_EQ(split.rings.size(), 2u);
+  for (const Ring& ring : split.rings) EXPECT_GT(signed_area(ring), 0.0);
+  EXPECT_TRUE(offset(rectangle({0, 0}, {1, 0.5}), -0.3).empty());
+}
+
 TEST(Polygon, AreaUnionIntersectionDifference) {
   const Region a = rectangle({0, 0}, {2, 1});
   const Region b = rectangle({1, 0}, {3, 1});
