@@ -36,7 +36,7 @@ geom::Region inset_of(const geom::Region& region, PlacementMemo* memo) {
   if (memo == nullptr) return make();
   std::string key;
   for (const geom::Ring& ring : region.rings) append_ring(key, ring);
-  return memo->insets.get(key, make);
+  return memo->tables->insets.get(key, make);
 }
 
 // An empty platform's targets: its nine grid cells (which depend on the platform alone).
@@ -46,7 +46,7 @@ std::vector<PlaceTarget> grid_targets(const graph::Platform& p, graph::PlatformI
   std::string key;
   if (memo != nullptr) append_key(key, platform.value());
   std::array<graph::FreeRegion, 9> own;
-  const auto& cells = memo == nullptr ? (own = make_cells()) : memo->cells.get(key, make_cells);
+  const auto& cells = memo == nullptr ? (own = make_cells()) : memo->tables->cells.get(key, make_cells);
   std::vector<PlaceTarget> out;
   for (int rel = 0; rel <= graph::kCentre; ++rel) {
     const int dir = graph::platform_direction(rel, side);
@@ -72,7 +72,7 @@ std::vector<PlaceTarget> object_targets(const graph::Platform& p, graph::Platfor
       std::string key;
       append_key(key, platform.value());
       for (const double v : {rect.min().x(), rect.min().y(), rect.max().x(), rect.max().y()}) append_key(key, v);
-      return memo->clips.get(key, [&] { return graph::clip_to_polygon(p, rect); });
+      return memo->tables->clips.get(key, [&] { return graph::clip_to_polygon(p, rect); });
     };
   }
   const auto regions = graph::object_regions(p, obstacles, min_region_size, clip);
@@ -163,7 +163,7 @@ FeasibleCentres held_feasible_centres(const graph::SceneGraph& g, const WorldSta
   const auto make = [&] {
     const auto interior = [&] { return graph::placeable_interior(p, item); };
     const geom::Region free =
-        graph::clear_of(memo == nullptr ? interior() : memo->interiors.get(key, interior), obstacles, item);
+        graph::clear_of(memo == nullptr ? interior() : memo->tables->interiors.get(key, interior), obstacles, item);
     FeasibleCentres out;
     if (free.empty()) return out;
     out.all = geom::offset(free, -kMargin);

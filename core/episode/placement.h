@@ -17,6 +17,7 @@
 // edge.
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,21 +81,29 @@ std::optional<Eigen::Vector2d> resolve_target(const graph::SceneGraph& g, const 
 /// the same neighbours; about four in five of its computations repeat one made before). Each
 /// table is keyed by the exact bytes of its inputs, a platform by its id, so one memo serves one
 /// scene graph; the functions above give the same bits with or without it.
-struct PlacementMemo {
-  /// `whole_results`: keep whole held_feasible_centres results too. They repeat where many plans
-  /// start from one state (Level 4: seven in ten), hardly where each state is new (enumeration,
-  /// Level 3 chains), and each holds every obstacle in its key: there they would only take memory.
-  explicit PlacementMemo(bool keep_whole_results = false) : whole_results(keep_whole_results) {}
-  const bool whole_results;
+struct PlacementTables {
   /// Regions kept at most, per kind: most are asked for once or twice (near where a step put
   /// something), a few again and again. On the three shipped apartments, 4,096 keeps all the
   /// gain of keeping every one and 16 MiB less at the peak (23,000 regions a scene).
   static constexpr std::size_t kRegionsKept = 4096;
   BoundedMemoTable<geom::Region> insets{kRegionsKept};  // a target region kPlacementInset smaller
   MemoTable<geom::Region> interiors;    // graph::placeable_interior: platform, item footprint
-  MemoTable<FeasibleCentres> feasible;  // held_feasible_centres: platform, obstacles, item footprint
   MemoTable<std::array<graph::FreeRegion, 9>> cells;  // graph::grid_cells: platform
   BoundedMemoTable<geom::Region> clips{kRegionsKept};   // a rectangle clipped to a platform polygon: platform, corners
+};
+
+struct PlacementMemo {
+  /// `whole_results`: keep whole held_feasible_centres results too. They repeat where many plans
+  /// start from one state (Level 4: seven in ten), hardly where each state is new (enumeration,
+  /// Level 3 chains), and each holds every obstacle in its key: there they would only take memory.
+  /// `shared`: the tables of another memo of the same scene graph, to share (Levels 1-3 and
+  /// Level 4 ask for nearly the same interiors); new ones when null.
+  explicit PlacementMemo(bool keep_whole_results = false, std::shared_ptr<PlacementTables> shared = nullptr)
+      : whole_results(keep_whole_results),
+        tables(shared ? std::move(shared) : std::make_shared<PlacementTables>()) {}
+  const bool whole_results;
+  const std::shared_ptr<PlacementTables> tables;  // never null
+  MemoTable<FeasibleCentres> feasible;  // held_feasible_centres: platform, obstacles, item footprint
   /// With whole_results, the targets of the last placing state asked about (a plan that chooses
   /// a target asks for them, then the step that places asks again), not every state's: they
   /// are large and seldom asked for a third time.

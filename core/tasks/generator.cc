@@ -172,10 +172,13 @@ struct OutcomeCandidates {
 };
 
 OutcomeCandidates make_outcome_candidates(const graph::SceneGraph& g, const episode::WorldState& initial,
-                                          const TaskOptions& options) {
+                                          const TaskOptions& options,
+                                          std::shared_ptr<episode::PlacementTables> shared_tables) {
   OutcomeCandidates out;
   out.templates = load_templates(options.level4_templates);
-  episode::PlacementMemo memo(/*keep_whole_results=*/true);  // its plans all start from the initial state
+  // Its plans all start from the initial state: whole results repeat. The geometry tables are
+  // Levels 1-3's: nearly every interior Level 4 needs, they need too.
+  episode::PlacementMemo memo(/*keep_whole_results=*/true, std::move(shared_tables));
   out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped, &memo);
   return out;
 }
@@ -252,8 +255,8 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   // after Level 3 all the same, so the set is the one a single thread makes.
   std::future<OutcomeCandidates> outcomes;
   if (options.levels.count(4) && jobs > 1) {
-    outcomes = std::async(std::launch::async, [&g, &initial, &options] {
-      return make_outcome_candidates(g, initial, options);
+    outcomes = std::async(std::launch::async, [&g, &initial, &options, tables = memo.tables] {
+      return make_outcome_candidates(g, initial, options, tables);
     });
   }
   std::vector<AtomicTask> atomic;
@@ -266,7 +269,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs, memo);
   std::vector<AtomicTask>().swap(atomic);  // Level 4 does not need it
   if (options.levels.count(4)) {
-    OutcomeCandidates made = outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options);
+    OutcomeCandidates made = outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options, memo.tables);
     add_outcome_tasks(g, std::move(made), options, recorded_votes, live_voters, numbering, result);
   }
   numbering.flush(set);

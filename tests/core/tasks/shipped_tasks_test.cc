@@ -104,7 +104,7 @@ TEST(ShippedChains, TheMemoAndTheThreadsChangeNoBit) {
   const std::vector<std::string> with_memo = chains(2, &memo);
   EXPECT_EQ(with_memo.size(), 2100u);
   EXPECT_EQ(with_memo, chains(1, nullptr));
-  EXPECT_GT(memo.clips.size(), 0u) << "no platform here clipped a region: the test misses the clip memo";
+  EXPECT_GT(memo.tables->clips.size(), 0u) << "no platform here clipped a region: the test misses the clip memo";
 }
 
 }  // namespace

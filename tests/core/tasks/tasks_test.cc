@@ -309,8 +309,8 @@ TEST(AtomicTasks, ThePlacementMemoChangesNoBit) {
   const std::size_t kept = memo.feasible.size();
   const auto warm = enumerate_atomic(b.graph, s, options, {}, nullptr, 1, &memo);
   ASSERT_FALSE(plain.empty());
-  EXPECT_GT(memo.insets.size(), 0u);
-  EXPECT_GT(memo.interiors.size(), 0u);
+  EXPECT_GT(memo.tables->insets.size(), 0u);
+  EXPECT_GT(memo.tables->interiors.size(), 0u);
   EXPECT_GT(kept, 0u);
   EXPECT_EQ(memo.feasible.size(), kept) << "the second enumeration found everything in the memo";
   EXPECT_EQ(bits_of(cold), bits_of(plain));
