@@ -12,10 +12,16 @@ namespace {
 
 constexpr double kScale = 1e6;  // 1 µm resolution in Clipper's integer space
 
-cl::IntPoint to_int(const Point2& p) {
-  return cl::IntPoint(static_cast<cl::cInt>(std::llround(p.x() * kScale)),
-                      static_cast<cl::cInt>(std::llround(p.y() * kScale)));
+// std::llround (halves away from zero) without the library call: a conversion truncates toward
+// zero, and below 2^52 the fraction left is exact, so the comparison with a half rounds as
+// llround does, to the bit. Anything larger (or not a number) goes to llround itself.
+cl::cInt round_to_int(double v) {
+  if (!(std::abs(v) < 0x1p52)) return static_cast<cl::cInt>(std::llround(v));
+  const auto t = static_cast<cl::cInt>(v);
+  const double fraction = v - static_cast<double>(t);
+  return fraction >= 0.5 ? t + 1 : (fraction <= -0.5 ? t - 1 : t);
 }
+cl::IntPoint to_int(const Point2& p) { return cl::IntPoint(round_to_int(p.x() * kScale), round_to_int(p.y() * kScale)); }
 Point2 to_double(const cl::IntPoint& p) {
   return Point2(static_cast<double>(p.X) / kScale, static_cast<double>(p.Y) / kScale);
 }
@@ -62,13 +68,25 @@ Region execute(cl::ClipType type, const cl::Paths& subject, const cl::Paths& cli
 // full input would have put it. Either is as exact as Clipper is; what matters is that the
 // same input always gives the same output, which it does. The three shipped apartments'
 // task sets came out the same bytes with and without it.
-cl::Paths paths_meeting(const Region& r, const Eigen::AlignedBox2d& box) {
+cl::Paths paths_meeting(const Region& r, const std::vector<Eigen::AlignedBox2d>& ring_boxes,
+                        const Eigen::AlignedBox2d& box) {
   cl::Paths paths;
   paths.reserve(r.rings.size());
-  for (const auto& ring : r.rings) {
-    if (bounds(ring).intersects(box)) paths.push_back(to_path(ring));
+  for (std::size_t k = 0; k < r.rings.size(); ++k) {
+    if (ring_boxes[k].intersects(box)) paths.push_back(to_path(r.rings[k]));
   }
   return paths;
+}
+
+// Each ring's box, and the region's (their union).
+Eigen::AlignedBox2d ring_bounds(const Region& r, std::vector<Eigen::AlignedBox2d>& ring_boxes) {
+  Eigen::AlignedBox2d all;
+  ring_boxes.clear();
+  for (const auto& ring : r.rings) {
+    ring_boxes.push_back(bounds(ring));
+    all.extend(ring_boxes.back());
+  }
+  return all;
 }
 
 // Relative to the product of the two edges' lengths: the sine of the angle below which a turn
@@ -140,9 +158,10 @@ Region unite(const Region& a, const Region& b) {
 }
 Region intersect(const Region& a, const Region& b) {
   if (a.empty() || b.empty()) return {};
-  const Eigen::AlignedBox2d box_a = bounds(a), box_b = bounds(b);
+  std::vector<Eigen::AlignedBox2d> boxes_a, boxes_b;
+  const Eigen::AlignedBox2d box_a = ring_bounds(a, boxes_a), box_b = ring_bounds(b, boxes_b);
   if (!box_a.intersects(box_b)) return {};
-  return execute(cl::ctIntersection, paths_meeting(a, box_b), paths_meeting(b, box_a));
+  return execute(cl::ctIntersection, paths_meeting(a, boxes_a, box_b), paths_meeting(b, boxes_b, box_a));
 }
 Region subtract(const Region& a, const Region& b) {
   if (a.empty()) return {};

@@ -44,6 +44,26 @@ TEST(Polygon, OffsetRingsAreOrientedLikeEveryOtherResult) {
   EXPECT_TRUE(offset(rectangle({0, 0}, {1, 0.5}), -0.3).empty());
 }
 
+// Clipper works on a 1 µm integer grid; the conversion rounds as std::llround does (halves away
+// from zero), to the bit, also at halves and their neighbours, negative or not.
+TEST(Polygon, CoordinatesRoundToTheMicrometreAsLlroundDoes) {
+  std::vector<double> xs = {0.0, -0.0, 0.5e-6, -0.5e-6, 2.5e-6, -2.5e-6, 1.0000005, -3.0000015, 123.4567895};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-20.0, 20.0);
+  for (int k = 0; k < 200; ++k) {
+    const double half = (std::floor(u(rng) * 1e6) + 0.5) / 1e6;
+    xs.insert(xs.end(), {half, std::nextafter(half, 1e9), std::nextafter(half, -1e9), u(rng)});
+  }
+  for (const double x : xs) {
+    const Region r = from_ring({{x, 0.0}, {x + 1.0, 0.0}, {x + 1.0, 1.0}, {x, 1.0}});
+    ASSERT_EQ(r.rings.size(), 1u) << x;
+    const double expected = static_cast<double>(std::llround(x * 1e6)) / 1e6;
+    const auto leftmost = std::min_element(r.rings[0].begin(), r.rings[0].end(),
+                                           [](const Point2& a, const Point2& b) { return a.x() < b.x(); });
+    EXPECT_EQ(leftmost->x(), expected) << std::hexfloat << x;
+  }
+}
+
 TEST(Polygon, AreaUnionIntersectionDifference) {
   const Region a = rectangle({0, 0}, {2, 1});
   const Region b = rectangle({1, 0}, {3, 1});
