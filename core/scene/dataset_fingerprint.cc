@@ -52,16 +52,37 @@ DatasetFingerprint DatasetFingerprint::from_json(const nlohmann::json& j) {
   return f;
 }
 
-DatasetFingerprint fingerprint_files(const fs::path& data_root, const std::set<fs::path>& files) {
+std::string FileHashes::of(const fs::path& file) {
+  std::promise<std::string> mine;
+  std::shared_future<std::string> hash;
+  bool first = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto [it, inserted] = hashes_.try_emplace(file);
+    if (inserted) it->second = mine.get_future().share();
+    hash = it->second;
+    first = inserted;
+  }
+  if (first) {  // this thread reads it; any other that asks meanwhile waits on `hash`
+    try {
+      mine.set_value(hash_of(file));
+    } catch (...) {
+      mine.set_exception(std::current_exception());
+    }
+  }
+  return hash.get();
+}
+
+DatasetFingerprint fingerprint_files(const fs::path& data_root, const std::set<fs::path>& files, FileHashes* hashes) {
   DatasetFingerprint f;
-  for (const fs::path& file : files) f.files[key_of(data_root, file)] = hash_of(file);
+  for (const fs::path& file : files) f.files[key_of(data_root, file)] = hashes ? hashes->of(file) : hash_of(file);
   return f;
 }
 
-std::string first_difference(const DatasetFingerprint& expected, const fs::path& data_root) {
+std::string first_difference(const DatasetFingerprint& expected, const fs::path& data_root, FileHashes* hashes) {
   for (const auto& [path, hash] : expected.files) {
     const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : data_root / path;
-    const std::string here = hash_of(file);
+    const std::string here = hashes ? hashes->of(file) : hash_of(file);
     if (here == hash) continue;
     if (here == kMissingFile) return path + " is missing here";
     if (hash == kMissingFile) return path + " is here but was missing where the tasks were made";
@@ -71,8 +92,9 @@ std::string first_difference(const DatasetFingerprint& expected, const fs::path&
 }
 
 std::string first_difference(const std::map<std::string, DatasetFingerprint>& by_scene, const fs::path& data_root) {
+  FileHashes hashes;  // scenes share most files: each is read once
   for (const auto& [scene, fingerprint] : by_scene) {
-    const std::string diff = first_difference(fingerprint, data_root);
+    const std::string diff = first_difference(fingerprint, data_root, &hashes);
     if (!diff.empty()) return scene + ": " + diff;
   }
   return "";

@@ -9,7 +9,9 @@
 // forgery (core/util/hash.h).
 
 #include <filesystem>
+#include <future>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -30,14 +32,30 @@ struct DatasetFingerprint {
   static DatasetFingerprint from_json(const nlohmann::json& j);
 };
 
+/// The hashes of files read so far, for fingerprints of several scenes at once (the shipped
+/// apartments share two thirds of their bytes): each file is read once, by whichever thread asks
+/// first, while the others wait for it. Thread-safe.
+class FileHashes {
+ public:
+  /// The file's hex content hash, or kMissingFile. @throws mtg::Error naming a file that exists
+  /// but cannot be read (to every caller that asks for it).
+  std::string of(const std::filesystem::path& file);
+
+ private:
+  std::mutex mutex_;
+  std::map<std::filesystem::path, std::shared_future<std::string>> hashes_;
+};
+
 /// The fingerprint of `files` (absolute, under `data_root`; files elsewhere keep their absolute
-/// path as key). @throws mtg::Error naming a file that exists but cannot be read.
+/// path as key), reading them through `hashes` when given. @throws mtg::Error naming a file
+/// that exists but cannot be read.
 DatasetFingerprint fingerprint_files(const std::filesystem::path& data_root,
-                                     const std::set<std::filesystem::path>& files);
+                                     const std::set<std::filesystem::path>& files, FileHashes* hashes = nullptr);
 
 /// The same files under another root, fingerprinted again: "" when every file matches, else one
 /// line naming the first that differs and how ("missing here", "differs").
-std::string first_difference(const DatasetFingerprint& expected, const std::filesystem::path& data_root);
+std::string first_difference(const DatasetFingerprint& expected, const std::filesystem::path& data_root,
+                             FileHashes* hashes = nullptr);
 
 /// The first difference over several scenes' fingerprints ("apt_0: objects/x.glb is missing
 /// here"), "" when all match.

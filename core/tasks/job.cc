@@ -40,6 +40,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     bool done = false;
   };
   std::vector<SceneOutput> outputs(job.scenes.size());
+  scene::FileHashes file_hashes;  // the scenes share most files: each is read and hashed once
   TaskDbWriter writer(job.out, job.options, job.jsonl, job.jobs);
   GenerationReport report;
   std::vector<Vote> votes;
@@ -77,8 +78,8 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
       source_files = std::move(loaded.source_files);
       // Reading and hashing the scene's files takes a core for a fifth of a second, one at a
       // time: alongside the graph and the tasks, not after them.
-      fingerprint = std::async(std::launch::async, [&dataset, &source_files] {
-        return scene::fingerprint_files(dataset.root, source_files);
+      fingerprint = std::async(std::launch::async, [&dataset, &source_files, &file_hashes] {
+        return scene::fingerprint_files(dataset.root, source_files, &file_hashes);
       });
       g = graph::build_scene_graph(loaded, graph_options);
     }

@@ -1,8 +1,13 @@
 #include "core/scene/dataset.h"
 
+#include <set>
+#include <thread>
+#include <vector>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "core/scene/dataset_fingerprint.h"
 #include "core/util/error.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/shipped_data.h"
@@ -62,6 +67,28 @@ TEST(IndexDataset, ShippedDatasetHasTheApartments) {
   EXPECT_TRUE(ds.urdfs.count("fridge"));
   EXPECT_TRUE(ds.urdfs.count("chestOfDrawers_01"));  // stored under urdf/chest_of_drawers/
   EXPECT_EQ(ds.semantic_classes.at(13), "book");
+}
+
+// Several scenes' fingerprints read shared files once through one FileHashes, from several
+// threads at once: the same fingerprints as reading every file for every scene.
+TEST(DatasetFingerprint, SharedFileHashesGiveTheSameFingerprintsFromAnyThread) {
+  testing::FixtureDataset fx;
+  std::set<std::filesystem::path> files;
+  for (int i = 0; i < 12; ++i) {
+    fx.add_raw_file("part_" + std::to_string(i) + ".bin", std::string(1000 + 37 * i, static_cast<char>('a' + i)));
+    files.insert(fx.root() / ("objects/part_" + std::to_string(i) + ".bin"));
+  }
+  files.insert(fx.root() / "objects/absent.glb");
+  const DatasetFingerprint alone = fingerprint_files(fx.root(), files);
+  EXPECT_EQ(alone.files.at("objects/absent.glb"), kMissingFile);
+  EXPECT_NE(alone.files.at("objects/part_0.bin"), alone.files.at("objects/part_1.bin"));
+  FileHashes hashes;
+  std::vector<DatasetFingerprint> shared(8);
+  std::vector<std::thread> threads;
+  for (auto& f : shared) threads.emplace_back([&] { f = fingerprint_files(fx.root(), files, &hashes); });
+  for (auto& t : threads) t.join();
+  for (const auto& f : shared) EXPECT_EQ(f.files, alone.files);
+  EXPECT_EQ(first_difference(alone, fx.root(), &hashes), "");
 }
 
 }  // namespace
