@@ -80,14 +80,37 @@ void require_format(store::Database& db, const fs::path& file) {
 
 }  // namespace
 
-nlohmann::json task_to_json(const Task& t) {
-  return {{"id", t.id},         {"scene", t.scene},       {"level", t.level},
-          {"type", t.type},     {"text", t.text},         {"item", t.item},
-          {"source", t.source}, {"destination", t.destination}, {"anchors", t.anchors},
-          {"direction", t.direction}, {"goal", t.goal},   {"oracle", t.oracle},
-          {"step_limit", t.step_limit}, {"template_id", t.template_id},
-          {"identify", to_json(t.identify)}, {"placements", to_json(t.placements)}};
+namespace {
+
+// Field by field into an object (not an initializer list, which copies every value twice), each
+// moved from a task given as an rvalue: writing a database's chunks spent a tenth of its time
+// building these. The keys sort themselves, so the text is the same either way.
+template <typename T>
+nlohmann::json make_task_json(T&& t) {
+  nlohmann::json j = nlohmann::json::object();
+  j["id"] = std::forward<T>(t).id;
+  j["scene"] = std::forward<T>(t).scene;
+  j["level"] = t.level;
+  j["type"] = std::forward<T>(t).type;
+  j["text"] = std::forward<T>(t).text;
+  j["item"] = std::forward<T>(t).item;
+  j["source"] = std::forward<T>(t).source;
+  j["destination"] = std::forward<T>(t).destination;
+  j["anchors"] = std::forward<T>(t).anchors;
+  j["direction"] = std::forward<T>(t).direction;
+  j["goal"] = std::forward<T>(t).goal;
+  j["oracle"] = std::forward<T>(t).oracle;
+  j["step_limit"] = t.step_limit;
+  j["template_id"] = std::forward<T>(t).template_id;
+  j["identify"] = to_json(t.identify);
+  j["placements"] = to_json(t.placements);
+  return j;
 }
+
+}  // namespace
+
+nlohmann::json task_to_json(const Task& t) { return make_task_json(t); }
+nlohmann::json task_to_json(Task&& t) { return make_task_json(std::move(t)); }
 
 Task task_from_json(const nlohmann::json& j) {
   for (const char* key : {"id", "scene", "level", "type", "text", "item", "source", "destination", "anchors",
@@ -198,10 +221,11 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
     const std::size_t begin = c * kTasksPerChunk, end = std::min(n_taken, begin + kTasksPerChunk);
     std::string json = "[";
     for (std::size_t i = begin; i < end; ++i) {
-      const Task& t = tasks[i];
-      std::string line = task_to_json(t).dump();
-      json += (json.size() > 1 ? "," : "") + line;
+      Task& t = tasks[i];  // erased below: its fields move into the JSON
       chunk.rows.push_back({t.id, t.scene, t.type, t.level});
+      const std::string line = task_to_json(std::move(t)).dump();
+      if (json.size() > 1) json += ',';
+      json += line;
       chunk.line_sizes.push_back(line.size());
     }
     json += ']';

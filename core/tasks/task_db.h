@@ -78,8 +78,10 @@ void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>
                    const std::vector<Vote>& votes, const TaskOptions& options,
                    const std::filesystem::path& jsonl = {});
 
-/// A task as one JSON object (a JSONL line, an element of a database chunk), and back.
+/// A task as one JSON object (a JSONL line, an element of a database chunk), and back. The
+/// rvalue overload moves the task's fields into the object.
 nlohmann::json task_to_json(const Task& task);
+nlohmann::json task_to_json(Task&& task);
 /// @throws mtg::Error naming the missing or mistyped field.
 Task task_from_json(const nlohmann::json& j);
 
