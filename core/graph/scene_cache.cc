@@ -3,6 +3,7 @@
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 
 namespace mtg::graph {
 
@@ -13,7 +14,7 @@ const SceneCache::Entry& SceneCache::load(const std::string& scene_name, const s
     const auto dataset = scene::index_dataset(scene::resolve_data_root(data_dir));
     auto e = std::make_unique<Entry>();
     e->key = key;
-    e->scene = scene::load_scene(dataset, scene_name, meshes_);
+    e->scene = scene::load_scene(dataset, scene_name, meshes_, {.jobs = default_jobs()});
     graph::GraphOptions options;
     graph::apply_profile(options, profile_);
     e->graph = graph::build_scene_graph(e->scene, options);

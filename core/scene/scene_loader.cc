@@ -1,11 +1,14 @@
 #include "core/scene/scene_loader.h"
 
+#include <algorithm>
 #include <map>
 #include <set>
+#include <vector>
 
 #include "core/scene/urdf_model.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
+#include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::scene {
@@ -113,10 +116,12 @@ std::vector<DeclaredReceptacle> read_receptacles(
 // Loads meshes once per file and turns failures into one warning per file.
 class MeshLoader {
  public:
-  MeshLoader(MeshCache& cache, Scene& scene, bool enabled)
-      : cache_(cache), scene_(scene), enabled_(enabled) {}
+  /// `requested`, when given, receives every file asked for (loaded or not).
+  MeshLoader(MeshCache& cache, Scene& scene, bool enabled, std::vector<fs::path>* requested = nullptr)
+      : cache_(cache), scene_(scene), enabled_(enabled), requested_(requested) {}
 
   MeshHandle load(const fs::path& file, const std::string& object_name, const char* fallback) {
+    if (requested_ != nullptr && !file.empty()) requested_->push_back(file);
     if (!enabled_ || file.empty()) return nullptr;
     const std::string key = file.lexically_normal().string();
     if (failed_.count(key) != 0) return nullptr;
@@ -139,6 +144,7 @@ class MeshLoader {
   MeshCache& cache_;
   Scene& scene_;
   bool enabled_;
+  std::vector<fs::path>* requested_;
   std::set<std::string> used_;
   std::set<std::string> failed_;
 };
@@ -305,11 +311,9 @@ void load_articulated_objects(const Dataset& ds, const JsonField& list, MeshLoad
   }
 }
 
-}  // namespace
-
-Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& cache,
-                 const SceneLoadOptions& options) {
-  const Stopwatch watch;
+// One pass over the scene's files; with `requested`, the mesh files it asks for are noted too.
+Scene load_once(const Dataset& ds, const std::string& scene_name, MeshCache& cache, bool load_meshes,
+                std::vector<fs::path>* requested) {
   Scene scene;
   scene.name = scene_name;
   scene.data_root = ds.root;
@@ -332,7 +336,7 @@ Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& ca
     }
   }
 
-  MeshLoader meshes(cache, scene, options.load_meshes);
+  MeshLoader meshes(cache, scene, load_meshes, requested);
   std::set<std::string> taken;
   if (auto list = root.find("object_instances")) {
     load_rigid_objects(ds, *list, meshes, taken, scene);
@@ -342,6 +346,30 @@ Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& ca
   }
   scene.stats.meshes_loaded = meshes.loaded();
   scene.stats.meshes_missing = meshes.missing();
+  return scene;
+}
+
+}  // namespace
+
+Scene load_scene(const Dataset& ds, const std::string& scene_name, MeshCache& cache,
+                 const SceneLoadOptions& options) {
+  const Stopwatch watch;
+  if (options.load_meshes && options.jobs > 1) {
+    // Reading meshes is most of the time: the file names first (the configs alone, which is
+    // quick), then the files on every thread into the cache. The scene is then put together as
+    // on one thread, from the cache; a file that fails is read again there and warned about.
+    std::vector<fs::path> files;
+    load_once(ds, scene_name, cache, /*load_meshes=*/false, &files);
+    std::sort(files.begin(), files.end());
+    files.erase(std::unique(files.begin(), files.end()), files.end());
+    parallel_for(files.size(), options.jobs, [&](std::size_t i) {
+      try {
+        cache.get(files[i]);
+      } catch (const Error&) {  // missing or broken: the pass below says so, once
+      }
+    });
+  }
+  Scene scene = load_once(ds, scene_name, cache, options.load_meshes, nullptr);
   scene.stats.load_ms = watch.elapsed_ms();
   return scene;
 }

@@ -13,6 +13,7 @@ namespace mtg::scene {
 
 struct SceneLoadOptions {
   bool load_meshes = true;  // false: poses and receptacles only (fast listing)
+  int jobs = 1;             // threads reading the mesh files into the cache before the scene is put together
 };
 
 /// Loads `scene_name` from `dataset`, reading meshes through `cache`.

@@ -74,7 +74,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     std::future<scene::DatasetFingerprint> fingerprint;
     {  // the meshes (scene and cache) are not needed for tasks: gone before generation
       scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-      scene::Scene loaded = scene::load_scene(dataset, name, cache);
+      scene::Scene loaded = scene::load_scene(dataset, name, cache, {.jobs = level_jobs});
       source_files = std::move(loaded.source_files);
       // Reading and hashing the scene's files takes a core for a fifth of a second, one at a
       // time: alongside the graph and the tasks, not after them.

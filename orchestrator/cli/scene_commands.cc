@@ -12,6 +12,7 @@
 #include "core/scene/scene_loader.h"
 #include "core/scene/scene_summary.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 
 namespace mtg::cli {
 
@@ -24,7 +25,7 @@ int run_scene_list(const SceneListOptions& options) {
 int run_scene_info(const SceneInfoOptions& options) {
   const auto dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));
   scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene loaded = scene::load_scene(dataset, options.scene, cache);
+  const scene::Scene loaded = scene::load_scene(dataset, options.scene, cache, {.jobs = default_jobs()});
   if (options.files) {
     for (const std::filesystem::path& f : scene::files_to_copy(dataset, loaded)) {
       std::cout << f.lexically_relative(dataset.root).string() << '\n';
@@ -63,7 +64,7 @@ int run_scene_info(const SceneInfoOptions& options) {
 int run_scene_graph(const SceneGraphOptions& options) {
   const auto dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));
   scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene loaded = scene::load_scene(dataset, options.scene, cache);
+  const scene::Scene loaded = scene::load_scene(dataset, options.scene, cache, {.jobs = default_jobs()});
   for (const auto& w : loaded.warnings) log::warn(w);
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, options.profile);

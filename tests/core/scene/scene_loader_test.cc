@@ -25,9 +25,9 @@ double yaw_of(const Eigen::Isometry3d& X) {
   return std::atan2(x.y(), x.x());
 }
 
-Scene load_fixture(const FixtureDataset& fx, const std::string& name) {
+Scene load_fixture(const FixtureDataset& fx, const std::string& name, int jobs = 1) {
   MeshCache cache;
-  return load_scene(index_dataset(fx.root()), name, cache);
+  return load_scene(index_dataset(fx.root()), name, cache, {.jobs = jobs});
 }
 
 TEST(LoadScene, PoseIsConvertedFromYupToZup) {
@@ -106,18 +106,20 @@ TEST(LoadScene, MissingAndBrokenMeshesWarnOnceAndFallBack) {
                       {FixtureDataset::instance("toy_missing", {0, 0, 0}),
                        FixtureDataset::instance("toy_missing", {1, 0, 0}),
                        FixtureDataset::instance("toy_broken", {2, 0, 0})}}});
-  const Scene scene = load_fixture(fx, "s");
-  ASSERT_EQ(scene.objects.size(), 3u);
-  EXPECT_EQ(scene.stats.meshes_missing, 2);
-  ASSERT_EQ(scene.warnings.size(), 3u) << ::testing::PrintToString(scene.warnings);
-  EXPECT_THAT(scene.warnings[0], HasSubstr("mesh missing for missing_0"));
-  EXPECT_THAT(scene.warnings[0], HasSubstr("nowhere.glb"));
-  EXPECT_THAT(scene.warnings[1], HasSubstr("broken mesh for broken_2"));
-  EXPECT_THAT(scene.warnings[2], HasSubstr("object broken_2: no geometry at all"));
-  // The missing render mesh falls back to the collision asset.
-  EXPECT_FALSE(scene.objects[0].parts[0].render);
-  EXPECT_TRUE(scene.objects[0].parts[0].collision);
-  EXPECT_NEAR(scene.objects[0].world_bounds().sizes().z(), 0.2, 1e-6);
+  for (const int jobs : {1, 3}) {  // meshes read on several threads first: the same warnings, once
+    const Scene scene = load_fixture(fx, "s", jobs);
+    ASSERT_EQ(scene.objects.size(), 3u);
+    EXPECT_EQ(scene.stats.meshes_missing, 2);
+    ASSERT_EQ(scene.warnings.size(), 3u) << ::testing::PrintToString(scene.warnings);
+    EXPECT_THAT(scene.warnings[0], HasSubstr("mesh missing for missing_0"));
+    EXPECT_THAT(scene.warnings[0], HasSubstr("nowhere.glb"));
+    EXPECT_THAT(scene.warnings[1], HasSubstr("broken mesh for broken_2"));
+    EXPECT_THAT(scene.warnings[2], HasSubstr("object broken_2: no geometry at all"));
+    // The missing render mesh falls back to the collision asset.
+    EXPECT_FALSE(scene.objects[0].parts[0].render);
+    EXPECT_TRUE(scene.objects[0].parts[0].collision);
+    EXPECT_NEAR(scene.objects[0].world_bounds().sizes().z(), 0.2, 1e-6);
+  }
 }
 
 TEST(LoadScene, UnknownTemplateAndBrokenUrdfAreSkippedWithAWarning) {
@@ -248,6 +250,23 @@ TEST(LoadSceneShipped, ACopyOfTheFilesToCopyLoadsTheSameScene) {
   // Nothing the dataset does not need: an absent mesh stays off the list.
   for (const std::filesystem::path& f : files) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
   EXPECT_LT(files.size(), original.source_files.size() + shipped_ds.config_files.size());
+}
+
+// Meshes read on several threads before the scene is put together give the scene one thread gives.
+TEST(LoadSceneShipped, MeshesReadOnSeveralThreadsGiveTheSameScene) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  const Scene& one = shipped("apt_0");
+  MeshCache cache(MeshLoadOptions{.keep_textures = false});
+  const Scene many = load_scene(*testing::shipped_dataset(), "apt_0", cache, {.jobs = 3});
+  EXPECT_EQ(many.warnings, one.warnings);
+  EXPECT_EQ(many.stats.meshes_loaded, one.stats.meshes_loaded);
+  EXPECT_EQ(many.stats.meshes_missing, one.stats.meshes_missing);
+  EXPECT_EQ(many.source_files, one.source_files);
+  EXPECT_EQ(summarize_scene(many), [&] {
+    nlohmann::json j = summarize_scene(one);
+    j["load_ms"] = summarize_scene(many)["load_ms"];  // telemetry
+    return j;
+  }());
 }
 
 }  // namespace
