@@ -82,21 +82,20 @@ int run_bench_render(const BenchRenderOptions& o) {
     int frames = 0;
     // One untimed pass first: a GPU raises its clocks only after some work, and the first draw
     // at a size allocates the framebuffer.
-    for (const graph::PlatformId p : g.navigable) {
+    const auto view_of = [&, w = w, h = h](graph::PlatformId p) {
       render::ViewRequest r;
       r.platform = p;
       r.width = w;
       r.height = h;
       r.marks = render::MarkKind::kItems;
-      render::draw_view(gpu, g, initial, render::plan_view(g, initial, r), true);
+      return r;
+    };
+    for (const graph::PlatformId p : g.navigable) {
+      render::draw_view(gpu, g, initial, render::plan_view(g, initial, view_of(p)), true);
     }
     for (int round = 0; round < o.rounds; ++round) {
       for (const graph::PlatformId p : g.navigable) {
-        render::ViewRequest r;
-        r.platform = p;
-        r.width = w;
-        r.height = h;
-        r.marks = render::MarkKind::kItems;
+        const render::ViewRequest r = view_of(p);
         // The phases of draw_view(..., true), timed apart: planning is CPU work, drawing is the GL
         // draw and read-back, marking is CPU work on the read-back image.
         Stopwatch watch;
