@@ -418,32 +418,33 @@ Ring hull_of_all_sums(const Ring& a, const Ring& b) {
 
 // Whether `ring` is convex and counter-clockwise, going round once, with no edge of zero length:
 // what the merge below needs. A turn to the right is allowed only within rounding (a hull turned
-// into another frame), and going round once means the edges' x direction changes sign twice.
+// into another frame), never a turn back (a spike out and back along one line), and going round
+// once means the edges' x and y directions each change sign twice at most.
 bool convex_once_round(const Ring& ring) {
   const std::size_t n = ring.size();
   if (n < 3) return false;
-  int x_sign_changes = 0, last_x_sign = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Point2& p = ring[(i + n - 1) % n];
     const Point2& q = ring[i];
     const Point2& r = ring[(i + 1) % n];
     const double lengths = (q - p).norm() * (r - q).norm();
     if (!(lengths > 0.0) || cross(p, q, r) < -kTurnTolerance * lengths) return false;
-    const int x_sign = (r.x() > q.x()) - (r.x() < q.x());
-    if (x_sign != 0) {
-      if (last_x_sign != 0 && x_sign != last_x_sign) ++x_sign_changes;
-      last_x_sign = x_sign;
-    }
+    if ((q - p).dot(r - q) <= 0.0 && std::abs(cross(p, q, r)) <= kParallelTolerance * lengths) return false;
   }
-  // The count above misses the change between the last signed edge and the first.
-  for (std::size_t i = 0; i < n; ++i) {
-    const int x_sign = (ring[(i + 1) % n].x() > ring[i].x()) - (ring[(i + 1) % n].x() < ring[i].x());
-    if (x_sign != 0) {
-      if (x_sign != last_x_sign) ++x_sign_changes;
-      break;
+  // Sign changes of one coordinate of the edges, round the ring (edges flat in it skipped).
+  const auto sign_changes = [&](int axis) {
+    int changes = 0, first = 0, last = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = ring[(i + 1) % n][axis] - ring[i][axis];
+      const int sign = (d > 0) - (d < 0);
+      if (sign == 0) continue;
+      if (last != 0 && sign != last) ++changes;
+      if (first == 0) first = sign;
+      last = sign;
     }
-  }
-  return x_sign_changes <= 2;
+    return changes + (first != 0 && last != first ? 1 : 0);
+  };
+  return sign_changes(0) <= 2 && sign_changes(1) <= 2;
 }
 
 }  // namespace

@@ -195,6 +195,12 @@ TEST(Polygon, TheHullOfSumsIsTheHullOfEverySumToTheBit) {
   cases.push_back({pentagram, square(0, 0, 0.1)});
   cases.push_back({square(0, 0, 0.1), pentagram});
   cases.push_back({{{0, 0}, {1, 0}, {1, 0}, {1, 1}}, circle(7, 0.2, 0.1)});
+  // A spike out and back along a vertical edge: no turn to the right, x changes sign twice.
+  const Ring spike = {{0, 0}, {2, 0}, {2, 3}, {2, 1}, {2, 2}, {0, 2}};
+  const Ring diamond = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+  cases.push_back({spike, diamond});
+  cases.push_back({diamond, spike});
+  cases.push_back({turned(spike, 0.3, 1, 1), diamond});
   for (const auto& [a, b] : cases) {
     std::vector<Point2> sums;
     for (const Point2& p : a) {
