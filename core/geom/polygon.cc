@@ -427,9 +427,9 @@ bool convex_once_round(const Ring& ring) {
     const Point2& p = ring[(i + n - 1) % n];
     const Point2& q = ring[i];
     const Point2& r = ring[(i + 1) % n];
-    const double lengths = (q - p).norm() * (r - q).norm();
-    if (!(lengths > 0.0) || cross(p, q, r) < -kTurnTolerance * lengths) return false;
-    if ((q - p).dot(r - q) <= 0.0 && std::abs(cross(p, q, r)) <= kParallelTolerance * lengths) return false;
+    const double lengths = (q - p).norm() * (r - q).norm(), turn = cross(p, q, r);
+    if (!(lengths > 0.0) || turn < -kTurnTolerance * lengths) return false;
+    if ((q - p).dot(r - q) <= 0.0 && std::abs(turn) <= kParallelTolerance * lengths) return false;
   }
   // Sign changes of one coordinate of the edges, round the ring (edges flat in it skipped).
   const auto sign_changes = [&](int axis) {

@@ -48,7 +48,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   // once: encoding is most of an observation's time, and each image is encoded on its own.
   ImageReply reply;
   std::vector<ViewImages> drawn;
-  std::vector<std::string> roles;
+  std::vector<std::string> roles;  // one per image, in reply order
   for (const ViewSpec& v : request.views) {
     ViewRequest r;
     r.view = v.view;
@@ -69,26 +69,19 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
     drawn.push_back(draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone));
     reply.triangles += drawn.back().triangles;
     roles.push_back(role_of(r.view));
+    if (!drawn.back().marked.empty()) roles.push_back(roles.back() + "_marked");
   }
-  std::vector<const cv::Mat*> images;
-  for (std::size_t k = 0; k < drawn.size(); ++k) {
-    images.push_back(&drawn[k].plain);
-    if (!drawn[k].marked.empty()) images.push_back(&drawn[k].marked);
-  }
-  std::vector<std::vector<std::uint8_t>> bytes = encode_images(images, request.encoding, options_.encode_jobs > 0 ? options_.encode_jobs : default_jobs());
-  std::size_t next = 0;
-  for (std::size_t k = 0; k < drawn.size(); ++k) {
-    for (const bool marked : {false, true}) {
-      if (marked && drawn[k].marked.empty()) continue;
-      const cv::Mat& image = marked ? drawn[k].marked : drawn[k].plain;
-      EncodedImage e;
-      e.role = marked ? roles[k] + "_marked" : roles[k];
-      e.encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
-      e.width = image.cols;
-      e.height = image.rows;
-      e.bytes = std::move(bytes[next++]);
-      reply.images.push_back(std::move(e));
-    }
+  const std::vector<const cv::Mat*> images = images_in_reply_order(drawn);
+  std::vector<std::vector<std::uint8_t>> bytes =
+      encode_images(images, request.encoding, jobs_or_cores(options_.encode_jobs));
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    EncodedImage e;
+    e.role = roles[i];
+    e.encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
+    e.width = images[i]->cols;
+    e.height = images[i]->rows;
+    e.bytes = std::move(bytes[i]);
+    reply.images.push_back(std::move(e));
   }
   return reply;
 }

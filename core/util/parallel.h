@@ -15,6 +15,8 @@ namespace mtg {
 
 /// The threads `--jobs 0` means: the machine's cores (at least 1).
 inline int default_jobs() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+/// `jobs` where it is positive, else default_jobs() (a setting of 0 means one per core).
+inline int jobs_or_cores(int jobs) { return jobs > 0 ? jobs : default_jobs(); }
 
 /// Calls body(i) for every i in [0, n) on up to `jobs` threads (this one included). body must
 /// touch only what belongs to index i. If bodies throw, the exception of the lowest index is

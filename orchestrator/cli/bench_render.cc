@@ -50,12 +50,7 @@ std::size_t observation_images(render::SceneRenderer& renderer, const graph::Sce
     drawn.push_back(render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone));
     triangles += drawn.back().triangles;
   }
-  std::vector<const cv::Mat*> images;
-  for (const render::ViewImages& d : drawn) {
-    images.push_back(&d.plain);
-    if (!d.marked.empty()) images.push_back(&d.marked);
-  }
-  return encoded_bytes(images);
+  return encoded_bytes(render::images_in_reply_order(drawn));
 }
 
 }  // namespace
@@ -80,8 +75,6 @@ int run_bench_render(const BenchRenderOptions& o) {
     std::int64_t triangles = 0;
     std::size_t bytes = 0;
     int frames = 0;
-    // One untimed pass first: a GPU raises its clocks only after some work, and the first draw
-    // at a size allocates the framebuffer.
     const auto view_of = [&, w = w, h = h](graph::PlatformId p) {
       render::ViewRequest r;
       r.platform = p;
@@ -90,6 +83,8 @@ int run_bench_render(const BenchRenderOptions& o) {
       r.marks = render::MarkKind::kItems;
       return r;
     };
+    // One untimed pass first: a GPU raises its clocks only after some work, and the first draw
+    // at a size allocates the framebuffer.
     for (const graph::PlatformId p : g.navigable) {
       render::draw_view(gpu, g, initial, render::plan_view(g, initial, view_of(p)), true);
     }

@@ -26,7 +26,7 @@ int run_tasks(const TasksOptions& o) {
   job.profile = o.profile;
   job.out = o.out;
   job.jsonl = o.jsonl;
-  job.jobs = o.jobs > 0 ? o.jobs : default_jobs();
+  job.jobs = jobs_or_cores(o.jobs);
   job.options.levels = tasks::parse_levels(o.levels);
   job.options.seed = o.seed;
   job.options.ambiguity = tasks::ambiguity_from_string(o.ambiguity);

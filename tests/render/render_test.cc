@@ -299,7 +299,9 @@ TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
     EXPECT_EQ(reply.images[k].bytes, expected[k]) << k;
   }
   // And on any number of threads.
-  const render::ViewImages images = draw(s, render::plan_view(g(), s, render::ViewRequest{.platform = table()}), true);
+  render::ViewRequest on_table;
+  on_table.platform = table();
+  const render::ViewImages images = draw(s, render::plan_view(g(), s, on_table), true);
   const std::vector<const cv::Mat*> both = {&images.plain, &images.marked};
   EXPECT_EQ(render::encode_images(both, "png", 1), render::encode_images(both, "png", 3));
   // An image that cannot be encoded fails the call with its own error, on any thread.

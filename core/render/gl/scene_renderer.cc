@@ -279,6 +279,15 @@ Frame SceneRenderer::render(const Camera& camera, const IdVector<graph::ObjectId
   return frame;
 }
 
+std::vector<const cv::Mat*> images_in_reply_order(const std::vector<ViewImages>& views) {
+  std::vector<const cv::Mat*> out;
+  for (const ViewImages& v : views) {
+    out.push_back(&v.plain);
+    if (!v.marked.empty()) out.push_back(&v.marked);
+  }
+  return out;
+}
+
 ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
                      const ViewPlan& plan, bool with_marks) {
   const std::size_t n = g.objects.size();

@@ -81,4 +81,8 @@ struct ViewImages {
 ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
                      const ViewPlan& plan, bool with_marks);
 
+/// The images of several views in the order a reply carries them: each view's plain image, then
+/// its marked copy when it has one. The pointers are into `views`.
+std::vector<const cv::Mat*> images_in_reply_order(const std::vector<ViewImages>& views);
+
 }  // namespace mtg::render
