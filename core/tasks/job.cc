@@ -74,7 +74,9 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     std::future<scene::DatasetFingerprint> fingerprint;
     {  // the meshes (scene and cache) are not needed for tasks: gone before generation
       scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-      scene::Scene loaded = scene::load_scene(dataset, name, cache, {.jobs = level_jobs});
+      // Meshes on several threads only when this scene has the machine to itself: scenes side by
+      // side keep every core busy already, and their imports at once raised the peak by 15 MiB.
+      scene::Scene loaded = scene::load_scene(dataset, name, cache, {.jobs = scene_jobs == 1 ? level_jobs : 1});
       source_files = std::move(loaded.source_files);
       // Reading and hashing the scene's files takes a core for a fifth of a second, one at a
       // time: alongside the graph and the tasks, not after them.
