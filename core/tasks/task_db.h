@@ -78,10 +78,11 @@ void write_task_db(const std::filesystem::path& file, const std::vector<TaskSet>
                    const std::vector<Vote>& votes, const TaskOptions& options,
                    const std::filesystem::path& jsonl = {});
 
-/// A task as one JSON object (a JSONL line, an element of a database chunk), and back. The
-/// rvalue overload moves the task's fields into the object.
+/// A task as one JSON object (a JSONL line, an element of a database chunk), and back.
 nlohmann::json task_to_json(const Task& task);
-nlohmann::json task_to_json(Task&& task);
+/// Appends task_to_json(task).dump() to `out`, written straight from the task (what a database's
+/// chunks and the JSONL hold).
+void append_task_json(std::string& out, const Task& task);
 /// @throws mtg::Error naming the missing or mistyped field.
 Task task_from_json(const nlohmann::json& j);
 

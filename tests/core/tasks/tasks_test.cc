@@ -360,6 +360,31 @@ TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
   EXPECT_EQ(read_tasks(db, {3}).size(), static_cast<std::size_t>(stats["levels"]["3"].get<int>()));
 }
 
+// A database's chunks hold each task written straight from its fields: the text of its JSON.
+TEST(TaskGeneration, TasksAreWrittenAsTheirJsonPrints) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  std::vector<Task> tasks = generate_tasks(b.graph, small_options()).set.tasks;
+  Task odd;  // every optional part, text to escape, an unbounded margin
+  odd.id = "s/L2/000001";
+  odd.text = "put the \"red\" cup\tnext to the caf\xc3\xa9 sign";
+  odd.anchors = {"a", "b"};
+  odd.goal = {{"atomic", {{"type", "between"}, {"x", 0.1}}}};
+  odd.identify.push_back({1, "anchor", "cup_2", "table", {Relation::kNextTo, "cup", "plate", 0}, "the cup next to the plate"});
+  odd.identify.push_back({0, "item", "book_1", "shelf", {Relation::kFromLeft, "book", "", 2}, "the second book from the left"});
+  odd.placements.push_back({0, "cup_2", "table", {1.0, -0.5, 1e-7}, std::numeric_limits<double>::infinity()});
+  odd.placements.push_back({1, "book_1", "shelf", {0.1, 0.2, 0.3}, 0.0123});
+  tasks.push_back(odd);
+  std::set<int> levels;
+  for (const Task& t : tasks) {
+    std::string line = "[";
+    append_task_json(line, t);
+    EXPECT_EQ(line, "[" + task_to_json(t).dump()) << t.id;
+    levels.insert(t.level);
+  }
+  EXPECT_EQ(levels, (std::set<int>{1, 2, 3, 4})) << "every level's fields were compared";
+}
+
 // The database keeps every field of every task (compressed 64 to a chunk), gives them back in id
 // order, says which task a damaged chunk holds, and the stock sqlite3 shell reads them too.
 TEST(TaskGeneration, TheDatabaseGivesBackEveryTaskAndTheShellReadsItToo) {
