@@ -18,10 +18,10 @@ class JsonWriter {
   /// Appends to `out`, which must outlive the writer.
   explicit JsonWriter(std::string& out) : out_(out) {}
 
-  JsonWriter& begin_object();
-  JsonWriter& end_object();
-  JsonWriter& begin_array();
-  JsonWriter& end_array();
+  JsonWriter& begin_object() { return open('{'); }
+  JsonWriter& end_object() { return close('}'); }
+  JsonWriter& begin_array() { return open('['); }
+  JsonWriter& end_array() { return close(']'); }
   /// The next member's name; its value follows.
   JsonWriter& key(std::string_view name);
   /// @throws nlohmann::json::type_error for text that is not UTF-8, as dump() does.
@@ -38,6 +38,8 @@ class JsonWriter {
 
  private:
   void element();  // the comma before every element of a container but its first
+  JsonWriter& open(char bracket);
+  JsonWriter& close(char bracket);
 
   std::string& out_;
   std::vector<bool> empty_;  // per open container: nothing written in it yet
