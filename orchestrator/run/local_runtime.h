@@ -77,6 +77,7 @@ class LocalRuntime final : public Launcher {
     Clock::time_point last_activity;
     /// The judge's result, held until the recorder says the attempt is in the recording.
     std::optional<mtg::episode_result_t> result;
+    bool recorded = false;  // the recorder's acknowledgement came (it may come first)
   };
 
   void subscribe();
@@ -84,6 +85,8 @@ class LocalRuntime final : public Launcher {
   void handle_deaths(LaunchSink& sink);
   void check_timeouts(LaunchSink& sink);
   void fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink);
+  /// Hands the flight's result to the sink and forgets the flight.
+  void finish(std::map<bus::EpisodeId, Flight>::iterator flight);
   void touch(const mtg::header_t& h);
   bool recorder_beats() const { return config_.recorder != "lcm-logger"; }
   /// The mtg recorder acknowledges every result it writes; lcm-logger does not.
