@@ -39,18 +39,32 @@ AgentHost::~AgentHost() {
 }
 
 void AgentHost::on_start(const mtg::episode_start_t& start) {
-  if (start.agent != spec_ || (!run_id_.empty() && start.header.run_id != run_id_)) return;
+  if (!run_id_.empty() && start.header.run_id != run_id_) return;
+  const std::vector<mtg::observation_t> early = early_.take(start.header);
+  if (start.agent != spec_) {
+    if (others_.is_new_attempt(start.header)) others_.start(start.header, Other{});
+    return;
+  }
   if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
   if (const Episode* older = episodes_.find(Episodes::key_of(start.header)); older != nullptr) {
     policy_->end(older->start);
   }
   episodes_.start(start.header, Episode{0, start, -1});
   policy_->begin(start);
+  for (const mtg::observation_t& obs : early) on_observation(obs);
 }
 
 void AgentHost::on_observation(const mtg::observation_t& obs) {
   Episode* found = episodes_.current(obs.header);
-  if (found == nullptr) return;
+  if (found == nullptr) {
+    if (others_.current(obs.header) != nullptr) {
+      if (obs.done) others_.erase(Episodes::key_of(obs.header));
+    } else if ((run_id_.empty() || obs.header.run_id == run_id_) && episodes_.is_new_attempt(obs.header) &&
+               others_.is_new_attempt(obs.header)) {
+      early_.hold(obs);  // its start is still on its way (bus/early_messages.h)
+    }
+    return;
+  }
   Episode& e = *found;
   if (obs.done) {
     policy_->end(e.start);

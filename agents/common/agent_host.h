@@ -20,6 +20,7 @@
 
 #include "agents/common/policy.h"
 #include "bus/bus.h"
+#include "bus/early_messages.h"
 #include "bus/episode_table.h"
 #include "bus/header.h"
 
@@ -44,6 +45,9 @@ class AgentHost {
     mtg::episode_start_t start{};
     int last_step = -1;
   };
+  struct Other {  // an episode another agent serves: its observations are not for this one
+    int attempt = 0;  // set by the table
+  };
   struct Job {
     mtg::episode_start_t start;
     mtg::observation_t observation;
@@ -64,6 +68,8 @@ class AgentHost {
   std::string run_id_;
   using Episodes = bus::EpisodeTable<Episode>;
   Episodes episodes_;
+  bus::EpisodeTable<Other> others_;
+  bus::EarlyMessages<mtg::observation_t> early_;  // observations that came before their start
   bool stop_reported_ = false;
 
   std::mutex mutex_;

@@ -116,7 +116,10 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
     double one = 0.0;
     for (const int k : options.parallel) {
       orchestrator::RunPlan plan;
-      plan.run_id = "parallel-" + std::to_string(k) + (round > 1 ? "-round-" + std::to_string(round) : "");
+      // The folder has the short name; the run id is unique (new_run_id), like `mtg run`'s, so
+      // two benches on one bus at once do not take each other's messages.
+      const std::string name = "parallel-" + std::to_string(k) + (round > 1 ? "-round-" + std::to_string(round) : "");
+      plan.run_id = orchestrator::new_run_id(name);
       plan.tasks_db = job.out;
       plan.agents = {"oracle"};
       plan.levels = {1, 2, 3};
@@ -125,7 +128,7 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
       plan.data_dir = options.data_dir;
       plan.bus_url = bus::normalize_url(bus::default_url());
       plan = orchestrator::make_plan(std::move(plan), by_id);
-      const fs::path dir = work / plan.run_id;
+      const fs::path dir = work / name;
       fs::create_directories(dir);
       orchestrator::save_plan(plan, dir);
       const orchestrator::EngineOptions engine{

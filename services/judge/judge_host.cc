@@ -25,6 +25,8 @@ JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache
 }
 
 void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
+  const std::vector<mtg::state_update_t> early_states = early_states_.take(start.header);
+  const std::vector<mtg::agent_action_t> early_actions = early_actions_.take(start.header);
   if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
   Episode e;
   e.task_id = start.task.task_id;
@@ -40,11 +42,16 @@ void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_t
     return;
   }
   episodes_.start(start.header, std::move(e));
+  for (const mtg::agent_action_t& a : early_actions) on_action(a);
+  for (const mtg::state_update_t& u : early_states) on_state(u);
 }
 
 void JudgeHost::on_action(const mtg::agent_action_t& action) {
   Episode* found = episodes_.current(action.header);
-  if (found == nullptr) return;
+  if (found == nullptr) {
+    if (episodes_.is_new_attempt(action.header)) early_actions_.hold(action);
+    return;
+  }
   Episode& e = *found;
   if (e.actions_seen[action.step]) return;
   e.actions_seen[action.step] = true;
@@ -54,7 +61,10 @@ void JudgeHost::on_action(const mtg::agent_action_t& action) {
 
 void JudgeHost::on_state(const mtg::state_update_t& m) {
   Episode* found = episodes_.current(m.header);
-  if (found == nullptr) return;
+  if (found == nullptr) {
+    if (episodes_.is_new_attempt(m.header)) early_states_.hold(m);
+    return;
+  }
   Episode& e = *found;
   if (e.source.empty()) e.source = m.header.sender;
   if (m.header.sender != e.source) return;  // another scene-graph service's copy

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "bus/bus.h"
+#include "bus/early_messages.h"
 #include "bus/episode_join.h"
 #include "bus/episode_table.h"
 #include "bus/header.h"
@@ -58,6 +59,9 @@ class JudgeHost {
   std::string run_id_;
   EpisodeTable episodes_;
   bus::SequenceTracker sequence_;  // state updates per (run, sender, episode, attempt)
+  // What came before its episode's start (bus/early_messages.h).
+  bus::EarlyMessages<mtg::state_update_t> early_states_;
+  bus::EarlyMessages<mtg::agent_action_t> early_actions_;
   bus::EpisodeJoin starts_;
 };
 
