@@ -10,7 +10,7 @@
 //
 // Only messages with no start yet are held: a host forgets an episode's messages when any start
 // of it arrives (its own or another agent's), so messages of episodes that are not its own do not
-// accumulate. Bounded all the same: past kMaxHeld the oldest go.
+// accumulate. Bounded all the same: past `max_held` the oldest go.
 
 #include <cstddef>
 #include <deque>
@@ -24,10 +24,10 @@ namespace mtg::bus {
 template <class Msg>
 class EarlyMessages {
  public:
-  static constexpr std::size_t kMaxHeld = 256;
+  explicit EarlyMessages(std::size_t max_held) : max_held_(max_held) {}
 
   void hold(const Msg& m) {
-    if (held_.size() >= kMaxHeld) held_.pop_front();
+    if (held_.size() >= max_held_) held_.pop_front();
     held_.push_back(m);
   }
 
@@ -51,6 +51,7 @@ class EarlyMessages {
   std::size_t size() const { return held_.size(); }
 
  private:
+  std::size_t max_held_;
   std::deque<Msg> held_;
 };
 

@@ -60,8 +60,8 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   if (found == nullptr) {
     if (others_.current(obs.header) != nullptr) {
       if (obs.done) others_.erase(Episodes::key_of(obs.header));
-    } else if ((run_id_.empty() || obs.header.run_id == run_id_) && episodes_.is_new_attempt(obs.header) &&
-               others_.is_new_attempt(obs.header)) {
+    } else if (obs.step == 0 && (run_id_.empty() || obs.header.run_id == run_id_) &&
+               episodes_.is_new_attempt(obs.header) && others_.is_new_attempt(obs.header)) {
       early_.hold(obs);  // its start is still on its way (bus/early_messages.h)
     }
     return;

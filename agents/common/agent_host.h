@@ -69,7 +69,9 @@ class AgentHost {
   using Episodes = bus::EpisodeTable<Episode>;
   Episodes episodes_;
   bus::EpisodeTable<Other> others_;
-  bus::EarlyMessages<mtg::observation_t> early_;  // observations that came before their start
+  // First observations that came before their start. An observation may carry images (about
+  // 1 MB): few are kept, and only an attempt's first (a later one needs this agent's answer).
+  bus::EarlyMessages<mtg::observation_t> early_{16};
   bool stop_reported_ = false;
 
   std::mutex mutex_;

@@ -60,8 +60,8 @@ class JudgeHost {
   EpisodeTable episodes_;
   bus::SequenceTracker sequence_;  // state updates per (run, sender, episode, attempt)
   // What came before its episode's start (bus/early_messages.h).
-  bus::EarlyMessages<mtg::state_update_t> early_states_;
-  bus::EarlyMessages<mtg::agent_action_t> early_actions_;
+  bus::EarlyMessages<mtg::state_update_t> early_states_{256};
+  bus::EarlyMessages<mtg::agent_action_t> early_actions_{256};
   bus::EpisodeJoin starts_;
 };
 

@@ -38,7 +38,7 @@ mtg::state_update_t state(std::int64_t episode, int attempt, std::int64_t seq) {
 }
 
 TEST(EarlyMessages, AStartTakesItsAttemptsMessagesInOrderAndForgetsItsOtherAttempts) {
-  EarlyMessages<mtg::state_update_t> early;
+  EarlyMessages<mtg::state_update_t> early(16);
   early.hold(state(1, 0, 0));
   early.hold(state(2, 0, 0));
   early.hold(state(1, 1, 0));
@@ -54,11 +54,9 @@ TEST(EarlyMessages, AStartTakesItsAttemptsMessagesInOrderAndForgetsItsOtherAttem
 }
 
 TEST(EarlyMessages, HoldsABoundedNumberDroppingTheOldest) {
-  EarlyMessages<mtg::state_update_t> early;
-  for (std::size_t i = 0; i < EarlyMessages<mtg::state_update_t>::kMaxHeld + 10; ++i) {
-    early.hold(state(static_cast<std::int64_t>(i), 0, 0));
-  }
-  EXPECT_EQ(early.size(), EarlyMessages<mtg::state_update_t>::kMaxHeld);
+  EarlyMessages<mtg::state_update_t> early(16);
+  for (std::size_t i = 0; i < 26; ++i) early.hold(state(static_cast<std::int64_t>(i), 0, 0));
+  EXPECT_EQ(early.size(), 16u);
   EXPECT_TRUE(early.take(header(0, 0)).empty()) << "the oldest went";
   EXPECT_EQ(early.take(header(10, 0)).size(), 1u);
 }
@@ -116,6 +114,12 @@ TEST_F(AgentOnBus, AnObservationThatOvertakesItsStartIsAnsweredWhenTheStartComes
   EXPECT_EQ(answered(), std::vector<std::int64_t>{5});
   observe(5, 1);
   EXPECT_EQ(answered(), std::vector<std::int64_t>{5}) << "then as usual";
+}
+
+TEST_F(AgentOnBus, OnlyAnAttemptsFirstObservationWaitsForItsStart) {
+  observe(9, 1);  // a later step cannot come first: it needs this agent's answer (a stray copy)
+  start(9, "zero");
+  EXPECT_TRUE(answered().empty());
 }
 
 TEST_F(AgentOnBus, AnotherAgentsEpisodesAreNeitherAnsweredNorHeld) {
