@@ -74,10 +74,11 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   const std::vector<const cv::Mat*> images = images_in_reply_order(drawn);
   std::vector<std::vector<std::uint8_t>> bytes =
       encode_images(images, request.encoding, jobs_or_cores(options_.encode_jobs));
+  const std::string encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
   for (std::size_t i = 0; i < images.size(); ++i) {
     EncodedImage e;
     e.role = roles[i];
-    e.encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
+    e.encoding = encoding;
     e.width = images[i]->cols;
     e.height = images[i]->rows;
     e.bytes = std::move(bytes[i]);

@@ -273,7 +273,7 @@ std::vector<TaskChunk> TaskDbWriter::make_chunks(std::vector<Task>& tasks, bool 
     const std::size_t begin = c * kTasksPerChunk, end = std::min(n_taken, begin + kTasksPerChunk);
     std::string json = "[";
     for (std::size_t i = begin; i < end; ++i) {
-      Task& t = tasks[i];
+      const Task& t = tasks[i];
       chunk.rows.push_back({t.id, t.scene, t.type, t.level});
       if (json.size() > 1) json += ',';
       const std::size_t at = json.size();
