@@ -210,7 +210,8 @@ render::ImageRequest from_message(const mtg::render_request_t& m) {
   r.state = from_message(m.state);
   if (m.min_region_size > 0.0) r.min_region_size = m.min_region_size;
   for (const mtg::render_view_t& v : m.views) {
-    r.views.push_back({render::parse_view_kind(v.view), v.platform, v.side, v.item, render::parse_mark_kind(v.marks)});
+    r.views.push_back({render::parse_view_kind(v.view), v.platform, v.side, v.item, render::parse_mark_kind(v.marks),
+                       v.number, v.caption});
   }
   return r;
 }
@@ -222,12 +223,15 @@ mtg::render_view_t to_message(const graph::SceneGraph& g, const render::ViewRequ
   m.side = static_cast<int8_t>(v.side);
   m.item = object_name(g, v.object);
   m.marks = render::to_string(v.marks);
+  m.number = v.number;
+  m.caption = v.caption;
   return m;
 }
 
 mtg::image_t to_message(const render::EncodedImage& e) {
   mtg::image_t img{};
   img.role = e.role;
+  img.caption = e.caption;
   img.encoding = e.encoding;
   img.width = e.width;
   img.height = e.height;

@@ -105,6 +105,11 @@ std::string display_name(const graph::GraphObject& o) {
   return name;
 }
 
+std::string listed_name(const graph::GraphObject& o) {
+  const std::string model = display_name(o);
+  return o.noun.empty() || o.noun == model ? model : o.noun + " (" + model + ")";
+}
+
 std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size, PlacementMemo* memo) {
   const graph::Platform& p = g.platforms.at(platform);

@@ -114,4 +114,9 @@ struct PlacementMemo {
 /// ("kitchen utensil 09"), so identical objects read the same (the Level 2 ambiguity).
 std::string display_name(const graph::GraphObject& o);
 
+/// How an object reads in lists for agents told names: what a person calls it and its model
+/// ("spice jar (kitchen utensil 03)"), so a task's noun and the list's words agree; the display
+/// name alone when the scene profile gives no other noun.
+std::string listed_name(const graph::GraphObject& o);
+
 }  // namespace mtg::episode

@@ -1,7 +1,10 @@
 #pragma once
 // Reading an action key out of a model's free-text reply: code fences, quotes, "Action: l12",
-// trailing explanations. Only keys offered in the current action space count; the parser never
-// guesses between two offered keys.
+// trailing explanations. Offered keys are looked for first; the parser never guesses between two.
+// A reply that names no offered key but one real key of the vocabulary (o<N>, l<N>, -1,
+// startplace, or a number on its own or after "Action:") gives that key, `offered` false: the
+// step rules then refuse it as unavailable, with the reason, and it counts as an invalid action,
+// not as a reply that could not be read (docs/episode.md, "Reading a reply").
 
 #include <optional>
 #include <string>
@@ -12,7 +15,8 @@ namespace mtg::episode {
 
 struct ParsedReply {
   std::string key;   // "" when none could be read
-  bool ok = false;
+  bool ok = false;   // a key was read (offered now or not)
+  bool offered = false;  // ... and it is one of the keys offered now
   std::string why;   // for format errors
 };
 

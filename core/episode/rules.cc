@@ -29,7 +29,7 @@ std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t,
              t.key + ")";
     case PlaceTarget::Kind::kObjectRegion:
       return std::string("place it in free space ") + t.key + ": " + graph::direction_name(t.relative_dir) + " of " +
-             (options.object_names ? "the " + display_name(g.objects[t.anchor])
+             (options.object_names ? "the " + listed_name(g.objects[t.anchor])
                                    : std::string("the object it is drawn next to"));
     case PlaceTarget::Kind::kAnywhere:
       break;
@@ -86,6 +86,40 @@ bool offered_outside_placing(const graph::SceneGraph& g, const WorldState& s, st
   return false;
 }
 
+// Why a key of the vocabulary is not offered in `s`, in the agent's words.
+std::string why_unavailable(const graph::SceneGraph& g, const WorldState& s, std::string_view key,
+                            const std::vector<PlaceTarget>& targets) {
+  const bool at_platform = s.phase == Phase::kAtPlatform || s.phase == Phase::kPlacing;
+  const std::string labels = "the platforms are l1 to l" + std::to_string(g.navigable.size());
+  if (s.phase == Phase::kPlacing) {
+    if (key[0] == 'l' || key[0] == 'o' || key == "-1" || key == "startplace") {
+      return "you are placing the object in your hand; choose one of the numbered places, 999 for anywhere it "
+             "fits, or 0 to end";
+    }
+    std::string places;
+    for (const PlaceTarget& t : targets) {
+      if (t.key != kAnywhereKey) places += (places.empty() ? "" : ", ") + t.key;
+    }
+    return places.empty() ? "this platform offers no numbered place for the object; 999 puts it anywhere it fits"
+                          : "the numbered places here are " + places + " (999: anywhere it fits)";
+  }
+  if (key[0] == 'l') return labels;
+  if (key == "-1") return "you are not at a platform yet";
+  if (key == "startplace") {
+    if (!at_platform) return "you are not at a platform yet";
+    return "your hand is empty";
+  }
+  if (key[0] == 'o') {
+    if (!at_platform) return "you are not at a platform yet; go to one with its l key first";
+    if (s.held.valid()) return "your hand is full; place what you hold first (startplace)";
+    const std::size_t n = pickable_on(g, s, s.at_platform).size();
+    if (n == 0) return "there is nothing to pick up on this platform";
+    return n == 1 ? "this platform has object 1 only" : "the objects here are 1 to " + std::to_string(n);
+  }
+  // A number outside placing.
+  return "numbered places are chosen after startplace, with an object in your hand";
+}
+
 }  // namespace
 
 bool is_action_key(std::string_view key) {
@@ -122,7 +156,7 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
     const auto objects = pickable_on(g, s, s.at_platform);
     for (std::size_t k = 0; k < objects.size(); ++k) {
       std::string what = "pick up object " + std::to_string(k + 1);
-      if (options.object_names) what += " (" + display_name(g.objects[objects[k]]) + ")";
+      if (options.object_names) what += " (" + listed_name(g.objects[objects[k]]) + ")";
       out.push_back({"o" + std::to_string(k + 1), std::move(what)});
     }
   }
@@ -158,7 +192,8 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
   if (!out.valid) {
     out.hint = "'" + std::string(key.substr(0, 40)) + "' is not an action key; answer with one key of the action space";
   } else if (!out.available) {
-    out.hint = "action " + std::string(key) + " is not available now; choose one of the offered keys";
+    out.hint = std::string(key) + " is not available here: " + why_unavailable(g, s, key, targets) +
+               "; choose one of the offered keys";
   } else if (key == "0") {
     out.applied = true;
     end(s, out, EndReason::kCallEnd);
@@ -232,7 +267,7 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
            " side of platform " + platform_title(g, s.at_platform) + ".";
   }
   if (s.held.valid()) {
-    text += options.object_names ? " You hold the " + display_name(g.objects[s.held]) + "."
+    text += options.object_names ? " You hold the " + listed_name(g.objects[s.held]) + "."
                                  : " You hold an object (shown in the close-up image).";
   } else {
     text += " Your hand is empty.";
@@ -249,7 +284,7 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
       text += " On this platform (where each stands from its centre, as you face it):";
       for (std::size_t k = 0; k < objects.size(); ++k) {
         text += std::string(k ? "," : "") + " object " + std::to_string(k + 1) + " " +
-                display_name(g.objects[objects[k]]) + " [" +
+                listed_name(g.objects[objects[k]]) + " [" +
                 object_place(g, s, objects[k], objects) + "]";
       }
       text += ".";

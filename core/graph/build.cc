@@ -51,6 +51,10 @@ void classify(const scene::Scene& scene, const IdVector<ObjectId, ObjectGeometry
     o.template_name = src.template_name;
     o.short_name = src.short_name;
     o.category = src.category;
+    if (const auto it = options.nouns.find(src.template_name); it != options.nouns.end()) {
+      o.noun = it->second.singular;
+      o.noun_plural = it->second.plural;
+    }
     o.X_WO = src.X_WO;
     o.heading = yaw_of(src.X_WO);
     o.bottom = geo[i].bottom;

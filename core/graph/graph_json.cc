@@ -127,6 +127,7 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
     jo["kind"] = to_string(o.kind);
     jo["template"] = o.template_name;
     jo["category"] = o.category;
+    if (!o.noun.empty()) jo["noun"] = o.noun;
     jo["movable"] = o.movable;
     const bool in_tree = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kItem ||
                          o.kind == ObjectKind::kFixed;

@@ -8,6 +8,15 @@
 
 namespace mtg::graph {
 
+nlohmann::json GraphOptions::nouns_json() const {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [name, noun] : nouns) {
+    out[name] = noun.plural.empty() ? nlohmann::json(noun.singular)
+                                    : nlohmann::json{{"noun", noun.singular}, {"plural", noun.plural}};
+  }
+  return out;
+}
+
 nlohmann::json GraphOptions::to_json() const {
   return {{"seed_angle_deg", seed_angle_deg},
           {"surface_height_tolerance", surface_height_tolerance},
@@ -28,11 +37,13 @@ nlohmann::json GraphOptions::to_json() const {
           {"raster_resolution", raster_resolution},
           {"camera_heights_above", camera_heights_above},
           {"profile", profile_name},
-          {"exclude_templates", exclude_templates}};
+          {"exclude_templates", exclude_templates},
+          {"nouns", nouns_json()}};
 }
 
 void apply_profile(GraphOptions& options, const std::string& profile) {
   options.exclude_templates.clear();
+  options.nouns.clear();
   options.profile_name = profile;
   if (profile == "none" || profile.empty()) return;
   nlohmann::json doc;
@@ -51,6 +62,20 @@ void apply_profile(GraphOptions& options, const std::string& profile) {
   if (auto list = root.find("exclude_templates")) {
     for (std::size_t i = 0; i < list->size(); ++i) {
       options.exclude_templates.insert(list->at(i).as_string());
+    }
+  }
+  if (auto nouns = root.find("nouns")) {
+    for (const std::string& name : nouns->keys()) {
+      const JsonField entry = nouns->at(name);
+      Noun noun;
+      if (entry.is_object()) {
+        noun.singular = entry.at("noun").as_string();
+        if (auto plural = entry.find("plural")) noun.plural = plural->as_string();
+      } else {
+        noun.singular = entry.as_string();
+      }
+      if (noun.singular.empty()) entry.fail("a noun must not be empty");
+      options.nouns[name] = std::move(noun);
     }
   }
 }

@@ -2,12 +2,20 @@
 // Every knob of the scene-graph build, with the paper's constants as defaults
 // (official-impl-spec §11 item 6). A scene profile (profiles/*.json) adds dataset-level choices.
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace mtg::graph {
+
+/// What a person calls an object model.
+struct Noun {
+  std::string singular;  // "sponge dish"
+  std::string plural;    // "" when the regular plural reads right
+  bool operator==(const Noun&) const = default;
+};
 
 struct GraphOptions {
   // Surfaces (upward faces within seed_angle of +z, merged per height).
@@ -39,14 +47,20 @@ struct GraphOptions {
 
   // Scene profile: templates dropped before anything else (dataset-level, not per apartment).
   std::set<std::string> exclude_templates;
+  // Scene profile: the words a person uses for each template's model ("sponge dish"), and their
+  // plural where English does not add -s/-es ("pairs of shoes"). Templates without one are
+  // called by their dataset class.
+  std::map<std::string, Noun> nouns;
   std::string profile_name = "none";
 
   /// Canonical JSON of every field (for hashing into task sets and for graph.json).
   nlohmann::json to_json() const;
+  nlohmann::json nouns_json() const;
 };
 
 /// Loads a profile: "none", a built-in name ("replica_cad"), or a path to a JSON file with
-/// {"exclude_templates": [...]}. @throws mtg::Error naming the profile or file.
+/// {"exclude_templates": [...], "nouns": {"<template>": "<noun>" | {"noun": ..., "plural": ...}}}.
+/// @throws mtg::Error naming the profile, file and field.
 void apply_profile(GraphOptions& options, const std::string& profile);
 
 /// The built-in default profile name.

@@ -41,6 +41,8 @@ struct GraphObject {
   std::string template_name;
   std::string short_name;   // template without the dataset prefix ("name without instance id")
   std::string category;     // semantic class ("" if none)
+  std::string noun;         // what a person calls it (scene profile; "" if the profile has none)
+  std::string noun_plural;  // "" when the regular plural of `noun` reads right
   ObjectKind kind = ObjectKind::kUnsupported;
   std::string note;         // why it is scenery / unsupported, or how it was settled
   bool excluded = false;    // named by the scene profile (then it is scenery, kFixed)

@@ -1,7 +1,10 @@
 #include "core/render/image_renderer.h"
 
+#include <algorithm>
+
 #include "core/episode/state_delta.h"
 #include "core/render/image_codec.h"
+#include "core/render/mark_layout.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
@@ -20,6 +23,36 @@ const char* role_of(ViewKind kind) {
   return "view";
 }
 
+std::string numbers_text(const std::vector<int>& numbers) {
+  std::string out;
+  for (std::size_t i = 0; i < numbers.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == numbers.size() ? " and " : ", ") + std::to_string(numbers[i]);
+  }
+  return out;
+}
+
+std::string join_words(const std::string& a, const std::string& b) {
+  return a.empty() ? b : b.empty() ? a : a + " " + b;
+}
+
+// What a marked view leaves to its zoomed views, in words.
+std::string zoomed_caption(const ViewImages& images) {
+  if (images.zooms.empty()) return "";
+  std::vector<int> numbers = images.zoomed;
+  std::sort(numbers.begin(), numbers.end());
+  std::string out = numbers.size() == 1 ? "Object " + numbers_text(numbers) + " is numbered in "
+                                        : "Objects " + numbers_text(numbers) + " are numbered in ";
+  out += images.zooms.size() == 1 ? "the close-up Z1" : "the close-ups Z1 to " + zoom_name(images.zooms.size() - 1);
+  return out + " (framed here), where that part is crowded.";
+}
+
+std::string zoom_caption(std::size_t k, const ZoomImage& z) {
+  std::vector<int> numbers = z.numbers;
+  std::sort(numbers.begin(), numbers.end());
+  return zoom_name(k) + ": a close-up of the part framed " + zoom_name(k) +
+         " in the marked view, from where you stand; objects " + numbers_text(numbers) + " numbered as their keys.";
+}
+
 }  // namespace
 
 ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
@@ -30,6 +63,12 @@ ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
 SceneRenderer& ImageRenderer::scene_renderer(const graph::SceneCache::Entry& entry) {
   auto& slot = renderers_[entry.key];
   if (!slot) slot = std::make_unique<SceneRenderer>(context_, entry.scene, entry.graph, options_);
+  return *slot;
+}
+
+const SceneGeometry& ImageRenderer::geometry(const graph::SceneCache::Entry& entry) {
+  auto& slot = geometries_[entry.key];
+  if (!slot) slot = std::make_unique<SceneGeometry>(entry.scene, entry.graph);
   return *slot;
 }
 
@@ -48,7 +87,8 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   // once: encoding is most of an observation's time, and each image is encoded on its own.
   ImageReply reply;
   std::vector<ViewImages> drawn;
-  std::vector<std::string> roles;  // one per image, in reply order
+  std::vector<std::string> roles;     // one per image, in reply order
+  std::vector<std::string> captions;  // likewise
   for (const ViewSpec& v : request.views) {
     ViewRequest r;
     r.view = v.view;
@@ -57,6 +97,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
     r.height = request.height;
     r.side = v.side;
     r.min_region_size = request.min_region_size;
+    r.number = v.number;
     if (r.view == ViewKind::kPlatform) {
       r.platform = g.find_platform(v.platform);
       if (!r.platform.valid()) throw Error("render: scene " + request.scene + " has no platform '" + v.platform + "'");
@@ -66,10 +107,20 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
       if (!r.object.valid()) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }
     const ViewPlan plan = plan_view(g, state, r);
-    drawn.push_back(draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone));
+    drawn.push_back(draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone, geometry(entry)));
     reply.triangles += drawn.back().triangles;
-    roles.push_back(role_of(r.view));
-    if (!drawn.back().marked.empty()) roles.push_back(roles.back() + "_marked");
+    const ViewImages& images = drawn.back();
+    const std::string role = role_of(r.view);
+    roles.push_back(role);
+    captions.push_back(v.caption);
+    if (!images.marked.empty()) {
+      roles.push_back(role + "_marked");
+      captions.push_back(join_words(v.caption, zoomed_caption(images)));
+    }
+    for (std::size_t k = 0; k < images.zooms.size(); ++k) {
+      roles.push_back(role + "_zoom");
+      captions.push_back(zoom_caption(k, images.zooms[k]));
+    }
   }
   const std::vector<const cv::Mat*> images = images_in_reply_order(drawn);
   std::vector<std::vector<std::uint8_t>> bytes =
@@ -78,6 +129,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   for (std::size_t i = 0; i < images.size(); ++i) {
     EncodedImage e;
     e.role = roles[i];
+    e.caption = captions[i];
     e.encoding = encoding;
     e.width = images[i]->cols;
     e.height = images[i]->rows;

@@ -25,6 +25,8 @@ class ImageRenderer {
   const std::string& gl_description() const { return context_.description(); }
   /// The loaded scene and its GPU copy (loading them on first use).
   SceneRenderer& scene_renderer(const graph::SceneCache::Entry& entry);
+  /// The scene's triangles for the CPU id passes (marks), made on first use.
+  const SceneGeometry& geometry(const graph::SceneCache::Entry& entry);
   graph::SceneCache& scenes() { return scenes_; }
 
  private:
@@ -32,6 +34,7 @@ class ImageRenderer {
   RendererOptions options_;
   GlContext context_;
   std::map<std::string, std::unique_ptr<SceneRenderer>> renderers_;
+  std::map<std::string, std::unique_ptr<SceneGeometry>> geometries_;
 };
 
 }  // namespace mtg::render

@@ -20,6 +20,8 @@ struct ViewSpec {
   int side = -1;
   std::string item;      // item and focus views
   MarkKind marks = MarkKind::kNone;  // kNone: no marked copy
+  int number = 0;        // item and focus views: the number drawn on the object (0: none)
+  std::string caption;   // words for the image (EncodedImage::caption)
 };
 
 struct ImageRequest {
@@ -34,7 +36,8 @@ struct ImageRequest {
 };
 
 struct EncodedImage {
-  std::string role;  // view, view_marked, item, topdown, topdown_marked
+  std::string role;  // view, view_marked, view_zoom, item, focus, topdown, topdown_marked
+  std::string caption;
   std::string encoding;
   int width = 0;
   int height = 0;

@@ -145,17 +145,44 @@ void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<Region
   draw_discs(image, discs, st, false);
 }
 
-// Items: a dot on the item, a leader line, a disc in the item's colour above it.
-void draw_items(cv::Mat& image, const Camera& camera, const std::vector<ItemMark>& items, const Style& st,
-                DiscPlacer& placer) {
-  std::vector<Disc> discs;
-  for (const ItemMark& m : items) {
-    const auto a = camera.project(m.anchor_W);
-    if (!a || !inside(image, *a)) continue;
-    const cv::Scalar fill = mark_colour(m.number);
-    discs.push_back({m.number, to_cv(*a), to_cv(placer.place(*a, false)), fill, ink_on(fill)});
+// Items as their layout places them: leader lines first (each outlined in black), then the dots,
+// then the discs; a disc on its own object needs neither line nor dot. An object that does not
+// show gets a grey disc: its number exists, but there is nothing to see of it from here.
+void draw_items(cv::Mat& image, const MarkLayout& layout) {
+  const MarkStyle& st = layout.style;
+  for (const PlacedMark& m : layout.placed) {
+    if (m.on_object()) continue;
+    cv::line(image, to_cv(m.anchor), to_cv(m.disc), cv::Scalar(0, 0, 0), st.thickness + 2, cv::LINE_AA);
+    cv::line(image, to_cv(m.anchor), to_cv(m.disc), mark_colour(m.number), st.thickness, cv::LINE_AA);
   }
-  draw_discs(image, discs, st, true);
+  for (const PlacedMark& m : layout.placed) {
+    if (m.on_object()) continue;
+    cv::circle(image, to_cv(m.anchor), st.dot_radius, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+    cv::circle(image, to_cv(m.anchor), std::max(1, st.dot_radius - 1), mark_colour(m.number), cv::FILLED, cv::LINE_AA);
+  }
+  const Style text{st.radius, st.font, st.thickness};
+  for (const PlacedMark& m : layout.placed) {
+    const cv::Scalar fill = m.visible ? mark_colour(m.number) : cv::Scalar(150, 150, 150);
+    cv::circle(image, to_cv(m.disc), st.radius + 1, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
+    cv::circle(image, to_cv(m.disc), st.radius, fill, cv::FILLED, cv::LINE_AA);
+    centred_text(image, std::to_string(m.number), to_cv(m.disc), text, ink_on(fill));
+  }
+}
+
+// A zoomed view's region: a white frame outlined in black, its name in a box at the top left.
+void draw_zoom_frames(cv::Mat& image, const std::vector<Eigen::AlignedBox2d>& zooms, const Style& st) {
+  for (std::size_t k = 0; k < zooms.size(); ++k) {
+    const cv::Rect box(to_cv(zooms[k].min()), to_cv(zooms[k].max()));
+    cv::rectangle(image, box, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+    cv::rectangle(image, box, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    const std::string name = zoom_name(k);
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(name, cv::FONT_HERSHEY_SIMPLEX, st.font, st.thickness, &baseline);
+    const cv::Rect tag(box.x + 2, box.y + 2, size.width + 6, size.height + 6);
+    cv::rectangle(image, tag, cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::rectangle(image, tag, cv::Scalar(0, 0, 0), 1);
+    centred_text(image, name, {tag.x + tag.width / 2, tag.y + tag.height / 2}, st, cv::Scalar(0, 0, 0));
+  }
 }
 
 // Overview labels never cover each other: each tries its anchor, then points on rings around it
@@ -229,12 +256,14 @@ cv::Scalar mark_colour(int n) {
   return cv::Scalar(c[2], c[1], c[0]);
 }
 
-cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks) {
+cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items,
+                 const std::vector<Eigen::AlignedBox2d>& zooms) {
   cv::Mat out = image.clone();
   const Style st = style_for(out.cols, out.rows);
   DiscPlacer placer(out, st);
   if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, placer);
-  if (!marks.items.empty()) draw_items(out, camera, marks.items, st, placer);
+  if (!zooms.empty()) draw_zoom_frames(out, zooms, st);
+  if (items != nullptr) draw_items(out, *items);
   if (!marks.labels.empty()) draw_labels(out, camera, marks.labels, st);
   return out;
 }

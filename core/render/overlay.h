@@ -9,12 +9,17 @@
 #include <vector>
 
 #include "core/render/camera.h"
+#include "core/render/mark_layout.h"
 #include "core/render/marks.h"
 
 namespace mtg::render {
 
-/// A copy of `image` (8-bit BGR, the camera's size) with `marks` drawn on it.
-cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks);
+/// A copy of `image` (8-bit BGR, the camera's size) with `marks` drawn on it: the item marks as
+/// `items` lays them out (mark_layout.h; they are not drawn without it), each `zooms` region
+/// framed and labelled Z1, Z2, ... (where a zoomed view numbers what is crowded there).
+cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items = nullptr,
+                 const std::vector<Eigen::AlignedBox2d>& zooms = {});
+
 
 /// Where the overview's labels go on the image: each label's box, clear of the others and inside
 /// the image, and the projected anchor it points at (labels whose anchor is out of view are left

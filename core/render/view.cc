@@ -82,26 +82,22 @@ Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldS
   return X_WP * Eigen::Vector2d(out.x() * (half.x() + 1.0), out.y() * (half.y() + 1.0));
 }
 
-ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
-  require(g.platforms.contains(r.platform), "render: platform index " + to_string(r.platform) + " out of range");
-  const graph::Platform& p = g.platforms[r.platform];
-  ViewPlan plan;
-  plan.side = r.side;
-  if (plan.side < 0) plan.side = s.at_platform == r.platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
-  require(plan.side <= 3, "render: side " + std::to_string(plan.side) + " is not 0..3");
-
-  const double h = episode::platform_height(g, s, r.platform);
-  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, r.platform);
+// The camera of a platform view, planned in the layout state `s`.
+Camera plan_platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                            int side, int width, int height) {
+  const graph::Platform& p = g.platforms[platform];
+  const double h = episode::platform_height(g, s, platform);
+  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
   std::vector<Eigen::Vector3d> keys;
   for (const geom::Ring& ring : geom::transform(p.polygon_P, X_WP).rings) {
     for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
   }
   double top = h;
-  for (const graph::ObjectId o : episode::pickable_on(g, s, r.platform)) {
+  for (const graph::ObjectId o : episode::pickable_on(g, s, platform)) {
     const episode::ObjectState& st = s.objects[o];
     top = std::max(top, st.top);
   }
-  for (const graph::ObjectId o : episode::objects_on(s, r.platform)) {
+  for (const graph::ObjectId o : episode::objects_on(s, platform)) {
     const episode::ObjectState& st = s.objects[o];
     top = std::max(top, st.top);
     for (const auto& q : st.footprint) {
@@ -122,7 +118,7 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   double eye_z = std::max(h + 0.6, top + 0.35);
   if (std::isfinite(p.clearance)) eye_z = std::min(eye_z, h + std::max(0.06, p.clearance - 0.04));
 
-  const Eigen::Vector2d stand = standing_point(g, s, r.platform, plan.side);
+  const Eigen::Vector2d stand = standing_point(g, s, platform, side);
   const Eigen::Vector2d centre = X_WP.translation();
   Eigen::Vector2d away = stand - centre;
   away = away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d(0, -1);
@@ -130,15 +126,26 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   for (const auto& k : keys) target += k;
   target /= static_cast<double>(keys.size());
 
-  Camera& cam = plan.camera;
-  cam.width = r.width;
-  cam.height = r.height;
+  Camera cam;
+  cam.width = width;
+  cam.height = height;
   for (int step = 0; step <= kMaxStepsBack; ++step) {
     const Eigen::Vector2d xy = stand + away * (kStepBack * step);
     const Eigen::Vector3d eye(xy.x(), xy.y(), eye_z);
     if (aim(eye, target, keys, cam.aspect(), cam.X_WC, cam.fovy)) break;
     cam.fovy = kMaxFovy;  // the last step keeps the widest lens
   }
+  return cam;
+}
+
+ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
+  require(g.platforms.contains(r.platform), "render: platform index " + to_string(r.platform) + " out of range");
+  const graph::Platform& p = g.platforms[r.platform];
+  ViewPlan plan;
+  plan.side = r.side;
+  if (plan.side < 0) plan.side = s.at_platform == r.platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
+  require(plan.side <= 3, "render: side " + std::to_string(plan.side) + " is not 0..3");
+  plan.camera = platform_camera(g, s, r.platform, plan.side, r.width, r.height);
   if (s.held.valid()) plan.hidden.push_back(s.held);
   if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
   if (r.marks == MarkKind::kTargets) {
@@ -187,6 +194,7 @@ ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, con
   plan.camera.near = std::max(0.01, distance - 2.0 * radius);
   plan.camera.far = distance + 2.0 * radius;
   plan.only = r.object;
+  plan.number = {r.number, r.object, e.centre};
   return plan;
 }
 
@@ -208,7 +216,9 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
     elevation = std::clamp(std::asin(std::clamp(headroom / distance, -1.0, 1.0)), 0.0, elevation);
   }
   ViewPlan plan;
-  const Eigen::Vector2d from = standing_point(g, s, platform, std::max(0, p.default_side)) - e.centre.head<2>();
+  // From where the robot stands when it is at that platform, else from where it arrives there.
+  const int side = s.at_platform == platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
+  const Eigen::Vector2d from = standing_point(g, s, platform, side) - e.centre.head<2>();
   plan.camera = close_up_camera(e.centre, from, distance, elevation, r);
   plan.camera.near = std::max(0.01, distance - 3.0 * radius);
   plan.camera.far = distance + 6.0;
@@ -224,6 +234,7 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
     if (other != r.object && g.objects[other].pickable() && !support) plan.faded.push_back(other);
   }
   if (s.held.valid()) plan.hidden.push_back(s.held);
+  plan.number = {r.number, r.object, e.centre};
   return plan;
 }
 
@@ -260,6 +271,18 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
 }
 
 }  // namespace
+
+Camera platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                       int width, int height) {
+  require(g.platforms.contains(platform), "render: platform index " + to_string(platform) + " out of range");
+  require(side >= 0 && side <= 3, "render: side " + std::to_string(side) + " is not 0..3");
+  require_image_size(width, height);
+  // Planned in the scene as the graph found it, so the view holds still while items come and go;
+  // a platform that moved (one on an item) takes its camera along.
+  Camera cam = plan_platform_camera(g, episode::initial_state(g), platform, side, width, height);
+  cam.X_WC.pretranslate(s.platform_offset[platform]);
+  return cam;
+}
 
 const char* to_string(ViewKind kind) {
   switch (kind) {

@@ -40,6 +40,8 @@ struct ViewRequest {
   int width = 640;
   int height = 480;
   double min_region_size = 0.03;  // as episode::RuleOptions, for target numbering
+  int number = 0;                 // item and focus views: the number drawn on the object (0: none)
+  std::string caption;            // the asker's words for the image
 };
 
 /// How much of a faded object shows through (the release dims neighbours to 20 %).
@@ -52,6 +54,7 @@ struct ViewPlan {
   graph::ObjectId only;                 // when valid, the single object drawn (item close-ups)
   std::vector<graph::ObjectId> faded;   // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
+  ItemMark number;  // a close-up's object with its number drawn on it (number 0: none)
 };
 
 /// @throws mtg::Error unless 1 <= width, height <= 8192 (checked before any work).
@@ -59,6 +62,14 @@ void require_image_size(int width, int height);
 
 /// @throws mtg::Error naming the problem (index out of range, non-positive size, ...).
 ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request);
+
+/// The camera of the platform view from `side` (0..3) at `width` x `height`. It is planned in the
+/// scene as the graph found it and does not move while items are picked and placed (docs/render.md,
+/// "Views"), so the agent's view of a platform, and what can be seen in it, depends on the
+/// platform and side only: the arrival view of a platform is this camera at its default side.
+/// @throws mtg::Error for a bad platform, side or size.
+Camera platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                       int width, int height);
 
 /// The images an observation in state `s` carries (docs/render.md, "What the agent sees"):
 ///   start            the overview with every platform's l<N>

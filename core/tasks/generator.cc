@@ -64,7 +64,7 @@ std::string describe_scene(const graph::SceneGraph& g) {
     const auto& objects = episode::objects_on(s, p);
     if (objects.empty()) out += " empty";
     for (std::size_t i = 0; i < objects.size(); ++i) {
-      out += std::string(i ? ", " : " ") + episode::display_name(g.objects[objects[i]]);
+      out += std::string(i ? ", " : " ") + episode::listed_name(g.objects[objects[i]]);
     }
   }
   return out;
@@ -99,12 +99,17 @@ class TaskNumbering {
 // Levels 1 and 2: each atomic task, named in the initial state; Level 2 when it has look-alikes.
 void add_atomic_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                       const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
-                      TaskSet& set) {
-  const ReferenceMemo memo(g, initial, options.ambiguity);  // every atomic task is named in the initial state
+                      TaskSet& set, const render::VisibilityOracle* seeing) {
+  // Every atomic task is named in the initial state.
+  const ReferenceMemo memo(g, initial, options.ambiguity, seeing);
   for (const AtomicTask& a : atomic) {
-    const auto words = identify(g, initial, a.goal, options.ambiguity, 0, &memo);
+    const Naming words = identify(g, initial, a.goal, options.ambiguity, 0, &memo, seeing);
     if (!words) {
-      set.dropped.add("unidentifiable", 2);
+      if (words.occluded) {
+        set.dropped.add("occluded", has_lookalikes(g, initial, a.goal, options.ambiguity) ? 2 : 1);
+      } else {
+        set.dropped.add("unidentifiable", 2);
+      }
       continue;
     }
     const int level = words->lookalikes.empty() ? 1 : 2;
@@ -150,10 +155,10 @@ Task sequence_task(const graph::SceneGraph& g, const Sequence& seq, const TaskOp
 // Level 3: each chain becomes a task as it is drawn.
 void add_sequence_tasks(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, const TaskOptions& options, TaskNumbering& numbering,
-                        TaskSet& set, int jobs, episode::PlacementMemo& memo) {
+                        TaskSet& set, int jobs, episode::PlacementMemo& memo, const render::VisibilityOracle* seeing) {
   generate_sequences(
       g, initial, atomic, options.level3_count, options, set.warnings, set.dropped, jobs,
-      [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); }, &memo);
+      [&](const Sequence& seq) { numbering.add(sequence_task(g, seq, options), set); }, &memo, seeing);
 }
 
 // Level 4's candidates, with what making them dropped and said; they need nothing of Levels 1-3.
@@ -173,13 +178,14 @@ struct OutcomeCandidates {
 
 OutcomeCandidates make_outcome_candidates(const graph::SceneGraph& g, const episode::WorldState& initial,
                                           const TaskOptions& options,
-                                          std::shared_ptr<episode::PlacementTables> shared_tables) {
+                                          std::shared_ptr<episode::PlacementTables> shared_tables,
+                                          const render::VisibilityOracle* seeing) {
   OutcomeCandidates out;
   out.templates = load_templates(options.level4_templates);
   // Its plans all start from the initial state: whole results repeat. The geometry tables are
   // Levels 1-3's: nearly every interior Level 4 needs, they need too.
   episode::PlacementMemo memo(/*keep_whole_results=*/true, std::move(shared_tables));
-  out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped, &memo);
+  out.tasks = generate_outcomes(g, initial, out.templates, options, out.warnings, out.dropped, &memo, seeing);
   return out;
 }
 
@@ -234,9 +240,23 @@ void add_outcome_tasks(const graph::SceneGraph& g, OutcomeCandidates made, const
 
 }  // namespace
 
-GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
+GenerationResult generate_tasks(const scene::Scene& scene, const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
                                 int jobs, const TaskSink& sink) {
+  if (!options.visibility) return generate_tasks(g, options, recorded_votes, live_voters, jobs, sink);
+  const render::SceneGeometry geometry(scene, g);
+  const render::VisibilityOracle seeing(g, geometry, *options.visibility);
+  return generate_tasks(g, options, recorded_votes, live_voters, jobs, sink, &seeing);
+}
+
+GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
+                                const std::vector<Vote>& recorded_votes, const std::vector<VoteBatch>& live_voters,
+                                int jobs, const TaskSink& sink, const render::VisibilityOracle* seeing) {
+  if (options.visibility && seeing == nullptr) {
+    throw Error("task generation: the visibility rules need the scene's meshes (or options without visibility)");
+  }
+  if (!options.visibility) seeing = nullptr;
+  if (seeing != nullptr) seeing->prepare(jobs);
   for (const int level : options.levels) {
     if (level < 1 || level > 4) throw Error("unknown level " + std::to_string(level) + " (levels are 1..4)");
   }
@@ -255,8 +275,8 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   // after Level 3 all the same, so the set is the one a single thread makes.
   std::future<OutcomeCandidates> outcomes;
   if (options.levels.count(4) && jobs > 1) {
-    outcomes = std::async(std::launch::async, [&g, &initial, &options, tables = memo.tables] {
-      return make_outcome_candidates(g, initial, options, tables);
+    outcomes = std::async(std::launch::async, [&g, &initial, &options, tables = memo.tables, seeing] {
+      return make_outcome_candidates(g, initial, options, tables, seeing);
     });
   }
   std::vector<AtomicTask> atomic;
@@ -265,11 +285,12 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   if (want_atomic) {
     atomic = enumerate_atomic(g, initial, options, {}, want_levels_1_2 ? &set.dropped : nullptr, jobs, &memo);
   }
-  if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set);
-  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs, memo);
+  if (want_levels_1_2) add_atomic_tasks(g, initial, atomic, options, numbering, set, seeing);
+  if (options.levels.count(3)) add_sequence_tasks(g, initial, atomic, options, numbering, set, jobs, memo, seeing);
   std::vector<AtomicTask>().swap(atomic);  // Level 4 does not need it
   if (options.levels.count(4)) {
-    OutcomeCandidates made = outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options, memo.tables);
+    OutcomeCandidates made =
+        outcomes.valid() ? outcomes.get() : make_outcome_candidates(g, initial, options, memo.tables, seeing);
     add_outcome_tasks(g, std::move(made), options, recorded_votes, live_voters, numbering, result);
   }
   numbering.flush(set);

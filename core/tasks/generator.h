@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/graph/scene_graph.h"
+#include "core/render/visibility.h"
 #include "core/tasks/feasibility.h"
 #include "core/tasks/task.h"
 
@@ -26,7 +27,15 @@ using TaskSink = std::function<void(std::vector<Task>)>;
 /// `jobs` threads share the work of Levels 1-3, and with more than one, Level 4 runs on one more
 /// thread alongside them; the result is the same for any number.
 /// With a `sink`, the tasks go to it as they are made and the result's set holds none of them.
+/// `seeing` answers what the arrival views show; it is needed when options.visibility is set
+/// (@throws mtg::Error without it).
 GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& options,
+                                const std::vector<Vote>& recorded_votes = {},
+                                const std::vector<VoteBatch>& live_voters = {}, int jobs = 1,
+                                const TaskSink& sink = {}, const render::VisibilityOracle* seeing = nullptr);
+
+/// The same with the scene's meshes, from which the visibility rules of options.visibility see.
+GenerationResult generate_tasks(const scene::Scene& scene, const graph::SceneGraph& g, const TaskOptions& options,
                                 const std::vector<Vote>& recorded_votes = {},
                                 const std::vector<VoteBatch>& live_voters = {}, int jobs = 1,
                                 const TaskSink& sink = {});

@@ -16,20 +16,27 @@ Identification make_identification(const graph::SceneGraph& g, int part, const s
   return id;
 }
 
-std::optional<Identified> identify(const graph::SceneGraph& g, const episode::WorldState& start,
-                                   const episode::AtomicGoal& goal, Ambiguity rule, int part,
-                                   const ReferenceMemo* memo) {
-  MTG_DEMAND(memo == nullptr || memo->rule() == rule, "identify: the reference memo uses another ambiguity rule");
-  // The destination looks the same with the item in hand unless the item comes from there.
-  const bool same_platform = goal.source == goal.platform;
-  auto referred = [&](graph::ObjectId object, graph::PlatformId platform,
-                      bool while_placing) -> std::optional<Reference> {
-    const graph::ObjectId held = while_placing && same_platform ? goal.item : graph::ObjectId();
-    return memo != nullptr ? memo->refer(start, object, platform, held) : refer_in(g, start, object, platform, held, rule);
+Naming identify(const graph::SceneGraph& g, const episode::WorldState& start, const episode::AtomicGoal& goal,
+                Ambiguity rule, int part, const ReferenceMemo* memo, const render::VisibilityOracle* seeing) {
+  MTG_DEMAND(memo == nullptr || (memo->rule() == rule && memo->seeing() == seeing),
+             "identify: the reference memo uses another ambiguity rule or view");
+  // The destination looks the same with the item in hand unless the item comes from there, or
+  // stands in the destination's view.
+  const bool item_there = goal.source == goal.platform ||
+                          (seeing != nullptr && seeing->in_view(start, goal.platform, goal.item));
+  auto referred = [&](graph::ObjectId object, graph::PlatformId platform, bool while_placing) -> Referral {
+    const graph::ObjectId held = while_placing && item_there ? goal.item : graph::ObjectId();
+    return memo != nullptr ? memo->refer(start, object, platform, held)
+                           : refer_in(g, start, object, platform, held, rule, seeing);
   };
-  Identified out;
+  Naming naming;
+  Identified& out = naming.identified.emplace();
   const auto item = referred(goal.item, goal.source, false);
-  if (!item) return std::nullopt;
+  if (!item) return {std::nullopt, item.occluded};
+  // The item is picked by its number: that number must be readable where the robot arrives.
+  if (seeing != nullptr && !seeing->mark_readable(start, goal.source, goal.item)) {
+    return {std::nullopt, true};
+  }
   out.wording.item = *item;
   if (item->relation != Relation::kAlone) {
     out.lookalikes.push_back(make_identification(g, part, "item", goal.item, goal.source, *item));
@@ -39,14 +46,14 @@ std::optional<Identified> identify(const graph::SceneGraph& g, const episode::Wo
   for (const auto& [anchor, slot] : anchors) {
     if (!anchor.valid()) continue;
     const auto r = referred(anchor, goal.platform, true);
-    if (!r) return std::nullopt;
+    if (!r) return {std::nullopt, r.occluded};
     *slot = *r;
     if (r->relation != Relation::kAlone) {
       out.lookalikes.push_back(
           make_identification(g, part, anchor == goal.anchor ? "anchor" : "anchor2", anchor, goal.platform, *r));
     }
   }
-  return out;
+  return naming;
 }
 
 bool has_lookalikes(const graph::SceneGraph& g, const episode::WorldState& start, const episode::AtomicGoal& goal,

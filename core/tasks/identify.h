@@ -28,12 +28,26 @@ struct Identified {
   std::vector<Identification> lookalikes;  // the objects whose reference is not "alone"
 };
 
-/// The wording of `goal` in state `start` (nothing held), or nullopt when an object cannot be
-/// named uniquely. `part` is recorded in the identifications (Level 3 sub-task index). `memo`,
-/// when given, must use `rule`; the words are the same with or without it.
-std::optional<Identified> identify(const graph::SceneGraph& g, const episode::WorldState& start,
-                                   const episode::AtomicGoal& goal, Ambiguity rule, int part = 0,
-                                   const ReferenceMemo* memo = nullptr);
+/// The wording of a goal, or why there is none.
+struct Naming {
+  std::optional<Identified> identified;
+  /// An object is named in the geometry but not in what its platform's arrival view shows
+  /// (counted as `occluded`; otherwise `unidentifiable`).
+  bool occluded = false;
+
+  explicit operator bool() const { return identified.has_value(); }
+  const Identified* operator->() const { return &*identified; }
+  const Identified& operator*() const { return *identified; }
+};
+
+/// The wording of `goal` in state `start` (nothing held): the item as its source's arrival view
+/// shows it, the anchors as the destination's does with the item in hand (and, when the item
+/// comes from there, before it is picked). `part` is recorded in the identifications (Level 3
+/// sub-task index). `memo`, when given, must use `rule` and `seeing`; the words are the same
+/// with or without it.
+Naming identify(const graph::SceneGraph& g, const episode::WorldState& start, const episode::AtomicGoal& goal,
+                Ambiguity rule, int part = 0, const ReferenceMemo* memo = nullptr,
+                const render::VisibilityOracle* seeing = nullptr);
 
 /// Whether some object of the goal has a look-alike (the Level 2 test), without building
 /// references: cheap enough for counting dropped tasks.

@@ -3,10 +3,12 @@
 #include <filesystem>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <utility>
 
 #include "core/graph/build.h"
+#include "core/render/visibility.h"
 #include "core/scene/scene_loader.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
@@ -70,9 +72,10 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     const Stopwatch watch;
     const std::string& name = job.scenes[i];
     graph::SceneGraph g;
+    render::SceneGeometry geometry;  // the triangles the agent's views draw (visibility rules)
     std::set<std::filesystem::path> source_files;
     std::future<scene::DatasetFingerprint> fingerprint;
-    {  // the meshes (scene and cache) are not needed for tasks: gone before generation
+    {  // the meshes (scene and cache) are not needed for tasks beyond their triangles: gone before generation
       scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
       // Meshes on several threads only when this scene has the machine to itself: scenes side by
       // side keep every core busy already, and their imports at once raised the peak by 15 MiB.
@@ -84,10 +87,14 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
         return scene::fingerprint_files(dataset.root, source_files, &file_hashes);
       });
       g = graph::build_scene_graph(loaded, graph_options);
+      if (job.options.visibility) geometry = render::SceneGeometry(loaded, g);
     }
     SceneOutput& out = outputs[i];
+    std::optional<render::VisibilityOracle> seeing;
+    if (job.options.visibility) seeing.emplace(g, geometry, *job.options.visibility);
     out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs,
-                                [&take, i](std::vector<Task> batch) { take(i, std::move(batch), false); });
+                                [&take, i](std::vector<Task> batch) { take(i, std::move(batch), false); },
+                                seeing ? &*seeing : nullptr);
     take(i, {}, true);  // the short chunk at the end
     out.result.set.dataset = fingerprint.get();
     SceneReport& sr = out.report;

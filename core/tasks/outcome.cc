@@ -72,8 +72,13 @@ std::set<std::string> placeholders_of(const std::string& text) {
 using graph::ObjectId;
 using graph::PlatformId;
 
-// The key Level 4 groups items by: the semantic category, or the model name without one.
-std::string category_key(const graph::GraphObject& obj) { return obj.category.empty() ? obj.short_name : obj.category; }
+// The key Level 4 groups items by: the noun under the noun rule (what a person calls it, so
+// "every kitchen utensil" never counts a sponge dish), else the semantic category, or the model
+// name without one.
+std::string category_key(const graph::GraphObject& obj, Ambiguity rule) {
+  if (rule == Ambiguity::kNoun && !obj.noun.empty()) return obj.noun;
+  return obj.category.empty() ? obj.short_name : obj.category;
+}
 
 // What the generator needs about the scene, computed once.
 struct SceneFacts {
@@ -81,18 +86,21 @@ struct SceneFacts {
   std::map<PlatformId, std::vector<ObjectId>> items_on;       // navigable platform -> pickable items
   std::map<std::string, std::vector<ObjectId>> by_category;  // category -> pickable items (navigable)
   std::map<ObjectId, std::string> category_of;                // item -> category key
+  std::map<std::string, std::string> plural_of;               // category key -> its plural words
   std::vector<ObjectId> multilayer;                           // furniture with >= 2 navigable platforms
 };
 
-SceneFacts facts(const graph::SceneGraph& g, const WorldState& s) {
+SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule) {
   SceneFacts f;
   f.navigable = g.navigable;
   for (const PlatformId p : g.navigable) {
     f.items_on[p] = episode::pickable_on(g, s, p);
     for (const ObjectId o : f.items_on[p]) {
-      const std::string cat = category_key(g.objects[o]);
+      const std::string cat = category_key(g.objects[o], rule);
       f.category_of[o] = cat;
       f.by_category[cat].push_back(o);
+      const std::string& irregular = g.objects[o].noun_plural;
+      if (rule == Ambiguity::kNoun && !irregular.empty()) f.plural_of[cat] = irregular;
     }
   }
   for (const ObjectId i : g.objects.ids()) {
@@ -183,9 +191,11 @@ struct NamedObject {
 
 class Instantiator {
  public:
-  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options, DropCounts& dropped,
+  Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options,
+               const render::VisibilityOracle* seeing, DropCounts& dropped,
                episode::PlacementMemo* memo)
-      : g_(g), s_(s), options_(options), dropped_(dropped), memo_(memo), f_(facts(g, s)) {}
+      : g_(g), s_(s), options_(options), seeing_(seeing), dropped_(dropped), memo_(memo),
+        f_(facts(g, s, options.ambiguity)) {}
 
   void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
     tmpl_ = &t;
@@ -210,6 +220,11 @@ class Instantiator {
     return Rng(derive_seed(options_.seed, fnv1a64("L4/" + tmpl_->id + "/" + binding)));
   }
   std::string pname(PlatformId p) const { return g_.platforms[p].name; }
+  // "books", "pairs of shoes": a category's plural as the text writes it.
+  std::string plural_text(const std::string& cat) const {
+    const auto it = f_.plural_of.find(cat);
+    return it != f_.plural_of.end() ? it->second : plural(category_text(cat));
+  }
   // Furniture by its instance name, as the platform names the agent reads spell it.
   std::string furniture_name(ObjectId f) const { return g_.objects[f].name; }
 
@@ -219,39 +234,45 @@ class Instantiator {
     std::vector<ObjectId> out;
     if (platform.valid()) {
       for (const ObjectId o : episode::pickable_on(g_, s_, platform)) {
-        if (category_key(g_.objects[o]) == cat) out.push_back(o);
+        if (category_key(g_.objects[o], options_.ambiguity) == cat) out.push_back(o);
       }
       return out;
     }
     for (const ObjectId i : g_.objects.ids()) {
-      if (g_.objects[i].pickable() && category_key(g_.objects[i]) == cat) out.push_back(i);
+      if (g_.objects[i].pickable() && category_key(g_.objects[i], options_.ambiguity) == cat) out.push_back(i);
     }
     return out;
   }
 
-  std::optional<NamedObject> name_object(ObjectId o) const {
+  // How the text names one object, or why it cannot (occluded: named in the geometry, but not as
+  // its platform's arrival view shows it).
+  struct ObjectNaming {
+    std::optional<NamedObject> named;
+    bool occluded = false;
+  };
+  ObjectNaming name_object(ObjectId o) const {
     const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
-    if (!platform.valid()) return std::nullopt;
-    const auto ref = refer(g_, {&s_}, o, platform, options_.ambiguity);
-    if (!ref) return std::nullopt;
+    if (!platform.valid()) return {};
+    const auto ref = refer(g_, {&s_}, o, platform, options_.ambiguity, seeing_);
+    if (!ref) return {std::nullopt, ref.occluded};
     NamedObject named;
     named.words = ref->phrase().substr(4) + " from " + pname(platform);  // without "the "
     named.selects = resolve(g_, s_, platform, *ref, options_.ambiguity);
     if (ref->relation != Relation::kAlone) {
       named.lookalikes.push_back(make_identification(g_, 0, "object", o, platform, *ref));
     }
-    return named;
+    return {std::move(named), false};
   }
   // Names every object, or counts the binding as unidentifiable.
   std::optional<std::vector<NamedObject>> name_objects(std::initializer_list<ObjectId> objects) {
     std::vector<NamedObject> out;
     for (const ObjectId o : objects) {
-      auto named = name_object(o);
-      if (!named) {
-        dropped_.add("unidentifiable", 4);
+      ObjectNaming naming = name_object(o);
+      if (!naming.named) {
+        dropped_.add(naming.occluded ? "occluded" : "unidentifiable", 4);
         return std::nullopt;
       }
-      out.push_back(std::move(*named));
+      out.push_back(std::move(*naming.named));
     }
     return out;
   }
@@ -297,6 +318,10 @@ class Instantiator {
       dropped_.add("vague", 4);
       return false;
     }
+    if (!all_seen(selects)) {  // every object the words count shows where the agent looks for it
+      dropped_.add("occluded", 4);
+      return false;
+    }
     if (episode::outcome_satisfied(g_, s_, goal, options_.goals)) {
       dropped_.add("trivial", 4);
       return false;
@@ -311,6 +336,19 @@ class Instantiator {
     task.oracle = std::move(plan->keys);
     task.identify = std::move(lookalikes);
     out_->push_back(std::move(task));
+    return true;
+  }
+
+  bool all_seen(const std::vector<std::vector<ObjectId>>& selects) const {
+    if (seeing_ == nullptr) return true;
+    for (const auto& list : selects) {
+      for (const ObjectId o : list) {
+        const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
+        if (!platform.valid()) return false;
+        const auto sight = seeing_->arrival_view(s_, platform);
+        if (!sight->clearly_visible(o) || !seeing_->mark_readable(s_, platform, o)) return false;
+      }
+    }
     return true;
   }
 
@@ -353,7 +391,7 @@ class Instantiator {
           std::vector<Move> moves;
           for (const ObjectId o : objs) moves.push_back({o, {dst}, {}});
           return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
-                       {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
+                       {"categories", plural_text(cat)}, {"count", std::to_string(objs.size())}},
                       {{all_on(objs, {dst})}}, moves, {called(cat, src)});
         });
       }
@@ -370,7 +408,7 @@ class Instantiator {
           if (episode::furniture_platform_of(g_, s_, o) != dst) moves.push_back({o, {dst}, {}});
         }
         return emit({{"target", pname(dst)}, {"category", category_text(cat)},
-                     {"categories", plural(category_text(cat))}, {"count", std::to_string(objs.size())}},
+                     {"categories", plural_text(cat)}, {"count", std::to_string(objs.size())}},
                     {{all_on(objs, {dst})}}, moves, {called(cat)});
       });
     }
@@ -406,7 +444,7 @@ class Instantiator {
         const auto targets = shuffled_targets(rng, {src});
         std::vector<Move> moves;
         for (const ObjectId o : objs) moves.push_back({o, targets, {}});
-        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural(category_text(cat))},
+        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural_text(cat)},
               {"count", std::to_string(objs.size())}},
              {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {called(cat, src)});
       }
@@ -505,8 +543,8 @@ class Instantiator {
           for (const ObjectId o : a) moves.push_back({o, {t1}, {}});
           for (const ObjectId o : b) moves.push_back({o, {t2}, {}});
           emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
-                {"category", category_text(cats[i])}, {"categories", plural(category_text(cats[i]))},
-                {"category2", category_text(cats[j])}, {"categories2", plural(category_text(cats[j]))}},
+                {"category", category_text(cats[i])}, {"categories", plural_text(cats[i])},
+                {"category2", category_text(cats[j])}, {"categories2", plural_text(cats[j])}},
                {{all_on(a, {t1}), all_on(b, {t2})}}, moves, {called(cats[i], src), called(cats[j], src)});
         }
       }
@@ -579,6 +617,7 @@ class Instantiator {
   const graph::SceneGraph& g_;
   const WorldState& s_;
   const TaskOptions& options_;
+  const render::VisibilityOracle* seeing_;
   DropCounts& dropped_;
   episode::PlacementMemo* memo_;
   SceneFacts f_;
@@ -638,9 +677,9 @@ std::vector<OutcomeTemplate> load_templates(const std::string& source) {
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
                                            std::vector<std::string>& warnings, DropCounts& dropped,
-                                           episode::PlacementMemo* memo) {
+                                           episode::PlacementMemo* memo, const render::VisibilityOracle* seeing) {
   std::vector<OutcomeTask> all;
-  Instantiator inst(g, initial, options, dropped, memo);
+  Instantiator inst(g, initial, options, seeing, dropped, memo);
   for (const OutcomeTemplate& t : templates) inst.run(t, all);
   // One task per goal: the first template that produced it keeps it.
   std::vector<OutcomeTask> out;

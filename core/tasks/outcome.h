@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/episode/goals.h"
+#include "core/render/visibility.h"
 #include "core/tasks/task.h"
 
 namespace mtg::tasks {
@@ -69,11 +70,13 @@ struct OutcomeTask {
 
 /// Drops (DropCounts): "vague" when the words of a text pick out other objects than its goal's
 /// (e.g. "all the books in the house" while one book stands where the agent cannot go),
-/// "unidentifiable" when a named object has look-alikes no reference tells apart, "trivial" when
-/// the outcome already holds.
+/// "unidentifiable" when a named object has look-alikes no reference tells apart, "occluded"
+/// (with `seeing`) when an object the words name or count is not clearly visible in its
+/// platform's arrival view, "trivial" when the outcome already holds.
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
                                            std::vector<std::string>& warnings, DropCounts& dropped,
-                                           episode::PlacementMemo* memo = nullptr);
+                                           episode::PlacementMemo* memo = nullptr,
+                                           const render::VisibilityOracle* seeing = nullptr);
 
 }  // namespace mtg::tasks

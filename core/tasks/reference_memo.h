@@ -4,7 +4,8 @@
 // furniture platform only, so a question about a platform that looks exactly as it does in the
 // base state (the same objects, in the same order, with the same footprints and supports) has
 // the base state's answer: it is worked out once and kept. A platform that looks different (a
-// Level 3 step moved something onto or off it) is answered afresh and not kept.
+// Level 3 step moved something onto or off it), or whose arrival view shows something else (an
+// item moved into or out of view), is answered afresh and not kept.
 
 #include <optional>
 
@@ -16,16 +17,18 @@ namespace mtg::tasks {
 
 class ReferenceMemo {
  public:
-  /// `g` and `base` must outlive the memo.
-  ReferenceMemo(const graph::SceneGraph& g, const episode::WorldState& base, Ambiguity rule);
+  /// `g`, `base` and `seeing` (when given) must outlive the memo.
+  ReferenceMemo(const graph::SceneGraph& g, const episode::WorldState& base, Ambiguity rule,
+                const render::VisibilityOracle* seeing = nullptr);
 
   /// refer() naming `object` on `platform` in `s` (nothing held), and also with `held_item` in
   /// hand when it is valid (an anchor while the item from its platform is being placed): the
   /// same answer as refer() itself, from whichever thread and in whatever order asked.
-  std::optional<Reference> refer(const episode::WorldState& s, graph::ObjectId object, graph::PlatformId platform,
-                                 graph::ObjectId held_item) const;
+  Referral refer(const episode::WorldState& s, graph::ObjectId object, graph::PlatformId platform,
+                 graph::ObjectId held_item) const;
 
   Ambiguity rule() const { return rule_; }
+  const render::VisibilityOracle* seeing() const { return seeing_; }
 
  private:
   bool as_in_base(const episode::WorldState& s, graph::PlatformId platform) const;
@@ -33,11 +36,14 @@ class ReferenceMemo {
   const graph::SceneGraph& g_;
   const episode::WorldState& base_;
   Ambiguity rule_;
-  mutable MemoTable<std::optional<Reference>> kept_;  // by object, platform, held item
+  const render::VisibilityOracle* seeing_;
+  std::vector<std::string> base_views_;  // per platform, its arrival view's key in `base` ("" unknown)
+  mutable MemoTable<Referral> kept_;  // by object, platform, held item
 };
 
 /// refer() for `object` on `platform` in `s`, and also with `held_item` in hand when it is valid.
-std::optional<Reference> refer_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
-                                  graph::PlatformId platform, graph::ObjectId held_item, Ambiguity rule);
+Referral refer_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
+                  graph::PlatformId platform, graph::ObjectId held_item, Ambiguity rule,
+                  const render::VisibilityOracle* seeing = nullptr);
 
 }  // namespace mtg::tasks

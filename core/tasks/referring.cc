@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <set>
 
 #include "core/episode/goals.h"
@@ -29,14 +30,17 @@ constexpr std::pair<Relation, int> kPreference[] = {
 // what each is called, and where each stands as seen from the arrival side.
 class PlatformView {
  public:
-  PlatformView(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, Ambiguity rule)
-      : g_(g), s_(s), platform_(platform), objects_(episode::everything_on(g, s, platform)) {
+  PlatformView(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, Ambiguity rule,
+               const render::VisibilityOracle* seeing = nullptr)
+      : g_(g), s_(s), platform_(platform), objects_(episode::everything_on(g, s, platform)), seeing_(seeing) {
+    if (seeing != nullptr) min_gap_ = seeing->options().min_gap;
     const graph::Platform& p = g.platforms[platform];
     side_ = static_cast<graph::Side>(std::max(0, p.default_side));
     const Eigen::Isometry2d X_PW = episode::platform_frame(g, s, platform).inverse();
     for (const graph::ObjectId o : objects_) {
       nouns_.push_back(noun_of(g.objects[o], rule));
-      centres_P_.push_back(X_PW * episode::footprint_centre(s.objects[o]));
+      centres_W_.push_back(episode::footprint_centre(s.objects[o]));
+      centres_P_.push_back(X_PW * centres_W_.back());
       boxes_W_.push_back(geom::bounds(s.objects[o].footprint));
     }
   }
@@ -122,6 +126,37 @@ class PlatformView {
     return out;
   }
 
+  // Whether the arrival view shows what reference `r` to object i needs (referring.h); always
+  // when there is no view to ask.
+  bool seen(const Reference& r, std::size_t i) const {
+    if (seeing_ == nullptr) return true;
+    // Drawn only when a reference names the object in the geometry: most never do.
+    if (!sight_) sight_ = seeing_->arrival_view(s_, platform_);
+    auto visible = [&](std::size_t k) { return sight_->clearly_visible(objects_[k]); };
+    if (!visible(i)) return false;
+    switch (r.relation) {
+      case Relation::kAlone: return true;
+      case Relation::kOn: {
+        const int below = support(i);
+        return below >= 0 && visible(static_cast<std::size_t>(below));
+      }
+      case Relation::kUnder: {
+        const auto on = above(i);
+        return std::any_of(on.begin(), on.end(), [&](std::size_t k) { return nouns_[k] == r.landmark && visible(k); });
+      }
+      case Relation::kNextTo:
+        for (std::size_t k = 0; k < size(); ++k) {
+          if (k != i && nouns_[k] == r.landmark && gap(i, k, kNextTo) <= kNextTo && visible(k)) return true;
+        }
+        return false;
+      case Relation::kFromLeft: return counted_in_view(r.noun, 2, r.rank);
+      case Relation::kFromRight: return counted_in_view(r.noun, 6, r.rank);
+      case Relation::kNearest: return counted_in_view(r.noun, 0, 1);
+      case Relation::kFarthest: return counted_in_view(r.noun, 4, 1);
+    }
+    return false;
+  }
+
   // Landmark nouns worth trying for object i under relation r, in a fixed order.
   std::vector<std::string> landmarks_for(std::size_t i, Relation r) const {
     std::set<std::string> out;
@@ -138,6 +173,37 @@ class PlatformView {
   }
 
  private:
+  // Whether a person counting the candidates called `noun` along a viewer axis in the picture
+  // counts as the footprints do: every candidate clearly visible, the picture's order the
+  // footprints' order, and each of the first `rank` neighbours at least min_gap pixels from the
+  // next. Left/right read along the image's width at mid-height; near/far along its height at
+  // the bottom (nearer stands lower in the picture).
+  bool counted_in_view(const std::string& noun, int relative_dir, int rank) const {
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (nouns_[i] != noun) continue;
+      if (!sight_->clearly_visible(objects_[i])) return false;
+      order.emplace_back(-along(i, relative_dir), i);
+    }
+    std::sort(order.begin(), order.end());
+    const bool sideways = relative_dir == 2 || relative_dir == 6;
+    // Image coordinate growing along the counting direction.
+    std::vector<double> at;
+    for (const auto& [key, i] : order) {
+      const episode::ObjectState& o = s_.objects[objects_[i]];
+      const double z = sideways ? (o.bottom + o.top) / 2.0 : o.bottom;
+      const auto px = sight_->camera().project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), z));
+      if (!px) return false;
+      const double coordinate = sideways ? px->x() : px->y();
+      at.push_back(relative_dir == 2 || relative_dir == 4 ? coordinate : -coordinate);
+    }
+    for (std::size_t k = 0; k + 1 < at.size(); ++k) {
+      const double step = at[k + 1] - at[k];
+      if (step < (static_cast<int>(k) < rank ? min_gap_ : 0.0)) return false;
+    }
+    return true;
+  }
+
   // Counting candidates along a viewer axis from its far end: the rank-th one, when it and every
   // one before it stand at least kOrdinalGap from the next; else the pair too close to tell
   // apart (the reference is ambiguous).
@@ -159,13 +225,18 @@ class PlatformView {
   std::vector<graph::ObjectId> objects_;
   std::vector<std::string> nouns_;
   std::vector<geom::Point2> centres_P_;
+  std::vector<geom::Point2> centres_W_;
+  const render::VisibilityOracle* seeing_;
+  mutable std::shared_ptr<const render::ViewSight> sight_;  // the arrival view, once asked for
+  double min_gap_ = 0.0;
   std::vector<Eigen::AlignedBox2d> boxes_W_;  // the footprints' boxes
 };
 
 }  // namespace
 
 std::string noun_of(const graph::GraphObject& o, Ambiguity rule) {
-  if (rule == Ambiguity::kCategory && !o.category.empty()) {
+  if (rule == Ambiguity::kNoun && !o.noun.empty()) return o.noun;
+  if ((rule == Ambiguity::kCategory || rule == Ambiguity::kNoun) && !o.category.empty()) {
     std::string noun = o.category;
     std::replace(noun.begin(), noun.end(), '_', ' ');
     return noun;
@@ -191,36 +262,48 @@ bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, graph::Objec
   return same > 1;
 }
 
-std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states,
-                               graph::ObjectId object, graph::PlatformId platform, Ambiguity rule) {
+Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states, graph::ObjectId object,
+               graph::PlatformId platform, Ambiguity rule, const render::VisibilityOracle* seeing) {
   MTG_DEMAND(!states.empty(), "refer() needs a state");
   std::vector<PlatformView> views;
-  for (const WorldState* s : states) views.emplace_back(g, *s, platform, rule);
+  for (const WorldState* s : states) views.emplace_back(g, *s, platform, rule, seeing);
+  Referral out;
   const int first = views.front().index_of(object);
-  if (first < 0) return std::nullopt;  // not on that platform
+  if (first < 0) return out;  // not on that platform
+  // The reference names it in the geometry; then whether every view shows what it needs.
   auto names_it = [&](const Reference& r) {
-    return std::all_of(views.begin(), views.end(), [&](const PlatformView& v) {
+    const bool named = std::all_of(views.begin(), views.end(), [&](const PlatformView& v) {
       const std::vector<std::size_t> found = v.resolve(r);
       return found.size() == 1 && v.object(found.front()) == object;
+    });
+    if (!named) return false;
+    out.occluded = true;
+    return std::all_of(views.begin(), views.end(), [&](const PlatformView& v) {
+      return v.seen(r, static_cast<std::size_t>(v.index_of(object)));
     });
   };
   Reference r;
   r.noun = views.front().noun(static_cast<std::size_t>(first));
-  if (names_it(r)) return r;
+  auto found = [&](const Reference& ref) {
+    out.reference = ref;
+    out.occluded = false;
+    return out;
+  };
+  if (names_it(r)) return found(r);
   for (const auto& [relation, rank] : kPreference) {
     r.relation = relation;
     r.rank = rank;
     r.landmark.clear();
     if (!needs_landmark(relation)) {
-      if (names_it(r)) return r;
+      if (names_it(r)) return found(r);
       continue;
     }
     for (const std::string& landmark : views.front().landmarks_for(static_cast<std::size_t>(first), relation)) {
       r.landmark = landmark;
-      if (names_it(r)) return r;
+      if (names_it(r)) return found(r);
     }
   }
-  return std::nullopt;
+  return out;
 }
 
 }  // namespace mtg::tasks

@@ -22,19 +22,25 @@
 // Left, right, near and far are named as seen from the platform's arrival side (the side `l<N>`
 // brings the robot to, Platform::default_side), so every agent reads them alike.
 // resolve() is the geometric test a reader applies; refer() picks the first relation, in the
-// order above, that resolve() finds to name exactly the object in every state given.
+// order above, that resolve() finds to name exactly the object in every state given and that
+// the arrival view shows (with a VisibilityOracle): the object and its landmark clearly
+// visible; for a rank, nearest or farthest every candidate clearly visible, in the picture in
+// the order the footprints give, each of the neighbours counted at least min_gap pixels from the
+// next (left/right along the image's width, near/far along its height: nearer is lower).
 
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/episode/world_state.h"
+#include "core/render/visibility.h"
 #include "core/tasks/reference.h"
 #include "core/tasks/task.h"
 
 namespace mtg::tasks {
 
-/// The words for an object under the ambiguity rule: its category ("kitchen utensil"), or its
+/// The words for an object under the ambiguity rule: its noun ("sponge dish", from the scene
+/// profile; its category where the profile has none), its category ("kitchen utensil"), or its
 /// name without instance id ("kitchen utensil 09"); the display name when it has no category.
 std::string noun_of(const graph::GraphObject& o, Ambiguity rule);
 
@@ -47,8 +53,21 @@ std::vector<graph::ObjectId> resolve(const graph::SceneGraph& g, const episode::
 bool has_lookalike(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
                    graph::PlatformId platform, Ambiguity rule);
 
-/// A reference naming exactly `object` on `platform` in every state of `states`, or nullopt.
-std::optional<Reference> refer(const graph::SceneGraph& g, const std::vector<const episode::WorldState*>& states,
-                               graph::ObjectId object, graph::PlatformId platform, Ambiguity rule);
+/// A reference, or why there is none.
+struct Referral {
+  std::optional<Reference> reference;
+  /// Some reference names the object in the geometry, but none in what the arrival view shows.
+  bool occluded = false;
+
+  explicit operator bool() const { return reference.has_value(); }
+  const Reference& operator*() const { return *reference; }
+  const Reference* operator->() const { return &*reference; }
+};
+
+/// A reference naming exactly `object` on `platform` in every state of `states`, and, with
+/// `seeing`, in what the arrival view of each state shows.
+Referral refer(const graph::SceneGraph& g, const std::vector<const episode::WorldState*>& states,
+               graph::ObjectId object, graph::PlatformId platform, Ambiguity rule,
+               const render::VisibilityOracle* seeing = nullptr);
 
 }  // namespace mtg::tasks

@@ -12,7 +12,7 @@
 namespace mtg::tasks {
 namespace {
 
-constexpr int kAttemptsPerChain = 25;
+constexpr int kAttemptsPerChain = 60;
 
 // Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
 std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,
@@ -52,9 +52,9 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
           drawn.dropped.add("trivial", 3);
           return std::nullopt;
         }
-        auto words = identify(g, s, goal, options.ambiguity, part, &references);
-        if (!words) drawn.dropped.add("unidentifiable", 3);
-        return words;
+        Naming words = identify(g, s, goal, options.ambiguity, part, &references, references.seeing());
+        if (!words) drawn.dropped.add(words.occluded ? "occluded" : "unidentifiable", 3);
+        return std::move(words.identified);
       };
       std::optional<AtomicTask> next;
       std::optional<Identified> words;
@@ -129,14 +129,14 @@ Drawn draw_chain(const graph::SceneGraph& g, const episode::WorldState& initial,
 void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,
                         std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take,
-                        episode::PlacementMemo* memo) {
+                        episode::PlacementMemo* memo, const render::VisibilityOracle* seeing) {
   if (atomic.empty() || count <= 0) return;
   // Each chain's attempts depend only on its number, so chains are drawn in parallel, a block at
   // a time; taking them in order, with a duplicate drawn on from its next attempt, gives the
   // one-thread result. With threads to spare, the next block is drawn while this thread takes
   // the last one in order, so no core waits on that serial part.
   constexpr int kBlock = 2048;
-  const ReferenceMemo references(g, initial, options.ambiguity);  // every chain starts from `initial`
+  const ReferenceMemo references(g, initial, options.ambiguity, seeing);  // every chain starts from `initial`
   std::set<std::string> seen;
   int failures = 0;
   const auto draw_block = [&](int from) {

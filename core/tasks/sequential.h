@@ -31,10 +31,12 @@ using SequenceSink = std::function<void(Sequence)>;
 
 /// `count` distinct chains of `options.level3_chain` parts, handed to `take` in order (2,048
 /// drawn at a time, so the whole set is never held), deterministic in options.seed and
-/// the same for any number of `jobs` (threads drawing chains) and with or without `memo`.
+/// the same for any number of `jobs` (threads drawing chains) and with or without `memo`. With
+/// `seeing`, each step's objects are named only as their arrival views show them in the state
+/// the step starts from (identify.h).
 void generate_sequences(const graph::SceneGraph& g, const episode::WorldState& initial,
                         const std::vector<AtomicTask>& atomic, int count, const TaskOptions& options,
                         std::vector<std::string>& warnings, DropCounts& dropped, int jobs, const SequenceSink& take,
-                        episode::PlacementMemo* memo = nullptr);
+                        episode::PlacementMemo* memo = nullptr, const render::VisibilityOracle* seeing = nullptr);
 
 }  // namespace mtg::tasks

@@ -11,10 +11,18 @@ namespace mtg::tasks {
 Ambiguity ambiguity_from_string(const std::string& name) {
   if (name == "name") return Ambiguity::kNameWithoutId;
   if (name == "category") return Ambiguity::kCategory;
-  throw Error("unknown ambiguity rule '" + name + "' (use name or category)");
+  if (name == "noun") return Ambiguity::kNoun;
+  throw Error("unknown ambiguity rule '" + name + "' (use noun, category or name)");
 }
 
-const char* to_string(Ambiguity a) { return a == Ambiguity::kCategory ? "category" : "name"; }
+const char* to_string(Ambiguity a) {
+  switch (a) {
+    case Ambiguity::kNameWithoutId: return "name";
+    case Ambiguity::kCategory: return "category";
+    case Ambiguity::kNoun: return "noun";
+  }
+  return "noun";
+}
 
 nlohmann::json to_json(const Identification& id) {
   return {{"part", id.part},           {"role", id.role},         {"object", id.object},
@@ -112,7 +120,8 @@ nlohmann::json TaskOptions::to_json() const {
           {"min_region_size", rules.min_region_size},
           {"min_margin", min_margin},
           {"min_goal_area", min_goal_area},
-          {"around_distance", goals.around_distance}};
+          {"around_distance", goals.around_distance},
+          {"visibility", visibility ? visibility->to_json() : nlohmann::json()}};
 }
 
 std::string TaskOptions::config_hash() const { return to_hex(fnv1a64(to_json().dump())); }

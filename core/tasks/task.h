@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/render/visibility_options.h"
 #include "core/scene/dataset_fingerprint.h"
 #include "core/tasks/reference.h"
 
@@ -74,16 +76,18 @@ struct Task {
 
 enum class Ambiguity {
   kNameWithoutId,  // same template name (e.g. two "cup 01") on the platform
-  kCategory,       // same semantic class (e.g. two cups of any model)
+  kCategory,       // same semantic class of the dataset (e.g. a sponge dish is a "kitchen utensil")
+  kNoun,           // same noun of the scene profile, what a person calls it ("sponge dish"); the
+                   // class where the profile has none
 };
-/// "name" or "category". @throws mtg::Error otherwise.
+/// "name", "category" or "noun". @throws mtg::Error otherwise.
 Ambiguity ambiguity_from_string(const std::string& name);
 const char* to_string(Ambiguity a);
 
 struct TaskOptions {
   std::set<int> levels = {1, 2, 3, 4};
   std::uint64_t seed = 0;
-  Ambiguity ambiguity = Ambiguity::kCategory;  // pairs with the paper's nameless action space (docs/tasks.md)
+  Ambiguity ambiguity = Ambiguity::kNoun;  // pairs with the paper's nameless action space (docs/tasks.md)
   int level3_count = 10000;     // per scene (the paper's figure)
   int level3_chain = 2;         // sub-tasks per Level 3 task
   int level4_max_moves = 3;     // objects an outcome task may require to move
@@ -92,6 +96,9 @@ struct TaskOptions {
   std::string level4_templates = "builtin";  // or a path to a template JSON file
   episode::RuleOptions rules;
   episode::GoalOptions goals;
+  /// What a task may name and count must be clearly visible in the arrival view (docs/tasks.md,
+  /// "Seen, not only there"); nullopt: the geometry alone decides (scenes without meshes).
+  std::optional<render::VisibilityOptions> visibility = render::VisibilityOptions{};
 
   /// Canonical JSON (hashed into config_hash; stored in the database).
   nlohmann::json to_json() const;

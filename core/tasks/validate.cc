@@ -56,6 +56,26 @@ PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOpt
   return r;
 }
 
+episode::WorldState start_of_part(const graph::SceneGraph& g, const Task& task, const TaskOptions& options, int part,
+                                  bool holding) {
+  const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
+  if (goal.is_outcome) throw Error("task " + task.id + ": an outcome task has no parts to start");
+  if (part < 0 || part >= static_cast<int>(goal.parts.size())) {
+    throw Error("task " + task.id + " has no part " + std::to_string(part) + " (it has " +
+                std::to_string(goal.parts.size()) + ")");
+  }
+  episode::WorldState s = episode::initial_state(g);
+  episode::RuleOptions rules = options.rules;
+  rules.step_limit = 1 << 20;
+  const episode::TaskConstraints constraints{goal.protected_objects()};
+  const std::size_t keys = kKeysPerPart * static_cast<std::size_t>(part) + (holding ? 2 : 0);
+  for (std::size_t i = 0; i < keys && i < task.oracle.size(); ++i) {
+    const auto out = episode::apply_action(g, s, task.oracle[i], constraints, rules);
+    if (!out.applied) throw Error("task " + task.id + ": its plan's key '" + task.oracle[i] + "' does not play");
+  }
+  return s;
+}
+
 std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
   std::vector<std::string> problems;
   auto fail = [&](const std::string& what) { problems.push_back(task.id + ": " + what); };

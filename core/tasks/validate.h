@@ -23,6 +23,13 @@ struct PlayResult {
 /// Plays the oracle plan and judges the end state.
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options);
 
+/// Where an atomic or Level 3 task's part `part` starts, its oracle plan played up to there: the
+/// state the agent arrives at the item's platform in, or, `holding`, the state once it picked the
+/// item (where it arrives at the destination with it). @throws mtg::Error for an outcome task, a
+/// part it does not have, or a plan that does not play.
+episode::WorldState start_of_part(const graph::SceneGraph& g, const Task& task, const TaskOptions& options, int part,
+                                  bool holding);
+
 /// Every broken promise of the task, one line each (empty when it keeps them all).
 std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options);
 

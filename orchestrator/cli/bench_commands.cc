@@ -7,6 +7,7 @@
 
 #include "core/episode/placement.h"
 #include "core/graph/build.h"
+#include "core/render/visibility.h"
 #include "core/scene/scene_loader.h"
 #include "core/tasks/atomic.h"
 #include "core/tasks/generator.h"
@@ -130,11 +131,14 @@ int run_bench_tasks(const BenchTasksOptions& options) {
 
   for (const std::string& name : options.scenes) {
     scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
-    const graph::SceneGraph g = graph::build_scene_graph(scene::load_scene(dataset, name, cache), graph_options);
+    const scene::Scene loaded = scene::load_scene(dataset, name, cache);
+    const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
+    const render::SceneGeometry geometry(loaded, g);
+    const render::VisibilityOracle seeing(g, geometry);
     tasks::TaskOptions atomic;
     atomic.levels = {1, 2};
     Stopwatch watch;
-    const auto r = tasks::generate_tasks(g, atomic);
+    const auto r = tasks::generate_tasks(g, atomic, {}, {}, 1, {}, &seeing);
     std::printf("  %-8s L1+L2 %6zu tasks in %6.0f ms (graph built beforehand)\n", name.c_str(), r.set.tasks.size(),
                 watch.elapsed_ms());
     if (name != options.scenes.front()) continue;
@@ -144,7 +148,7 @@ int run_bench_tasks(const BenchTasksOptions& options) {
     std::string first;
     for (const int jobs : {1, default_jobs()}) {
       Stopwatch l3;
-      const auto c = tasks::generate_tasks(g, chains, {}, {}, jobs);
+      const auto c = tasks::generate_tasks(g, chains, {}, {}, jobs, {}, &seeing);
       const double ms = l3.elapsed_ms();
       std::string all;
       for (const auto& t : c.set.tasks) all += tasks::task_to_json(t).dump() + "\n";

@@ -41,13 +41,13 @@ std::size_t encoded_bytes(const std::vector<const cv::Mat*>& images) {
 
 // Renders, marks and encodes every view an observation in `s` asks for, as the renderer does
 // (every view drawn, then all images encoded together); returns the bytes.
-std::size_t observation_images(render::SceneRenderer& renderer, const graph::SceneGraph& g,
-                               const episode::WorldState& s, int width, int height, double min_region,
-                               std::int64_t& triangles) {
+std::size_t observation_images(render::SceneRenderer& renderer, const render::SceneGeometry& geometry,
+                               const graph::SceneGraph& g, const episode::WorldState& s, int width, int height,
+                               double min_region, std::int64_t& triangles) {
   std::vector<render::ViewImages> drawn;
   for (const render::ViewRequest& v : render::observation_views(s, width, height, min_region)) {
     const render::ViewPlan plan = render::plan_view(g, s, v);
-    drawn.push_back(render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone));
+    drawn.push_back(render::draw_view(renderer, g, s, plan, v.marks != render::MarkKind::kNone, geometry));
     triangles += drawn.back().triangles;
   }
   return encoded_bytes(render::images_in_reply_order(drawn));
@@ -65,6 +65,7 @@ int run_bench_render(const BenchRenderOptions& o) {
   render::SceneRenderer& gpu = renderer.scene_renderer(entry);
   const double upload_ms = load.elapsed_ms();
   const graph::SceneGraph& g = entry.graph;
+  const render::SceneGeometry& geometry = renderer.geometry(entry);
   std::printf("%s: scene + graph %.0f ms, GPU upload (meshes, textures <= %d px) %.0f ms, textures %.0f MiB\n",
               o.scene.c_str(), scene_ms, render::RendererOptions{}.max_texture_size, upload_ms,
               static_cast<double>(gpu.uploaded_texture_bytes()) / (1 << 20));
@@ -86,19 +87,20 @@ int run_bench_render(const BenchRenderOptions& o) {
     // One untimed pass first: a GPU raises its clocks only after some work, and the first draw
     // at a size allocates the framebuffer.
     for (const graph::PlatformId p : g.navigable) {
-      render::draw_view(gpu, g, initial, render::plan_view(g, initial, view_of(p)), true);
+      render::draw_view(gpu, g, initial, render::plan_view(g, initial, view_of(p)), true, geometry);
     }
     for (int round = 0; round < o.rounds; ++round) {
       for (const graph::PlatformId p : g.navigable) {
         const render::ViewRequest r = view_of(p);
         // The phases of draw_view(..., true), timed apart: planning is CPU work, drawing is the GL
-        // draw and read-back, marking is CPU work on the read-back image.
+        // draw and read-back, marking is CPU work (the id pass, the layout, drawing the marks; the
+        // zoomed views of crowded platforms are drawn here too, with their GL draws).
         Stopwatch watch;
         const render::ViewPlan plan = render::plan_view(g, initial, r);
         const double planned = watch.elapsed_ms();
-        render::ViewImages images = render::draw_view(gpu, g, initial, plan, false);
+        render::ViewImages images = render::draw_view(gpu, g, initial, plan, false, geometry);
         const double drawn = watch.elapsed_ms();
-        images.marked = render::annotate(images.plain, plan.camera, plan.marks);
+        images.marked = render::draw_view(gpu, g, initial, plan, true, geometry).marked;
         frame_ms.push_back(watch.elapsed_ms());
         plan_ms.push_back(planned);
         draw_ms.push_back(drawn - planned);
@@ -122,7 +124,7 @@ int run_bench_render(const BenchRenderOptions& o) {
   // Whole oracle episodes, rendered as the service would: every observation's views at 640x480.
   tasks::TaskOptions task_options;
   task_options.levels = {1, 2};
-  const auto generated = tasks::generate_tasks(g, task_options);
+  const auto generated = tasks::generate_tasks(entry.scene, g, task_options);
   std::vector<double> episode_ms;
   std::vector<double> steps;
   const episode::RuleOptions rules;
@@ -134,10 +136,10 @@ int run_bench_render(const BenchRenderOptions& o) {
     episode::WorldState s = episode::initial_state(g);
     std::int64_t triangles = 0;
     Stopwatch watch;
-    observation_images(gpu, g, s, 640, 480, rules.min_region_size, triangles);
+    observation_images(gpu, geometry, g, s, 640, 480, rules.min_region_size, triangles);
     for (const std::string& key : task.oracle) {
       episode::apply_action(g, s, key, constraints, rules);
-      observation_images(gpu, g, s, 640, 480, rules.min_region_size, triangles);
+      observation_images(gpu, geometry, g, s, 640, 480, rules.min_region_size, triangles);
     }
     episode_ms.push_back(watch.elapsed_ms());
     steps.push_back(static_cast<double>(task.oracle.size()));

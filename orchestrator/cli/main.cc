@@ -95,6 +95,13 @@ void add_render_commands(CLI::App& app, Commands& commands) {
   render->add_option("--height", render_opts->height, "pixels (default 480)");
   render->add_option("--out", render_opts->out, "image file (.png or .jpg); the marked copy goes to <stem>_marked")
       ->required();
+  render->add_option("--ids", render_opts->ids, "also write the id pass (16-bit PNG: object index + 1, 0 nothing)");
+  render->add_option("--marks-json", render_opts->marks_json,
+                     "also write the legend (each object's visible pixels) and where each mark went (JSON)");
+  render->add_option("--tasks", render_opts->tasks, "task database, for --task");
+  render->add_option("--task", render_opts->task, "draw where this task's part starts, at its item's platform");
+  render->add_option("--part", render_opts->part, "the task's part (Level 3: 0, 1, ...; default 0)");
+  render->add_flag("--holding", render_opts->holding, "once the part's item is picked, at its destination");
 
   auto images_opts = std::make_shared<ImagesOptions>();
   CLI::App* images = app.add_subcommand("images", "Write the images the agents saw in a run to files");
@@ -118,7 +125,7 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks->add_option("--jobs", tasks_opts->jobs, "threads (default: the machine's cores); the tasks do not depend on it");
   tasks->add_option("--levels", tasks_opts->levels, "levels to generate, e.g. 1,2,3,4");
   tasks->add_option("--profile", tasks_opts->profile, "scene profile (replica_cad, none, or a file)");
-  tasks->add_option("--ambiguity", tasks_opts->ambiguity, "Look-alike rule: category (default: the same semantic class, for agents that see images) or name (the same model, for agents told object names)");
+  tasks->add_option("--ambiguity", tasks_opts->ambiguity, "Look-alike rule: noun (default: what a person calls it, the scene profile's noun table, for agents that see images), category (the dataset's semantic class) or name (the same model, for agents told object names)");
   tasks->add_option("--l3-count", tasks_opts->level3_count, "Level 3 tasks per scene (default 10000)");
   tasks->add_option("--l3-chain", tasks_opts->level3_chain, "sub-tasks per Level 3 task (default 2)");
   tasks->add_option("--l4-max-moves", tasks_opts->level4_max_moves, "objects a Level 4 task may move (default 3)");

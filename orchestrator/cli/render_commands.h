@@ -19,6 +19,14 @@ struct RenderOptions {
   int width = 640;
   int height = 480;
   std::string out;                // plain image; the marked copy goes beside it as <stem>_marked<ext>
+  // Inspection (docs/render.md, "Inspecting a view"): the id pass and the marks, for checkers.
+  std::string ids;                // 16-bit PNG of the id pass (object index + 1; 0 nothing)
+  std::string marks_json;         // the legend, every object's pixels and each mark's place
+  // The state to draw: a task's start of one part (its oracle plan played up to there).
+  std::string tasks;
+  std::string task;
+  int part = 0;
+  bool holding = false;           // once the part's item is picked (its destination's view)
 };
 
 int run_render(const RenderOptions& options);

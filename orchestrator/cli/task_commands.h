@@ -17,7 +17,7 @@ struct TasksOptions {
   std::uint64_t seed = 0;
   std::string levels = "1,2,3,4";
   std::string profile = "replica_cad";
-  std::string ambiguity = "category";
+  std::string ambiguity = "noun";
   int level3_count = 10000;
   int jobs = 0;  // threads (0: the machine's cores); the output does not depend on it
   int level3_chain = 2;

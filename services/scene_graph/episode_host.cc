@@ -79,6 +79,8 @@ void EpisodeHost::on_action(const mtg::agent_action_t& action) {
   const episode::EpisodeStep step =
       episode::step_episode(*e.graph, e.state, bus::to_answer(action), e.constraints, e.rules);
   e.hint = step.hint;
+  if (step.outcome.picked.valid()) e.held_number = std::stoi(step.update.key.substr(1));  // "o<N>"
+  if (!e.state.held.valid()) e.held_number = 0;
   publish_state(key, e, step.update, &step);
   publish_observation(key, e);
 }
@@ -135,16 +137,11 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   std::vector<render::ViewRequest> views =
       e.render ? render::observation_views(e.state, images_.width, images_.height, e.rules.min_region_size)
                : std::vector<render::ViewRequest>{};
-  if (e.render && e.state.steps == 0) {
-    // The task-provided close-ups of look-alikes, once, with the first observation.
-    for (const tasks::Identification& id : e.task.identify) {
-      render::ViewRequest v;
-      v.view = render::ViewKind::kFocus;
-      v.object = e.graph->find_object(id.object);
-      v.width = images_.width;
-      v.height = images_.height;
-      if (v.object.valid()) views.push_back(v);
-    }
+  if (e.render) {
+    // The held item numbered as it was picked; the task-provided close-ups of look-alikes with
+    // the first observation, and numbered afresh where the robot stands at theirs.
+    render::add_close_ups(*e.graph, e.state, e.task.identify, e.held_number, images_.width, images_.height,
+                          e.close_ups, views);
   }
   e.pending = std::move(obs);
   if (views.empty()) {

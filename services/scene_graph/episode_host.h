@@ -21,6 +21,7 @@
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
 #include "core/graph/scene_cache.h"
+#include "core/render/close_ups.h"
 #include "core/tasks/task.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_start_t.hpp"
@@ -73,6 +74,8 @@ class EpisodeHost {
     std::string hint;
     bool render = false;
     std::string data_dir;
+    int held_number = 0;                // the held item's number where it was picked
+    render::CloseUpsShown close_ups;    // the look-alike close-ups sent so far
     // An observation waiting for its images (request id = its step).
     bool awaiting_images = false;
     mtg::observation_t pending;

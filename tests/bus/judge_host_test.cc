@@ -37,7 +37,7 @@ TEST(JudgeOnBus, AStateUpdateThatOvertakesItsStartIsJudgedWhenTheStartComes) {
   const auto built = testing::two_tables(fx);
   tasks::TaskOptions options;
   options.levels = {1, 2};
-  const auto generated = tasks::generate_tasks(built.graph, options);
+  const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
   ASSERT_FALSE(generated.set.tasks.empty());
   const tasks::Task& task = generated.set.tasks.front();
 

@@ -62,7 +62,7 @@ class MultiHostTest : public ::testing::Test {
     tasks::TaskOptions options;
     options.level3_count = 40;
     options.levels = {1, 2, 3};
-    auto generated = tasks::generate_tasks(built_.graph, options);
+    auto generated = tasks::generate_tasks(built_.scene, built_.graph, options);
     // As `mtg tasks` does: the task set remembers the files its scene was made from.
     generated.set.dataset = scene::fingerprint_files(fx_.root(), built_.scene.source_files);
     tasks_db_ = (fx_.root() / "tasks.sqlite").string();

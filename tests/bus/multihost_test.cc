@@ -302,7 +302,7 @@ TEST(MultiHostErrors, NoWorkersNoOneOnTheBusAndAWorkerWithoutABusFailWithOneLine
   tasks::TaskOptions options;
   options.levels = {1, 2, 3};
   options.level3_count = 10;
-  const auto generated = tasks::generate_tasks(built.graph, options);
+  const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
   const std::string db = (fx.root() / "tasks.sqlite").string();
   tasks::write_task_db(db, {generated.set}, generated.votes, options);
   auto run = [&](const std::vector<std::string>& args) {

@@ -119,7 +119,7 @@ TEST_F(RenderServiceTest, BadRequestsGetErrorRepliesAndTheRendererKeepsServing) 
 TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   tasks::TaskOptions options;
   options.levels = {1};
-  const auto generated = tasks::generate_tasks(built_.graph, options);
+  const auto generated = tasks::generate_tasks(built_.scene, built_.graph, options);
   const std::string db = (fx_.root() / "tasks.sqlite").string();
   tasks::write_task_db(db, {generated.set}, generated.votes, options);
   const auto out = fx_.root() / "run";
@@ -171,7 +171,7 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   const auto b = testing::two_tables(fx);
   tasks::TaskOptions options;
   options.levels = {2};
-  const auto generated = tasks::generate_tasks(b.graph, options);
+  const auto generated = tasks::generate_tasks(b.scene, b.graph, options);
   const std::string db = (fx.root() / "tasks.sqlite").string();
   tasks::write_task_db(db, {generated.set}, generated.votes, options);
   std::map<std::string, std::size_t> lookalikes;  // task id -> objects shown

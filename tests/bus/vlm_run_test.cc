@@ -40,7 +40,7 @@ class VlmRunTest : public ::testing::Test {
     built_ = testing::render_room(fx_);
     tasks::TaskOptions options;
     options.levels = {1};
-    const auto generated = tasks::generate_tasks(built_.graph, options);
+    const auto generated = tasks::generate_tasks(built_.scene, built_.graph, options);
     db_ = (fx_.root() / "tasks.sqlite").string();
     tasks::write_task_db(db_, {generated.set}, generated.votes, options);
     std::map<std::string, std::vector<std::string>> plans;

@@ -78,13 +78,13 @@ class RenderTest : public ::testing::Test {
   }
 
   render::ViewSpec platform_view(graph::PlatformId p, render::MarkKind marks) const {
-    return {render::ViewKind::kPlatform, g().platforms[p].name, -1, "", marks};
+    return {render::ViewKind::kPlatform, g().platforms[p].name, -1, "", marks, 0, ""};
   }
 
   // Renders a plan with the renderer's GPU copy of the fixture.
   render::ViewImages draw(const episode::WorldState& s, const render::ViewPlan& plan, bool marks = false) {
     const auto& entry = renderer_->scenes().load("render_room", fx_->root().string());
-    return render::draw_view(renderer_->scene_renderer(entry), entry.graph, s, plan, marks);
+    return render::draw_view(renderer_->scene_renderer(entry), entry.graph, s, plan, marks, renderer_->geometry(entry));
   }
 
   static testing::FixtureDataset* fx_;
@@ -112,8 +112,8 @@ TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
   s.phase = episode::Phase::kPlacing;
   reply = renderer_->render(request(s, {platform_view(empty_table(), render::MarkKind::kTargets),
                                         {render::ViewKind::kItem, "", -1, g().objects[s.held].name,
-                                         render::MarkKind::kNone},
-                                        {render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels}}));
+                                         render::MarkKind::kNone, 0, ""},
+                                        {render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels, 0, ""}}));
   ASSERT_EQ(reply.images.size(), 5u);
   EXPECT_EQ(reply.images[2].role, "item");
   EXPECT_EQ(reply.images[4].role, "topdown_marked");
@@ -247,12 +247,12 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
   };
-  expect_error(request(s, {{render::ViewKind::kPlatform, "no_such_platform", -1, "", render::MarkKind::kItems}}), "no platform 'no_such_platform'");
+  expect_error(request(s, {{render::ViewKind::kPlatform, "no_such_platform", -1, "", render::MarkKind::kItems, 0, ""}}), "no platform 'no_such_platform'");
   auto zero = request(s, {platform_view(table(), render::MarkKind::kItems)});
   zero.height = 0;
   expect_error(zero, "image size 640x0");
   const graph::ObjectId ghost = object_of(g(), "toy_ghost");
-  expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[ghost].name, render::MarkKind::kNone}}),
+  expect_error(request(s, {{render::ViewKind::kItem, "", -1, g().objects[ghost].name, render::MarkKind::kNone, 0, ""}}),
                "has no mesh to draw");
   auto state = request(s, {platform_view(table(), render::MarkKind::kItems)});
   state.state.held = "nobody";
@@ -271,7 +271,7 @@ TEST_F(RenderTest, BadRequestsGetOneLineErrorsAndTheRendererKeepsServing) {
 // reply must hold each view's images in order, with the bytes one thread would give.
 TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
   const episode::WorldState s = at(table());
-  const render::ViewSpec topdown{render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels};
+  const render::ViewSpec topdown{render::ViewKind::kTopdown, "", -1, "", render::MarkKind::kLabels, 0, ""};
   const std::vector<render::ViewSpec> views = {platform_view(table(), render::MarkKind::kItems),
                                                platform_view(empty_table(), render::MarkKind::kNone), topdown,
                                                platform_view(empty_table(), render::MarkKind::kTargets)};
@@ -326,7 +326,7 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
   render::ImageRequest req;
   req.scene = "apt_0";
   req.data_dir = data;
-  req.views = {{render::ViewKind::kPlatform, "wall_cabinet_02_30_platform_3", -1, "", render::MarkKind::kItems}};
+  req.views = {{render::ViewKind::kPlatform, "wall_cabinet_02_30_platform_3", -1, "", render::MarkKind::kItems, 0, ""}};
   const auto reply = renderer.render(req);
   ASSERT_EQ(reply.images.size(), 2u);
   EXPECT_EQ(testing::compare_golden_image("render/apt_0_wall_cabinet_shelf_marked.png", decode(reply.images[1])), "");

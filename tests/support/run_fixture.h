@@ -32,7 +32,7 @@ class RunFixture : public ::testing::Test {
     tasks::TaskOptions options;
     options.level3_count = 40;
     options.levels = {1, 2, 3};
-    const auto generated = tasks::generate_tasks(built_.graph, options);
+    const auto generated = tasks::generate_tasks(built_.scene, built_.graph, options);
     tasks_db_ = (fx_.root() / "tasks.sqlite").string();
     tasks::write_task_db(tasks_db_, {generated.set}, generated.votes, options);
   }

@@ -239,7 +239,7 @@ TEST_F(AdapterTest, ModelsVoteOnLevel4CandidatesAndCanVetoThem) {
   const auto b = testing::two_tables(fx);
   tasks::TaskOptions o;
   o.levels = {4};
-  const auto plain = tasks::generate_tasks(b.graph, o);
+  const auto plain = tasks::generate_tasks(b.scene, b.graph, o);
   ASSERT_GE(plain.set.tasks.size(), 2u);
   const std::string victim_text = plain.set.tasks.front().text;
   server_.set_model([&](const testing::SeenChat& chat) {
@@ -256,7 +256,7 @@ TEST_F(AdapterTest, ModelsVoteOnLevel4CandidatesAndCanVetoThem) {
   const std::vector<tasks::VoteBatch> voters = {
       [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*a, prompts, r, 4, ta); },
       [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*c, prompts, r, 4, tc); }};
-  const auto voted = tasks::generate_tasks(b.graph, o, {}, voters);
+  const auto voted = tasks::generate_tasks(b.scene, b.graph, o, {}, voters);
   EXPECT_EQ(voted.set.tasks.size() + 1, plain.set.tasks.size()) << "two 'Not feasible' outvote the rules";
   for (const auto& t : voted.set.tasks) EXPECT_NE(t.text, victim_text);
   EXPECT_EQ(ta.cast, static_cast<int>(plain.set.tasks.size()));
@@ -269,7 +269,7 @@ TEST_F(AdapterTest, ModelsVoteOnLevel4CandidatesAndCanVetoThem) {
   VoteTally again;
   const std::vector<tasks::VoteBatch> cached = {
       [&](const std::vector<tasks::VoteRequest>& r) { return cast_votes(*a, prompts, r, 4, again); }};
-  (void)tasks::generate_tasks(b.graph, o, {}, cached);
+  (void)tasks::generate_tasks(b.scene, b.graph, o, {}, cached);
   EXPECT_EQ(server_.requests().size(), calls);
   EXPECT_EQ(again.cache_hits, again.asked);
 }

@@ -8,7 +8,9 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "core/render/mark_layout.h"
 #include "core/render/overlay.h"
+#include "core/render/visibility.h"
 #include "core/render/view.h"
 #include "core/util/error.h"
 
@@ -284,36 +286,72 @@ std::vector<const cv::Mat*> images_in_reply_order(const std::vector<ViewImages>&
   for (const ViewImages& v : views) {
     out.push_back(&v.plain);
     if (!v.marked.empty()) out.push_back(&v.marked);
+    for (const ZoomImage& z : v.zooms) out.push_back(&z.marked);
   }
   return out;
 }
 
-ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
-                     const ViewPlan& plan, bool with_marks) {
+namespace {
+
+// The poses of every object in `s`, and which the plan draws.
+struct DrawList {
+  IdVector<graph::ObjectId, Eigen::Isometry3d> poses;
+  IdVector<graph::ObjectId, bool> draw;
+};
+
+DrawList draw_list(const graph::SceneGraph& g, const episode::WorldState& s, const ViewPlan& plan) {
   const std::size_t n = g.objects.size();
-  IdVector<graph::ObjectId, Eigen::Isometry3d> poses(n);
-  IdVector<graph::ObjectId, bool> draw(n, !plan.only.valid());
-  for (const graph::ObjectId i : g.objects.ids()) poses[i] = object_pose(g, s, i);
-  for (const graph::ObjectId h : plan.hidden) draw[h] = false;
-  if (plan.only.valid()) {
-    if (!renderer.has_geometry(plan.only)) {
-      throw Error("render: object " + g.objects[plan.only].name +
-                  " has no mesh to draw (its mesh files are missing from the dataset)");
-    }
-    draw[plan.only] = true;
+  DrawList d{IdVector<graph::ObjectId, Eigen::Isometry3d>(n), IdVector<graph::ObjectId, bool>(n, !plan.only.valid())};
+  for (const graph::ObjectId i : g.objects.ids()) d.poses[i] = object_pose(g, s, i);
+  for (const graph::ObjectId h : plan.hidden) d.draw[h] = false;
+  if (plan.only.valid()) d.draw[plan.only] = true;
+  return d;
+}
+
+}  // namespace
+
+ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
+                     const ViewPlan& plan, bool with_marks, const SceneGeometry& geometry) {
+  if (plan.only.valid() && !renderer.has_geometry(plan.only)) {
+    throw Error("render: object " + g.objects[plan.only].name +
+                " has no mesh to draw (its mesh files are missing from the dataset)");
   }
-  Frame frame = renderer.render(plan.camera, poses, draw);
+  const DrawList d = draw_list(g, s, plan);
+  Frame frame = renderer.render(plan.camera, d.poses, d.draw);
   if (!plan.faded.empty()) {
-    // Faded objects: the view with them over the view without them, at kFadedVisibility.
-    IdVector<graph::ObjectId, bool> without = draw;
+    IdVector<graph::ObjectId, bool> without = d.draw;
     for (const graph::ObjectId f : plan.faded) without[f] = false;
-    const Frame behind = renderer.render(plan.camera, poses, without);
+    const Frame behind = renderer.render(plan.camera, d.poses, without);
     cv::addWeighted(frame.image, kFadedVisibility, behind.image, 1.0 - kFadedVisibility, 0.0, frame.image);
     frame.triangles += behind.triangles;
   }
   ViewImages out;
   out.triangles = frame.triangles;
-  if (with_marks) out.marked = annotate(frame.image, plan.camera, plan.marks);
+  if (plan.number.number > 0 && plan.only.valid() == (plan.number.object == plan.only)) {
+    // A close-up's number, on the object's own pixels (its neighbours, faded or not, aside).
+    const Camera pass = at_resolution(plan.camera, std::max(1, plan.camera.width / kMarkPassScale),
+                                      std::max(1, plan.camera.height / kMarkPassScale));
+    const IdImage ids = draw_id_view(g, geometry, s, pass, {}, plan.number.object).image;
+    const MarkLayout layout = layout_item_marks(ids, kMarkPassScale, plan.camera, {plan.number});
+    frame.image = annotate(frame.image, plan.camera, Marks{}, &layout);
+  }
+  if (with_marks) {
+    if (plan.marks.items.empty()) {
+      out.marked = annotate(frame.image, plan.camera, plan.marks);
+    } else {
+      const ItemMarksPlan marks = plan_item_marks(g, geometry, s, plan.camera, plan.marks.items, plan.hidden);
+      for (const MarkedZoom& z : marks.zooms) {
+        Frame zoomed = renderer.render(z.view.camera, d.poses, d.draw);
+        out.triangles += zoomed.triangles;
+        ZoomImage image;
+        image.marked = annotate(zoomed.image, z.view.camera, Marks{}, &z.layout, z.regions);
+        for (const PlacedMark& m : z.layout.placed) image.numbers.push_back(m.number);
+        out.zooms.push_back(std::move(image));
+      }
+      for (const ItemMark& m : marks.layout.crowded) out.zoomed.push_back(m.number);
+      out.marked = annotate(frame.image, plan.camera, plan.marks, &marks.layout, marks.regions);
+    }
+  }
   out.plain = std::move(frame.image);
   return out;
 }

@@ -14,6 +14,7 @@
 #include "core/render/camera.h"
 #include "core/episode/world_state.h"
 #include "core/render/gl/gl_context.h"
+#include "core/render/scene_geometry.h"
 #include "core/scene/scene.h"
 #include "core/util/id_vector.h"
 
@@ -68,21 +69,31 @@ class SceneRenderer {
   std::int64_t texture_bytes_ = 0;
 };
 
-/// The plain image of a planned view and, when `with_marks`, the marked copy
-/// (drawn even when there is nothing to mark, so replies always have the same images).
+/// A zoomed view of a crowded part of a marked picture (mark_layout.h), marked.
+struct ZoomImage {
+  cv::Mat marked;
+  std::vector<int> numbers;  // the item numbers it shows
+};
+
+/// The plain image of a planned view and, when `with_marks`, the marked copy (drawn even when
+/// there is nothing to mark, so replies always have the same images) with the zoomed views its
+/// crowded item marks need.
 struct ViewImages {
   cv::Mat plain;
   cv::Mat marked;  // empty when not asked for
+  std::vector<ZoomImage> zooms;
+  std::vector<int> zoomed;  // the item numbers the marked copy leaves to its zooms
   std::int64_t triangles = 0;
 };
 
-/// Draws `plan` in world state `s`. @throws mtg::Error when the plan's single object (an item
-/// close-up) has no geometry, naming the object.
+/// Draws `plan` in world state `s`. Item marks are laid out on the id pass of the view drawn
+/// from `geometry` (the same triangles). @throws mtg::Error when the plan's single object (an
+/// item close-up) has no geometry, naming the object.
 ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
-                     const ViewPlan& plan, bool with_marks);
+                     const ViewPlan& plan, bool with_marks, const SceneGeometry& geometry);
 
 /// The images of several views in the order a reply carries them: each view's plain image, then
-/// its marked copy when it has one. The pointers are into `views`.
+/// its marked copy when it has one, then its zooms. The pointers are into `views`.
 std::vector<const cv::Mat*> images_in_reply_order(const std::vector<ViewImages>& views);
 
 }  // namespace mtg::render

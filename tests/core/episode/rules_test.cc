@@ -244,3 +244,33 @@ TEST_F(RulesTest, PlacedItemsAreAppendedToThePlatformsNumbering) {
 
 }  // namespace
 }  // namespace mtg::episode
+
+namespace mtg::episode {
+namespace {
+
+// A real key the state does not offer is refused with the reason, as an invalid action; the
+// reply it came from was read (it is not a format error).
+TEST_F(RulesTest, AKeyNotOfferedNowIsRefusedWithTheReason) {
+  WorldState s = initial_state(g());
+  StepOutcome out = act(s, "o1");
+  EXPECT_TRUE(out.valid);
+  EXPECT_FALSE(out.available);
+  EXPECT_THAT(out.hint, HasSubstr("o1 is not available here: you are not at a platform yet"));
+  ASSERT_TRUE(act(s, "l2").applied);  // the empty table
+  out = act(s, "o1");
+  EXPECT_THAT(out.hint, HasSubstr("o1 is not available here: there is nothing to pick up on this platform"));
+  EXPECT_THAT(act(s, "l9").hint, HasSubstr("l9 is not available here: the platforms are l1 to l2"));
+  EXPECT_THAT(act(s, "startplace").hint, HasSubstr("your hand is empty"));
+  EXPECT_THAT(act(s, "4").hint, HasSubstr("numbered places are chosen after startplace"));
+  ASSERT_TRUE(act(s, "l1").applied);
+  EXPECT_THAT(act(s, "o4").hint, HasSubstr("the objects here are 1 to 3"));
+  ASSERT_TRUE(act(s, "o1").applied);
+  EXPECT_THAT(act(s, "o2").hint, HasSubstr("your hand is full"));
+  ASSERT_TRUE(act(s, "l2").applied);
+  ASSERT_TRUE(act(s, "startplace").applied);
+  EXPECT_THAT(act(s, "12").hint, HasSubstr("the numbered places here are 1, 2, 3, 4, 5, 6, 7, 8, 9"));
+  EXPECT_THAT(act(s, "l1").hint, HasSubstr("you are placing the object in your hand"));
+}
+
+}  // namespace
+}  // namespace mtg::episode

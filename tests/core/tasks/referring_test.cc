@@ -22,7 +22,7 @@ using ::testing::HasSubstr;
 
 std::optional<Reference> refer_to(const graph::SceneGraph& g, const episode::WorldState& s, const char* name) {
   const auto o = g.find_object(name);
-  return refer(g, {&s}, o, episode::furniture_platform_of(g, s, o), Ambiguity::kCategory);
+  return refer(g, {&s}, o, episode::furniture_platform_of(g, s, o), Ambiguity::kCategory).reference;
 }
 
 // Three identical boxes in a row on table_0 (x = -0.3, 0, 0.3), the robot arriving at the rear
@@ -56,7 +56,7 @@ TEST(References, LevelTwoTextsPickOutTheGoalsInstances) {
   const auto b = testing::two_tables(fx);
   TaskOptions o;
   o.levels = {1, 2};
-  const GenerationResult r = generate_tasks(b.graph, o);
+  const GenerationResult r = generate_tasks(b.scene, b.graph, o);
   int checked = 0;
   for (const Task& t : r.set.tasks) {
     ASSERT_EQ(t.level, 2) << t.text;  // every box has look-alikes on table_0
@@ -92,7 +92,7 @@ TEST(References, StacksAreNamedAndCrowdsAreDropped) {
   EXPECT_FALSE(refer_to(g, s, "pen_4").has_value());
   TaskOptions o;
   o.levels = {1, 2};
-  const GenerationResult r = generate_tasks(g, o);
+  const GenerationResult r = generate_tasks(b.scene, g, o);
   EXPECT_GT(r.set.dropped.by_reason.at("unidentifiable").at(2), 0);
   for (const Task& t : r.set.tasks) EXPECT_TRUE(t.item.rfind("pen", 0) != 0) << t.text;
 }
@@ -104,7 +104,7 @@ TEST(References, LevelFourTextsNameTheObjectsTheirGoalsNeed) {
   const auto b = testing::two_tables(fx);
   TaskOptions o;
   o.levels = {4};
-  const GenerationResult r = generate_tasks(b.graph, o);
+  const GenerationResult r = generate_tasks(b.scene, b.graph, o);
   int named = 0;
   for (const Task& t : r.set.tasks) {
     EXPECT_THAT(audit_task(b.graph, t, o), ::testing::IsEmpty()) << t.text;
@@ -152,7 +152,7 @@ TEST(Stacks, TheClearanceTestCountsWhatRestsOnTheItem) {
   // The generator never sends the stack there, and counts what it left out.
   TaskOptions o;
   o.levels = {1, 2};
-  const GenerationResult r = generate_tasks(g, o);
+  const GenerationResult r = generate_tasks(b.scene, g, o);
   for (const Task& t : r.set.tasks) {
     EXPECT_FALSE(t.item == "box_1" && t.destination == g.platforms[shelf].name) << t.text;
   }
@@ -176,7 +176,7 @@ TEST(References, TheMemoAnswersAsReferDoesInStatesDerivedFromItsBase) {
     states.push_back(initial);
     apply_effect(g, states.back(), task);
   }
-  const auto words = [](const std::optional<Reference>& r) { return r ? r->to_json().dump() : std::string("none"); };
+  const auto words = [](const Referral& r) { return r ? r->to_json().dump() : std::string(r.occluded ? "occluded" : "none"); };
   int asked = 0, differ_from_base = 0;
   for (int pass = 0; pass < 2; ++pass) {
     for (const episode::WorldState& s : states) {

@@ -32,7 +32,7 @@ TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
   const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
   TaskOptions options;
   options.level3_count = 1000;  // the full 10,000 are exercised by `mtg tasks`; same code
-  const GenerationResult r = generate_tasks(g, options);
+  const GenerationResult r = generate_tasks(s, g, options);
   std::map<int, int> total, kept, lookalikes;
   int reported = 0;
   for (const Task& t : r.set.tasks) {

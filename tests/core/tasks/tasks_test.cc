@@ -86,7 +86,7 @@ TEST(AtomicTasks, BetweenAndDirectionGoalsOnTheOccupiedTable) {
 TEST(AtomicTasks, EveryOraclePlanSucceedsUnderTheEpisodeRules) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
-  const auto result = generate_tasks(b.graph, small_options());
+  const auto result = generate_tasks(b.scene, b.graph, small_options());
   ASSERT_GT(result.set.tasks.size(), 100u);
   int ok = 0;
   for (const Task& t : result.set.tasks) {
@@ -111,7 +111,7 @@ TEST(TaskLevels, IdenticalObjectsMakeATaskLevelTwo) {
   const auto b = testing::build_fixture_scene(fx, "s");
   TaskOptions o = small_options();
   o.levels = {1, 2};
-  const auto result = generate_tasks(b.graph, o);
+  const auto result = generate_tasks(b.scene, b.graph, o);
   int l1 = 0, l2 = 0;
   for (const Task& t : result.set.tasks) {
     const bool cup_involved = t.item.rfind("cup", 0) == 0 ||
@@ -131,7 +131,7 @@ TEST(TaskGeneration, SameSeedSameBytesOtherSeedOtherChoices) {
   auto write = [&](std::uint64_t seed, const std::string& tag) {
     TaskOptions o = small_options();
     o.seed = seed;
-    const auto r = generate_tasks(b.graph, o);
+    const auto r = generate_tasks(b.scene, b.graph, o);
     write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o, dir / (tag + ".jsonl"));
   };
   write(7, "a");
@@ -154,7 +154,7 @@ TEST(TaskGeneration, AnyNumberOfThreadsWritesTheSameBytes) {
   TaskOptions o = small_options();
   o.level3_count = 200;
   for (const int jobs : {1, 4}) {
-    const auto r = generate_tasks(b.graph, o, {}, {}, jobs);
+    const auto r = generate_tasks(b.scene, b.graph, o, {}, {}, jobs);
     const std::string tag = "jobs" + std::to_string(jobs);
     write_task_db(dir / (tag + ".sqlite"), {r.set}, r.votes, o, dir / (tag + ".jsonl"));
   }
@@ -196,8 +196,8 @@ TEST(TaskGeneration, HowTasksAreBatchedOrHeldDoesNotChangeTheBytes) {
   const auto b = testing::render_room(fx);
   TaskOptions o = small_options();
   o.level3_count = 200;
-  const auto ra = generate_tasks(a.graph, o);
-  const auto rb = generate_tasks(b.graph, o);
+  const auto ra = generate_tasks(a.scene, a.graph, o);
+  const auto rb = generate_tasks(b.scene, b.graph, o);
   ASSERT_GT(ra.set.tasks.size(), 3u * 64u);  // several chunks, and a part chunk at the end
   std::vector<Vote> votes = ra.votes;
   votes.insert(votes.end(), rb.votes.begin(), rb.votes.end());
@@ -337,7 +337,7 @@ TEST(AtomicTasks, ThePlacementMemoChangesNoBit) {
 TEST(TaskGeneration, NoDuplicateGoals) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
-  const auto r = generate_tasks(b.graph, small_options());
+  const auto r = generate_tasks(b.scene, b.graph, small_options());
   std::set<std::string> goals;
   for (const Task& t : r.set.tasks) {
     EXPECT_TRUE(goals.insert(std::to_string(t.level >= 3 ? t.level : 0) + t.goal.dump()).second) << t.id;
@@ -347,7 +347,7 @@ TEST(TaskGeneration, NoDuplicateGoals) {
 TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
-  const auto r = generate_tasks(b.graph, small_options());
+  const auto r = generate_tasks(b.scene, b.graph, small_options());
   const fs::path db = fx.root() / "t.sqlite";
   write_task_db(db, {r.set}, r.votes, small_options());
   const auto stats = task_db_stats(db);
@@ -364,7 +364,7 @@ TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
 TEST(TaskGeneration, TasksAreWrittenAsTheirJsonPrints) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
-  std::vector<Task> tasks = generate_tasks(b.graph, small_options()).set.tasks;
+  std::vector<Task> tasks = generate_tasks(b.scene, b.graph, small_options()).set.tasks;
   Task odd;  // every optional part, text to escape, an unbounded margin
   odd.id = "s/L2/000001";
   odd.text = "put the \"red\" cup\tnext to the caf\xc3\xa9 sign";
@@ -392,7 +392,7 @@ TEST(TaskGeneration, TheDatabaseGivesBackEveryTaskAndTheShellReadsItToo) {
   const auto b = testing::two_tables(fx);
   TaskOptions o = small_options();
   o.level3_count = 150;  // several chunks
-  const auto r = generate_tasks(b.graph, o);
+  const auto r = generate_tasks(b.scene, b.graph, o);
   const fs::path db = fx.root() / "t.sqlite";
   write_task_db(db, {r.set}, r.votes, o);
   std::vector<Task> written = r.set.tasks;
@@ -432,7 +432,7 @@ TEST(TaskGeneration, BadInputIsRejectedWithTheNameOfWhatIsWrong) {
   fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
   fx.add_scene("bare", {{"object_instances", {testing::FixtureDataset::instance("toy_box", {0, 0, 0})}}});
   const auto bare = testing::build_fixture_scene(fx, "bare");
-  EXPECT_THAT([&] { generate_tasks(bare.graph, small_options()); },
+  EXPECT_THAT([&] { generate_tasks(bare.scene, bare.graph, small_options()); },
               ::testing::ThrowsMessage<Error>(HasSubstr("has no navigable platform")));
   fx.write_text("bad_templates.json",
                 R"({"templates": [{"id": "x-001", "family": "pair", "kind": "pair", "text": "Put the {object} by the {vase}."}]})");
@@ -460,11 +460,11 @@ TEST(TaskGeneration, RecordedVotesCanVetoAnOutcomeTask) {
   const auto b = testing::two_tables(fx);
   TaskOptions o = small_options();
   o.levels = {4};
-  const auto first = generate_tasks(b.graph, o);
+  const auto first = generate_tasks(b.scene, b.graph, o);
   ASSERT_FALSE(first.set.tasks.empty());
   const std::string victim = first.set.tasks.front().id;
   const std::vector<Vote> votes = {{victim, "model-a", kNotFeasible}, {victim, "model-b", kNotFeasible}};
-  const auto second = generate_tasks(b.graph, o, votes);
+  const auto second = generate_tasks(b.scene, b.graph, o, votes);
   EXPECT_EQ(second.set.tasks.size() + 1, first.set.tasks.size());
   for (const Task& t : second.set.tasks) EXPECT_NE(t.id, victim);
   // Ids of the others do not move when one is vetoed.

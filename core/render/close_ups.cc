@@ -1,0 +1,52 @@
+#include "core/render/close_ups.h"
+
+#include <algorithm>
+
+namespace mtg::render {
+
+int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
+  const graph::PlatformId platform = episode::furniture_platform_of(g, s, object);
+  if (!platform.valid()) return 0;
+  const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
+  const auto it = std::find(items.begin(), items.end(), object);
+  return it == items.end() ? 0 : static_cast<int>(it - items.begin()) + 1;
+}
+
+void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
+                   const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views) {
+  for (ViewRequest& v : views) {
+    if (v.view != ViewKind::kItem || held_number <= 0) continue;
+    v.number = held_number;
+    v.caption = "The object in your hand, number " + std::to_string(held_number) + " where you picked it up.";
+  }
+  if (s.phase == episode::Phase::kDone) return;
+  for (const tasks::Identification& id : lookalikes) {
+    const graph::ObjectId object = g.find_object(id.object);
+    if (!object.valid() || object == s.held) continue;
+    const graph::PlatformId platform = episode::furniture_platform_of(g, s, object);
+    if (!platform.valid()) continue;
+    const bool at_start = s.steps == 0;
+    const bool here = s.at_platform == platform;
+    if (!at_start && !here) continue;
+    const int side = here && s.side >= 0 ? s.side : std::max(0, g.platforms[platform].default_side);
+    const int number = number_of(g, s, object);
+    const std::string seen = g.platforms[platform].name + "|" + std::to_string(side) + "|" + std::to_string(number);
+    std::string& last = shown.last[id.object];
+    if (last == seen) continue;
+    last = seen;
+    ViewRequest v;
+    v.view = ViewKind::kFocus;
+    v.object = object;
+    v.width = width;
+    v.height = height;
+    v.number = number;
+    const std::string where = here ? "here" : "on " + g.platforms[platform].name + " as it stands now";
+    v.caption = "The object the task calls '" + id.phrase + "'" +
+                (number > 0 ? ", object " + std::to_string(number) + " " + where : std::string()) +
+                ", seen from where you " + (here ? "stand" : "arrive") + "; every other object faded.";
+    views.push_back(std::move(v));
+  }
+}
+
+}  // namespace mtg::render

@@ -1,0 +1,35 @@
+#pragma once
+// The close-ups an observation adds to its platform view (docs/render.md, "What the agent sees"):
+// the object in hand, numbered as it was when picked, and the task's look-alikes, each numbered
+// as its o<N> key on the platform where it stands and seen from where the robot stands (or will
+// arrive) there. A look-alike's close-up comes with the first observation and again whenever the
+// robot stands at its platform and its number or the robot's side changed since it was last
+// shown, so the number in a close-up is always the one the agent can use.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/render/view.h"
+#include "core/tasks/task.h"
+
+namespace mtg::render {
+
+/// What an episode's observations have shown of each look-alike (its platform, side, number),
+/// so an unchanged close-up is not sent again.
+struct CloseUpsShown {
+  std::map<std::string, std::string> last;  // object name -> "<platform>|<side>|<number>"
+};
+
+/// `held_number`: the number the held item had when it was picked (0 when nothing is held or it
+/// is not known). Adds the item close-up's number and caption to `views` (from
+/// observation_views) and appends the look-alike close-ups due now.
+void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
+                   const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views);
+
+/// The object's o<N> number on the platform where it stands in `s` (0 when it is not pickable
+/// there or stands on none).
+int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object);
+
+}  // namespace mtg::render

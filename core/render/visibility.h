@@ -1,0 +1,168 @@
+#pragma once
+// What the agent can see of a platform when it arrives there (the platform view from the side
+// `l<N>` brings it to), from the CPU id pass of that view: how many pixels of each object show,
+// against how many it would cover with nothing in front of it. Task generation names and counts
+// only objects that are clearly visible in that view (docs/tasks.md, "Seen, not only there"),
+// and the thresholds are in pixels of the image the agent gets.
+//
+// The camera of a platform view does not depend on the state (view.h, platform_camera), so the
+// scenery of each platform's view is drawn once; a state adds only the items in the view. A
+// view is remembered by the exact positions of the items it shows, so a state whose items in
+// view stand where they stood gets the same answer, bit for bit, from any thread.
+
+#include <algorithm>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/episode/world_state.h"
+#include "core/render/camera.h"
+#include "core/render/id_raster.h"
+#include "core/render/marks.h"
+#include "core/render/scene_geometry.h"
+#include "core/render/visibility_options.h"
+#include "core/util/memo_table.h"
+
+namespace mtg::render {
+
+/// Pixels of one object in one view, counted in the id pass.
+struct ObjectSight {
+  std::int32_t object = -1;  // graph object index
+  int visible = 0;           // pixels that show it
+  int silhouette = 0;        // pixels it would cover with nothing in front of it
+  double share() const { return silhouette > 0 ? static_cast<double>(visible) / silhouette : 0.0; }
+};
+
+/// What one view shows of a platform's objects (and of whatever else it drew), by object index.
+class ViewSight {
+ public:
+  ViewSight(Camera image_camera, std::vector<ObjectSight> objects, const VisibilityOptions& options);
+
+  /// The object's pixels (zero when it does not show at all).
+  ObjectSight of(graph::ObjectId o) const;
+  /// Enough of it shows, and a large enough share of it, for a person to tell what it is.
+  bool clearly_visible(graph::ObjectId o) const;
+  /// Image pixels (at the agent's image size) showing the object.
+  double image_pixels(graph::ObjectId o) const;
+
+  /// The camera of the agent's image (its size), for placing things in the picture.
+  const Camera& camera() const { return camera_; }
+  const std::vector<ObjectSight>& objects() const { return objects_; }
+
+ private:
+  Camera camera_;
+  std::vector<ObjectSight> objects_;  // by object index
+  double pixel_area_ = 1.0;           // image pixels per pass pixel
+  VisibilityOptions options_;
+};
+
+struct NdcBox;  // where a world box lands in the image (visibility.cc)
+
+class VisibilityOracle {
+ public:
+  /// `g` and `geometry` must outlive the oracle.
+  VisibilityOracle(const graph::SceneGraph& g, const SceneGeometry& geometry, VisibilityOptions options = {});
+  ~VisibilityOracle();
+  VisibilityOracle(const VisibilityOracle&) = delete;
+  VisibilityOracle& operator=(const VisibilityOracle&) = delete;
+
+  /// The arrival view of `platform` (its default side) in state `s`; the held item is not drawn.
+  std::shared_ptr<const ViewSight> arrival_view(const episode::WorldState& s, graph::PlatformId platform) const;
+  /// The same for any side.
+  std::shared_ptr<const ViewSight> view(const episode::WorldState& s, graph::PlatformId platform, int side) const;
+  /// Whether item `o`'s number has a readable place in the marked arrival view of `platform` in
+  /// `s` or in one of its zoomed views (mark_layout.h), as the renderer lays the marks out; false
+  /// for an object that view does not number.
+  bool mark_readable(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const;
+
+  /// Whether object `o` may change what the arrival view of `platform` in `s` shows of the
+  /// platform's objects: it is one of them, or it may stand in front of them (conservative).
+  bool in_view(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const;
+  /// What the arrival view of `platform` in `s` depends on, as bytes: two states with the same
+  /// key see the same (the items in view where they stand, the platform's side).
+  std::string view_key(const episode::WorldState& s, graph::PlatformId platform) const;
+
+  /// Draws the scenery of every navigable platform's arrival view on up to `jobs` threads (it is
+  /// otherwise drawn on first use, one platform at a time).
+  void prepare(int jobs) const;
+
+  const VisibilityOptions& options() const { return options_; }
+  /// Distinct views drawn so far (telemetry).
+  std::size_t views_drawn() const { return drawn_.size(); }
+
+ private:
+  struct Scenery;  // a view's camera and its drawing of everything that never moves
+  const Scenery& scenery(graph::PlatformId platform, int side) const;
+  std::unique_ptr<Scenery> make_scenery(graph::PlatformId platform, int side) const;
+  // What decides what the view shows of the platform's objects in `s`: those objects and the
+  // items that may stand in front of them (in id order), where they stand (the memo key), and
+  // the pixels they may cover.
+  struct Deciders;
+  Deciders deciders(const episode::WorldState& s, graph::PlatformId platform, int side, const Scenery& sc) const;
+  // The numbered items of the view whose marks have a readable place (by object index), laid out
+  // on `pass`, a whole pass of the view.
+  std::vector<std::int32_t> readable_marks(const episode::WorldState& s, const std::vector<ItemMark>& items,
+                                           const Camera& image_camera, const IdImage& pass) const;
+  // A drawn window and its silhouettes, kept a short while: a view's visibility and its marks
+  // are asked for one right after the other.
+  struct Window {
+    IdImage image;
+    std::vector<ObjectSight> silhouettes;
+  };
+  std::shared_ptr<const Window> window(const episode::WorldState& s, const Scenery& sc, const Deciders& d) const;
+  // Which numbered objects have their place in the marked picture itself, and which are left
+  // to its zooms (object indices, sorted).
+  struct MarksInPicture {
+    std::vector<std::int32_t> placed;
+    std::vector<std::int32_t> crowded;
+  };
+  // The window of the view where the platform's objects can show, drawn with the deciders;
+  // their silhouettes go to `silhouettes` (sorted by object index).
+  IdImage draw_window(const episode::WorldState& s, const Scenery& sc, const Deciders& d,
+                      std::vector<ObjectSight>& silhouettes) const;
+  // Object o's world box in `s` (it moves without turning), and where it lands in the view.
+  Eigen::AlignedBox3d box_in(const episode::WorldState& s, graph::ObjectId o) const;
+  NdcBox image_box(const episode::WorldState& s, graph::ObjectId o, const Scenery& sc) const;
+
+  const graph::SceneGraph& g_;
+  const SceneGeometry& geometry_;
+  VisibilityOptions options_;
+  std::vector<graph::ObjectId> movable_;  // the items (they are drawn per state)
+  std::vector<Eigen::AlignedBox3d> boxes_;  // each object's world box as the graph found it
+  struct SceneryOnce {
+    std::once_flag flag;
+    std::unique_ptr<Scenery> scenery;
+  };
+  mutable std::vector<SceneryOnce> scenery_;  // per platform and side, drawn on first use
+  mutable BoundedMemoTable<std::shared_ptr<const ViewSight>> drawn_{8192};
+  mutable BoundedMemoTable<std::shared_ptr<const Window>> windows_{64};
+  mutable BoundedMemoTable<std::shared_ptr<const MarksInPicture>> in_picture_{4096};
+  mutable BoundedMemoTable<std::shared_ptr<const std::vector<std::int32_t>>> with_zooms_{1024};
+};
+
+/// An id pass with what it counted.
+struct IdView {
+  IdImage image;
+  std::vector<ObjectSight> objects;  // by object index: every object with a silhouette
+};
+
+/// The id pass of `camera` in state `s`: every object drawn where `s` puts it, but the held one
+/// and `hidden`; `only`, when valid, is the one object drawn.
+IdView draw_id_view(const graph::SceneGraph& g, const SceneGeometry& geometry, const episode::WorldState& s,
+                    const Camera& camera, const std::vector<graph::ObjectId>& hidden = {},
+                    graph::ObjectId only = {});
+
+/// The id pass of `camera` in `s` for what `targets` show: the targets, and whatever may cover
+/// part of them in the picture (the held one and `hidden` not); nothing else is drawn, so each
+/// target's pixels are those of draw_id_view while other pixels may differ.
+IdView draw_id_view_of(const graph::SceneGraph& g, const SceneGeometry& geometry, const episode::WorldState& s,
+                       const Camera& camera, const std::vector<graph::ObjectId>& targets,
+                       const std::vector<graph::ObjectId>& hidden = {});
+
+/// Fills in each entry's visible pixels from `image`; `silhouettes` are sorted by object index.
+std::vector<ObjectSight> count_pixels(const IdImage& image, std::vector<ObjectSight> silhouettes);
+
+}  // namespace mtg::render
