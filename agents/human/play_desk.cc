@@ -46,7 +46,8 @@ json PlayDesk::observation_locked() const {
   json images = json::array();
   for (std::size_t i = 0; i < o.images.size(); ++i) {
     // The version in the URL keeps the browser from showing a cached image of an earlier step.
-    images.push_back({{"role", o.images[i].role}, {"width", o.images[i].width}, {"height", o.images[i].height},
+    images.push_back({{"role", o.images[i].role}, {"caption", o.images[i].caption}, {"width", o.images[i].width},
+                      {"height", o.images[i].height},
                       {"url", "/api/play/image/" + std::to_string(i) + "?v=" + std::to_string(version_)}});
   }
   return {{"waiting", false},

@@ -13,9 +13,10 @@ namespace {
 
 std::string role_legend(const std::string& role) {
   if (role == "view_marked") return "the platform from where you stand, objects or free spaces numbered as the keys";
+  if (role == "view_zoom") return "a close-up of a crowded part of the platform, objects numbered as the keys";
   if (role == "view") return "the platform from where you stand, without numbers";
   if (role == "item") return "the object in your hand";
-  if (role == "focus") return "a close-up of an object the task names (see the hint), other objects faded";
+  if (role == "focus") return "a close-up of an object the task names, numbered as its key, other objects faded";
   if (role == "topdown_marked") return "the apartment from above, platforms numbered as the l keys";
   if (role == "topdown") return "the apartment from above";
   return role;
@@ -55,7 +56,8 @@ std::string step_text(const PromptSet& prompts, const VlmSettings& settings, con
   int n = 0;
   for (const mtg::image_t& img : obs.images) {
     if (wanted(settings, img.role) && !img.data.empty()) {
-      images += "Image " + std::to_string(++n) + ": " + role_legend(img.role) + ".\n";
+      images += "Image " + std::to_string(++n) + ": " + role_legend(img.role) + "." +
+                (img.caption.empty() ? std::string() : " " + img.caption) + "\n";
     }
   }
   const std::map<std::string, std::string> vars = {

@@ -14,7 +14,7 @@ struct VlmSettings {
   int max_output_tokens = 256;
   int seed = -1;                    // sent where the API takes one (OpenAI); -1 = not sent
   // what is sent
-  std::vector<std::string> image_roles = {"view_marked", "item", "focus", "topdown_marked"};
+  std::vector<std::string> image_roles = {"view_marked", "view_zoom", "item", "focus", "topdown_marked"};
   std::string image_detail = "low"; // OpenAI-style detail: "low", "high" or "auto"
   int image_max_side = 0;           // longer side in pixels, images above are shrunk; 0 = as rendered
   int history_steps = 0;            // earlier steps kept in the conversation; 0 = the whole episode

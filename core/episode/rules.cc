@@ -253,6 +253,11 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
   return out;
 }
 
+std::string observation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options) {
+  return situation_text(g, s, options) + " You have used " + std::to_string(s.steps) + " of " +
+         std::to_string(options.step_limit) + " steps.";
+}
+
 const char* direction_convention() {
   return "Directions and parts are named from where you stand when you place the object: front is the part "
          "farthest from you, rear the part nearest you, left and right are your left and right.";
@@ -277,9 +282,10 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
     if (objects.empty()) {
       text += " There is nothing you can pick up on this platform.";
     } else if (!options.object_names) {
-      text += objects.size() == 1 ? " One object here can be picked up: object 1 (numbered in the image)."
-                                  : " Objects 1 to " + std::to_string(objects.size()) +
-                                        " here can be picked up (numbered in the image).";
+      text += objects.size() == 1   ? " One object here can be picked up: object 1 (numbered in the image)."
+              : objects.size() == 2 ? " Objects 1 and 2 here can be picked up (numbered in the image)."
+                                    : " Objects 1 to " + std::to_string(objects.size()) +
+                                          " here can be picked up (numbered in the images).";
     } else {
       text += " On this platform (where each stands from its centre, as you face it):";
       for (std::size_t k = 0; k < objects.size(); ++k) {

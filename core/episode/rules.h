@@ -65,6 +65,9 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
 /// Where the robot stands and what it holds and sees, in plain English.
 std::string situation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options);
 
+/// An observation's text: the situation and the steps used.
+std::string observation_text(const graph::SceneGraph& g, const WorldState& s, const RuleOptions& options);
+
 /// The direction convention as the agent is told it (system prompt, placing text): one sentence,
 /// the same rule the judge applies (goals.h) and the placement targets number (placement.h).
 const char* direction_convention();

@@ -88,7 +88,7 @@ Eigen::AlignedBox2d corner_rect(const Eigen::AlignedBox2d& a, int sx, int sy,
   // A rectangle u wide may reach up to the nearest obstacle that starts before u. Widths grow, so
   // those obstacles only ever join: with them by their start, the bound is a running minimum
   // (the same minimum, over the same obstacles, as asking each of them at every width).
-  std::sort(quads.begin(), quads.end(), [](const Quad& a, const Quad& b) { return a.u0 < b.u0; });
+  std::sort(quads.begin(), quads.end(), [](const Quad& p, const Quad& q) { return p.u0 < q.u0; });
   double best_u = 0.0, best_v = 0.0, best_area = -1.0;
   double v = v_max;
   std::size_t started = 0;

@@ -38,12 +38,17 @@ std::string join_words(const std::string& a, const std::string& b) {
 // What a marked view leaves to its zoomed views, in words.
 std::string zoomed_caption(const ViewImages& images) {
   if (images.zooms.empty()) return "";
+  std::string out = images.zooms.size() == 1 ? "The close-up Z1 (framed here) shows"
+                                             : "The close-ups Z1 to " + zoom_name(images.zooms.size() - 1) +
+                                                   " (framed here) show";
+  out += " small or crowded objects larger.";
   std::vector<int> numbers = images.zoomed;
   std::sort(numbers.begin(), numbers.end());
-  std::string out = numbers.size() == 1 ? "Object " + numbers_text(numbers) + " is numbered in "
-                                        : "Objects " + numbers_text(numbers) + " are numbered in ";
-  out += images.zooms.size() == 1 ? "the close-up Z1" : "the close-ups Z1 to " + zoom_name(images.zooms.size() - 1);
-  return out + " (framed here), where that part is crowded.";
+  if (!numbers.empty()) {
+    out += numbers.size() == 1 ? " Object " + numbers_text(numbers) + " is numbered only there."
+                               : " Objects " + numbers_text(numbers) + " are numbered only there.";
+  }
+  return out;
 }
 
 std::string zoom_caption(std::size_t k, const ZoomImage& z) {

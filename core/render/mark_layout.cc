@@ -221,6 +221,10 @@ MarkLayout layout_item_marks(const IdImage& ids, int scale, const Camera& camera
     PlacedMark placed = m;
     placed.disc = *chosen;
     out.placed.push_back(placed);
+    const double pixels = static_cast<double>(px.at(own).count) * scale * scale;
+    if (m.visible && pixels < kSmallShare * camera.width * camera.height) {
+      out.small.push_back(*std::find_if(items.begin(), items.end(), [&](const ItemMark& i) { return i.number == m.number; }));
+    }
   }
   return out;
 }
@@ -287,17 +291,19 @@ void add_zooms(const graph::SceneGraph& g, const SceneGeometry& geometry, const 
                const std::vector<graph::ObjectId>& hidden, const Camera& camera, const MarkLayout& layout,
                const std::vector<ItemMark>& items, int depth,
                std::vector<Eigen::AlignedBox2d>& regions, std::vector<MarkedZoom>& zooms) {
-  for (ZoomView& z : zoom_views(camera, layout, items)) {
+  // Small marks are zoomed once; a zoom's own zooms are for what is crowded in it.
+  for (ZoomView& z : zoom_views(camera, layout, items, /*with_small=*/depth > 1, /*max_views=*/4)) {
     regions.push_back(z.region);
     const std::size_t slot = zooms.size();
     zooms.emplace_back();
-    MarkLayout here =
-        layout_item_marks(mark_pass(g, geometry, s, z.camera, z.items, hidden), kMarkPassScale, z.camera, z.items);
+    IdImage pass = mark_pass(g, geometry, s, z.camera, z.items, hidden);
+    MarkLayout here = layout_item_marks(pass, kMarkPassScale, z.camera, z.items);
     std::vector<Eigen::AlignedBox2d> inner;
     if (depth > 1) add_zooms(g, geometry, s, hidden, z.camera, here, z.items, depth - 1, inner, zooms);
     zooms[slot].view = std::move(z);
     zooms[slot].layout = std::move(here);
     zooms[slot].regions = std::move(inner);
+    zooms[slot].pass = std::move(pass);
   }
 }
 
@@ -316,6 +322,7 @@ ItemMarksPlan plan_item_marks(const graph::SceneGraph& g, const SceneGeometry& g
   plan.camera = camera;
   plan.items = items;
   plan.layout = layout_item_marks(pass, kMarkPassScale, camera, items);
+  plan.pass = pass;
   add_zooms(g, geometry, s, hidden, camera, plan.layout, items, /*depth=*/2, plan.regions, plan.zooms);
   return plan;
 }
@@ -327,44 +334,46 @@ bool ItemMarksPlan::placed(int number) const {
   return in(layout) || std::any_of(zooms.begin(), zooms.end(), [&](const MarkedZoom& z) { return in(z.layout); });
 }
 
-std::vector<std::string> ItemMarksPlan::problems(const graph::SceneGraph& g, const SceneGeometry& geometry,
-                                                 const episode::WorldState& s,
-                                                 const std::vector<graph::ObjectId>& hidden) const {
+std::vector<std::string> ItemMarksPlan::problems() const {
   std::vector<std::string> out;
-  auto check = [&](const std::string& picture, const MarkLayout& l, const Camera& cam, const std::vector<ItemMark>& of) {
-    for (const std::string& p :
-         check_layout(l, mark_pass(g, geometry, s, cam, of, hidden), kMarkPassScale, cam.width, cam.height)) {
-      out.push_back(picture + ": " + p);
-    }
+  auto check = [&](const std::string& picture, const MarkLayout& l, const IdImage& ids, const Camera& cam) {
+    for (const std::string& p : check_layout(l, ids, kMarkPassScale, cam.width, cam.height)) out.push_back(picture + ": " + p);
   };
-  check("picture", layout, camera, items);
-  for (std::size_t k = 0; k < zooms.size(); ++k) {
-    check(zoom_name(k), zooms[k].layout, zooms[k].view.camera, zooms[k].view.items);
-  }
+  check("picture", layout, pass, camera);
+  for (std::size_t k = 0; k < zooms.size(); ++k) check(zoom_name(k), zooms[k].layout, zooms[k].pass, zooms[k].view.camera);
   return out;
 }
 
 std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout, const std::vector<ItemMark>& items,
-                                 int max_views) {
+                                 bool with_small, int max_views) {
   std::vector<ZoomView> out;
-  if (layout.crowded.empty() || camera.orthographic) return out;
+  std::vector<ItemMark> wanted = layout.crowded;
+  if (with_small) wanted.insert(wanted.end(), layout.small.begin(), layout.small.end());
+  if (wanted.empty() || camera.orthographic) return out;
   // The crowded marks' anchors, where they would be (their projected top centre).
   struct Point {
     ItemMark mark;
     Eigen::Vector2d at;
   };
   std::vector<Point> points;
-  for (const ItemMark& m : layout.crowded) {
-    const auto at = camera.project(m.anchor_W);
+  for (const ItemMark& m : wanted) {
+    const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
+                                     [&](const PlacedMark& p) { return p.number == m.number; });
+    const auto at = placed != layout.placed.end() ? std::optional<Eigen::Vector2d>(placed->anchor)
+                                                  : camera.project(m.anchor_W);
     if (at) points.push_back({m, *at});
   }
   std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) {
     return a.at.x() != b.at.x() ? a.at.x() < b.at.x() : a.mark.number < b.mark.number;
   });
-  // Clusters along the image's width: a gap of a quarter of the image starts a new one.
+  // Clusters along the image's width: a gap of a quarter of the image starts a new one, and so
+  // does a cluster that would grow wider than a third of it (a zoom shows at least twice as big).
   std::vector<std::vector<Point>> clusters;
   for (const Point& p : points) {
-    if (clusters.empty() || p.at.x() - clusters.back().back().at.x() > camera.width / 4.0) clusters.emplace_back();
+    if (clusters.empty() || p.at.x() - clusters.back().back().at.x() > camera.width / 4.0 ||
+        p.at.x() - clusters.back().front().at.x() > camera.width / 3.0) {
+      clusters.emplace_back();
+    }
     clusters.back().push_back(p);
   }
   // Fewer views than clusters: neighbouring clusters share one.
@@ -385,12 +394,13 @@ std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout,
   for (const auto& cluster : clusters) {
     Eigen::AlignedBox2d box;
     for (const Point& p : cluster) box.extend(p.at);
-    // A margin for the objects around the anchors, and at least a third of the picture.
-    Eigen::Vector2d half = box.sizes() / 2.0 + Eigen::Vector2d::Constant(6.0 * layout.style.radius);
+    // A margin for the objects around the anchors, and at least a third of the picture; at most
+    // half of it, so the zoom shows things at least twice as big (what does not fit is cut).
+    Eigen::Vector2d half = box.sizes() / 2.0 + Eigen::Vector2d::Constant(5.0 * layout.style.radius);
     half = half.cwiseMax(Eigen::Vector2d(camera.width / 6.0, camera.height / 6.0));
     if (half.x() < half.y() * aspect) half.x() = half.y() * aspect;
     else half.y() = half.x() / aspect;
-    half = half.cwiseMin(Eigen::Vector2d(camera.width / 2.0, camera.height / 2.0));
+    half = half.cwiseMin(Eigen::Vector2d(camera.width / 4.0, camera.height / 4.0));
     Eigen::Vector2d centre = box.center();
     centre = centre.cwiseMax(half).cwiseMin(Eigen::Vector2d(camera.width, camera.height) - half);
     ZoomView z;

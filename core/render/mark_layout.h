@@ -25,6 +25,9 @@ namespace mtg::render {
 
 /// The share of another numbered object's visible pixels a disc may cover, at most.
 inline constexpr double kMaxCover = 0.10;
+/// A numbered object showing fewer pixels than this share of the image (1,600 at 640x480, about
+/// 40 x 40) is also shown in a zoomed view, larger, whether or not its mark found a place.
+inline constexpr double kSmallShare = 1600.0 / (640.0 * 480.0);
 
 /// Sizes of the marks drawn on a `width` x `height` image.
 struct MarkStyle {
@@ -48,6 +51,7 @@ struct MarkLayout {
   MarkStyle style;
   std::vector<PlacedMark> placed;
   std::vector<ItemMark> crowded;  // no readable place here: for a zoomed view
+  std::vector<ItemMark> small;    // placed, but small in the picture: shown larger in a zoomed view too
 };
 
 /// The layout of `items` on an image of `camera` whose id pass is `ids` (the same view at
@@ -72,6 +76,7 @@ struct MarkedZoom {
   ZoomView view;
   MarkLayout layout;
   std::vector<Eigen::AlignedBox2d> regions;
+  IdImage pass;  // the id pass its marks were laid out on
 };
 
 /// Every item mark of a picture placed: in the picture itself, or in a zoomed view of its
@@ -80,14 +85,15 @@ struct MarkedZoom {
 struct ItemMarksPlan {
   Camera camera;  // the picture's
   std::vector<ItemMark> items;
+  IdImage pass;   // the id pass the picture's marks were laid out on
   MarkLayout layout;
   std::vector<Eigen::AlignedBox2d> regions;  // the picture's zooms, framed on it
   std::vector<MarkedZoom> zooms;
   /// Whether item number `n` has a readable place in the picture or a zoom.
   bool placed(int number) const;
-  /// Every broken rule of every layout, "<picture>: <problem>" (mtg render --marks, tests).
-  std::vector<std::string> problems(const graph::SceneGraph& g, const SceneGeometry& geometry,
-                                    const episode::WorldState& s, const std::vector<graph::ObjectId>& hidden) const;
+  /// Every broken rule of every layout, checked on the id passes they were laid out on,
+  /// "<picture>: <problem>" (mtg render --marks-json, tests).
+  std::vector<std::string> problems() const;
 };
 
 /// The id pass marks are laid out on is this many times smaller than the image each way.
@@ -113,11 +119,11 @@ IdImage mark_pass(const graph::SceneGraph& g, const SceneGeometry& geometry, con
                   const Camera& camera, const std::vector<ItemMark>& items,
                   const std::vector<graph::ObjectId>& hidden = {});
 
-/// Cameras for the crowded marks of a layout of `items`: the same eye, aimed at each cluster of
-/// crowded objects (anchors within a quarter of the image's width of each other) and narrowed so
-/// the cluster, with a margin, fills the image; at most `max_views`. Each numbers every item
-/// whose anchor lies in its region, so no look-alike there goes without its number.
+/// Cameras for the crowded marks of a layout of `items` (and, `with_small`, its small ones): the
+/// same eye, aimed at each cluster of them (anchors within a quarter of the image's width of each
+/// other) and narrowed so the cluster, with a margin, fills the image; at most `max_views`. Each
+/// numbers every item whose anchor lies in its region, so no look-alike there goes unnumbered.
 std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout, const std::vector<ItemMark>& items,
-                                 int max_views = 3);
+                                 bool with_small, int max_views = 3);
 
 }  // namespace mtg::render

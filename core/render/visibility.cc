@@ -296,6 +296,8 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
     const bool own = std::binary_search(d.on.begin(), d.on.end(), o);
     if (!own) {
       const NdcBox b = image_box(s, o, sc);
+      // Most items are nowhere near the platform's objects in the picture: one test for all.
+      if (!may_cover(b, NdcBox{all, false})) continue;
       if (!std::any_of(targets.begin(), targets.end(), [&](const NdcBox& t) { return may_cover(b, t); })) continue;
     }
     d.items.push_back(o);

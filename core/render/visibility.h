@@ -137,7 +137,7 @@ class VisibilityOracle {
     std::unique_ptr<Scenery> scenery;
   };
   mutable std::vector<SceneryOnce> scenery_;  // per platform and side, drawn on first use
-  mutable BoundedMemoTable<std::shared_ptr<const ViewSight>> drawn_{8192};
+  mutable BoundedMemoTable<std::shared_ptr<const ViewSight>> drawn_{32768};
   mutable BoundedMemoTable<std::shared_ptr<const Window>> windows_{64};
   mutable BoundedMemoTable<std::shared_ptr<const MarksInPicture>> in_picture_{4096};
   mutable BoundedMemoTable<std::shared_ptr<const std::vector<std::int32_t>>> with_zooms_{1024};

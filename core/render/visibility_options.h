@@ -12,7 +12,8 @@ struct VisibilityOptions {
   int image_height = 480;
   int pass_scale = 2;      // the id pass is this many times smaller along each axis
   double min_share = 0.6;  // of the object's own silhouette in that view
-  int min_pixels = 200;    // image pixels showing the object, at least
+  int min_pixels = 400;    // image pixels showing the object, at least (about 20 x 20; under 1,600
+                           // the marked view adds a zoom where it shows at least twice as big)
   double min_gap = 10.0;   // image pixels between neighbours a rank or nearest/farthest counts
 
   int pass_width() const { return std::max(1, image_width / pass_scale); }

@@ -44,6 +44,13 @@ class PlatformView {
       boxes_W_.push_back(geom::bounds(s.objects[o].footprint));
     }
   }
+  // A view of the platform whose arrival view is `sight` (an independent id pass, for audits).
+  PlatformView(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, Ambiguity rule,
+               std::shared_ptr<const render::ViewSight> sight, double min_gap)
+      : PlatformView(g, s, platform, rule) {
+    sight_ = std::move(sight);
+    min_gap_ = min_gap;
+  }
 
   std::size_t size() const { return objects_.size(); }
   graph::ObjectId object(std::size_t i) const { return objects_[i]; }
@@ -129,7 +136,7 @@ class PlatformView {
   // Whether the arrival view shows what reference `r` to object i needs (referring.h); always
   // when there is no view to ask.
   bool seen(const Reference& r, std::size_t i) const {
-    if (seeing_ == nullptr) return true;
+    if (seeing_ == nullptr && !sight_) return true;
     // Drawn only when a reference names the object in the geometry: most never do.
     if (!sight_) sight_ = seeing_->arrival_view(s_, platform_);
     auto visible = [&](std::size_t k) { return sight_->clearly_visible(objects_[k]); };
@@ -260,6 +267,13 @@ bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, graph::Objec
     same += noun_of(g.objects[o], rule) == noun ? 1 : 0;
   }
   return same > 1;
+}
+
+bool seen_as(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, graph::ObjectId object,
+             const Reference& r, Ambiguity rule, std::shared_ptr<const render::ViewSight> sight, double min_gap) {
+  const PlatformView view(g, s, platform, rule, std::move(sight), min_gap);
+  const int i = view.index_of(object);
+  return i >= 0 && view.seen(r, static_cast<std::size_t>(i));
 }
 
 Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>& states, graph::ObjectId object,

@@ -53,6 +53,12 @@ std::vector<graph::ObjectId> resolve(const graph::SceneGraph& g, const episode::
 bool has_lookalike(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object,
                    graph::PlatformId platform, Ambiguity rule);
 
+/// Whether `sight`, an arrival view of `platform` in `s`, shows what reference `r` to `object`
+/// needs (the rule above, with `min_gap` image pixels between counted neighbours).
+bool seen_as(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+             graph::ObjectId object, const Reference& r, Ambiguity rule, std::shared_ptr<const render::ViewSight> sight,
+             double min_gap);
+
 /// A reference, or why there is none.
 struct Referral {
   std::optional<Reference> reference;

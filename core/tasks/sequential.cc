@@ -12,7 +12,7 @@
 namespace mtg::tasks {
 namespace {
 
-constexpr int kAttemptsPerChain = 60;
+constexpr int kAttemptsPerChain = 100;
 
 // Re-plans `task` for state `s`: the same goal, with keys valid now. nullopt if no longer feasible.
 std::optional<AtomicTask> replan(const graph::SceneGraph& g, const episode::WorldState& s,

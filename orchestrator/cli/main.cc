@@ -13,6 +13,7 @@
 
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "orchestrator/cli/audit_commands.h"
 #include "orchestrator/cli/bench_commands.h"
 #include "orchestrator/cli/cluster_commands.h"
 #include "orchestrator/cli/render_commands.h"
@@ -126,6 +127,9 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks->add_option("--levels", tasks_opts->levels, "levels to generate, e.g. 1,2,3,4");
   tasks->add_option("--profile", tasks_opts->profile, "scene profile (replica_cad, none, or a file)");
   tasks->add_option("--ambiguity", tasks_opts->ambiguity, "Look-alike rule: noun (default: what a person calls it, the scene profile's noun table, for agents that see images), category (the dataset's semantic class) or name (the same model, for agents told object names)");
+  tasks->add_option("--visibility", tasks_opts->visibility,
+                    "on (default): a task names and counts only what its arrival view clearly shows; off: the "
+                    "geometry alone decides (for comparisons: such tasks may name what the agent cannot see)");
   tasks->add_option("--l3-count", tasks_opts->level3_count, "Level 3 tasks per scene (default 10000)");
   tasks->add_option("--l3-chain", tasks_opts->level3_chain, "sub-tasks per Level 3 task (default 2)");
   tasks->add_option("--l4-max-moves", tasks_opts->level4_max_moves, "objects a Level 4 task may move (default 3)");
@@ -350,6 +354,34 @@ void add_view_commands(CLI::App& app, Commands& commands) {
   play->add_option("--host", play_opts->host, "address of the play page (default 127.0.0.1)");
   play->add_option("--port", play_opts->port, "port of the play page (default 8780)");
   commands.push_back({play, [play_opts] { return run_play(*play_opts); }});
+
+  auto audit_opts = std::make_shared<AuditCommandOptions>();
+  CLI::App* audit = app.add_subcommand("audit", "Judge sampled tasks from what the agent sees, in the browser (Table 2)");
+  audit->require_subcommand(0, 1);
+  audit->add_option("--tasks", audit_opts->tasks, "task database (tasks.sqlite)");
+  audit->add_option("--scene", audit_opts->scene, "only tasks of this scene");
+  audit->add_option("--per-level", audit_opts->per_level, "tasks drawn per level (default 10)");
+  audit->add_option("--seed", audit_opts->seed, "seed of the draw (default 0)");
+  audit->add_option("--out", audit_opts->out, "the audit's folder (answers in DIR/audit.sqlite; the same command resumes)");
+  audit->add_option("--data", audit_opts->data_dir, "dataset root (default: search order)");
+  audit->add_option("--profile", audit_opts->profile, "scene profile (default replica_cad)");
+  audit->add_option("--width", audit_opts->width, "image width (default 640)");
+  audit->add_option("--height", audit_opts->height, "image height (default 480)");
+  audit->add_flag("--names", audit_opts->names, "name objects in the text, as text-only runs do");
+  audit->add_option("--host", audit_opts->host, "address of the page (default 127.0.0.1)");
+  audit->add_option("--port", audit_opts->port, "port of the page (default 8790; 0 = any free port)");
+  audit->add_flag("--prepare-only", audit_opts->prepare_only, "make the audit's folder and exit");
+  auto audit_report_opts = std::make_shared<AuditReportOptions>();
+  CLI::App* audit_report = audit->add_subcommand("report", "Validity per level (95 % interval) and identification accuracy");
+  audit_report->add_option("dir", audit_report_opts->dir, "the audit's folder")->required();
+  audit_report->add_flag("--json", audit_report_opts->json, "print one JSON object");
+  commands.push_back({audit_report, [audit_report_opts] { return run_audit_report(*audit_report_opts); }});
+  commands.push_back({audit, [audit_opts] {
+                        if (audit_opts->tasks.empty() || audit_opts->out.empty()) {
+                          throw mtg::Error("mtg audit: --tasks <task database> and --out <folder> are required");
+                        }
+                        return run_audit(*audit_opts);
+                      }});
 }
 
 }  // namespace

@@ -100,7 +100,7 @@ void write_inspection(const RenderOptions& o, render::ImageRenderer& renderer, c
       z["region"] = {point(marks.zooms[k].view.region.min()), point(marks.zooms[k].view.region.max())};
       pictures.push_back(z);
     }
-    for (const std::string& p : marks.problems(g, geometry, state, plan.hidden)) problems.push_back(p);
+    for (const std::string& p : marks.problems()) problems.push_back(p);
   }
   const nlohmann::json doc = {{"scene", o.scene}, {"view", o.view}, {"platform", spec.platform}, {"side", plan.side},
                               {"image", {r.width, r.height}}, {"id_pass", {{"width", ids.image.width}, {"height", ids.image.height},

@@ -30,6 +30,8 @@ int run_tasks(const TasksOptions& o) {
   job.options.levels = tasks::parse_levels(o.levels);
   job.options.seed = o.seed;
   job.options.ambiguity = tasks::ambiguity_from_string(o.ambiguity);
+  if (o.visibility == "off") job.options.visibility.reset();
+  else if (o.visibility != "on") throw Error("--visibility must be on or off, not '" + o.visibility + "'");
   job.options.level3_count = o.level3_count;
   job.options.level3_chain = o.level3_chain;
   job.options.level4_max_moves = o.level4_max_moves;

@@ -18,6 +18,7 @@ struct TasksOptions {
   std::string levels = "1,2,3,4";
   std::string profile = "replica_cad";
   std::string ambiguity = "noun";
+  std::string visibility = "on";  // off: the geometry alone decides (for comparisons; docs/tasks.md)
   int level3_count = 10000;
   int jobs = 0;  // threads (0: the machine's cores); the output does not depend on it
   int level3_chain = 2;

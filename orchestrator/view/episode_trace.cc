@@ -53,7 +53,7 @@ json observation_json(const mtg::observation_t& obs) {
   json images = json::array();
   for (std::size_t i = 0; i < obs.images.size(); ++i) {
     const auto& img = obs.images[i];
-    images.push_back({{"index", i}, {"role", img.role}, {"encoding", img.encoding}, {"width", img.width},
+    images.push_back({{"index", i}, {"role", img.role}, {"caption", img.caption}, {"encoding", img.encoding}, {"width", img.width},
                       {"height", img.height}, {"bytes", img.nbytes}});
   }
   return {{"text", obs.text}, {"hint", obs.hint}, {"actions", actions}, {"images", images}};

@@ -118,8 +118,7 @@ void EpisodeHost::publish_observation(const Key& key, Episode& e) {
   obs.done = e.state.phase == episode::Phase::kDone;
   obs.task_text = e.task.text;
   obs.hint = e.hint;
-  obs.text = episode::situation_text(g, e.state, e.rules) + " You have used " + std::to_string(e.state.steps) + " of " +
-             std::to_string(e.rules.step_limit) + " steps.";
+  obs.text = episode::observation_text(g, e.state, e.rules);
   if (!obs.done) {
     for (const auto& option : episode::action_space(g, e.state, e.rules)) {
       mtg::action_option_t a{};

@@ -166,6 +166,9 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
 
 // Look-alikes are shown, not only named: the first observation of a task about one of three
 // identical boxes carries a close-up of the box meant (role "focus") and a hint naming it.
+// The look-alikes' close-ups come with the first observation, numbered and captioned with their
+// o<N>, and again where the robot stands at their platform; the held item's close-up says the
+// number it was picked as.
 TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
@@ -197,12 +200,23 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
     std::size_t focus = 0;
     for (const auto& img : obs.images) {
-      focus += img.role == "focus" ? 1 : 0;
+      if (img.role == "focus") {
+        ++focus;
+        // Numbered, and the caption says which number it is.
+        EXPECT_THAT(img.caption, ::testing::HasSubstr("The object the task calls '")) << img.caption;
+        EXPECT_THAT(img.caption, ::testing::ContainsRegex("object [0-9]+ ")) << img.caption;
+      }
+      if (img.role == "item") {
+        EXPECT_THAT(img.caption, ::testing::HasSubstr("where you picked it up")) << img.caption;
+      }
       images += img.nbytes > 0 ? 1 : 0;
     }
     most_close_ups = std::max(most_close_ups, focus);
     if (obs.step != 0) {
-      EXPECT_EQ(focus, 0u) << "close-ups come once, at the start";
+      // Later, only where the robot stands at a look-alike's platform, numbered as it is there.
+      if (focus > 0) {
+        EXPECT_THAT(obs.text, ::testing::HasSubstr("You are standing at")) << obs.text;
+      }
       return;
     }
     ++first_observations;

@@ -52,7 +52,8 @@ TEST(ShippedScores, DoingNothingScoresZeroAndRejudgeAgreesOnEveryEpisode) {
   for (const char* agent : {"nothing", "random"}) {
     for (int level = 1; level <= 4; ++level) {
       const auto key = std::make_pair(std::string(agent), level);
-      EXPECT_GE(episodes[key], 1000) << agent << " level " << level;
+      // apt_0 has 653 Level 4 tasks since what they name must be clearly visible: all of them.
+      EXPECT_GE(episodes[key], level == 4 ? 600 : 1000) << agent << " level " << level;
       std::printf("[ scores   ] %-8s level %d: %d / %d successes\n", agent, level, successes[key], episodes[key]);
     }
   }

@@ -11,6 +11,7 @@
 #include <set>
 #include <thread>
 
+#include "core/tasks/audit_plan.h"
 #include "core/tasks/task_db.h"
 #include "tests/support/browser.h"
 #include "tests/support/run_fixture.h"
@@ -220,6 +221,96 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
   std::ifstream report(fx_.root() / "play" / "report.json");
   const json j = json::parse(report);
   EXPECT_EQ(j["by_agent"]["human"]["sr"], 100.0);
+}
+
+}  // namespace
+}  // namespace mtg
+
+namespace mtg {
+namespace {
+
+using AuditTest = BrowserTest;
+
+// `mtg audit` in a real browser: a person answers every sampled task through the page (the
+// right numbers but one, one task judged invalid), and `mtg audit report` counts exactly that;
+// the page serves no truth, refuses answers from another origin, and the same command resumes.
+TEST_F(AuditTest, APersonAnswersFromThePageAndTheReportCountsIt) {
+  const fs::path dir = fx_.root() / "audit";
+  const std::vector<std::string> args = {testing::bin("mtg"), "audit", "--tasks", tasks_db_, "--per-level", "2",
+                                         "--out", dir.string(), "--data", fx_.root().string(), "--profile", "none",
+                                         "--port", "0"};
+  auto serve = std::make_unique<testing::ChildProcess>(args, log());
+  const int port = port_in_log(log(), 180000);
+  ASSERT_GT(port, 0) << log_text();
+  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+
+  // What the person will answer, worked out here from the tasks (the page never says).
+  const std::vector<tasks::Task> all = tasks::read_tasks(tasks_db_);
+  const auto sample = tasks::sample_for_audit(all, 2, 0);
+  ASSERT_GE(sample.size(), 4u) << "two tasks of each level the fixture's set has";
+  const std::string n = std::to_string(sample.size());
+  std::vector<json> truths;
+  for (const tasks::Task* t : sample) {
+    json truth = json::object();
+    for (const auto& q : tasks::plan_audit(built_.graph, *t, tasks::TaskOptions{}).questions) truth[q.id] = q.truth;
+    truths.push_back(truth);
+  }
+
+  auto b = browser();
+  b->navigate(base);
+  for (std::size_t k = 0; k < sample.size(); ++k) {
+    ASSERT_TRUE(b->wait_for("document.getElementById('status').textContent.startsWith('Task " + std::to_string(k + 1) +
+                            " of " + n + "') && document.querySelector('#answer button')", 20000))
+        << "task " << k;
+    ASSERT_TRUE(b->wait_for("[...document.querySelectorAll('.obs-images img')].every((i) => i.complete && "
+                            "i.naturalWidth > 0)", 20000))
+        << "every image the agent would see loads";
+    const json page = b->evaluate("fetch('/api/audit/items/" + std::to_string(k) + "').then((r) => r.json())");
+    EXPECT_FALSE(page.dump().find("truth") != std::string::npos) << "the page is never told the answers";
+    EXPECT_EQ(page["task_id"], sample[k]->id);
+    // Type each number; the first task's first one wrong on purpose.
+    for (const auto& [question, right] : truths[k].items()) {
+      const std::string value = k == 0 && question == truths[0].begin().key() ? "o9" : right.get<std::string>();
+      b->evaluate("document.querySelector('input[data-question=\"" + question + "\"]').value = '" + value + "'");
+    }
+    const bool valid = k + 1 < sample.size();  // the last one judged invalid
+    b->evaluate(std::string("document.querySelector('input[name=valid][value=") + (valid ? "yes" : "no") + "]').checked = true");
+    if (!valid) b->evaluate("document.querySelector('select[name=reason]').value = 'occluded'");
+    if (k == 2) b->screenshot(kArtifacts / "audit.png", true);
+    b->evaluate("document.getElementById('save').click()");
+    ASSERT_TRUE(b->wait_for("document.getElementById('progress').textContent.startsWith('" + std::to_string(k + 1) +
+                            " of " + n + "')", 10000));
+  }
+  // An answer from another origin (a page of another site open in the same browser) is refused.
+  b->navigate("http://localhost:" + std::to_string(port) + "/");
+  b->evaluate("fetch('http://127.0.0.1:" + std::to_string(port) + "/api/audit/items/0/answer', {method: 'POST', "
+              "mode: 'no-cors', headers: {'Content-Type': 'text/plain'}, body: '{\"valid\": false, \"reason\": "
+              "\"other\"}'}).catch(() => 0)");
+  const json report_api = b->evaluate("fetch('/api/audit/report').then((r) => r.json())");
+  EXPECT_EQ(report_api["all"]["valid"], static_cast<int>(sample.size()) - 1) << "the foreign answer changed nothing";
+
+  // The report, from the command line.
+  serve.reset();
+  testing::ChildProcess report({testing::bin("mtg"), "audit", "report", dir.string(), "--json"},
+                               (fx_.root() / "report.json").string());
+  ASSERT_EQ(report.wait(20000), 0);
+  std::ifstream in(fx_.root() / "report.json");
+  const json r = json::parse(in);
+  EXPECT_EQ(r["all"]["answered"], static_cast<int>(sample.size()));
+  EXPECT_EQ(r["all"]["valid"], static_cast<int>(sample.size()) - 1);
+  int picks = 0;
+  for (const json& t : truths) picks += static_cast<int>(t.size());
+  EXPECT_EQ(r["all"]["picks"], picks);
+  EXPECT_EQ(r["all"]["right"], picks - 1);
+  ASSERT_EQ(r["misses"].size(), 2u);
+  EXPECT_NE(r["misses"][0]["cause"].get<std::string>().find("answered o9"), std::string::npos) << r.dump();
+  EXPECT_NE(r["misses"][1]["cause"].get<std::string>().find("invalid: occluded"), std::string::npos) << r.dump();
+
+  // The same command goes on where it was: the answers are kept.
+  testing::ChildProcess again(args, (fx_.root() / "again.log").string());
+  ASSERT_GT(port_in_log(fx_.root() / "again.log", 60000), 0);
+  std::ifstream said(fx_.root() / "again.log");
+  EXPECT_NE(std::string((std::istreambuf_iterator<char>(said)), {}).find("answers kept"), std::string::npos);
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
     EXPECT_EQ(r.usage.cache_hits, 0);
     EXPECT_GT(r.usage.images_sent, 0);
     EXPECT_GT(r.usage.input_tokens, 0);
-    EXPECT_THAT(r.usage.prompt_version, ::testing::StartsWith("v2+"));
+    EXPECT_THAT(r.usage.prompt_version, ::testing::StartsWith("v3+"));
   }
   const auto seen = server_.requests();
   std::set<std::string> providers;

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <filesystem>
 #include <fstream>
 
@@ -55,7 +57,7 @@ mtg::observation_t observation(int step, int images) {
 
 TEST(PromptTest, TheShippedTemplatesLoadAndCarryAVersionWithTheirHash) {
   const PromptSet p = PromptSet::builtin();
-  EXPECT_THAT(p.version, ::testing::StartsWith("v2+"));
+  EXPECT_THAT(p.version, ::testing::StartsWith("v3+"));
   EXPECT_EQ(p.version.size(), 11u);
   const PromptSet from_files = PromptSet::load(std::string(MTG_SOURCE_DIR) + "/agents/vlm/prompts/v2");
   EXPECT_EQ(from_files.version, p.version) << "the compiled-in templates are the shipped files";
@@ -126,6 +128,8 @@ TEST(ConversationTest, StepsCarryTaskActionsHintAndImagesAndTheHistoryIsWindowed
   EXPECT_EQ(m3[5].images.size(), 2u);
 }
 
+// A real key that is not offered ("l7" where the platforms are l3 and l12) is read as that key:
+// the rules refuse it as unavailable, with the reason; only a reply with no key is a format error.
 TEST(ReplyParserCorpusTest, MessyRepliesGiveTheOfferedKeyOrAFormatError) {
   const std::vector<std::string> offered = {"0", "l3", "l12", "o1", "o2", "-1", "startplace", "999", "5"};
   const std::vector<std::pair<std::string, std::string>> corpus = {
@@ -147,13 +151,16 @@ TEST(ReplyParserCorpusTest, MessyRepliesGiveTheOfferedKeyOrAFormatError) {
       {"   \n", ""},
       {"I am not sure what to do.", ""},
       {"Either l3 or l12 would work.", ""},
-      {"l7", ""},
-      {"Action: l99", ""},
+      {"l7", "l7"},
+      {"Action: l99", "l99"},
+      {"I see 3 books on l7", "l7"},
   };
+  const std::set<std::string> not_offered = {"l7", "l99"};
   for (const auto& [reply, expected] : corpus) {
     const episode::ParsedReply p = episode::parse_reply(reply, offered);
     EXPECT_EQ(p.key, expected) << "reply: " << reply;
     EXPECT_EQ(p.ok, !expected.empty()) << "reply: " << reply;
+    EXPECT_EQ(p.offered, p.ok && not_offered.count(p.key) == 0) << "reply: " << reply;
     if (!p.ok) {
       EXPECT_FALSE(p.why.empty()) << "a format error names its cause";
     }

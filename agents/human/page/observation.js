@@ -18,12 +18,13 @@ function el(tag, attrs, ...children) {
 }
 
 const ROLE_WORDS = {
-  view: 'view', view_marked: 'view, marked', item: 'item close-up', topdown: 'top-down map',
-  topdown_marked: 'top-down map, marked', focus: 'close-up',
+  view: 'view', view_marked: 'view, marked', view_zoom: 'crowded part, zoomed', item: 'in your hand',
+  topdown: 'top-down map', topdown_marked: 'top-down map, marked', focus: 'close-up',
 };
 
 // obs: {text, hint, actions[{key, description}], images[{role, url, width, height}]}
-// opts: {onKey(key)} for buttons, or {chosen: key} for a read-only list.
+// opts: {onKey(key)} for buttons, or {chosen: key} for a read-only list; {eager: true} loads every
+// image at once (the audit page: a person compares observations far down the page).
 function renderObservation(obs, opts) {
   opts = opts || {};
   const images = el('div', {class: 'obs-images'});
@@ -33,8 +34,8 @@ function renderObservation(obs, opts) {
       continue;
     }
     images.append(el('figure', {},
-      el('a', {href: img.url, target: '_blank'}, el('img', {src: img.url, alt: img.role, loading: 'lazy', width: img.width, height: img.height})),
-      el('figcaption', {}, ROLE_WORDS[img.role] || img.role)));
+      el('a', {href: img.url, target: '_blank'}, el('img', {src: img.url, alt: img.role, loading: opts.eager ? 'eager' : 'lazy', width: img.width, height: img.height})),
+      el('figcaption', {}, el('b', {}, ROLE_WORDS[img.role] || img.role), img.caption ? ' ' + img.caption : '')));
   }
   const actions = el('div', {class: opts.onKey ? 'actions' : 'actions readonly'});
   for (const a of obs.actions || []) {

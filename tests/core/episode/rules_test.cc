@@ -61,7 +61,7 @@ TEST_F(RulesTest, TheKeysAStepAcceptsAreTheOnesTheActionSpaceOffers) {
                                            "l1", "l2", "l3",         "l01", "l1x", "o-1", "x1", "1",  "999", "o99999999999999999999"};
   WorldState s = initial_state(g());
   int states = 0;
-  for (const std::string& step : {"l1", "-1", "o2", "l2", "startplace", "5", "l1", "o1", "l1", "startplace", "999"}) {
+  for (const std::string step : {"l1", "-1", "o2", "l2", "startplace", "5", "l1", "o1", "l1", "startplace", "999"}) {
     const auto offered = keys(action_space(g(), s, options_));
     for (const std::string& key : probes) {
       WorldState trial = s;

@@ -28,7 +28,9 @@ TEST(Polygon, OffsetRingsAreOrientedLikeEveryOtherResult) {
       double outer = 0.0, holes = 0.0;
       for (const Ring& ring : o.rings) (signed_area(ring) > 0 ? outer : holes) += signed_area(ring);
       EXPECT_NEAR(area(o), area(unite(o, o)), 1e-9) << d;  // the same set a union gives
-      if (!o.empty()) EXPECT_GT(outer, 0.0) << d;
+      if (!o.empty()) {
+        EXPECT_GT(outer, 0.0) << d;
+      }
       EXPECT_NEAR(outer + holes, area(o), 1e-12) << d;
     }
   }

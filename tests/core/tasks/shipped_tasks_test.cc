@@ -3,6 +3,9 @@
 // Level 3 step, holds when it starts (a do-nothing agent wins nothing); every look-alike's
 // reference names exactly the goal's instance, evaluated geometrically where its step starts;
 // stacks fit under the clearance; placements lie where stored, inside their goals by the margin.
+// And, over the whole sets, what the agent must see it can see (seen_audit.h): every object a text
+// names or counts is clearly visible in the arrival view drawn afresh, and every item's number
+// has a readable place in the marked view or a zoom of it.
 
 #include <gtest/gtest.h>
 
@@ -15,6 +18,7 @@
 #include "core/tasks/atomic.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/sequential.h"
+#include "core/tasks/seen_audit.h"
 #include "core/tasks/validate.h"
 #include "tests/support/shipped_data.h"
 
@@ -54,6 +58,36 @@ TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
   EXPECT_EQ(total[3], 1000);
   EXPECT_GT(total[4], 500);
   EXPECT_GT(lookalikes[2], 0);
+}
+
+TEST_P(ShippedTasks, EveryObjectATextNamesIsSeenAndTheItemsNumberRead) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
+  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), GetParam(), meshes);
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const TaskOptions options;  // the whole sets: 10,000 Level 3 chains
+  const GenerationResult r = generate_tasks(s, g, options, {}, {}, 2);
+  const render::SceneGeometry geometry(s, g);
+  const SeenAudit audit(g, geometry, options);
+  std::map<int, int> total, seen;
+  int reported = 0;
+  for (const Task& t : r.set.tasks) {
+    const std::vector<std::string> problems = audit.check(t);
+    total[t.level] += 1;
+    seen[t.level] += problems.empty() ? 1 : 0;
+    for (const auto& p : problems) {
+      if (++reported <= 20) ADD_FAILURE() << p << "  [" << t.text << "]";
+    }
+  }
+  for (const auto& [level, n] : total) {
+    std::printf("[ seen ] %s level %d: %d / %d tasks name only what the agent sees, item numbers readable\n",
+                GetParam(), level, seen[level], n);
+  }
+  std::printf("[ seen ] %s: %zu distinct views drawn\n", GetParam(), audit.views_drawn());
+  EXPECT_EQ(reported, 0);
+  EXPECT_GE(total[3], 9950) << "10,000 chains drawn; a chain that finds no valid steps in 100 attempts is left out";
 }
 
 INSTANTIATE_TEST_SUITE_P(Apartments, ShippedTasks, ::testing::Values("apt_0", "apt_1", "apt_2"));

@@ -1,0 +1,104 @@
+#include "orchestrator/audit/audit_report.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace mtg::orchestrator::audit {
+namespace {
+
+void finish(LevelRow& r) {
+  r.validity = r.answered > 0 ? static_cast<double>(r.valid) / r.answered : 0.0;
+  std::tie(r.low, r.high) = wilson_interval(r.valid, r.answered);
+  r.accuracy = r.picks > 0 ? static_cast<double>(r.right) / r.picks : 0.0;
+}
+
+nlohmann::json row_json(const LevelRow& r) {
+  auto pct = [](double x) { return std::round(x * 1000.0) / 10.0; };
+  return {{"level", r.level},          {"sampled", r.sampled},   {"answered", r.answered},
+          {"valid", r.valid},          {"validity", pct(r.validity)}, {"ci95", {pct(r.low), pct(r.high)}},
+          {"picks", r.picks},          {"right", r.right},        {"accuracy", pct(r.accuracy)}};
+}
+
+}  // namespace
+
+std::pair<double, double> wilson_interval(int k, int n) {
+  if (n <= 0) return {0.0, 0.0};
+  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2 = z * z;
+  const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
+  const double half = z * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n)) / (1.0 + z2 / n);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+AuditReport make_report(const std::vector<Item>& items, const std::map<int, Answer>& answers) {
+  AuditReport report;
+  std::map<int, LevelRow> rows;
+  for (const Item& item : items) {
+    LevelRow& r = rows[item.level];
+    r.level = item.level;
+    ++r.sampled;
+    ++report.all.sampled;
+    const auto it = answers.find(item.index);
+    if (it == answers.end()) continue;
+    const Answer& a = it->second;
+    ++r.answered;
+    ++report.all.answered;
+    if (a.valid) {
+      ++r.valid;
+      ++report.all.valid;
+    } else {
+      std::string cause = "invalid: " + std::string(a.reason ? to_string(*a.reason) : "other");
+      if (!a.note.empty()) cause += " (" + a.note + ")";
+      report.misses.push_back({item.task_id, item.level, cause});
+    }
+    for (const auto& [question, truth] : item.truth.items()) {
+      const auto pick = a.picks.find(question);
+      if (pick == a.picks.end()) continue;  // not asked of this answer
+      ++r.picks;
+      ++report.all.picks;
+      if (pick->second == truth.get<std::string>()) {
+        ++r.right;
+        ++report.all.right;
+      } else {
+        report.misses.push_back({item.task_id, item.level,
+                                 question + ": answered " + (pick->second.empty() ? "\"don't know\"" : pick->second) +
+                                     ", it is " + truth.get<std::string>()});
+      }
+    }
+  }
+  for (auto& [level, r] : rows) {
+    finish(r);
+    report.levels.push_back(r);
+  }
+  finish(report.all);
+  return report;
+}
+
+nlohmann::json AuditReport::to_json() const {
+  nlohmann::json levels_json = nlohmann::json::array();
+  for (const LevelRow& r : levels) levels_json.push_back(row_json(r));
+  nlohmann::json misses_json = nlohmann::json::array();
+  for (const Miss& m : misses) misses_json.push_back({{"task_id", m.task_id}, {"level", m.level}, {"cause", m.cause}});
+  return {{"levels", levels_json}, {"all", row_json(all)}, {"misses", misses_json},
+          {"paper_validity", {{"1", 93.8}, {"2", 98.4}, {"3", 92.3}, {"4", 74.1}}}};
+}
+
+std::string AuditReport::to_text() const {
+  static const std::map<int, double> kPaper = {{1, 93.8}, {2, 98.4}, {3, 92.3}, {4, 74.1}};
+  std::string out = "level  answered/sampled  valid  validity (95 % interval)   paper   identified right\n";
+  char line[256];
+  auto print = [&](const LevelRow& r, const std::string& name) {
+    const auto paper = kPaper.find(r.level);
+    std::snprintf(line, sizeof line, "%-5s  %8d/%-7d  %5d  %6.1f %% (%5.1f-%5.1f %%)  %6s   %d/%d = %.1f %%\n",
+                  name.c_str(), r.answered, r.sampled, r.valid, 100 * r.validity, 100 * r.low, 100 * r.high,
+                  paper == kPaper.end() ? "" : (std::to_string(paper->second).substr(0, 4) + " %").c_str(), r.right,
+                  r.picks, 100 * r.accuracy);
+    out += line;
+  };
+  for (const LevelRow& r : levels) print(r, std::to_string(r.level));
+  print(all, "all");
+  if (!misses.empty()) out += "misses:\n";
+  for (const Miss& m : misses) out += "  " + m.task_id + " (level " + std::to_string(m.level) + "): " + m.cause + "\n";
+  return out;
+}
+
+}  // namespace mtg::orchestrator::audit

@@ -1,0 +1,43 @@
+#pragma once
+// The audit's local page and its JSON API (docs/view.md, "mtg audit"). It serves only what the
+// agent would see and the person's answers; the truth stays in the store. Bound to 127.0.0.1; it
+// answers only requests addressed to that host and port, and takes answers only as JSON from its
+// own page (a page of another site cannot answer for the person).
+
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "orchestrator/audit/audit_store.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace mtg::orchestrator::audit {
+
+class AuditServer {
+ public:
+  explicit AuditServer(const std::filesystem::path& dir);
+  ~AuditServer();
+  AuditServer(const AuditServer&) = delete;
+  AuditServer& operator=(const AuditServer&) = delete;
+
+  /// Binds `host`:`port` (0: any free port) and serves until stop(). @throws mtg::Error when the
+  /// port is taken. Returns the port bound.
+  int bind(const std::string& host, int port);
+  void serve();  // blocks
+  void stop();
+
+ private:
+  void add_routes();
+
+  std::mutex mutex_;  // the store is used by one request at a time
+  AuditStore store_;
+  std::unique_ptr<httplib::Server> http_;
+  std::string host_;
+  int port_ = 0;
+};
+
+}  // namespace mtg::orchestrator::audit

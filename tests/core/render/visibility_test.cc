@@ -1,0 +1,176 @@
+// What the agent can see (id_raster.h, visibility.h): the id pass keeps the nearer surface and
+// counts silhouettes; an object behind a taller one is not clearly visible and no task names it;
+// the oracle's windows (scenery drawn once, only the deciding items per state) answer exactly as
+// whole passes of the same view, in every state tried, on a fixture and on a shipped apartment.
+
+#include <gtest/gtest.h>
+
+#include "core/episode/rules.h"
+#include "core/render/id_raster.h"
+#include "core/render/view.h"
+#include "core/render/visibility.h"
+#include "core/tasks/generator.h"
+#include "tests/support/graph_fixtures.h"
+#include "tests/support/shipped_data.h"
+#include "core/graph/build.h"
+#include "core/scene/scene_loader.h"
+
+namespace mtg::render {
+namespace {
+
+// A table seen from its arrival side: a 30 cm tower right in front of a 6 cm cube, and a lone
+// box at the side. Scene "hidden".
+testing::BuiltScene hidden_behind_a_tower(testing::FixtureDataset& fx) {
+  testing::add_table(fx, "table", 1.0, 0.6);
+  fx.add_object_config("toy_tower", fx.add_box_mesh("tower", {0.14, 0.30, 0.14}));
+  fx.add_object_config("toy_cube", fx.add_box_mesh("cube", {0.06, 0.06, 0.06}));
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.1, 0.1, 0.1}));
+  fx.add_scene("hidden", {{"object_instances",
+                           {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                            testing::FixtureDataset::instance("toy_tower", testing::hab(0.0, -0.12, 0.75)),
+                            testing::FixtureDataset::instance("toy_cube", testing::hab(0.0, 0.12, 0.75)),
+                            testing::FixtureDataset::instance("toy_box", testing::hab(0.35, 0.0, 0.75)),
+                            testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0))}}});
+  return testing::build_fixture_scene(fx, "hidden");
+}
+
+TEST(IdPass, KeepsTheNearerSurfaceAndCountsSilhouettesWhateverIsInFront) {
+  ObjectTriangles square;  // a 1 m square in the object's xz plane, facing -y
+  square.vertices_O = {{-0.5f, 0, -0.5f}, {0.5f, 0, -0.5f}, {0.5f, 0, 0.5f}, {-0.5f, 0, 0.5f}};
+  square.indices = {0, 1, 2, 0, 2, 3};
+  Camera cam;
+  cam.width = 64;
+  cam.height = 48;
+  cam.fovy = 1.0;
+  cam.X_WC = look_at({0, -3, 0}, {0, 0, 0});
+  IdPass pass(cam);
+  const Eigen::Isometry3d far(Eigen::Translation3d(0, 1, 0)), near(Eigen::Translation3d(0.3, 0, 0));
+  const int far_alone = pass.draw(square, far, 1);
+  const int near_alone = pass.draw(square, near, 2);
+  EXPECT_GT(far_alone, 50);
+  EXPECT_GT(near_alone, far_alone) << "the nearer square looks bigger";
+  int ones = 0, twos = 0;
+  for (const std::int32_t id : pass.image().ids) (id == 1 ? ones : id == 2 ? twos : ones) += id > 0 ? 1 : 0;
+  EXPECT_EQ(twos, near_alone) << "nothing covers the near square";
+  EXPECT_LT(ones, far_alone) << "the near square covers part of the far one";
+  // Drawn in the other order, the same pixels.
+  IdPass other(cam);
+  other.draw(square, near, 2);
+  other.draw(square, far, 1);
+  EXPECT_EQ(other.image().ids, pass.image().ids);
+  // A window of a pass holds exactly the whole pass's pixels there.
+  IdPass window(cam, IdImage(10, 8, 30, 20));
+  window.draw(square, far, 1);
+  window.draw(square, near, 2);
+  for (int v = 0; v < 20; ++v) {
+    for (int u = 0; u < 30; ++u) ASSERT_EQ(window.image().at(u, v), pass.image().at(u + 10, v + 8));
+  }
+}
+
+TEST(Visibility, AnObjectBehindATallerOneIsNotClearlyVisibleAndNoTaskNamesIt) {
+  testing::FixtureDataset fx;
+  const auto b = hidden_behind_a_tower(fx);
+  const graph::SceneGraph& g = b.graph;
+  const SceneGeometry geometry(b.scene, g);
+  const VisibilityOracle oracle(g, geometry);
+  const episode::WorldState s = episode::initial_state(g);
+  const graph::PlatformId table = g.navigable[0];
+  ASSERT_EQ(g.platforms[table].default_side, 0) << "arriving at the rear side: the tower stands in front";
+  const auto sight = oracle.arrival_view(s, table);
+  const graph::ObjectId tower = testing::object_of_template(g, "toy_tower");
+  const graph::ObjectId cube = testing::object_of_template(g, "toy_cube");
+  const graph::ObjectId box = testing::object_of_template(g, "toy_box");
+  EXPECT_TRUE(sight->clearly_visible(tower));
+  EXPECT_TRUE(sight->clearly_visible(box));
+  EXPECT_FALSE(sight->clearly_visible(cube)) << sight->of(cube).visible << " of " << sight->of(cube).silhouette;
+  EXPECT_LT(sight->of(cube).share(), 0.6);
+  // With the tower in hand, the cube shows.
+  episode::WorldState held = s;
+  episode::pick(g, held, tower);
+  EXPECT_TRUE(oracle.arrival_view(held, table)->clearly_visible(cube));
+
+  tasks::TaskOptions options;
+  options.levels = {1, 2, 3};
+  options.level3_count = 50;
+  const auto r = tasks::generate_tasks(b.scene, g, options);
+  EXPECT_GT(r.set.dropped.by_reason.at("occluded").at(1), 0);
+  int naming_the_tower = 0;
+  for (const tasks::Task& t : r.set.tasks) {
+    if (t.level < 3) {
+      EXPECT_NE(t.item, g.objects[cube].name) << t.text;
+    }
+    naming_the_tower += t.item == g.objects[tower].name ? 1 : 0;
+  }
+  EXPECT_GT(naming_the_tower, 0);
+  // Without the visibility rules the cube is named.
+  options.visibility.reset();
+  const auto blind = tasks::generate_tasks(b.scene, g, options);
+  EXPECT_TRUE(std::any_of(blind.set.tasks.begin(), blind.set.tasks.end(),
+                          [&](const tasks::Task& t) { return t.item == g.objects[cube].name; }));
+}
+
+// The oracle against whole passes of the same view, object by object, in `states`.
+void expect_windows_answer_as_whole_passes(const graph::SceneGraph& g, const SceneGeometry& geometry,
+                                           const std::vector<episode::WorldState>& states) {
+  const VisibilityOracle oracle(g, geometry);
+  const VisibilityOptions& vo = oracle.options();
+  int compared = 0;
+  for (const episode::WorldState& s : states) {
+    for (const graph::PlatformId p : g.navigable) {
+      const int side = std::max(0, g.platforms[p].default_side);
+      const Camera camera = platform_camera(g, s, p, side, vo.image_width, vo.image_height);
+      const IdView whole = draw_id_view(g, geometry, s, at_resolution(camera, vo.pass_width(), vo.pass_height()));
+      const ViewSight whole_sight(camera, whole.objects, vo);
+      const auto windowed = oracle.arrival_view(s, p);
+      for (const graph::ObjectId o : episode::everything_on(g, s, p)) {
+        if (o == s.held) continue;
+        ASSERT_EQ(windowed->of(o).visible, whole_sight.of(o).visible) << g.objects[o].name << " on " << g.platforms[p].name;
+        ASSERT_EQ(windowed->of(o).silhouette, whole_sight.of(o).silhouette) << g.objects[o].name;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10);
+}
+
+TEST(Visibility, TheOraclesWindowsAnswerAsWholePassesDo) {
+  testing::FixtureDataset fx;
+  const auto b = hidden_behind_a_tower(fx);
+  const graph::SceneGraph& g = b.graph;
+  const SceneGeometry geometry(b.scene, g);
+  std::vector<episode::WorldState> states = {episode::initial_state(g)};
+  // The tower in hand; the tower moved to the other table; the box moved behind the tower.
+  episode::RuleOptions rules;
+  for (const std::vector<std::string>& keys :
+       {std::vector<std::string>{"l1", "o1"}, {"l1", "o1", "l2", "startplace", "5"}, {"l1", "o3", "l1", "startplace", "999"}}) {
+    episode::WorldState s = episode::initial_state(g);
+    for (const std::string& k : keys) episode::apply_action(g, s, k, {}, rules);
+    states.push_back(s);
+  }
+  expect_windows_answer_as_whole_passes(g, geometry, states);
+}
+
+TEST(Visibility, OnAShippedApartmentTheWindowsAnswerAsWholePassesDo) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
+  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), "apt_0", meshes);
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const SceneGeometry geometry(s, g);
+  std::vector<episode::WorldState> states = {episode::initial_state(g)};
+  // Every item of the busiest platform picked in turn (each leaves the view and the numbering).
+  const graph::PlatformId busiest = *std::max_element(g.navigable.begin(), g.navigable.end(), [&](auto a, auto b) {
+    return episode::pickable_on(g, states[0], a).size() < episode::pickable_on(g, states[0], b).size();
+  });
+  for (const graph::ObjectId o : episode::pickable_on(g, states[0], busiest)) {
+    episode::WorldState held = states[0];
+    episode::pick(g, held, o);
+    states.push_back(held);
+    if (states.size() > 8) break;
+  }
+  expect_windows_answer_as_whole_passes(g, geometry, states);
+}
+
+}  // namespace
+}  // namespace mtg::render
