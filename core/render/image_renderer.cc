@@ -38,9 +38,10 @@ std::string join_words(const std::string& a, const std::string& b) {
 // What a marked view leaves to its zoomed views, in words.
 std::string zoomed_caption(const ViewImages& images) {
   if (images.zooms.empty()) return "";
-  std::string out = images.zooms.size() == 1 ? "The close-up Z1 (framed here) shows"
-                                             : "The close-ups Z1 to " + zoom_name(images.zooms.size() - 1) +
-                                                   " (framed here) show";
+  const std::size_t n = images.zooms.size();
+  std::string out = n == 1   ? "The close-up Z1 (framed here) shows"
+                    : n == 2 ? "The close-ups Z1 and Z2 (framed here) show"
+                             : "The close-ups Z1 to " + zoom_name(n - 1) + " (framed here) show";
   out += " small or crowded objects larger.";
   std::vector<int> numbers = images.zoomed;
   std::sort(numbers.begin(), numbers.end());

@@ -92,18 +92,12 @@ struct Disc {
   cv::Scalar fill, ink;
 };
 
-// Leader lines first, so no line crosses a disc drawn earlier; then anchor dots; then discs.
-void draw_discs(cv::Mat& image, const std::vector<Disc>& discs, const Style& st, bool dots) {
+// Leader lines first, so no line crosses a disc drawn earlier; then the discs.
+void draw_discs(cv::Mat& image, const std::vector<Disc>& discs, const Style& st) {
   for (const Disc& d : discs) {
     if (d.anchor == d.label) continue;
     cv::line(image, d.anchor, d.label, cv::Scalar(0, 0, 0), st.thickness + 2, cv::LINE_AA);
     cv::line(image, d.anchor, d.label, mark_colour(d.number), st.thickness, cv::LINE_AA);
-  }
-  if (dots) {
-    for (const Disc& d : discs) {
-      cv::circle(image, d.anchor, std::max(3, st.radius / 3), cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
-      cv::circle(image, d.anchor, std::max(2, st.radius / 3 - 1), mark_colour(d.number), cv::FILLED, cv::LINE_AA);
-    }
   }
   for (const Disc& d : discs) {
     cv::circle(image, d.label, st.radius + 1, cv::Scalar(0, 0, 0), cv::FILLED, cv::LINE_AA);
@@ -142,7 +136,7 @@ void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<Region
                      cv::Scalar(0, 0, 0)});
   }
   cv::addWeighted(tint, 0.5, image, 0.5, 0.0, image);
-  draw_discs(image, discs, st, false);
+  draw_discs(image, discs, st);
 }
 
 // Items as their layout places them: leader lines first (each outlined in black), then the dots,

@@ -194,7 +194,7 @@ ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, con
   plan.camera.near = std::max(0.01, distance - 2.0 * radius);
   plan.camera.far = distance + 2.0 * radius;
   plan.only = r.object;
-  plan.number = {r.number, r.object, e.centre};
+  plan.numbered = {r.number, r.object, e.centre};
   return plan;
 }
 
@@ -234,7 +234,7 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
     if (other != r.object && g.objects[other].pickable() && !support) plan.faded.push_back(other);
   }
   if (s.held.valid()) plan.hidden.push_back(s.held);
-  plan.number = {r.number, r.object, e.centre};
+  plan.numbered = {r.number, r.object, e.centre};
   return plan;
 }
 

@@ -54,7 +54,7 @@ struct ViewPlan {
   graph::ObjectId only;                 // when valid, the single object drawn (item close-ups)
   std::vector<graph::ObjectId> faded;   // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
-  ItemMark number;  // a close-up's object with its number drawn on it (number 0: none)
+  ItemMark numbered;  // a close-up's object with its number drawn on it (number 0: none)
 };
 
 /// @throws mtg::Error unless 1 <= width, height <= 8192 (checked before any work).

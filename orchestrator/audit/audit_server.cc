@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "agents/human/exclusive_port.h"
+#include "agents/human/json_reply.h"
 #include "agents/human/web_assets.h"
 #include "core/util/error.h"
 #include "orchestrator/audit/audit_report.h"
@@ -19,14 +20,8 @@ namespace {
 
 using nlohmann::json;
 
-void send_json(httplib::Response& res, const json& body, int status = 200) {
-  res.status = status;
-  res.set_content(body.dump(), "application/json");
-}
-
-void send_error(httplib::Response& res, int status, const std::string& message) {
-  send_json(res, {{"error", message}}, status);
-}
+using web::send_error;
+using web::send_json;
 
 // An answer from the page: {"valid": bool, "reason": "...", "note": "...", "picks": {"p0.item": "o3"}}.
 Answer answer_from(const json& j, const Item& item) {

@@ -1,16 +1,14 @@
 #include "orchestrator/cli/audit_commands.h"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <thread>
 
-#include "bus/process/stop_signals.h"
 #include "core/util/error.h"
 #include "orchestrator/audit/audit_builder.h"
 #include "orchestrator/audit/audit_report.h"
 #include "orchestrator/audit/audit_server.h"
+#include "orchestrator/cli/serve_until_stopped.h"
 
 namespace mtg::cli {
 
@@ -38,13 +36,7 @@ int run_audit(const AuditCommandOptions& o) {
               "goes on where you left off; mtg audit report %s prints the table)\n",
               n, o.host.c_str(), port, o.out.c_str(), o.out.c_str());
   std::fflush(stdout);
-  process::install_stop_signals();
-  std::thread watcher([&server] {
-    while (!process::stop_signal_received()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    server.stop();
-  });
-  server.serve();
-  watcher.join();
+  serve_until_stopped(server);
   return 0;
 }
 

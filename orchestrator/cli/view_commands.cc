@@ -8,6 +8,7 @@
 #include "bus/process/stop_signals.h"
 #include "core/util/error.h"
 #include "orchestrator/cli/run_commands.h"
+#include "orchestrator/cli/serve_until_stopped.h"
 #include "orchestrator/view/view_server.h"
 
 namespace mtg::cli {
@@ -20,13 +21,7 @@ int run_view(const ViewOptions& o) {
   const int port = server.bind(o.host, o.port);
   std::printf("viewing %zu run(s) at http://%s:%d/ (Ctrl-C stops)\n", dirs.size(), o.host.c_str(), port);
   std::fflush(stdout);
-  process::install_stop_signals();
-  std::thread watcher([&server] {
-    while (!process::stop_signal_received()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    server.stop();
-  });
-  server.serve();
-  watcher.join();
+  serve_until_stopped(server);
   return 0;
 }
 

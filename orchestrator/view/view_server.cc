@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include "agents/human/exclusive_port.h"
+#include "agents/human/json_reply.h"
 
 #include <functional>
 #include <map>
@@ -16,14 +17,8 @@ namespace {
 
 using nlohmann::json;
 
-void send_json(httplib::Response& res, const json& body, int status = 200) {
-  res.status = status;
-  res.set_content(body.dump(), "application/json");
-}
-
-void send_error(httplib::Response& res, int status, const std::string& message) {
-  send_json(res, {{"error", message}}, status);
-}
+using web::send_error;
+using web::send_json;
 
 std::optional<std::string> param(const httplib::Request& req, const char* name) {
   if (!req.has_param(name) || req.get_param_value(name).empty()) return std::nullopt;

@@ -46,6 +46,7 @@ std::vector<std::uint8_t> encode(const Msg& m) {
 mtg::image_t sample_image(int nbytes) {
   mtg::image_t im{};
   im.role = "view_marked";
+  im.caption = "The close-up Z1 (framed here) shows small or crowded objects larger.";
   im.encoding = "png";
   im.width = 640;
   im.height = 480;
@@ -145,6 +146,8 @@ class RoundTrip {
     rreq.views.resize(1);
     rreq.views[0].view = "platform";
     rreq.views[0].side = 2;
+    rreq.views[0].number = 7;
+    rreq.views[0].caption = "The object the task calls 'the leftmost book', object 7 here";
     rreq.width = 640;
     rreq.height = 480;
     rreq.state.phase = mtg::world_state_delta_t::PHASE_PLACING;

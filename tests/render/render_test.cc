@@ -17,6 +17,7 @@
 #include "core/render/image_renderer.h"
 #include "core/render/mark_layout.h"
 #include "core/render/view.h"
+#include "core/render/visibility.h"
 #include "core/util/error.h"
 #include "tests/support/golden_image.h"
 #include "tests/support/graph_fixtures.h"
@@ -123,6 +124,32 @@ TEST_F(RenderTest, FixtureViewsMatchTheirGoldenImages) {
   EXPECT_EQ(testing::compare_golden_image("render/room_grid_marked.png", decode(reply.images[1])), "");
   EXPECT_EQ(testing::compare_golden_image("render/room_held_item.png", decode(reply.images[2])), "");
   EXPECT_EQ(testing::compare_golden_image("render/room_topdown_marked.png", decode(reply.images[4])), "");
+}
+
+// The CPU id pass draws what the GL renderer draws: where GL shows the background, the id pass
+// shows nothing, and elsewhere an object, for all but a sliver of edge pixels.
+TEST_F(RenderTest, TheCpuIdPassCoversWhatGlDraws) {
+  const episode::WorldState s = at(table());
+  const auto& entry = renderer_->scenes().load("render_room", fx_->root().string());
+  render::ViewRequest r;
+  r.platform = table();
+  const render::ViewPlan plan = render::plan_view(g(), s, r);
+  const render::ViewImages gl = draw(s, plan);
+  const render::IdImage ids =
+      render::draw_id_view(g(), renderer_->geometry(entry), s, plan.camera, plan.hidden).image;
+  const cv::Vec3b background(235, 222, 214);
+  int agree = 0, objects = 0;
+  for (int v = 0; v < gl.plain.rows; ++v) {
+    for (int u = 0; u < gl.plain.cols; ++u) {
+      const bool gl_empty = gl.plain.at<cv::Vec3b>(v, u) == background;
+      const bool cpu_empty = ids.at(u, v) == render::IdImage::kNone;
+      agree += gl_empty == cpu_empty ? 1 : 0;
+      objects += cpu_empty ? 0 : 1;
+    }
+  }
+  const double share = static_cast<double>(agree) / (gl.plain.rows * gl.plain.cols);
+  EXPECT_GT(share, 0.995) << "GL and the id pass disagree on " << 100 * (1 - share) << " % of the pixels";
+  EXPECT_GT(objects, 640 * 480 / 10) << "the view shows its table";
 }
 
 TEST_F(RenderTest, ItemAndTargetNumbersAreTheActionSpaceKeys) {

@@ -327,12 +327,12 @@ ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const 
   }
   ViewImages out;
   out.triangles = frame.triangles;
-  if (plan.number.number > 0 && plan.only.valid() == (plan.number.object == plan.only)) {
+  if (plan.numbered.number > 0) {
     // A close-up's number, on the object's own pixels (its neighbours, faded or not, aside).
     const Camera pass = at_resolution(plan.camera, std::max(1, plan.camera.width / kMarkPassScale),
                                       std::max(1, plan.camera.height / kMarkPassScale));
-    const IdImage ids = draw_id_view(g, geometry, s, pass, {}, plan.number.object).image;
-    const MarkLayout layout = layout_item_marks(ids, kMarkPassScale, plan.camera, {plan.number});
+    const IdImage ids = draw_id_view(g, geometry, s, pass, {}, plan.numbered.object).image;
+    const MarkLayout layout = layout_item_marks(ids, kMarkPassScale, plan.camera, {plan.numbered});
     frame.image = annotate(frame.image, plan.camera, Marks{}, &layout);
   }
   if (with_marks) {

@@ -27,13 +27,25 @@ namespace {
 
 class ShippedTasks : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
-  MTG_REQUIRE_SHIPPED_DATA();
+// A shipped apartment and its graph (the default profile).
+struct Shipped {
+  scene::Scene scene;
+  graph::SceneGraph graph;
+};
+Shipped load_shipped(const std::string& name) {
   scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), GetParam(), meshes);
+  Shipped out{scene::load_scene(*testing::shipped_dataset(), name, meshes), {}};
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, graph::kDefaultProfile);
-  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  out.graph = graph::build_scene_graph(out.scene, graph_options);
+  return out;
+}
+
+TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  const Shipped shipped = load_shipped(GetParam());
+  const scene::Scene& s = shipped.scene;
+  const graph::SceneGraph& g = shipped.graph;
   TaskOptions options;
   options.level3_count = 1000;  // the full 10,000 are exercised by `mtg tasks`; same code
   const GenerationResult r = generate_tasks(s, g, options);
@@ -62,11 +74,9 @@ TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
 
 TEST_P(ShippedTasks, EveryObjectATextNamesIsSeenAndTheItemsNumberRead) {
   MTG_REQUIRE_SHIPPED_DATA();
-  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), GetParam(), meshes);
-  graph::GraphOptions graph_options;
-  graph::apply_profile(graph_options, graph::kDefaultProfile);
-  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const Shipped shipped = load_shipped(GetParam());
+  const scene::Scene& s = shipped.scene;
+  const graph::SceneGraph& g = shipped.graph;
   const TaskOptions options;  // the whole sets: 10,000 Level 3 chains
   const GenerationResult r = generate_tasks(s, g, options, {}, {}, 2);
   const render::SceneGeometry geometry(s, g);
