@@ -169,12 +169,12 @@ void IdPass::fill_triangle(const Eigen::Vector4f& a4, const Eigen::Vector4f& b4,
     float lo = -std::numeric_limits<float>::infinity(), hi = std::numeric_limits<float>::infinity();
     bool empty = false;
     const auto bound = [&](float qx, float qy, float ex, float ey) {
-      const float a = (py - qy) * ey - qx * ex;  // w(px) = a + ex * px
+      const float offset = (py - qy) * ey - qx * ex;  // w(px) = offset + ex * px
       if (ex > 0.0f) {
-        lo = std::max(lo, -a / ex);
+        lo = std::max(lo, -offset / ex);
       } else if (ex < 0.0f) {
-        hi = std::min(hi, -a / ex);
-      } else if (a < 0.0f) {
+        hi = std::min(hi, -offset / ex);
+      } else if (offset < 0.0f) {
         empty = true;
       }
     };
