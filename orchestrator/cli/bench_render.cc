@@ -92,9 +92,6 @@ int run_bench_render(const BenchRenderOptions& o) {
     for (int round = 0; round < o.rounds; ++round) {
       for (const graph::PlatformId p : g.navigable) {
         const render::ViewRequest r = view_of(p);
-        // The phases of draw_view(..., true), timed apart: planning is CPU work, drawing is the GL
-        // draw and read-back, marking is CPU work (the id pass, the layout, drawing the marks; the
-        // zoomed views of crowded platforms are drawn here too, with their GL draws).
         // The phases of draw_view(..., true), timed apart: planning is CPU work; the draw is the
         // GL draw and read-back (timed alone on a second draw of the same view); the marks are
         // the rest: the CPU id pass, the layout, drawing them, and any zoomed view's GL draw.
