@@ -98,10 +98,10 @@ int run_bench_render(const BenchRenderOptions& o) {
         Stopwatch watch;
         const render::ViewPlan plan = render::plan_view(g, initial, r);
         const double planned = watch.elapsed_ms();
-        render::ViewImages images = render::draw_view(gpu, g, initial, plan, true, geometry);
+        const std::vector<render::ViewImages> drawn_views{render::draw_view(gpu, g, initial, plan, true, geometry)};
+        const render::ViewImages& images = drawn_views.front();
         frame_ms.push_back(watch.elapsed_ms());
-        std::vector<const cv::Mat*> all = render::images_in_reply_order({images});
-        bytes += encoded_bytes(all);
+        bytes += encoded_bytes(render::images_in_reply_order(drawn_views));
         observation_ms.push_back(watch.elapsed_ms());
         Stopwatch draw_only;
         (void)render::draw_view(gpu, g, initial, plan, false, geometry);
