@@ -8,11 +8,11 @@
 #include "core/util/text.h"
 
 namespace mtg::vlm {
-// Compiled in from agents/vlm/prompts/v2 (agents/CMakeLists.txt).
-extern const char* const kPromptV2Version;
-extern const char* const kPromptV2System;
-extern const char* const kPromptV2Step;
-extern const char* const kPromptV2Vote;
+// Compiled in from agents/vlm/prompts/v3 (agents/CMakeLists.txt).
+extern const char* const kPromptV3Version;
+extern const char* const kPromptV3System;
+extern const char* const kPromptV3Step;
+extern const char* const kPromptV3Vote;
 namespace {
 
 namespace fs = std::filesystem;
@@ -75,11 +75,11 @@ PromptSet PromptSet::load(const std::string& dir) {
 
 PromptSet PromptSet::builtin() {
   PromptSet p;
-  p.dir = "agents/vlm/prompts/v2";
-  p.system = kPromptV2System;
-  p.step = kPromptV2Step;
-  p.vote = kPromptV2Vote;
-  return checked(std::move(p), trim_whitespace(kPromptV2Version));
+  p.dir = "agents/vlm/prompts/v3";
+  p.system = kPromptV3System;
+  p.step = kPromptV3Step;
+  p.vote = kPromptV3Vote;
+  return checked(std::move(p), trim_whitespace(kPromptV3Version));
 }
 
 }  // namespace mtg::vlm

@@ -19,7 +19,7 @@ struct PromptSet {
 
   /// @throws mtg::Error naming the file (missing, or an unknown placeholder).
   static PromptSet load(const std::string& dir);
-  /// The shipped set (agents/vlm/prompts/v2), compiled in.
+  /// The shipped set (agents/vlm/prompts/v3), compiled in.
   static PromptSet builtin();
 };
 

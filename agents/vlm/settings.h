@@ -34,7 +34,7 @@ struct VlmSettings {
   std::string cache_file;           // "" = $MTG_CACHE_DIR or ~/.cache/mtg, vlm-cache.sqlite
   bool cache_only = false;          // a cache miss fails the call instead of calling the API
   bool no_cache = false;
-  std::string prompts_dir;          // "" = the shipped agents/vlm/prompts/v2 (compiled in)
+  std::string prompts_dir;          // "" = the shipped agents/vlm/prompts/v3 (compiled in)
   std::string prices_file;          // "" = the shipped agents/vlm/prices.json (compiled in)
   std::string key_file;             // "" = the provider's environment variable
   std::string base_url;             // "" = the provider's default (or its *_BASE_URL variable)

@@ -59,7 +59,7 @@ TEST(PromptTest, TheShippedTemplatesLoadAndCarryAVersionWithTheirHash) {
   const PromptSet p = PromptSet::builtin();
   EXPECT_THAT(p.version, ::testing::StartsWith("v3+"));
   EXPECT_EQ(p.version.size(), 11u);
-  const PromptSet from_files = PromptSet::load(std::string(MTG_SOURCE_DIR) + "/agents/vlm/prompts/v2");
+  const PromptSet from_files = PromptSet::load(std::string(MTG_SOURCE_DIR) + "/agents/vlm/prompts/v3");
   EXPECT_EQ(from_files.version, p.version) << "the compiled-in templates are the shipped files";
   EXPECT_THAT(render_template("a {{ x }} b {{y}}", {{"x", "1"}, {"y", "2"}}, "t"), "a 1 b 2");
   try {
