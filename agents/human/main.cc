@@ -15,12 +15,13 @@
 int main(int argc, char** argv) {
   CLI::App app{"mtg human agent: play episodes in the browser"};
   std::string url = mtg::bus::default_url();
-  std::string run_id, host = "127.0.0.1";
+  std::string run_id, host = "127.0.0.1", token_file;
   int port = 8780;
   app.add_option("--url", url, "LCM URL");
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   app.add_option("--host", host, "address of the play page (default 127.0.0.1: this machine only)");
   app.add_option("--port", port, "port of the play page");
+  app.add_option("--token-file", token_file, "the page's token (needed with a --host beyond loopback)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("agent human");
   mtg::process::install_stop_signals();
@@ -30,8 +31,10 @@ int main(int argc, char** argv) {
     auto desk_owner = std::make_unique<mtg::agents::PlayDesk>();
     mtg::agents::PlayDesk& desk = *desk_owner;
     mtg::agents::PlayServer server(desk);
-    server.start(host, port);
-    mtg::log::info("play at http://" + host + ":" + std::to_string(port) + "/");
+    const std::string token = token_file.empty() ? "" : mtg::web::read_token_file(token_file);
+    server.start(host, port, token);
+    // The token stays out of the log: the run's folder may be shared.
+    mtg::log::info("play at " + mtg::web::page_url({host, port, token.empty() ? "" : "<token>"}));
     // One worker thread: the person's answer is awaited there, never in the bus thread.
     mtg::agents::AgentHost agent(bus, stamp, "human", std::move(desk_owner), run_id, 1);
     // Declared after the host, so it runs first: the host's worker may be waiting for a person.

@@ -1,11 +1,13 @@
 #pragma once
 // The play page's HTTP side: the page itself and the JSON API over a PlayDesk (docs/view.md,
-// "Play"). Bound to 127.0.0.1 by default: whoever reaches the port plays the episode.
+// "Play"). Bound to 127.0.0.1 by default; only the page itself drives it (page_guard.h), and
+// beyond loopback only a browser that opened the URL with the run's token.
 
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "agents/human/page_guard.h"
 #include "agents/human/play_desk.h"
 
 namespace httplib {
@@ -21,12 +23,14 @@ class PlayServer {
   PlayServer(const PlayServer&) = delete;
   PlayServer& operator=(const PlayServer&) = delete;
 
-  /// Binds and serves on a thread of its own. @throws mtg::Error when the port is taken.
-  void start(const std::string& host, int port);
+  /// Binds and serves on a thread of its own; `token` is required (and checked) when `host` is
+  /// not a loopback address. @throws mtg::Error when the port is taken or a token is missing.
+  void start(const std::string& host, int port, const std::string& token = "");
 
  private:
   PlayDesk& desk_;
   std::unique_ptr<httplib::Server> http_;
+  web::PageGuard guard_;
   std::thread thread_;
 };
 

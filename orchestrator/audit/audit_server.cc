@@ -66,38 +66,17 @@ AuditServer::AuditServer(const std::filesystem::path& dir)
 AuditServer::~AuditServer() = default;
 
 int AuditServer::bind(const std::string& host, int port) {
-  host_ = host;
-  port_ = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
-  if (port_ < 0) throw Error("mtg audit: cannot listen on " + host + ":" + std::to_string(port) + " (taken?)");
-  return port_;
+  const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
+  if (bound <= 0) throw Error("mtg audit: cannot listen on " + host + ":" + std::to_string(port) + " (taken?)");
+  guard_.set_address({host, bound, web::is_loopback(host) ? "" : web::random_token()});
+  return bound;
 }
 
 void AuditServer::serve() { http_->listen_after_bind(); }
 void AuditServer::stop() { http_->stop(); }
 
 void AuditServer::add_routes() {
-  // Only requests addressed to this server (a DNS name rebound to 127.0.0.1 is refused), and
-  // answers only from its own page.
-  http_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    const std::string port = ":" + std::to_string(port_);
-    const std::string host = req.get_header_value("Host");
-    if (host != "127.0.0.1" + port && host != "localhost" + port && host != host_ + port) {
-      send_error(res, 403, "this page answers requests for 127.0.0.1" + port + " only, not '" + host + "'");
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    if (req.method == "POST") {
-      const std::string origin = req.get_header_value("Origin");
-      if (!origin.empty() && origin != "http://" + host) {
-        send_error(res, 403, "answers come from the audit page only, not from " + origin);
-        return httplib::Server::HandlerResponse::Handled;
-      }
-      if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
-        send_error(res, 415, "answers are JSON (Content-Type: application/json)");
-        return httplib::Server::HandlerResponse::Handled;
-      }
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
-  });
+  guard_.install(*http_);
   for (const web::Asset& asset : web::audit_assets()) {
     const std::string path = asset.path == "index.html" ? "/" : "/" + asset.path;
     http_->Get(path, [&asset](const httplib::Request&, httplib::Response& res) {

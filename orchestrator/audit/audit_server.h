@@ -1,14 +1,15 @@
 #pragma once
 // The audit's local page and its JSON API (docs/view.md, "mtg audit"). It serves only what the
-// agent would see and the person's answers; the truth stays in the store. Bound to 127.0.0.1; it
-// answers only requests addressed to that host and port, and takes answers only as JSON from its
-// own page (a page of another site cannot answer for the person).
+// agent would see and the person's answers; the truth stays in the store. Bound to 127.0.0.1 by
+// default; only its own page drives it (agents/human/page_guard.h): a page of another site cannot
+// answer for the person.
 
 #include <filesystem>
 #include <memory>
 #include <mutex>
 #include <string>
 
+#include "agents/human/page_guard.h"
 #include "orchestrator/audit/audit_store.h"
 
 namespace httplib {
@@ -27,6 +28,8 @@ class AuditServer {
   /// Binds `host`:`port` (0: any free port) and serves until stop(). @throws mtg::Error when the
   /// port is taken. Returns the port bound.
   int bind(const std::string& host, int port);
+  /// The URL to open (with the token where one is needed); valid after bind().
+  std::string url() const { return web::page_url(guard_.address()); }
   void serve();  // blocks
   void stop();
 
@@ -36,8 +39,7 @@ class AuditServer {
   std::mutex mutex_;  // the store is used by one request at a time
   AuditStore store_;
   std::unique_ptr<httplib::Server> http_;
-  std::string host_;
-  int port_ = 0;
+  web::PageGuard guard_{"the audit page"};
 };
 
 }  // namespace mtg::orchestrator::audit

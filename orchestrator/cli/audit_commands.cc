@@ -31,10 +31,10 @@ int run_audit(const AuditCommandOptions& o) {
     return 0;
   }
   orchestrator::audit::AuditServer server(o.out);
-  const int port = server.bind(o.host, o.port);
-  std::printf("auditing %d tasks at http://%s:%d/ ; answers go to %s/audit.sqlite (Ctrl-C stops; the same command "
+  server.bind(o.host, o.port);
+  std::printf("auditing %d tasks at %s ; answers go to %s/audit.sqlite (Ctrl-C stops; the same command "
               "goes on where you left off; mtg audit report %s prints the table)\n",
-              n, o.host.c_str(), port, o.out.c_str(), o.out.c_str());
+              n, server.url().c_str(), o.out.c_str(), o.out.c_str());
   std::fflush(stdout);
   serve_until_stopped(server);
   return 0;

@@ -18,8 +18,8 @@ int run_view(const ViewOptions& o) {
   if (o.port < 0 || o.port > 65535) throw Error("--port must be 0..65535, not " + std::to_string(o.port));
   std::vector<std::filesystem::path> dirs(o.runs.begin(), o.runs.end());
   orchestrator::view::ViewServer server(dirs);
-  const int port = server.bind(o.host, o.port);
-  std::printf("viewing %zu run(s) at http://%s:%d/ (Ctrl-C stops)\n", dirs.size(), o.host.c_str(), port);
+  server.bind(o.host, o.port);
+  std::printf("viewing %zu run(s) at %s (Ctrl-C stops)\n", dirs.size(), server.url().c_str());
   std::fflush(stdout);
   serve_until_stopped(server);
   return 0;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "agents/builtin/policies.h"
+#include "agents/human/page_guard.h"
 #include "agents/vlm/model_spec.h"
 #include "bus/channels.h"
 #include "bus/error_events.h"
@@ -132,8 +133,17 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     if (agents::is_builtin_agent(spec)) {
       supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
     } else if (spec == agents::kHumanAgent) {
-      supervisor_.start(name, with({(bin / "mtg_human_agent").string(), "--host", config_.play_host, "--port",
-                                    std::to_string(config_.play_port)}));
+      std::vector<std::string> argv = {(bin / "mtg_human_agent").string(), "--host", config_.play_host, "--port",
+                                       std::to_string(config_.play_port)};
+      if (!web::is_loopback(config_.play_host)) {
+        // Beyond this machine the page needs a token: drawn here, handed over in a file of the
+        // run's own (mode 600), never on a command line others can read.
+        play_token_ = web::random_token();
+        const fs::path file = dir_ / "play.token";
+        web::write_token_file(file.string(), play_token_);
+        argv.insert(argv.end(), {"--token-file", file.string()});
+      }
+      supervisor_.start(name, with(argv));
     } else if (vlm::is_model_spec(spec)) {
       // As many calls in flight as episodes, unless the settings say otherwise.
       std::vector<std::string> argv = {(bin / "mtg_vlm_agent").string(), "--agent", spec, "--workers",
@@ -155,7 +165,8 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
   wait_ready(names_, 60.0);
   if (std::find(config_.agents.begin(), config_.agents.end(), agents::kHumanAgent) != config_.agents.end()) {
     // Now the page answers: say where it is (mtg play).
-    std::printf("play in the browser: http://%s:%d/\n", config_.play_host.c_str(), config_.play_port);
+    std::printf("play in the browser: %s\n",
+                web::page_url({config_.play_host, config_.play_port, play_token_}).c_str());
     std::fflush(stdout);
   }
   return {};

@@ -99,6 +99,7 @@ class LocalRuntime final : public Launcher {
   Supervisor supervisor_;
   std::vector<std::string> names_;                   // processes that heartbeat, but the recorder
   std::map<std::string, std::string> agent_process_; // agent spec -> process name
+  std::string play_token_;                           // the play page's token ("" on loopback)
   std::set<int> ready_pids_;
   std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()

@@ -37,6 +37,16 @@ int int_param(const httplib::Request& req, const char* name, int fallback) {
   throw Error(std::string("query parameter '") + name + "' is not a number: " + *v);
 }
 
+// A number matched by \d+ in the route; one too large is a mistake of the request, said so.
+long long path_number(const httplib::Request& req, std::size_t match, const char* what) {
+  const std::string text = req.matches[match];
+  try {
+    return std::stoll(text);
+  } catch (const std::exception&) {
+    throw Error(std::string(what) + " '" + text.substr(0, 24) + "' is out of range");
+  }
+}
+
 EpisodeFilter filter_of(const httplib::Request& req) {
   EpisodeFilter f;
   f.agent = param(req, "agent");
@@ -70,6 +80,7 @@ httplib::Server::Handler guarded(std::function<void(const httplib::Request&, htt
 
 ViewServer::ViewServer(const std::vector<std::filesystem::path>& run_dirs) : http_(std::make_unique<httplib::Server>()) {
   web::bind_exclusively(*http_);
+  guard_.install(*http_);
   std::map<std::string, int> seen;
   for (const auto& dir : run_dirs) {
     std::string name = std::filesystem::absolute(dir).lexically_normal().filename().string();
@@ -124,7 +135,7 @@ void ViewServer::add_routes() {
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+))", with_run([](RunView& r, const httplib::Request& req,
                                                                  httplib::Response& res) {
-    const bus::EpisodeId id(std::stoll(req.matches[2]));
+    const bus::EpisodeId id(path_number(req, 2, "episode"));
     json e = r.episode(id, int_param(req, "attempt", -1));
     if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + to_string(id));
     const std::string base = "/api/runs/" + r.name() + "/episodes/" + to_string(id) + "/images/" +
@@ -141,14 +152,19 @@ void ViewServer::add_routes() {
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/truth)", with_run([](RunView& r, const httplib::Request& req,
                                                                        httplib::Response& res) {
-    const json t = r.truth(bus::EpisodeId(std::stoll(req.matches[2])), int_param(req, "attempt", -1));
+    const json t = r.truth(bus::EpisodeId(path_number(req, 2, "episode")), int_param(req, "attempt", -1));
     if (t.is_null()) return send_error(res, 404, "no goal recorded for that episode");
     send_json(res, t);
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/images/(\d+)/(\d+)/(\d+))",
              with_run([](RunView& r, const httplib::Request& req, httplib::Response& res) {
-               const auto img = r.image(bus::EpisodeId(std::stoll(req.matches[2])), std::stoi(req.matches[3]),
-                                        std::stoi(req.matches[4]), std::stoi(req.matches[5]));
+               const auto small = [&](std::size_t m, const char* what) {
+                 const long long n = path_number(req, m, what);
+                 if (n > 1000000) throw Error(std::string(what) + " " + std::to_string(n) + " is out of range");
+                 return static_cast<int>(n);
+               };
+               const auto img = r.image(bus::EpisodeId(path_number(req, 2, "episode")), small(3, "attempt"),
+                                        small(4, "step"), small(5, "image"));
                if (!img) return send_error(res, 404, "no such image in the recording");
                res.set_header("Cache-Control", "max-age=86400");
                res.set_content(reinterpret_cast<const char*>(img->bytes.data()), img->bytes.size(),
@@ -158,13 +174,12 @@ void ViewServer::add_routes() {
 
 int ViewServer::bind(const std::string& host, int port) {
   if (port == 0) {
-    const int bound = http_->bind_to_any_port(host);
-    if (bound <= 0) throw Error("cannot listen on " + host);
-    return bound;
-  }
-  if (!http_->bind_to_port(host, port)) {
+    port = http_->bind_to_any_port(host);
+    if (port <= 0) throw Error("cannot listen on " + host);
+  } else if (!http_->bind_to_port(host, port)) {
     throw Error("cannot listen on " + host + ":" + std::to_string(port) + " (taken? choose another with --port)");
   }
+  guard_.set_address({host, port, web::is_loopback(host) ? "" : web::random_token()});
   return port;
 }
 

@@ -145,6 +145,10 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
   EXPECT_EQ(bad[0], 400);
   EXPECT_EQ(bad[1], "query parameter 'level' is not a number: two");
   EXPECT_EQ(status("/api/runs/run/episodes?success=1")[0], 200);
+  EXPECT_EQ(status("/api/runs/run/episodes/99999999999999999999999")[1], "episode '99999999999999999999999' is out of range");
+  const json missing = status("/api/nothing/here");
+  EXPECT_EQ(missing[0], 404);
+  EXPECT_EQ(missing[1], "no such page or API route: GET /api/nothing/here") << "no empty 404 bodies";
 
   // A second viewer on the same port gets one line, not a crash.
   testing::ChildProcess second({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port",
@@ -157,6 +161,34 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
   // A folder that is not a run.
   testing::ChildProcess wrong({testing::bin("mtg"), "view", fx_.root().string()}, (fx_.root() / "view3.log").string());
   EXPECT_EQ(wrong.wait(10000), 1);
+}
+
+// `mtg view --host 0.0.0.0`: reachable from other machines, so only a browser that opened the
+// printed URL (with its token) reads runs; the page's own requests then carry its cookie.
+TEST_F(ViewerTest, BeyondLoopbackOnlyTheBrowserThatOpenedTheTokenUrlReadsRuns) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle"}, 1, 2)), 0) << log_text();
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--host", "0.0.0.0",
+                              "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  std::smatch m;
+  std::string said;
+  const std::regex url(R"(http://[^:/ ]+:(\d+)/\?token=([0-9a-f]{64}))");
+  for (int i = 0; i < 200 && !std::regex_search(said, m, url); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::ifstream in(fx_.root() / "view.log");
+    said.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_TRUE(std::regex_search(said, m, url)) << said;
+  const std::string base = "http://127.0.0.1:" + std::string(m[1]) + "/";
+  const std::string fetch_runs = "fetch('/api/runs').then((r) => r.status)";
+  auto stranger = browser();
+  stranger->navigate(base);
+  EXPECT_EQ(stranger->evaluate(fetch_runs), 403);
+  stranger.reset();
+  auto user = std::make_unique<testing::HeadlessBrowser>(fx_.root() / "chromium-profile-user");
+  user->navigate(base + "?token=" + std::string(m[2]));
+  EXPECT_EQ(user->evaluate(fetch_runs), 200);
+  EXPECT_TRUE(user->wait_for("document.body.textContent.includes('oracle')", 10000)) << "the overview loads";
 }
 
 TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
@@ -199,6 +231,17 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
         << "the person sees the images a model sees";
     if (screenshots++ < 2) b->screenshot(kArtifacts / ("play-" + std::to_string(screenshots) + ".png"), true);
     const std::string& key = plan[step];
+    if (clicks == 0) {
+      // A page of another origin in the same browser tries to play the right move: refused,
+      // the person's step stays where it was (the step count checked below counts only clicks).
+      const json foreign = b->evaluate("fetch('http://localhost:" + std::to_string(port) +
+                                       "/api/play/action', {method: 'POST', mode: 'no-cors', headers: "
+                                       "{'Content-Type': 'text/plain'}, body: '{\"key\": \"" + key +
+                                       "\"}'}).then((r) => r.type).catch(() => 'refused')");
+      EXPECT_TRUE(foreign == "opaque" || foreign == "refused") << foreign.dump();
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      EXPECT_EQ(b->evaluate("document.getElementById('status').dataset.step").get<std::string>(), std::to_string(step));
+    }
     ASSERT_TRUE(b->evaluate("(() => { const k = document.querySelector('.actions button[data-key=\"" + key +
                             "\"]:not([disabled])'); if (!k) return false; k.click(); return true; })()")
                     .get<bool>())
