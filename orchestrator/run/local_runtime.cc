@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <thread>
@@ -93,6 +94,7 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
   int k = 0;
   while (fs::exists(dir_ / ("bus-" + std::to_string(k) + ".lcmlog"))) ++k;
   const fs::path log = dir_ / ("bus-" + std::to_string(k) + ".lcmlog");
+  first_attempt_ = k * std::max(1, config_.attempts_per_invocation);
   // Both append, so a restarted recorder continues the file.
   if (config_.recorder == "lcm-logger") {
     supervisor_.start("recorder", {"/usr/bin/lcm-logger", "--lcm-url=" + config_.bus_url, "--append", log.string()});

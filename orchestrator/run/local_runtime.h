@@ -49,6 +49,10 @@ struct RuntimeConfig {
   std::string data_dir;  // the run's dataset path ("" = the default search), as in episode starts
   std::string play_host = "127.0.0.1";  // the human agent's play page (`mtg play`)
   int play_port = 8780;
+  /// Attempt numbers one invocation may use (the plan's max_attempts): invocation k of a run
+  /// (its recording bus-<k>.lcmlog) numbers its attempts from k times this, so a resumed episode
+  /// never repeats an attempt an earlier invocation recorded.
+  int attempts_per_invocation = 3;
 };
 
 class LocalRuntime final : public Launcher {
@@ -58,7 +62,7 @@ class LocalRuntime final : public Launcher {
 
   std::vector<AdoptedAttempt> open() override;
   int free_slots() const override;
-  int next_attempt(bus::EpisodeId) const override { return 0; }
+  int next_attempt(bus::EpisodeId) const override { return first_attempt_; }
   void launch(const EpisodeLaunch& launch) override;
   void drop(bus::EpisodeId episode_id, int attempt) override;
   void poll(int timeout_ms, LaunchSink& sink) override;
@@ -100,6 +104,7 @@ class LocalRuntime final : public Launcher {
   std::vector<std::string> names_;                   // processes that heartbeat, but the recorder
   std::map<std::string, std::string> agent_process_; // agent spec -> process name
   std::string play_token_;                           // the play page's token ("" on loopback)
+  int first_attempt_ = 0;                            // of this invocation (RuntimeConfig::attempts_per_invocation)
   std::set<int> ready_pids_;
   std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()

@@ -61,7 +61,7 @@ class Engine final : public LaunchSink {
       const auto it = std::find(pending_.begin(), pending_.end(), a.episode);
       if (it == pending_.end()) continue;
       pending_.erase(it);
-      in_flight_[a.episode] = Flight{a.attempt, Clock::now()};
+      in_flight_[a.episode] = Flight{a.attempt, 1, Clock::now()};
     }
     Progress progress(summary.planned, summary.already_done, options_.progress);
     progress_ = &progress;
@@ -126,7 +126,7 @@ class Engine final : public LaunchSink {
     const auto theirs_id = [&](bus::EpisodeId id) { return by_id_.at(id)->agent == spec; };
     not_run_ += static_cast<std::int64_t>(std::erase_if(pending_, theirs_id));
     not_run_ += static_cast<std::int64_t>(
-        std::erase_if(waiting_retries_, [&](const auto& retry) { return theirs_id(retry.first); }));
+        std::erase_if(waiting_retries_, [&](const Retry& retry) { return theirs_id(retry.episode); }));
     for (auto it = in_flight_.begin(); it != in_flight_.end();) {
       const bool theirs = by_id_.at(it->first)->agent == spec;
       if (theirs) {
@@ -140,7 +140,13 @@ class Engine final : public LaunchSink {
  private:
   struct Flight {
     int attempt = 0;
+    int tries = 1;  // attempts of this episode made by this invocation, this one included
     Clock::time_point started;
+  };
+  struct Retry {
+    bus::EpisodeId episode;
+    int attempt = 0;
+    int tries = 1;
   };
 
   void dispatch() {
@@ -148,13 +154,13 @@ class Engine final : public LaunchSink {
            (plan_.parallel <= 0 || static_cast<int>(in_flight_.size()) < plan_.parallel)) {
       // Retries first, oldest first: they have waited longest.
       if (!waiting_retries_.empty()) {
-        const auto [id, attempt] = waiting_retries_.front();
+        const Retry r = waiting_retries_.front();
         waiting_retries_.pop_front();
-        send_start(id, attempt);
+        send_start(r.episode, r.attempt, r.tries);
       } else {
         const bus::EpisodeId id = pending_.front();
         pending_.pop_front();
-        send_start(id, launcher_.next_attempt(id));
+        send_start(id, launcher_.next_attempt(id), 1);
       }
     }
     const bool stuck = in_flight_.empty() && (!waiting_retries_.empty() || !pending_.empty());
@@ -165,7 +171,7 @@ class Engine final : public LaunchSink {
     said_stuck_ = stuck;
   }
 
-  void send_start(bus::EpisodeId id, int attempt) {
+  void send_start(bus::EpisodeId id, int attempt, int tries) {
     const PlannedEpisode& e = *by_id_.at(id);
     const auto task = tasks_.find(e.task_id);
     if (task == tasks_.end()) throw Error("task " + e.task_id + " of the plan is not in " + plan_.tasks_db);
@@ -181,18 +187,18 @@ class Engine final : public LaunchSink {
     m.render = plan_.render;
     m.data_dir = plan_.data_dir;
     m.object_names = plan_.object_names;
-    in_flight_[id] = Flight{attempt, Clock::now()};
+    in_flight_[id] = Flight{attempt, tries, Clock::now()};
     launcher_.launch(launch);
   }
 
   void retry(bus::EpisodeId id, const std::string& why, episode::Cause cause = episode::Cause::kInfrastructure) {
     const auto it = in_flight_.find(id);
     if (it == in_flight_.end()) return;
-    const int attempt = it->second.attempt + 1;
+    const Flight failed = it->second;
     in_flight_.erase(it);
-    if (attempt >= plan_.max_attempts) {
-      log::warn("episode " + to_string(id) + " given up after " + std::to_string(attempt) + " attempts: " + why);
-      EpisodeRow row = base_row(id, attempt - 1);
+    if (failed.tries >= plan_.max_attempts) {
+      log::warn("episode " + to_string(id) + " given up after " + std::to_string(failed.tries) + " attempts: " + why);
+      EpisodeRow row = base_row(id, failed.attempt);
       row.status = "error";
       row.stage = episode::to_string(episode::Stage::kStart);
       row.cause = episode::to_string(cause);
@@ -201,11 +207,12 @@ class Engine final : public LaunchSink {
       ++errors_;
       return;
     }
+    const int attempt = failed.attempt + 1;
     log::info("episode " + to_string(id) + ": retrying (attempt " + std::to_string(attempt) + "): " + why);
     ++retries_;
     if (progress_ != nullptr) progress_->retry();
     // Sent by dispatch() when a slot is free: a lost host may have taken its slots with it.
-    waiting_retries_.emplace_back(id, attempt);
+    waiting_retries_.push_back(Retry{id, attempt, failed.tries + 1});
   }
 
   EpisodeRow base_row(bus::EpisodeId id, int attempt) const {
@@ -254,7 +261,7 @@ class Engine final : public LaunchSink {
   bus::HeaderStamper stamp_;
   std::map<bus::EpisodeId, const PlannedEpisode*> by_id_;
   std::deque<bus::EpisodeId> pending_;
-  std::deque<std::pair<bus::EpisodeId, int>> waiting_retries_;  // (episode, attempt), sent before pending_
+  std::deque<Retry> waiting_retries_;  // sent before pending_
   bool said_stuck_ = false;
   std::map<bus::EpisodeId, Flight> in_flight_;
   Progress* progress_ = nullptr;
@@ -283,6 +290,7 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.data_dir = plan.data_dir;
   c.play_host = options.play_host;
   c.play_port = options.play_port;
+  c.attempts_per_invocation = plan.max_attempts;
   return c;
 }
 

@@ -102,6 +102,47 @@ TEST_F(RuntimeTest, KillingTheOrchestratorAndRunningAgainResumesWithoutRunningAn
   EXPECT_TRUE(fs::exists(fx_.root() / "resume" / "bus-1.lcmlog"));  // a second recording
 }
 
+// An agent that answers differently in each invocation (a person, a model on a cache miss): the
+// episodes an interrupted run left unfinished run again as new attempts, so the recording keeps
+// both invocations' answers apart and `mtg rejudge` agrees with every stored verdict.
+TEST_F(RuntimeTest, AResumedEpisodeRunsAsANewAttemptAndRejudgeAgreesWithEveryVerdict) {
+  const fs::path script = fx_.root() / "answers.json";
+  // First invocation: keys that exist but are never offered, a step each, up to the step limit.
+  std::ofstream(script) << R"({"replies": [)" << [] {
+    std::string keys;
+    for (int i = 0; i < 40; ++i) keys += std::string(i ? "," : "") + "\"o999\"";
+    return keys;
+  }() << "]}";
+  const auto args = run_args("changing", {"script:" + script.string()}, 0, 2);
+  {
+    testing::ChildProcess run(args, log());
+    ASSERT_TRUE(wait_for_results("changing", 3, 60000)) << log_text();
+    ::kill(run.pid(), SIGINT);
+    ASSERT_EQ(run.wait(60000), 130) << log_text();
+  }
+  const std::size_t first_invocation = results("changing").size();
+  ASSERT_LT(first_invocation, planned("changing"));
+  // Second invocation: the same agent now ends every episode at once.
+  std::ofstream(script, std::ios::trunc) << R"({"replies": ["0"]})";
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  const auto rows = results("changing");
+  ASSERT_EQ(rows.size(), planned("changing"));
+  int resumed = 0;
+  for (const auto& r : rows) {
+    if (r.attempt == 0) {
+      EXPECT_GT(r.steps, 1) << "a first-invocation episode ran to its step limit";
+    } else {
+      EXPECT_EQ(r.attempt, 3) << "the second invocation numbers its attempts from max_attempts (3)";
+      EXPECT_EQ(r.steps, 1) << r.task_id;
+      ++resumed;
+    }
+  }
+  EXPECT_EQ(resumed, static_cast<int>(rows.size() - first_invocation));
+  ASSERT_EQ(mtg({testing::bin("mtg"), "rejudge", (fx_.root() / "changing").string()}), 0) << log_text();
+  EXPECT_EQ(fingerprints(rows), fingerprints(orchestrator::read_results(fx_.root() / "changing" / "rejudge.sqlite")));
+  EXPECT_THAT(log_text(), ::testing::HasSubstr(std::to_string(rows.size()) + " identical, 0 differ"));
+}
+
 // A user's mistakes get one line each, exit 1, and spoil nothing: the corrected command then
 // runs (or resumes) as if the mistake had never been made.
 TEST_F(RuntimeTest, MistakesGetOneLineAndSpoilNothing) {
