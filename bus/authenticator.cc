@@ -56,14 +56,11 @@ std::string Authenticator::read_secret(const std::filesystem::path& file) {
   return secret;
 }
 
-const std::vector<std::uint8_t>& Authenticator::run_key(const std::string& run_id) const {
-  std::lock_guard lock(mutex_);
-  auto it = run_keys_.find(run_id);
-  if (it == run_keys_.end()) {
+std::vector<std::uint8_t> Authenticator::run_key(const std::string& run_id) const {
+  return run_keys_.get(run_id, [&] {
     const std::string label = "mtg-bus-run:" + run_id;
-    it = run_keys_.emplace(run_id, hmac_sha256(mac_.get(), bytes_of(secret_), bytes_of(label), {})).first;
-  }
-  return it->second;
+    return hmac_sha256(mac_.get(), bytes_of(secret_), bytes_of(label), {});
+  });
 }
 
 std::vector<std::uint8_t> Authenticator::tag(const std::string& channel, std::span<const std::uint8_t> payload) const {

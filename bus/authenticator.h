@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "core/util/memo_table.h"
+
 namespace mtg::bus {
 
 class Authenticator {
@@ -41,15 +43,19 @@ class Authenticator {
                                                       std::span<const std::uint8_t> message) const;
   /// Messages dropped by verify() so far.
   std::int64_t rejected() const { return rejected_; }
+  /// Run keys held now (at most kRunKeysKept, whatever run ids the traffic names).
+  std::size_t run_keys_kept() const { return run_keys_.size(); }
 
  private:
   std::vector<std::uint8_t> tag(const std::string& channel, std::span<const std::uint8_t> payload) const;
-  const std::vector<std::uint8_t>& run_key(const std::string& run_id) const;
+  std::vector<std::uint8_t> run_key(const std::string& run_id) const;
 
   std::string secret_;
   std::shared_ptr<EVP_MAC> mac_;  // OpenSSL's HMAC implementation
-  mutable std::mutex mutex_;
-  mutable std::map<std::string, std::vector<std::uint8_t>> run_keys_;
+  // Bounded: any run id in any datagram (unsigned junk included) is derived once and kept, so
+  // without a bound the table grew with every id an attacker sent.
+  static constexpr std::size_t kRunKeysKept = 64;
+  mutable BoundedMemoTable<std::vector<std::uint8_t>> run_keys_{kRunKeysKept};
   mutable std::atomic<std::int64_t> rejected_{0};
 };
 

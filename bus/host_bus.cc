@@ -13,7 +13,7 @@
 namespace mtg::bus {
 
 HostBusReservation::HostBusReservation() {
-  fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+  fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);  // held by this process only, not its children
   if (fd_ < 0) throw Error(std::string("cannot reserve a port for the host bus: socket: ") + std::strerror(errno));
   const int one = 1;
   const int zero = 0;

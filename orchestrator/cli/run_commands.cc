@@ -21,6 +21,7 @@
 #include "core/scene/dataset_fingerprint.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/util/log.h"
@@ -138,6 +139,10 @@ void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions&
     } else if (!agents::is_builtin_agent(spec)) {
       throw Error("unknown agent '" + spec + "' (oracle, random, replay:<run>, script:<file>, human, "
                   "openai:<model>, anthropic:<model>, gemini:<model>, openai-compatible:<url>:<model>)");
+    } else if (!remote && spec.rfind("script:", 0) == 0) {
+      (void)agents::make_builtin_policy(spec);  // reads the file: a missing or bad one is named now
+    } else if (!remote && spec.rfind("replay:", 0) == 0 && !fs::is_directory(spec.substr(7))) {
+      throw Error("agent " + spec + ": " + spec.substr(7) + " is not a run folder");
     }
   }
 }
@@ -376,12 +381,22 @@ namespace {
 
 // The report of a run whose folder may be read-only (someone else's, a shared archive): what
 // cannot be written is said in one line, and the report is printed all the same.
+// A read-only run folder (someone else's run) still gets its report printed, and written to
+// --html when one is named: that file is what the user asked for, so failing to write it is an
+// error, not a note.
 nlohmann::json write_reports_if_possible(const fs::path& dir, const std::string& html) {
   try {
     return orchestrator::write_reports(dir, html);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mtg report: the report files cannot be written (%s); printing it only\n", e.what());
-    return orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string());
+    const nlohmann::json report =
+        orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string());
+    if (html.empty()) {
+      std::fprintf(stderr, "mtg report: the report files cannot be written (%s); printing it only\n", e.what());
+      return report;
+    }
+    write_file_atomically(html, [&](std::ostream& out) { out << orchestrator::report_html(report); });
+    std::fprintf(stderr, "mtg report: wrote only %s: %s\n", html.c_str(), e.what());
+    return report;
   }
 }
 
@@ -427,6 +442,8 @@ int run_report(const ReportOptions& o) {
   }
   if (::access(dir.c_str(), W_OK) == 0) {
     std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
+  } else if (!o.html.empty()) {
+    std::printf("  wrote %s\n", o.html.c_str());
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include "bus/authenticator.h"
 #include "bus/bus.h"
 #include "mtg/episode_result_t.hpp"
+#include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "orchestrator/run/run_plan.h"
@@ -79,6 +80,27 @@ TEST_F(MultiHostTest, ForgedMessagesOnTheSharedBusAreDroppedAndCounted) {
   EXPECT_EQ(fingerprints(results("forged")), single);
   EXPECT_GT(forged, 0);
   EXPECT_NE(log_text().find("had no valid signature"), std::string::npos) << log_text();
+}
+
+// Junk on the shared bus names a new run id in every datagram: each is checked (and dropped), and
+// the keys derived for them do not pile up.
+TEST(AuthenticatorTest, JunkRunIdsAreDroppedWithoutGrowingItsMemory) {
+  const bus::Authenticator auth("the-run-s-secret-of-this-test");
+  for (int i = 0; i < 5000; ++i) {
+    mtg::heartbeat_t junk{};
+    junk.header.run_id = "junk-" + std::to_string(i);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(junk.getEncodedSize()) + bus::Authenticator::kTagBytes);
+    junk.encode(bytes.data(), 0, junk.getEncodedSize());
+    EXPECT_FALSE(auth.verify("MTG_HEARTBEAT", bytes));  // a tag of zeros
+  }
+  EXPECT_EQ(auth.rejected(), 5000);
+  EXPECT_LE(auth.run_keys_kept(), 64u);
+  // A signed message of a real run still passes.
+  mtg::heartbeat_t real{};
+  real.header.run_id = "run-1";
+  std::vector<std::uint8_t> payload(static_cast<std::size_t>(real.getEncodedSize()));
+  real.encode(payload.data(), 0, real.getEncodedSize());
+  EXPECT_TRUE(auth.verify("MTG_HEARTBEAT", auth.sign("MTG_HEARTBEAT", payload)));
 }
 
 // A worker whose dataset lacks a file the task set was made from stays out of the run, says why,

@@ -162,6 +162,10 @@ TEST_F(RuntimeTest, MistakesGetOneLineAndSpoilNothing) {
   EXPECT_THAT(typo_said, ::testing::HasSubstr("mtg run: unknown agent 'gpt4'"));
   EXPECT_FALSE(fs::exists(fx_.root() / "typo")) << "nothing written for a command that cannot run";
   EXPECT_EQ(run_with("typo", {}).first, 0) << "the corrected command runs in the same folder";
+  const auto [no_script, no_script_said] = run_with("script", {}, {"script:" + (fx_.root() / "missing.json").string()});
+  EXPECT_EQ(no_script, 1);
+  EXPECT_THAT(no_script_said, ::testing::HasSubstr("missing.json"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "script")) << "a missing script file is named before the folder is made";
   for (const auto& [option, said] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"--parallel", "0"}, "--parallel must be at least 1"},
            {{"--limit", "-1"}, "--limit must be 0"},
