@@ -1,6 +1,8 @@
 #include "bus/recording.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <vector>
 
 #include "bus/header.h"
@@ -8,8 +10,40 @@
 
 namespace mtg::bus {
 
-void for_each_recorded_event(const std::filesystem::path& run_dir,
-                             const std::function<void(const lcm::LogEvent&)>& fn) {
+namespace {
+
+// An event's bytes in an LCM log: sync word, event number, timestamp, two lengths, channel, data.
+std::int64_t event_bytes(const lcm::LogEvent& ev) {
+  return 4 + 8 + 8 + 4 + 4 + static_cast<std::int64_t>(ev.channel.size()) + ev.datalen;
+}
+
+// The offset of the first LCM sync word (0xEDA1DA01, big-endian) at or after `from`, or -1.
+std::int64_t next_sync_word(const std::filesystem::path& log, std::int64_t from) {
+  std::ifstream in(log, std::ios::binary);
+  in.seekg(from);
+  std::uint32_t window = 0;
+  std::int64_t pos = from;
+  for (int c = in.get(); c != EOF; c = in.get(), ++pos) {
+    window = (window << 8) | static_cast<std::uint32_t>(c);
+    if (pos - from >= 3 && window == 0xEDA1DA01u) return pos - 3;
+  }
+  return -1;
+}
+
+}  // namespace
+
+std::string describe(const RecordingDamage& d) {
+  const std::string where = " at byte " + std::to_string(d.offset) + " of " + std::to_string(d.offset + d.bytes);
+  if (d.at_end) {
+    return d.file.filename().string() + ": its last " + std::to_string(d.bytes) + " bytes" + where +
+           " are not a whole event (torn when a recorder stopped while writing, or damaged); not read";
+  }
+  return d.file.filename().string() + ": " + std::to_string(d.bytes) + " unreadable bytes at byte " +
+         std::to_string(d.offset) + " (skipped; the recording is damaged there)";
+}
+
+std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path& run_dir,
+                                                     const std::function<void(const lcm::LogEvent&)>& fn) {
   if (!std::filesystem::is_directory(run_dir)) throw Error(run_dir.string() + ": no run folder");
   std::vector<std::filesystem::path> logs;
   for (const auto& entry : std::filesystem::directory_iterator(run_dir)) {
@@ -17,21 +51,44 @@ void for_each_recorded_event(const std::filesystem::path& run_dir,
   }
   std::sort(logs.begin(), logs.end());
   if (logs.empty()) throw Error(run_dir.string() + ": no recording (*.lcmlog)");
+  std::vector<RecordingDamage> damage;
   for (const auto& log : logs) {
     lcm::LogFile file(log.string(), "r");
     if (!file.good()) throw Error(log.string() + ": cannot read the recording");
-    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
-      // A recording of another schema would be read wrongly without a word: refuse it.
-      if (ev->channel.starts_with("MTG_")) {
-        const auto header = peek_header({static_cast<const std::uint8_t*>(ev->data), static_cast<std::size_t>(ev->datalen)});
-        if (header && !speaks_our_schema(*header)) {
-          throw Error(log.string() + ": " + schema_mismatch(*header, "the message on " + ev->channel) +
-                      " (read it with the mtg that recorded it)");
+    std::FILE* f = file.getFilePtr();
+    const auto size = static_cast<std::int64_t>(std::filesystem::file_size(log));
+    std::int64_t at = 0;  // where the next event should start
+    while (true) {
+      for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
+        const std::int64_t end = std::ftell(f);
+        if (const std::int64_t skipped = end - event_bytes(*ev) - at; skipped > 0) {
+          damage.push_back({log, at, skipped, false});
         }
+        at = end;
+        // A recording of another schema would be read wrongly without a word: refuse it.
+        if (ev->channel.starts_with("MTG_")) {
+          const auto header = peek_header({static_cast<const std::uint8_t*>(ev->data), static_cast<std::size_t>(ev->datalen)});
+          if (header && !speaks_our_schema(*header)) {
+            throw Error(log.string() + ": " + schema_mismatch(*header, "the message on " + ev->channel) +
+                        " (read it with the mtg that recorded it)");
+          }
+        }
+        fn(*ev);
       }
-      fn(*ev);
+      if (at >= size) break;
+      // LCM stops at an event whose header does not hold; the events after it are still whole:
+      // go on from the next sync word.
+      const std::int64_t next = next_sync_word(log, at + 1);
+      if (next < 0) {
+        damage.push_back({log, at, size - at, true});
+        break;
+      }
+      damage.push_back({log, at, next - at, false});
+      at = next;
+      if (std::fseek(f, static_cast<long>(next), SEEK_SET) != 0) throw Error(log.string() + ": cannot seek in the recording");
     }
   }
+  return damage;
 }
 
 }  // namespace mtg::bus

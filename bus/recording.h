@@ -1,17 +1,37 @@
 #pragma once
 // Reading a run's recording: every `*.lcmlog` of the run folder (one per `mtg run` invocation),
 // in name order, as LCM log events. Replay, re-judging and the runtime bench all read it so.
+//
+// LCM's reader says nothing about damage: it skips bytes until the next sync word, and where an
+// event's header does not hold it drops the event before it too and stops as if the file had
+// ended. Readers here compare where each event ends with where it should, go on from the next
+// sync word after a stop, and name each unreadable stretch with the byte where it starts.
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace mtg::bus {
 
-/// Calls `fn(event)` for every event of every recording in `run_dir`, file by file in name order.
-/// @throws mtg::Error naming the folder when it holds no recording, or the file it cannot read.
-void for_each_recorded_event(const std::filesystem::path& run_dir,
-                             const std::function<void(const lcm::LogEvent&)>& fn);
+/// Bytes of a recording that could not be read as events.
+struct RecordingDamage {
+  std::filesystem::path file;
+  std::int64_t offset = 0;  // where the unreadable bytes start
+  std::int64_t bytes = 0;   // how many were skipped (to the next event or the end)
+  bool at_end = false;      // a torn last event (a recorder stopped mid-write), not damage inside
+};
+
+/// One line: "bus-0.lcmlog: 120 unreadable bytes at byte 4096 of 8192 (skipped)".
+std::string describe(const RecordingDamage& damage);
+
+/// Calls `fn(event)` for every event of every recording in `run_dir`, file by file in name order,
+/// and returns what could not be read. @throws mtg::Error naming the folder when it holds no
+/// recording, or the file it cannot read.
+std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path& run_dir,
+                                                     const std::function<void(const lcm::LogEvent&)>& fn);
 
 }  // namespace mtg::bus

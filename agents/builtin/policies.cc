@@ -72,12 +72,13 @@ class RandomPolicy : public Policy {
 class ReplayPolicy : public Policy {
  public:
   explicit ReplayPolicy(const fs::path& run_dir) {
-    bus::for_each_recorded_event(run_dir, [this](const lcm::LogEvent& ev) {
+    const auto damage = bus::for_each_recorded_event(run_dir, [this](const lcm::LogEvent& ev) {
       if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) return;
       mtg::agent_action_t a{};
       if (a.decode(ev.data, 0, ev.datalen) < 0) return;
       recorded_[a.header.episode_id][a.header.attempt][a.step] = a;
     });
+    if (!damage.empty()) damaged_ = " (the recording is damaged: " + bus::describe(damage.front()) + ")";
   }
 
   AgentReply reply(const mtg::episode_start_t& start, const mtg::observation_t& obs) override {
@@ -86,14 +87,14 @@ class ReplayPolicy : public Policy {
     // The recorded run has another run id; episodes are matched by id.
     const auto it = recorded_.find(start.header.episode_id);
     if (it == recorded_.end()) {
-      r.error = "replay: no recorded answers for episode " + std::to_string(start.header.episode_id);
+      r.error = "replay: no recorded answers for episode " + std::to_string(start.header.episode_id) + damaged_;
       return r;
     }
     const auto& last_attempt = it->second.rbegin()->second;
     const auto step = last_attempt.find(obs.step);
     if (step == last_attempt.end()) {
       r.error = "replay: no recorded answer for episode " + std::to_string(start.header.episode_id) + " step " +
-                std::to_string(obs.step);
+                std::to_string(obs.step) + damaged_;
       return r;
     }
     const mtg::agent_action_t& a = step->second;
@@ -109,6 +110,7 @@ class ReplayPolicy : public Policy {
  private:
   using Steps = std::map<int, mtg::agent_action_t>;
   std::map<std::int64_t, std::map<int, Steps>> recorded_;  // episode -> attempt -> step -> answer
+  std::string damaged_;  // "" or why answers may be missing
 };
 
 class ScriptPolicy : public Policy {

@@ -190,7 +190,7 @@ int run_images(const ImagesOptions& o) {
   fs::create_directories(o.out);
   long written = 0;
   bool seen_episode = false;
-  bus::for_each_recorded_event(o.run, [&](const lcm::LogEvent& ev) {
+  const auto damage = bus::for_each_recorded_event(o.run, [&](const lcm::LogEvent& ev) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
     mtg::observation_t obs{};
     if (obs.decode(ev.data, 0, ev.datalen) < 0) {
@@ -213,8 +213,14 @@ int run_images(const ImagesOptions& o) {
       ++written;
     }
   });
+  for (const bus::RecordingDamage& d : damage) std::fprintf(stderr, "mtg images: %s\n", bus::describe(d).c_str());
+  const std::string damaged = damage.empty() ? "" : " (the recording is damaged: " + bus::describe(damage.front()) + ")";
   if (o.episode >= 0 && !seen_episode) {
-    throw Error("episode " + std::to_string(o.episode) + " is not in the recording of " + o.run);
+    throw Error("episode " + std::to_string(o.episode) + " is not in the recording of " + o.run + damaged);
+  }
+  if (written == 0 && !damage.empty()) {
+    throw Error("no image read from " + o.run + ", and the recording is damaged: images may have been in what "
+                "could not be read" + damaged);
   }
   std::printf("wrote %ld image(s) to %s\n", written, o.out.c_str());
   return 0;

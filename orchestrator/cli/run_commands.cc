@@ -493,6 +493,7 @@ int run_rejudge(const std::string& run) {
     orchestrator::ResultsDb db(out);
     for (const auto& row : report.rows) db.insert(row);
   }
+  for (const auto& d : report.damage) std::fprintf(stderr, "mtg rejudge: %s\n", d.c_str());
   for (const auto& d : report.differences) std::printf("  %s\n", d.c_str());
   std::printf("rejudged %zu episodes of %s from the recording: %lld identical, %zu differ; wrote %s\n",
               report.rows.size(), dir.c_str(), static_cast<long long>(report.identical), report.differences.size(),

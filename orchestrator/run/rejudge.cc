@@ -26,9 +26,10 @@ struct Recorded {
   std::map<int, std::map<int, mtg::agent_action_t>> actions;     // attempt -> step -> answer
 };
 
-std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id) {
+std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id,
+                                                  std::vector<std::string>& damage) {
   std::map<bus::EpisodeId, Recorded> out;
-  bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
+  const auto damaged = bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
     if (ev.channel == bus::kEpisodeStart) {
       mtg::episode_start_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
@@ -43,7 +44,16 @@ std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const
       out[bus::episode_of(m.header)].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
     }
   });
+  for (const bus::RecordingDamage& d : damaged) damage.push_back(bus::describe(d));
   return out;
+}
+
+// Why the recording may lack something: the damage found in it, if any.
+std::string because_of(const std::vector<std::string>& damage) {
+  if (damage.empty()) return "";
+  std::string out = " (the recording is damaged: " + damage.front();
+  if (damage.size() > 1) out += "; and " + std::to_string(damage.size() - 1) + " more";
+  return out + ")";
 }
 
 }  // namespace
@@ -51,9 +61,9 @@ std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const
 RejudgeReport rejudge_run(const fs::path& run_dir) {
   const RunPlan plan = load_plan(run_dir);
   const std::vector<EpisodeRow> recorded_rows = read_results(run_dir / "results.sqlite");
-  const auto recording = read_recording(run_dir, plan.run_id);
-  graph::SceneCache scenes(plan.profile);
   RejudgeReport report;
+  const auto recording = read_recording(run_dir, plan.run_id, report.damage);
+  graph::SceneCache scenes(plan.profile);
   for (const EpisodeRow& original : recorded_rows) {
     EpisodeRow row = original;
     if (original.status == "scored") {
@@ -61,7 +71,8 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0 ||
           rec->second.truths.count(original.attempt) == 0) {
         throw Error(run_dir.string() + ": the recording lacks the start of episode " +
-                    to_string(original.episode_id) + " attempt " + std::to_string(original.attempt));
+                    to_string(original.episode_id) + " attempt " + std::to_string(original.attempt) +
+                    because_of(report.damage));
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
       const bus::EpisodeTask task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
@@ -76,7 +87,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       for (int step = 0; !judge.done(); ++step) {
         if (answers == rec->second.actions.end() || answers->second.count(step) == 0) {
           throw Error(run_dir.string() + ": the recording lacks episode " + to_string(original.episode_id) +
-                      "'s answer to step " + std::to_string(step));
+                      "'s answer to step " + std::to_string(step) + because_of(report.damage));
         }
         const episode::AgentAnswer answer = bus::to_answer(answers->second.at(step));
         judge.observe(episode::step_episode(g, state, answer, constraints, rules).update);

@@ -15,9 +15,11 @@ struct RejudgeReport {
   std::vector<EpisodeRow> rows;       // re-scored rows (same episodes as results.sqlite)
   std::int64_t identical = 0;
   std::vector<std::string> differences;  // one line per changed episode
+  std::vector<std::string> damage;       // one line per unreadable stretch of the recording (bus::describe)
 };
 
-/// @throws mtg::Error if the run folder, its plan, results or recording are missing.
+/// @throws mtg::Error if the run folder, its plan, results or recording are missing, or the
+/// recording lacks what a stored episode needs (naming the damage when the recording is damaged).
 RejudgeReport rejudge_run(const std::filesystem::path& run_dir);
 
 }  // namespace mtg::orchestrator

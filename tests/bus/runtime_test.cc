@@ -15,6 +15,7 @@
 
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/recording.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
@@ -141,6 +142,47 @@ TEST_F(RuntimeTest, AResumedEpisodeRunsAsANewAttemptAndRejudgeAgreesWithEveryVer
   ASSERT_EQ(mtg({testing::bin("mtg"), "rejudge", (fx_.root() / "changing").string()}), 0) << log_text();
   EXPECT_EQ(fingerprints(rows), fingerprints(orchestrator::read_results(fx_.root() / "changing" / "rejudge.sqlite")));
   EXPECT_THAT(log_text(), ::testing::HasSubstr(std::to_string(rows.size()) + " identical, 0 differ"));
+}
+
+// A recording damaged in the middle (one event's header overwritten) is read past the damage, and
+// what needs the lost event says that the recording is damaged, and where.
+TEST_F(RuntimeTest, ADamagedRecordingIsNamedWithTheByteWhereItsDamageStarts) {
+  ASSERT_EQ(mtg(run_args("whole", {"oracle"}, 2, 1)), 0) << log_text();
+  const fs::path log_file = fx_.root() / "whole" / "bus-0.lcmlog";
+  // Where the first agent answer starts, and how many events the file holds.
+  long answer_at = -1;
+  int events = 0;
+  {
+    lcm::LogFile in(log_file.string(), "r");
+    long at = 0;
+    for (const lcm::LogEvent* ev = in.readNextEvent(); ev != nullptr; ev = in.readNextEvent(), ++events) {
+      if (answer_at < 0 && bus::is_episode_channel(ev->channel, bus::EpisodeStream::kAction)) answer_at = at;
+      at = std::ftell(in.getFilePtr());
+    }
+  }
+  ASSERT_GE(answer_at, 0);
+  {
+    std::fstream f(log_file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(answer_at);
+    f.write("XXXX", 4);  // its sync word
+  }
+  int read = 0;
+  const auto damage = bus::for_each_recorded_event(fx_.root() / "whole", [&](const lcm::LogEvent&) { ++read; });
+  // LCM's reader also drops the event before a broken header (it checks the next sync word after
+  // each event); the events after the damage are read again.
+  EXPECT_GE(read, events - 2) << "every event after the damaged one is still read";
+  ASSERT_EQ(damage.size(), 1u);
+  EXPECT_LE(damage[0].offset, answer_at);
+  EXPECT_GT(damage[0].offset + damage[0].bytes, answer_at);
+  EXPECT_FALSE(damage[0].at_end);
+  EXPECT_NE(mtg({testing::bin("mtg"), "rejudge", (fx_.root() / "whole").string()}), 0);
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("the recording is damaged: bus-0.lcmlog: "));
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("at byte " + std::to_string(damage[0].offset)));
+  // A text-only run has no image to write: with damage, that is not a silent "wrote 0".
+  EXPECT_EQ(mtg({testing::bin("mtg"), "images", (fx_.root() / "whole").string(), "--out",
+                 (fx_.root() / "whole-images").string()}),
+            1);
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("images may have been in what could not be read"));
 }
 
 // A user's mistakes get one line each, exit 1, and spoil nothing: the corrected command then
