@@ -154,7 +154,13 @@ std::optional<int> run_in_own_namespace(char** argv) {
   }
   g_child = 0;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  if (WIFSIGNALED(status)) {
+    // The inner process stops on SIGINT/SIGTERM by itself, saying how to resume; a signal that
+    // ends it (kill -9, a crash) leaves that line unsaid, so it is said here.
+    std::fprintf(stderr, "mtg: the run's orchestrator was killed (signal %d, %s); finished episodes are kept: run the "
+                 "same command again to resume\n", WTERMSIG(status), ::strsignal(WTERMSIG(status)));
+    return 128 + WTERMSIG(status);
+  }
   return 1;
 }
 

@@ -103,6 +103,23 @@ TEST_F(RuntimeTest, KillingTheOrchestratorAndRunningAgainResumesWithoutRunningAn
   EXPECT_TRUE(fs::exists(fx_.root() / "resume" / "bus-1.lcmlog"));  // a second recording
 }
 
+// `mtg run` runs its orchestrator in a network namespace of its own, as a child process. Killed
+// outright (kill -9, the OOM killer), that child cannot say how to go on: the outer `mtg` says it.
+TEST_F(RuntimeTest, AKilledInnerOrchestratorStillGetsTheResumeLine) {
+  const auto args = run_args("inner", {"oracle"}, 40, 1);
+  testing::ChildProcess run(args, log());
+  ASSERT_TRUE(wait_for_results("inner", 3, 60000)) << log_text();
+  // The inner orchestrator is /proc/self/exe executed again: its name is "exe".
+  const pid_t inner = testing::descendant_pid(run.pid(), "exe");
+  if (inner <= 0) GTEST_SKIP() << "this run is not isolated (no namespace of its own here)";
+  ASSERT_EQ(::kill(inner, SIGKILL), 0);
+  EXPECT_EQ(run.wait(60000), 137);
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("killed (signal 9, Killed); finished episodes are kept: run the same "
+                                               "command again to resume"));
+  ASSERT_EQ(mtg(args), 0) << log_text();
+  EXPECT_EQ(results("inner").size(), planned("inner"));
+}
+
 // An agent that answers differently in each invocation (a person, a model on a cache miss): the
 // episodes an interrupted run left unfinished run again as new attempts, so the recording keeps
 // both invocations' answers apart and `mtg rejudge` agrees with every stored verdict.
