@@ -3,10 +3,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "agents/builtin/policies.h"
 #include "agents/common/agent_host.h"
 #include "agents/human/play_desk.h"
 #include "agents/human/play_server.h"
 #include "bus/bus.h"
+#include "bus/channels.h"
 #include "bus/error_events.h"
 #include "bus/process/service_loop.h"
 #include "bus/url.h"
@@ -35,6 +37,13 @@ int main(int argc, char** argv) {
     server.start(host, port, token);
     // The token stays out of the log: the run's folder may be shared.
     mtg::log::info("play at " + mtg::web::page_url({host, port, token.empty() ? "" : "<token>"}));
+    // The judge's verdicts on the person's attempts, shown on the page after each episode.
+    bus.subscribe<mtg::episode_result_t>(mtg::bus::kEpisodeResult,
+                                         [&desk, &run_id](const std::string&, const mtg::episode_result_t& r) {
+                                           if ((run_id.empty() || r.header.run_id == run_id) && r.agent == mtg::agents::kHumanAgent) {
+                                             desk.verdict(r);
+                                           }
+                                         });
     // One worker thread: the person's answer is awaited there, never in the bus thread.
     mtg::agents::AgentHost agent(bus, stamp, "human", std::move(desk_owner), run_id, 1);
     // Declared after the host, so it runs first: the host's worker may be waiting for a person.

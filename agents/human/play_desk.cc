@@ -17,6 +17,8 @@ AgentReply PlayDesk::reply(const mtg::episode_start_t& /*start*/, const mtg::obs
   changed_.wait(lock, [&] { return answer_.has_value() || stopping_; });
   AgentReply reply;
   reply.provider = "human";
+  // What the person was shown, as a model's usage counts the images sent to it.
+  reply.usage.images_sent = static_cast<int>(observation.images.size());
   if (answer_) {
     reply.raw = *answer_;
   } else {
@@ -38,8 +40,31 @@ void PlayDesk::end(const mtg::episode_start_t& /*start*/) {
   changed_.notify_all();
 }
 
+void PlayDesk::verdict(const mtg::episode_result_t& r) {
+  const std::lock_guard lock(mutex_);
+  // The run engine tries these attempts again: they are not the person's result.
+  const bool retried = r.cause == "transport_error" || r.cause == "provider_error";
+  last_verdict_ = {{"episode", r.header.episode_id}, {"attempt", r.header.attempt}, {"retried", retried},
+                   {"success", r.success != 0}, {"ip", r.ip}, {"stage", r.stage}, {"cause", r.cause},
+                   {"steps", r.steps}, {"detail", r.detail}};
+  if (!retried) {
+    ++scored_;
+    successes_ += r.success ? 1 : 0;
+    ip_sum_ += r.ip;
+  }
+  ++version_;
+  changed_.notify_all();
+}
+
 json PlayDesk::observation_locked() const {
-  if (!current_) return {{"waiting", true}, {"episodes_done", episodes_done_}, {"version", version_}};
+  const json score = {{"scored", scored_},
+                      {"successes", successes_},
+                      {"sr", scored_ > 0 ? 100.0 * successes_ / scored_ : 0.0},
+                      {"ip", scored_ > 0 ? ip_sum_ / scored_ : 0.0}};
+  if (!current_) {
+    return {{"waiting", true}, {"episodes_done", episodes_done_}, {"version", version_},
+            {"last_verdict", last_verdict_}, {"score", score}};
+  }
   const mtg::observation_t& o = *current_;
   json actions = json::array();
   for (const auto& a : o.actions) actions.push_back({{"key", a.key}, {"description", a.description}});
@@ -62,7 +87,9 @@ json PlayDesk::observation_locked() const {
           {"actions", actions},
           {"images", images},
           {"done", o.done != 0},
-          {"episodes_done", episodes_done_}};
+          {"episodes_done", episodes_done_},
+          {"last_verdict", last_verdict_},
+          {"score", score}};
 }
 
 json PlayDesk::observation() const {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "agents/common/policy.h"
+#include "mtg/episode_result_t.hpp"
 
 namespace mtg::agents {
 
@@ -23,7 +24,9 @@ class PlayDesk final : public Policy {
 
   /// What the page shows now: {waiting: true, episodes_done, version} between observations, else
   /// {waiting: false, version, episode, attempt, task_text, step, step_limit, text, hint,
-  /// actions[{key, description}], images[{role, width, height, url}], done: false, episodes_done}.
+  /// actions[{key, description}], images[{role, width, height, url}], done: false, episodes_done};
+  /// both with last_verdict ({episode, attempt, retried, success, ip, stage, cause, steps,
+  /// detail} or null) and score ({scored, successes, sr, ip}).
   nlohmann::json observation() const;
   /// Answers the observation on the desk with `key`. Returns "" or why the key is refused (no
   /// observation waiting, or a key that is not offered).
@@ -35,6 +38,9 @@ class PlayDesk final : public Policy {
   std::optional<std::pair<std::string, std::vector<std::uint8_t>>> image(int index) const;
   /// Releases a waiting reply() (the process is stopping): it returns an error reply.
   void shutdown();
+  /// The judge's verdict on one of the person's attempts: shown after the episode with a running
+  /// score. An attempt lost to infrastructure (it is run again) is shown as such, not scored.
+  void verdict(const mtg::episode_result_t& result);
 
  private:
   nlohmann::json observation_locked() const;
@@ -49,6 +55,9 @@ class PlayDesk final : public Policy {
   bool between_steps_ = false;
   int episodes_done_ = 0;
   bool stopping_ = false;
+  nlohmann::json last_verdict_;  // null until the first verdict
+  int scored_ = 0, successes_ = 0;
+  double ip_sum_ = 0.0;
 };
 
 }  // namespace mtg::agents

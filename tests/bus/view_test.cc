@@ -220,6 +220,14 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
   while (play.running()) {
     if (!b->wait_for("document.querySelectorAll('.actions button:not([disabled])').length > 0", 2000)) continue;
     const std::string task = b->evaluate("document.getElementById('task').textContent");
+    if (clicks > 0 && b->evaluate("document.getElementById('status').dataset.step").get<std::string>() == "0") {
+      // A new episode: the last one's verdict and the running score stay on the page.
+      EXPECT_TRUE(b->wait_for("document.getElementById('verdict').textContent.includes(': Success')", 5000))
+          << b->evaluate("document.getElementById('verdict').textContent").dump();
+      EXPECT_TRUE(b->wait_for("/succeeded \\(SR 100 %/.test(document.getElementById('progress').textContent)", 5000))
+          << b->evaluate("document.getElementById('progress').textContent").dump();
+      if (!fs::exists(kArtifacts / "play-verdict.png")) b->screenshot(kArtifacts / "play-verdict.png", true);
+    }
     ASSERT_TRUE(plan_of_text.count(task)) << "the page shows a task the set does not have: " << task;
     attempts.insert(b->evaluate("document.getElementById('status').dataset.episode").get<std::string>());
     const auto step = std::stoul(b->evaluate("document.getElementById('status').dataset.step").get<std::string>());
@@ -264,6 +272,7 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
   std::ifstream report(fx_.root() / "play" / "report.json");
   const json j = json::parse(report);
   EXPECT_EQ(j["by_agent"]["human"]["sr"], 100.0);
+  EXPECT_GT(j["usage"]["human"]["images"].get<int>(), 0) << "the person saw images: " << j["usage"].dump();
 }
 
 }  // namespace

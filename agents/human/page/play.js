@@ -6,12 +6,28 @@ let current = null;   // the observation on screen, or null while waiting
 let version = -1;
 let sending = false;
 
+// The judge's verdict on the person's last episode, in words.
+function verdictLine(v) {
+  if (v.retried) return 'Episode ' + v.episode + ' was interrupted (' + v.cause + ') and will start again.';
+  const how = v.success ? 'Success' : 'Failure: ' + v.cause.replaceAll('_', ' ') + ' (reached: ' + v.stage + ')';
+  return 'Episode ' + v.episode + ': ' + how + ' · IP ' + v.ip.toFixed(0) + ' · ' + v.steps + ' step(s)' +
+    (v.detail ? ' · ' + v.detail : '');
+}
+
 function show(desk) {
   version = desk.version;
   const status = document.getElementById('status');
   const task = document.getElementById('task');
   const box = document.getElementById('observation');
-  document.getElementById('progress').textContent = desk.episodes_done + ' episode(s) finished';
+  const verdict = document.getElementById('verdict');
+  const s = desk.score;
+  document.getElementById('progress').textContent = desk.episodes_done + ' episode(s) finished' +
+    (s && s.scored > 0 ? ' · ' + s.successes + ' of ' + s.scored + ' succeeded (SR ' + s.sr.toFixed(0) +
+      ' %, mean IP ' + s.ip.toFixed(0) + ')' : '');
+  const v = desk.last_verdict;
+  verdict.textContent = v ? verdictLine(v) : '';
+  verdict.className = v ? (v.success ? 'success' : 'failure') : '';
+  verdict.dataset.episode = v ? v.episode : '';
   if (desk.waiting) {
     current = null;
     status.textContent = desk.episodes_done > 0
