@@ -6,6 +6,7 @@
 #include <openssl/rand.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +46,9 @@ Authenticator::Authenticator(std::string secret)
     : secret_(std::move(secret)), mac_(EVP_MAC_fetch(nullptr, "HMAC", nullptr), &EVP_MAC_free) {
   // Fetched once: every message on a shared bus is signed or checked with it.
   if (!mac_) throw Error("bus authentication: HMAC-SHA-256 is not available from OpenSSL");
+  if (RAND_bytes(session_.data(), static_cast<int>(session_.size())) != 1) {
+    throw Error("bus authentication: cannot draw a session nonce (OpenSSL RAND_bytes failed)");
+  }
 }
 
 std::string Authenticator::read_secret(const std::filesystem::path& file) {
@@ -63,30 +67,48 @@ std::vector<std::uint8_t> Authenticator::run_key(const std::string& run_id) cons
   });
 }
 
-std::vector<std::uint8_t> Authenticator::tag(const std::string& channel, std::span<const std::uint8_t> payload) const {
+std::vector<std::uint8_t> Authenticator::tag(const std::string& channel, std::span<const std::uint8_t> payload,
+                                             std::span<const std::uint8_t> trailer) const {
   const auto header = peek_header(payload);
   const std::string run_id = header ? header->run_id : std::string();
+  // The channel, then payload, nonce and number as they lie in the message (one span).
   const std::string prefix = channel + '\0';
-  return hmac_sha256(mac_.get(), run_key(run_id), bytes_of(prefix), payload);
+  return hmac_sha256(mac_.get(), run_key(run_id), bytes_of(prefix),
+                     {payload.data(), payload.size() + trailer.size()});
 }
 
 std::vector<std::uint8_t> Authenticator::sign(const std::string& channel, std::span<const std::uint8_t> payload) const {
-  std::vector<std::uint8_t> out(payload.begin(), payload.end());
-  const auto t = tag(channel, payload);
+  std::vector<std::uint8_t> out;
+  out.reserve(payload.size() + kTrailerBytes);
+  out.assign(payload.begin(), payload.end());
+  out.insert(out.end(), session_.begin(), session_.end());
+  const std::uint64_t number = ++sent_;
+  for (int shift = 56; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(number >> shift));
+  const auto t = tag(channel, {out.data(), payload.size()}, {out.data() + payload.size(), out.size() - payload.size()});
   out.insert(out.end(), t.begin(), t.end());
   return out;
 }
 
 std::optional<std::span<const std::uint8_t>> Authenticator::verify(const std::string& channel,
-                                                                   std::span<const std::uint8_t> message) const {
-  if (message.size() < kTagBytes) {
+                                                                   std::span<const std::uint8_t> message,
+                                                                   std::int64_t delivery) const {
+  if (message.size() < kTrailerBytes) {
     ++rejected_;
     return std::nullopt;
   }
-  const auto payload = message.first(message.size() - kTagBytes);
-  const auto expected = tag(channel, payload);
-  if (CRYPTO_memcmp(expected.data(), message.data() + payload.size(), kTagBytes) != 0) {
+  const auto payload = message.first(message.size() - kTrailerBytes);
+  const auto session_and_number = message.subspan(payload.size(), ReplayWindow::kNonceBytes + 8);
+  const auto expected = tag(channel, payload, session_and_number);
+  if (CRYPTO_memcmp(expected.data(), message.data() + message.size() - kTagBytes, kTagBytes) != 0) {
     ++rejected_;
+    return std::nullopt;
+  }
+  ReplayWindow::Nonce session;
+  std::copy_n(session_and_number.begin(), session.size(), session.begin());
+  std::uint64_t number = 0;
+  for (std::size_t i = 0; i < 8; ++i) number = (number << 8) | session_and_number[session.size() + i];
+  if (!taken_.take(session, number, delivery)) {
+    ++replayed_;
     return std::nullopt;
   }
   return payload;

@@ -38,6 +38,8 @@ class Bus {
   void authenticate(std::shared_ptr<const Authenticator> auth) { auth_ = std::move(auth); }
   /// Messages dropped for a missing or wrong tag (0 without authentication).
   std::int64_t rejected() const { return auth_ ? auth_->rejected() : 0; }
+  /// Signed messages dropped as replays: taken before by this bus (0 without authentication).
+  std::int64_t replayed() const { return auth_ ? auth_->replayed() : 0; }
   /// Typed messages dropped because their header's schema_version is not this build's
   /// (bus/header.h kSchemaVersion): a process of another mtg version on the same bus.
   std::int64_t foreign_schema() const { return schema_gate_.dropped; }
@@ -156,7 +158,7 @@ class Bus {
       try {
         std::span<const std::uint8_t> bytes(static_cast<const std::uint8_t*>(rbuf->data), rbuf->data_size);
         if (auth) {
-          const auto verified = auth->verify(channel, bytes);
+          const auto verified = auth->verify(channel, bytes, rbuf->recv_utime);
           if (!verified) return;  // counted by the authenticator
           bytes = *verified;
         }

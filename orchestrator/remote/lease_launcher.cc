@@ -346,6 +346,10 @@ void LeaseLauncher::close() {
     log::warn(std::to_string(bus_.rejected()) +
               " message(s) on the shared bus had no valid signature (another key, or none) and were dropped");
   }
+  if (bus_.replayed() > 0) {
+    log::warn(std::to_string(bus_.replayed()) +
+              " signed message(s) on the shared bus were replays (taken before) and were dropped");
+  }
 }
 
 }  // namespace mtg::orchestrator::remote

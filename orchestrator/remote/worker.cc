@@ -245,6 +245,9 @@ class Worker final : public LaunchSink {
     if (shared_.rejected() > 0) {
       log::warn(std::to_string(shared_.rejected()) + " message(s) on the shared bus had no valid signature and were dropped");
     }
+    if (shared_.replayed() > 0) {
+      log::warn(std::to_string(shared_.replayed()) + " signed message(s) on the shared bus were replays and were dropped");
+    }
     if (runtime_) runtime_->close();
     runtime_.reset();
     log::info("run " + run_id_ + " is done");

@@ -89,7 +89,7 @@ TEST(AuthenticatorTest, JunkRunIdsAreDroppedWithoutGrowingItsMemory) {
   for (int i = 0; i < 5000; ++i) {
     mtg::heartbeat_t junk{};
     junk.header.run_id = "junk-" + std::to_string(i);
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(junk.getEncodedSize()) + bus::Authenticator::kTagBytes);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(junk.getEncodedSize()) + bus::Authenticator::kTrailerBytes);
     junk.encode(bytes.data(), 0, junk.getEncodedSize());
     EXPECT_FALSE(auth.verify("MTG_HEARTBEAT", bytes));  // a tag of zeros
   }
@@ -101,6 +101,69 @@ TEST(AuthenticatorTest, JunkRunIdsAreDroppedWithoutGrowingItsMemory) {
   std::vector<std::uint8_t> payload(static_cast<std::size_t>(real.getEncodedSize()));
   real.encode(payload.data(), 0, real.getEncodedSize());
   EXPECT_TRUE(auth.verify("MTG_HEARTBEAT", auth.sign("MTG_HEARTBEAT", payload)));
+}
+
+// An attacker without the key re-sends signed datagrams it captured on the shared bus: a finished
+// run's announcements at idle workers, and, once a worker is killed mid-run, that worker's
+// heartbeats every 0.5 s. The receivers took each of them before: they are dropped as replays,
+// the workers stay free for the next run, no lease goes to the dead worker after its leases
+// expire, and the run gives the one-host verdicts with no episode given up.
+TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothing) {
+  ASSERT_EQ(mtg(run_args("one", 8, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+
+  bus::Bus tap(kSharedUrl);  // no key: it reads and re-sends datagrams as they are
+  std::vector<std::vector<std::uint8_t>> announcements, beats;
+  bool capture_beats = false;
+  tap.subscribe_raw(bus::kRunInfo, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    announcements.emplace_back(b.begin(), b.end());
+  });
+  tap.subscribe_raw(bus::kHeartbeat, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::heartbeat_t hb{};
+    if (capture_beats && hb.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && hb.host == "host1") {
+      beats.emplace_back(b.begin(), b.end());
+    }
+  });
+  auto pump = [&](testing::ChildProcess& run) {
+    while (run.running()) tap.handle_once(50);
+  };
+  {
+    testing::ChildProcess first(run_args("first", 4, 4, 2), log());
+    pump(first);
+    ASSERT_EQ(first.wait(1000), 0) << log_text();
+  }
+  ASSERT_FALSE(announcements.empty());
+  // The finished run's announcements ("running" included), re-sent at the idle workers.
+  for (int round = 0; round < 4; ++round) {
+    for (const auto& a : announcements) tap.publish_raw(bus::kRunInfo, a);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  // The next run still gets both workers, and host 1's heartbeats of this run are captured.
+  testing::ChildProcess run(run_args("replayed", 8, 4, 2), log());
+  capture_beats = true;
+  ASSERT_TRUE(wait_for([&] {
+    tap.handle_once(20);
+    return results("replayed").size() >= 2 && beats.size() >= 4;
+  }, 60000)) << log_text();
+  capture_beats = false;
+  kill_host(1);
+  auto last = std::chrono::steady_clock::now();
+  std::size_t next = 0;
+  while (run.running()) {
+    tap.handle_once(20);
+    if (std::chrono::steady_clock::now() - last > std::chrono::milliseconds(500)) {
+      tap.publish_raw(bus::kHeartbeat, beats[next++ % beats.size()]);
+      last = std::chrono::steady_clock::now();
+    }
+  }
+  ASSERT_EQ(run.wait(1000), 0) << log_text();
+  const auto rows = results("replayed");
+  EXPECT_EQ(rows.size(), planned("replayed"));
+  EXPECT_EQ(fingerprints(rows), single);
+  for (const auto& r : rows) EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+  EXPECT_NE(log_text().find("were replays"), std::string::npos) << log_text();
 }
 
 // A worker whose dataset lacks a file the task set was made from stays out of the run, says why,
