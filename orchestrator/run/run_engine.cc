@@ -235,7 +235,7 @@ class Engine final : public LaunchSink {
       ++completed_;
       count(row);
       if (progress_ != nullptr) {
-        progress_->record(row.success, row.ip, scored);
+        progress_->record(row.agent, row.success, row.ip, scored);
         progress_->draw();
       }
     }
