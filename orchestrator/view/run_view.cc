@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/episode/outcomes.h"
+#include "core/tasks/task_db.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/report/paper_table3.h"
@@ -15,22 +16,6 @@ namespace mtg::orchestrator::view {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-bool EpisodeFilter::matches(const EpisodeRow& r) const {
-  if (agent && r.agent != *agent) return false;
-  if (scene && r.scene != *scene) return false;
-  if (task && r.task_id != *task) return false;
-  if (stage && r.stage != *stage) return false;
-  if (status && r.status != *status) return false;
-  if (level && r.level != *level) return false;
-  if (success && r.success != *success) return false;
-  if (cause) {
-    // "success" names the successes' band of the Sankey, where the cause column is empty.
-    const std::string wanted = *cause == "success" ? "" : *cause;
-    if (r.cause != wanted || (*cause == "success") != r.success) return false;
-  }
-  return true;
-}
 
 json row_json(const EpisodeRow& r) {
   return {{"episode_id", r.episode_id.value()},
@@ -65,6 +50,7 @@ RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(
   const json plan = json::parse(in, nullptr, false);
   if (plan.is_discarded() || !plan.is_object()) throw Error(plan_file.string() + ": not valid JSON");
   planned_ = plan.value("episodes", json::array()).size();
+  tasks_db_ = plan.value("tasks_db", "");
   plan_summary_ = {{"run_id", plan.value("run_id", "")},
                    {"agents", plan.value("agents", json::array())},
                    {"levels", plan.value("levels", json::array())},
@@ -141,16 +127,46 @@ json RunView::overview() {
   return o;
 }
 
-json RunView::episodes(const EpisodeFilter& filter, std::size_t offset, std::size_t limit) {
+const TaskTexts& RunView::task_texts() {
+  std::call_once(texts_once_, [this] {
+    // A run looked at on another machine may not have its task set: then ids only.
+    std::error_code ec;
+    if (tasks_db_.empty() || !fs::exists(tasks_db_, ec)) return;
+    try {
+      for (const tasks::Task& t : tasks::read_tasks(tasks_db_)) texts_.emplace(t.id, t.text);
+    } catch (const std::exception& e) {
+      log::warn(name_ + ": task texts not shown (" + e.what() + ")");
+    }
+  });
+  return texts_;
+}
+
+json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit) {
   const Rows all = rows();
+  const TaskTexts& texts = task_texts();
+  const std::vector<std::size_t> selected = select_episodes(*all, texts, query);
   json list = json::array();
-  std::size_t total = 0;
-  for (const EpisodeRow& r : *all) {
-    if (!filter.matches(r)) continue;
-    if (total >= offset && list.size() < limit) list.push_back(row_json(r));
-    ++total;
+  for (std::size_t k = offset; k < selected.size() && list.size() < limit; ++k) {
+    const EpisodeRow& r = (*all)[selected[k]];
+    json row = row_json(r);
+    const auto text = texts.find(r.task_id);
+    row["task_text"] = text == texts.end() ? "" : text->second;
+    list.push_back(std::move(row));
   }
-  return {{"total", total}, {"offset", offset}, {"rows", list}};
+  return {{"total", selected.size()}, {"offset", offset}, {"rows", list}};
+}
+
+json RunView::neighbours(const EpisodeQuery& query, bus::EpisodeId id) {
+  const Rows all = rows();
+  const std::vector<std::size_t> selected = select_episodes(*all, task_texts(), query);
+  const auto at = std::find_if(selected.begin(), selected.end(), [&](std::size_t i) { return (*all)[i].episode_id == id; });
+  if (at == selected.end()) return {{"position", nullptr}, {"total", selected.size()}, {"previous", nullptr}, {"next", nullptr}};
+  const auto k = static_cast<std::size_t>(at - selected.begin());
+  const auto id_at = [&](std::size_t i) { return json((*all)[selected[i]].episode_id.value()); };
+  return {{"position", k},
+          {"total", selected.size()},
+          {"previous", k > 0 ? id_at(k - 1) : json(nullptr)},
+          {"next", k + 1 < selected.size() ? id_at(k + 1) : json(nullptr)}};
 }
 
 std::vector<RecordedMessage> RunView::messages_of(bus::EpisodeId id) {

@@ -16,19 +16,12 @@
 
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/view/episode_trace.h"
+#include "orchestrator/view/episode_query.h"
 #include "orchestrator/view/recording_index.h"
 
 namespace mtg::orchestrator::view {
 
 /// Which episodes a list shows; an unset field matches every episode.
-struct EpisodeFilter {
-  std::optional<std::string> agent, scene, task, cause, stage, status;
-  std::optional<int> level;
-  std::optional<bool> success;
-
-  bool matches(const EpisodeRow& row) const;
-};
-
 class RunView {
  public:
   /// @throws mtg::Error when `dir` holds no plan.json (not a run folder).
@@ -44,8 +37,12 @@ class RunView {
   nlohmann::json summary();
   /// summary() plus {report (make_report), paper (Table 3), prompt_versions, model_agents}.
   nlohmann::json overview();
-  /// {total, offset, rows[...]} of the matching episodes in id order.
-  nlohmann::json episodes(const EpisodeFilter& filter, std::size_t offset, std::size_t limit);
+  /// {total, offset, rows[...]} of the episodes `query` selects, in its order; each row with
+  /// its task's text.
+  nlohmann::json episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit);
+  /// Where episode `id` stands in that list: {position (from 0, or null when the list does not
+  /// hold it), total, previous, next (episode ids or null)}.
+  nlohmann::json neighbours(const EpisodeQuery& query, bus::EpisodeId id);
   /// The episode's result row and its recorded trace (episode_trace), or null if unknown.
   nlohmann::json episode(bus::EpisodeId id, int attempt);
   nlohmann::json truth(bus::EpisodeId id, int attempt);
@@ -55,11 +52,17 @@ class RunView {
   using Rows = std::shared_ptr<const std::vector<EpisodeRow>>;
   Rows rows();  // re-read when results.sqlite changes; shared, so a request never copies them
   std::vector<RecordedMessage> messages_of(bus::EpisodeId id);
+  // Read once, on first use: the task set does not change under a run.
+  const TaskTexts& task_texts();
 
   std::string name_;
   std::filesystem::path dir_;
   nlohmann::json plan_summary_;
   std::size_t planned_ = 0;
+  std::filesystem::path tasks_db_;
+
+  std::once_flag texts_once_;
+  TaskTexts texts_;
 
   std::mutex rows_mutex_;
   std::string rows_stamp_;  // sizes and times of the database files last read

@@ -47,6 +47,8 @@ long long path_number(const httplib::Request& req, std::size_t match, const char
   }
 }
 
+EpisodeQuery query_of(const httplib::Request& req);
+
 EpisodeFilter filter_of(const httplib::Request& req) {
   EpisodeFilter f;
   f.agent = param(req, "agent");
@@ -63,6 +65,19 @@ EpisodeFilter filter_of(const httplib::Request& req) {
     f.success = *s == "1" || *s == "true";
   }
   return f;
+}
+
+// The list's filters, search (q) and order (sort, order=asc|desc).
+EpisodeQuery query_of(const httplib::Request& req) {
+  EpisodeQuery q;
+  q.filter = filter_of(req);
+  q.text = param(req, "q");
+  if (const auto sort = param(req, "sort")) q.sort = *sort;
+  if (const auto order = param(req, "order")) {
+    if (*order != "asc" && *order != "desc") throw Error("query parameter 'order' must be asc or desc, not " + *order);
+    q.descending = *order == "desc";
+  }
+  return q;
 }
 
 // Every handler answers a bad request with one JSON error line instead of a dropped connection.
@@ -131,7 +146,12 @@ void ViewServer::add_routes() {
                                                            httplib::Response& res) {
     const int offset = int_param(req, "offset", 0), limit = int_param(req, "limit", 100);
     if (offset < 0 || limit < 0) throw Error("offset and limit must not be negative");
-    send_json(res, r.episodes(filter_of(req), static_cast<std::size_t>(offset), static_cast<std::size_t>(limit)));
+    send_json(res, r.episodes(query_of(req), static_cast<std::size_t>(offset), static_cast<std::size_t>(limit)));
+  }));
+  // Where an episode stands in the list the page came from: previous / next on the episode page.
+  http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/neighbours)", with_run([](RunView& r, const httplib::Request& req,
+                                                                            httplib::Response& res) {
+    send_json(res, r.neighbours(query_of(req), bus::EpisodeId(path_number(req, 2, "episode"))));
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+))", with_run([](RunView& r, const httplib::Request& req,
                                                                  httplib::Response& res) {

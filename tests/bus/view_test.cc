@@ -163,6 +163,71 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
   EXPECT_EQ(wrong.wait(10000), 1);
 }
 
+// The episode list as a researcher uses it: sorted by a column, searched by a part of a task id
+// or by words of the task text, and stepped through episode by episode with the arrow keys.
+TEST_F(ViewerTest, TheEpisodeListSortsSearchesAndStepsThroughItsEpisodes) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle", "random"}, 3, 2)), 0) << log_text();
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  auto b = browser();
+  const std::string rows_js = "[...document.querySelectorAll('tr.episode-row')]";
+  auto column = [&](int k) {
+    return b->evaluate(rows_js + ".map((r) => r.children[" + std::to_string(k) + "].textContent)");
+  };
+
+  b->navigate(base + "#/run/run/episodes?sort=ip&order=desc");
+  ASSERT_TRUE(b->wait_for(rows_js + ".length > 1", 20000));
+  const json ips = column(7);
+  for (std::size_t i = 1; i < ips.size(); ++i) {
+    EXPECT_GE(std::stod(ips[i - 1].get<std::string>()), std::stod(ips[i].get<std::string>())) << ips.dump();
+  }
+  EXPECT_NE(b->evaluate("document.querySelector('th.sorted').textContent").get<std::string>().find("IP"),
+            std::string::npos);
+  const json texts = column(5);
+  ASSERT_FALSE(texts[0].get<std::string>().empty()) << "the list shows each task's text";
+
+  // A part of a task id, then words of a text (any case).
+  const std::string id = column(4)[0].get<std::string>();
+  const std::string part = id.substr(id.size() - 4);
+  b->navigate(base + "#/run/run/episodes?q=" + part);
+  ASSERT_TRUE(b->wait_for(rows_js + ".length > 0 && " + rows_js + ".every((r) => r.children[4].textContent.includes('" +
+                          part + "'))", 10000));
+  EXPECT_GE(b->evaluate(rows_js + ".length").get<int>(), 2) << "both agents' episodes of that task";
+  const std::string text = texts[0].get<std::string>();
+  const std::string words = text.substr(0, text.find(' ', text.find(' ') + 1));  // its first two words
+  std::string upper = words;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  b->evaluate("location.hash = '#/run/run/episodes?sort=episode&q=' + encodeURIComponent(" + json(upper).dump() + ")");
+  ASSERT_TRUE(b->wait_for(rows_js + ".length > 0 && " + rows_js + ".every((r) => r.children[5].textContent."
+                          "toLowerCase().includes(" + json(words).dump() + ".toLowerCase()))", 10000))
+      << b->evaluate("document.getElementById('count').textContent").dump();
+
+  // Open the sorted list's second episode, then step with the keys: the list's order is kept.
+  b->evaluate("location.hash = '#/run/run/episodes?sort=ip&order=desc'");
+  ASSERT_TRUE(b->wait_for("document.querySelector('th.sorted') && " + rows_js + ".length > 2", 10000));
+  const json ids = column(0);
+  ASSERT_GE(ids.size(), 3u);
+  b->evaluate(rows_js + "[1].click()");
+  ASSERT_TRUE(b->wait_for("document.getElementById('neighbours') && document.getElementById('neighbours')."
+                          "textContent.includes('2 of')", 10000));
+  b->evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'ArrowRight'}))");
+  ASSERT_TRUE(b->wait_for("location.hash.startsWith('#/run/run/episode/" + ids[2].get<std::string>() + "?')", 10000))
+      << b->evaluate("location.hash").dump();
+  ASSERT_TRUE(b->wait_for("document.getElementById('neighbours').textContent.includes('3 of')", 10000));
+  b->evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'ArrowLeft'}))");
+  ASSERT_TRUE(b->wait_for("document.getElementById('neighbours').textContent.includes('2 of')", 10000));
+  b->evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'ArrowLeft'}))");
+  EXPECT_TRUE(b->wait_for("location.hash.startsWith('#/run/run/episode/" + ids[0].get<std::string>() + "?')", 10000))
+      << b->evaluate("location.hash").dump();
+  EXPECT_TRUE(b->wait_for("document.getElementById('neighbours').textContent.includes('1 of') && "
+                          "document.querySelector('h2').textContent.startsWith('Episode " + ids[0].get<std::string>() +
+                          " ')", 10000));
+  b->screenshot(kArtifacts / "episode-steps.png");
+}
+
 // `mtg view --host 0.0.0.0`: reachable from other machines, so only a browser that opened the
 // printed URL (with its token) reads runs; the page's own requests then carry its cookie.
 TEST_F(ViewerTest, BeyondLoopbackOnlyTheBrowserThatOpenedTheTokenUrlReadsRuns) {

@@ -150,14 +150,26 @@ function scheduleRefresh(live) {
 }
 
 // ---- episode list ----
-const FILTERS = ['agent', 'level', 'scene', 'task', 'stage', 'cause', 'success', 'status'];
+// `q` searches task ids (a part is enough) and texts; `task` is an exact id (links from other pages).
+const FILTERS = ['q', 'agent', 'level', 'scene', 'stage', 'cause', 'success', 'status', 'task'];
+const LIST_KEYS = [...FILTERS, 'sort', 'order'];  // what the list is: kept when moving from episode to episode
+const COLUMNS = [['episode', 'episode'], ['agent', 'agent'], ['level', 'level'], ['scene', 'scene'],
+  ['task', 'task'], ['text', 'task text'], ['verdict', 'verdict'], ['ip', 'IP'], ['stage', 'stage reached'],
+  ['cause', 'cause'], ['steps', 'steps']];
+const PAGE_SIZES = [25, 100, 500];
+
+function listQuery(params) {
+  const q = new URLSearchParams();
+  for (const k of LIST_KEYS) if (params.get(k)) q.set(k, params.get(k));
+  return q;
+}
 
 async function showEpisodes(run, params) {
   const o = await api('/api/runs/' + enc(run));
   crumbs(link('#/', 'runs'), link('#/run/' + enc(run), o.name), 'episodes');
-  const offset = Number(params.get('offset') || 0), limit = 100;
-  const q = new URLSearchParams();
-  for (const f of FILTERS) if (params.get(f)) q.set(f, params.get(f));
+  const offset = Number(params.get('offset') || 0);
+  const limit = PAGE_SIZES.includes(Number(params.get('limit'))) ? Number(params.get('limit')) : 100;
+  const q = listQuery(params);
   q.set('offset', offset);
   q.set('limit', limit);
   const page = await api('/api/runs/' + enc(run) + '/episodes?' + q);
@@ -173,33 +185,52 @@ async function showEpisodes(run, params) {
       input = el('select', {name: f}, el('option', {value: ''}, 'any'),
         ...choices[f].map((v) => el('option', {value: v}, f === 'success' ? (v === '1' ? 'yes' : 'no') : v)));
     } else {
-      input = el('input', {name: f, size: 14});
+      input = el('input', {name: f, size: f === 'q' ? 24 : 14, placeholder: f === 'q' ? 'task id or words' : ''});
     }
     input.value = params.get(f) || '';
-    form.append(el('label', {}, f, input));
+    if (f === 'task' && !params.get('task')) continue;  // only shown when a link set it
+    form.append(el('label', {}, f === 'q' ? 'search' : f, input));
   }
-  form.append(el('button', {}, 'Filter'));
+  const sizes = el('select', {name: 'limit'}, ...PAGE_SIZES.map((n) => el('option', {value: n}, n + ' rows')));
+  sizes.value = limit;
+  form.append(el('label', {}, 'show', sizes), el('button', {}, 'Filter'));
+  const withList = (changes) => {
+    const next = listQuery(params);
+    for (const [k, v] of Object.entries(changes)) { if (v === '' || v === undefined) next.delete(k); else next.set(k, v); }
+    return next;
+  };
   form.addEventListener('submit', (ev) => {
     ev.preventDefault();
-    const filters = {};
-    for (const f of FILTERS) filters[f] = form.elements[f].value;
-    go(run, filters);
+    const changes = {limit: form.elements.limit.value};
+    for (const f of FILTERS) if (form.elements[f]) changes[f] = form.elements[f].value;
+    location.hash = '#/run/' + enc(run) + '/episodes?' + withList(changes);
   });
-  const t = el('table', {class: 'episodes'}, el('tr', {}, ...['episode', 'agent', 'level', 'scene', 'task', 'verdict', 'IP',
-    'stage reached', 'cause', 'steps'].map((h) => el('th', {class: 'l'}, h))));
+  sizes.addEventListener('change', () => form.requestSubmit());
+  // A click on a column sorts by it; a second click turns the order round.
+  const sort = params.get('sort') || 'episode', order = params.get('order') || 'asc';
+  const t = el('table', {class: 'episodes'}, el('tr', {}, ...COLUMNS.map(([key, label]) => {
+    const active = key === sort;
+    const next = withList({sort: key, order: active && order === 'asc' ? 'desc' : 'asc', limit});
+    return el('th', {class: 'l sortable' + (active ? ' sorted' : ''), 'data-sort': key},
+      link('#/run/' + enc(run) + '/episodes?' + next, label + (active ? (order === 'asc' ? ' ▲' : ' ▼') : '')));
+  })));
+  const listOf = listQuery(params).toString();
   for (const e of page.rows) {
     CAUSE_WORDS[e.cause] = e.cause_text;
     t.append(el('tr', {class: 'clickable episode-row', 'data-episode': e.episode_id,
-      onclick: () => { location.hash = '#/run/' + enc(run) + '/episode/' + e.episode_id; }},
+      onclick: () => { location.hash = '#/run/' + enc(run) + '/episode/' + e.episode_id + (listOf ? '?' + listOf : ''); }},
       el('td', {class: 'l'}, e.episode_id), el('td', {class: 'l'}, e.agent), el('td', {class: 'l'}, e.level),
       el('td', {class: 'l'}, e.scene), el('td', {class: 'l'}, e.task_id),
+      el('td', {class: 'l task-text', title: e.task_text}, e.task_text),
       el('td', {class: 'l ' + (e.status !== 'scored' ? 'muted' : e.success ? 'ok' : 'fail')},
         e.status !== 'scored' ? 'error' : e.success ? 'success' : 'failure'),
       el('td', {}, fmt(e.ip)), el('td', {class: 'l'}, e.stage), el('td', {class: 'l', title: e.cause_text}, e.cause),
       el('td', {}, e.steps)));
   }
   const pager = el('div', {class: 'pager'});
-  const pageTo = (off) => { params.set('offset', off); location.hash = '#/run/' + enc(run) + '/episodes?' + params; };
+  const pageTo = (off) => {
+    location.hash = '#/run/' + enc(run) + '/episodes?' + withList({offset: off, limit});
+  };
   if (offset > 0) pager.append(el('button', {onclick: () => pageTo(Math.max(0, offset - limit))}, '← previous'));
   if (offset + limit < page.total) pager.append(el('button', {onclick: () => pageTo(offset + limit)}, 'next →'));
   show(form, el('p', {id: 'count'}, page.total + ' episode(s)' +
@@ -246,10 +277,16 @@ function episodeHeader(e) {
     verdictBanner(e));
 }
 
+// The episode page's keys (previous / next); replaced by each episode page, off elsewhere.
+let episodeKeys = null;
+document.addEventListener('keydown', (ev) => { if (episodeKeys) episodeKeys(ev); });
+
 async function showEpisode(run, id, params) {
   const attempt = params.get('attempt');
   const e = await api('/api/runs/' + enc(run) + '/episodes/' + id + (attempt ? '?attempt=' + attempt : ''));
-  crumbs(link('#/', 'runs'), link('#/run/' + enc(run), run), link('#/run/' + enc(run) + '/episodes', 'episodes'), 'episode ' + id);
+  const back = listQuery(params).toString();
+  crumbs(link('#/', 'runs'), link('#/run/' + enc(run), run),
+    link('#/run/' + enc(run) + '/episodes' + (back ? '?' + back : ''), 'episodes'), 'episode ' + id);
   const truthBox = el('div', {id: 'truth'});
   const truthButton = el('button', {onclick: async () => {
     const t = await api('/api/runs/' + enc(run) + '/episodes/' + id + '/truth?attempt=' + e.attempt);
@@ -260,7 +297,21 @@ async function showEpisode(run, id, params) {
   const compare = el('div', {id: 'others'});
   const attempts = e.attempts.length > 1 ? el('div', {}, 'Attempts: ', ...e.attempts.map((k) =>
     el('a', {href: '#/run/' + enc(run) + '/episode/' + id + '?attempt=' + k, style: 'margin-right:6px'}, String(k)))) : null;
-  show(episodeHeader(e), attempts, el('div', {}, truthButton), truthBox, compare,
+  // Previous / next within the list this episode was opened from (its filters, search and order).
+  const list = listQuery(params).toString();
+  const around = await api('/api/runs/' + enc(run) + '/episodes/' + id + '/neighbours' + (list ? '?' + list : ''));
+  const to = (other) => '#/run/' + enc(run) + '/episode/' + other + (list ? '?' + list : '');
+  const nav = el('div', {class: 'pager', id: 'neighbours'},
+    around.previous !== null ? link(to(around.previous), '← previous') : el('span', {class: 'muted'}, '← previous'),
+    ' ', el('span', {class: 'muted'}, around.position !== null ? (around.position + 1) + ' of ' + around.total : ''),
+    ' ', around.next !== null ? link(to(around.next), 'next →') : el('span', {class: 'muted'}, 'next →'),
+    el('span', {class: 'muted'}, '  (keys: ← →)'));
+  episodeKeys = (ev) => {
+    if (ev.target.closest && ev.target.closest('input, textarea, select')) return;
+    if (ev.key === 'ArrowLeft' && around.previous !== null) location.hash = to(around.previous);
+    if (ev.key === 'ArrowRight' && around.next !== null) location.hash = to(around.next);
+  };
+  show(episodeHeader(e), nav, attempts, el('div', {}, truthButton), truthBox, compare,
     ...e.steps.map(stepBlock),
     e.errors.length ? el('div', {}, el('h2', {}, 'Errors reported during the episode'),
       ...e.errors.map((x) => el('div', {class: 'error'}, x.severity + ' from ' + x.source + ': ' + x.message))) : null);
@@ -304,6 +355,7 @@ async function showCompare(params) {
 
 async function route() {
   clearTimeout(refreshTimer);
+  episodeKeys = null;
   const hash = location.hash.slice(1) || '/';
   const [path, query] = hash.split('?');
   const params = new URLSearchParams(query || '');
