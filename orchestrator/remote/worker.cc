@@ -3,7 +3,9 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -169,6 +171,15 @@ class Worker final : public LaunchSink {
   void on_run_info(const mtg::run_info_t& m) {
     if (!options_.run_id.empty() && m.header.run_id != options_.run_id) return;
     heard_run_ = true;
+    // A coordinator session (its sender names host and pid) that announced its end is over for
+    // good: an announcement of it seen later is a replay or a straggler, never a run to join. A
+    // resumed run comes from a new session.
+    const std::string session = m.header.run_id + "|" + m.header.sender;
+    if (m.state == "done" && std::find(ended_.begin(), ended_.end(), session) == ended_.end()) {
+      ended_.push_back(session);
+      if (ended_.size() > kEndedKept) ended_.pop_front();
+    }
+    if (m.state == "running" && std::find(ended_.begin(), ended_.end(), session) != ended_.end()) return;
     if (run_id_.empty() && m.state == "running" && !join_) {
       // A run this host could not start is tried again after a while, not on every announcement.
       if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
@@ -383,6 +394,8 @@ class Worker final : public LaunchSink {
   bool heard_run_ = false;  // the run of options_.run_id has been announced
   Clock::time_point last_announcement_;
   std::string failed_run_;
+  static constexpr std::size_t kEndedKept = 64;
+  std::deque<std::string> ended_;  // "<run id>|<coordinator sender>" of sessions that announced "done"
   Clock::time_point retry_join_at_;
   long tick_ = 0;
   std::map<bus::EpisodeId, Held> held_;
