@@ -127,6 +127,16 @@ json RunView::overview() {
   return o;
 }
 
+json RunView::agent_report(const std::string& agent) {
+  const Rows all = rows();
+  std::vector<EpisodeRow> mine;
+  for (const EpisodeRow& r : *all) {
+    if (r.agent == agent) mine.push_back(r);
+  }
+  if (mine.empty()) return nullptr;
+  return make_report(mine, plan_summary_["run_id"].get<std::string>());
+}
+
 const TaskTexts& RunView::task_texts() {
   std::call_once(texts_once_, [this] {
     // A run looked at on another machine may not have its task set: then ids only.

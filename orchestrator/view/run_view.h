@@ -37,6 +37,9 @@ class RunView {
   nlohmann::json summary();
   /// summary() plus {report (make_report), paper (Table 3), prompt_versions, model_agents}.
   nlohmann::json overview();
+  /// make_report over one agent's episodes (the failure section of the overview restricted to
+  /// it); null when the run has no episode of that agent.
+  nlohmann::json agent_report(const std::string& agent);
   /// {total, offset, rows[...]} of the episodes `query` selects, in its order; each row with
   /// its task's text.
   nlohmann::json episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit);

@@ -138,10 +138,22 @@ void ViewServer::add_routes() {
   http_->Get(R"(/api/runs/([^/]+))", with_run([](RunView& r, const httplib::Request&, httplib::Response& res) {
     send_json(res, r.overview());
   }));
+  // ?agent=A: one agent's episodes only (the overview's failure section, per agent).
+  const auto report_for = [](RunView& r, const httplib::Request& req) -> json {
+    const auto agent = param(req, "agent");
+    if (!agent) return r.overview()["report"];
+    json report = r.agent_report(*agent);
+    if (report.is_null()) throw Error("run " + r.name() + " has no episode of agent '" + *agent + "'");
+    return report;
+  };
   http_->Get(R"(/api/runs/([^/]+)/sankey\.svg)",
-             with_run([](RunView& r, const httplib::Request&, httplib::Response& res) {
-               res.set_content(sankey_svg(r.overview()["report"]["sankey"], 1000, 520), "image/svg+xml");
+             with_run([report_for](RunView& r, const httplib::Request& req, httplib::Response& res) {
+               res.set_content(sankey_svg(report_for(r, req)["sankey"], 1000, 520), "image/svg+xml");
              }));
+  http_->Get(R"(/api/runs/([^/]+)/report)", with_run([report_for](RunView& r, const httplib::Request& req,
+                                                                   httplib::Response& res) {
+    send_json(res, report_for(r, req));
+  }));
   http_->Get(R"(/api/runs/([^/]+)/episodes)", with_run([](RunView& r, const httplib::Request& req,
                                                            httplib::Response& res) {
     const int offset = int_param(req, "offset", 0), limit = int_param(req, "limit", 100);

@@ -165,7 +165,7 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
 
 // The episode list as a researcher uses it: sorted by a column, searched by a part of a task id
 // or by words of the task text, and stepped through episode by episode with the arrow keys.
-TEST_F(ViewerTest, TheEpisodeListSortsSearchesAndStepsThroughItsEpisodes) {
+TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   ASSERT_EQ(mtg(run_args("run", {"oracle", "random"}, 3, 2)), 0) << log_text();
   testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
                              (fx_.root() / "view.log").string());
@@ -204,6 +204,24 @@ TEST_F(ViewerTest, TheEpisodeListSortsSearchesAndStepsThroughItsEpisodes) {
   ASSERT_TRUE(b->wait_for(rows_js + ".length > 0 && " + rows_js + ".every((r) => r.children[5].textContent."
                           "toLowerCase().includes(" + json(words).dump() + ".toLowerCase()))", 10000))
       << b->evaluate("document.getElementById('count').textContent").dump();
+
+  // The failure section for one agent: its own Sankey and causes, and its clicks keep the agent.
+  b->evaluate("location.hash = '#/run/run?agent=random'");
+  ASSERT_TRUE(b->wait_for("document.getElementById('failure-agent') && document.getElementById('failure-agent').value "
+                          "=== 'random' && document.querySelectorAll('#sankey path.flow').length > 0", 10000));
+  const json random_report = b->evaluate("fetch('/api/runs/run/report?agent=random').then((r) => r.json())");
+  const json random_rows = b->evaluate("fetch('/api/runs/run/episodes?agent=random&limit=1').then((r) => r.json())");
+  EXPECT_EQ(random_report["episodes"], random_rows["total"]);
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('tr.cause-row').length").get<std::size_t>(),
+            random_report["causes"].size());
+  EXPECT_NE(b->evaluate("document.querySelector('table.results').textContent").get<std::string>().find("Avg (L1–3)"),
+            std::string::npos);
+  b->screenshot(kArtifacts / "overview-random.png", true);
+  if (!random_report["causes"].empty()) {
+    b->evaluate("document.querySelector('tr.cause-row').click()");
+    EXPECT_TRUE(b->wait_for("location.hash.includes('agent=random') && location.hash.includes('cause=')", 10000))
+        << b->evaluate("location.hash").dump();
+  }
 
   // Open the sorted list's second episode, then step with the keys: the list's order is kept.
   b->evaluate("location.hash = '#/run/run/episodes?sort=ip&order=desc'");

@@ -50,30 +50,39 @@ async function showRuns() {
 // ---- overview ----
 function levelsOf(report) { return Object.keys(report.by_level).sort(); }
 
+// The paper's Table 3 averages Levels 1–3 as the mean of the three levels' figures: so does the
+// Avg column here, for every row; Level 4 (not in the paper's table) stands apart, after it.
+function meanOfLevels(byLevel, levels, key) {
+  const values = levels.map((l) => (byLevel || {})[l]).filter((v) => v && v[key] !== null && v[key] !== undefined)
+    .map((v) => v[key]);
+  return values.length ? values.reduce((a, b) => a + b, 0) / values.length : null;
+}
+
 function table3(o) {
   const report = o.report;
   const levels = levelsOf(report);
+  const paperLevels = levels.filter((l) => Number(l) <= 3), apart = levels.filter((l) => Number(l) > 3);
+  const groups = [...paperLevels.map((l) => 'Level ' + l), 'Avg (L1–3)', ...apart.map((l) => 'Level ' + l)];
   const head1 = el('tr', {}, el('th', {class: 'l', rowspan: 2}, 'agent'),
-    ...levels.map((l) => el('th', {colspan: 2}, 'Level ' + l)), el('th', {colspan: 2}, 'Avg'), el('th', {rowspan: 2}, 'episodes'));
-  const head2 = el('tr', {}, ...[...levels, 'avg'].flatMap(() => [el('th', {}, 'IP'), el('th', {}, 'SR (%)')]));
+    ...groups.map((g) => el('th', {colspan: 2, class: g.startsWith('Avg') ? 'avg' : ''}, g)), el('th', {rowspan: 2}, 'episodes'));
+  const head2 = el('tr', {}, ...groups.flatMap(() => [el('th', {}, 'IP'), el('th', {}, 'SR (%)')]));
   const t = el('table', {class: 'results'}, head1, head2);
+  const cellsOf = (byLevel, ls) => ls.flatMap((l) => {
+    const v = (byLevel || {})[l];
+    return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
+  });
   for (const [agent, a] of Object.entries(report.by_agent)) {
-    const cells = levels.flatMap((l) => {
-      const v = (a.by_level || {})[l];
-      return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
-    });
+    const avg = [el('td', {class: 'avg'}, fmt(meanOfLevels(a.by_level, paperLevels, 'ip'))),
+      el('td', {class: 'avg'}, fmt(meanOfLevels(a.by_level, paperLevels, 'sr')))];
     t.append(el('tr', {class: 'clickable agent-row', onclick: () => go(o.name, {agent})},
-      el('td', {class: 'l'}, agent), ...cells, el('td', {}, fmt(a.ip)), el('td', {}, fmt(a.sr)), el('td', {}, a.episodes)));
+      el('td', {class: 'l'}, agent), ...cellsOf(a.by_level, paperLevels), ...avg, ...cellsOf(a.by_level, apart),
+      el('td', {}, a.episodes)));
   }
-  t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * levels.length + 4},
-    'The paper’s Table 3, for reference (Levels 1–3; its averages cover those three):')));
+  t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * groups.length + 2},
+    'The paper’s Table 3, for reference (Levels 1–3; Avg is the mean of its three levels, as above):')));
   for (const p of o.paper) {
-    const cells = levels.flatMap((l) => {
-      const v = p.by_level[l];
-      return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
-    });
-    t.append(el('tr', {class: 'paper'}, el('td', {class: 'l'}, p.agent), ...cells, el('td', {}, fmt(p.ip)),
-      el('td', {}, fmt(p.sr)), el('td', {})));
+    t.append(el('tr', {class: 'paper'}, el('td', {class: 'l'}, p.agent), ...cellsOf(p.by_level, paperLevels),
+      el('td', {class: 'avg'}, fmt(p.ip)), el('td', {class: 'avg'}, fmt(p.sr)), ...cellsOf({}, apart), el('td', {})));
   }
   return t;
 }
@@ -96,10 +105,15 @@ function filterOfNode(id, filters) {
   return filters;
 }
 
-async function showOverview(run) {
+async function showOverview(run, params) {
   const o = await api('/api/runs/' + enc(run));
   crumbs(link('#/', 'runs'), o.name);
   const r = o.report;
+  // The failure section for all agents, or for the one chosen (?agent=A).
+  const agents = Object.keys(r.by_agent);
+  const chosen = agents.includes(params.get('agent')) ? params.get('agent') : '';
+  const failures = chosen ? await api('/api/runs/' + enc(run) + '/report?agent=' + enc(chosen)) : r;
+  const withAgent = (filters) => (chosen ? {...filters, agent: chosen} : filters);
   const parts = [];
   parts.push(el('p', {id: 'summary'}, o.finished + ' of ' + o.planned + ' episodes finished' +
     (o.live ? ' (running: this page refreshes as results arrive)' : '') + '. ' + r.scored + ' scored' +
@@ -112,22 +126,32 @@ async function showOverview(run) {
   parts.push(el('h2', {}, 'Results by level (click an agent for its episodes)'), table3(o),
     el('p', {class: 'note'}, 'IP: intermediate points (25 per milestone: source reached, item picked, destination ' +
       'reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.'));
+  if (agents.length > 1) {
+    const pick = el('select', {id: 'failure-agent'}, el('option', {value: ''}, 'all agents'),
+      ...agents.map((a) => el('option', {value: a}, a)));
+    pick.value = chosen;
+    pick.addEventListener('change', () => { location.hash = '#/run/' + enc(run) + (pick.value ? '?agent=' + enc(pick.value) : ''); });
+    parts.push(el('p', {id: 'failure-of'}, 'Failures of ', pick,
+      chosen ? ' (' + failures.scored + ' scored episodes, SR ' + fmt(failures.sr) + ' %, IP ' + fmt(failures.ip) + ')' : ''));
+  }
   const sankey = el('div', {id: 'sankey'}, 'Loading the Sankey…');
-  parts.push(el('h2', {}, 'Failure Sankey: task level → stage reached → cause → outcome (click a flow for its episodes)'), sankey);
+  parts.push(el('h2', {}, 'Failure Sankey' + (chosen ? ' of ' + chosen : '') +
+    ': task level → stage reached → cause → outcome (click a flow for its episodes)'), sankey);
   const causes = el('table', {class: 'causes'}, el('tr', {}, el('th', {class: 'l'}, 'cause'), el('th', {class: 'l'}, 'meaning'),
     el('th', {}, 'episodes')));
-  for (const [cause, n] of Object.entries(r.causes).sort((a, b) => b[1] - a[1])) {
-    causes.append(el('tr', {class: 'clickable', onclick: () => go(run, {cause})}, el('td', {class: 'l'}, cause),
+  for (const [cause, n] of Object.entries(failures.causes).sort((a, b) => b[1] - a[1])) {
+    causes.append(el('tr', {class: 'clickable cause-row', onclick: () => go(run, withAgent({cause}))}, el('td', {class: 'l'}, cause),
       el('td', {class: 'l cause-text', 'data-cause': cause}, ''), el('td', {}, n)));
   }
-  parts.push(el('h2', {}, 'Failure causes'), Object.keys(r.causes).length ? causes : el('p', {}, 'No failures.'));
+  parts.push(el('h2', {}, 'Failure causes' + (chosen ? ' of ' + chosen : '')),
+    Object.keys(failures.causes).length ? causes : el('p', {}, 'No failures.'));
   show(...parts);
   fillCauseWords(run);
-  const svg = await api('/api/runs/' + enc(run) + '/sankey.svg');
+  const svg = await api('/api/runs/' + enc(run) + '/sankey.svg' + (chosen ? '?agent=' + enc(chosen) : ''));
   sankey.innerHTML = svg;
   window.mtgSankey = performance.now();
   for (const path of sankey.querySelectorAll('path.flow')) {
-    path.addEventListener('click', () => go(run, filterOfNode(path.dataset.target, filterOfNode(path.dataset.source, {}))));
+    path.addEventListener('click', () => go(run, withAgent(filterOfNode(path.dataset.target, filterOfNode(path.dataset.source, {})))));
   }
   scheduleRefresh(o.live);
 }
@@ -363,7 +387,7 @@ async function route() {
   try {
     if (parts.length === 0) await showRuns();
     else if (parts[0] === 'compare') await showCompare(params);
-    else if (parts[0] === 'run' && parts.length === 2) await showOverview(parts[1]);
+    else if (parts[0] === 'run' && parts.length === 2) await showOverview(parts[1], params);
     else if (parts[0] === 'run' && parts[2] === 'episodes') await showEpisodes(parts[1], params);
     else if (parts[0] === 'run' && parts[2] === 'episode') await showEpisode(parts[1], parts[3], params);
     else show(el('p', {}, 'Nothing here: ' + hash));
