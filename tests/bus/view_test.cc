@@ -243,6 +243,9 @@ TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   EXPECT_TRUE(b->wait_for("document.getElementById('neighbours').textContent.includes('1 of') && "
                           "document.querySelector('h2').textContent.startsWith('Episode " + ids[0].get<std::string>() +
                           " ')", 10000));
+  // Each answer says what its key meant at that step ("l1 — go to platform 1: ...").
+  EXPECT_TRUE(b->wait_for("[...document.querySelectorAll('.key-meaning')].some((m) => m.textContent.startsWith(' — '))",
+                          5000));
   b->screenshot(kArtifacts / "episode-steps.png");
 }
 

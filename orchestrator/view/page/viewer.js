@@ -278,11 +278,14 @@ function verdictBanner(e) {
 
 function stepBlock(s) {
   const a = s.action;
+  // What the chosen key meant at this step, from the actions offered with it.
+  const offered = a && a.parsed_key && s.observation ? s.observation.actions.find((o) => o.key === a.parsed_key) : null;
   return el('div', {class: 'step', 'data-step': s.step},
     el('h3', {}, s.done ? 'Final state (step ' + s.step + ')' : 'Step ' + (s.step + 1)),
     s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key}) : el('div', {class: 'muted'}, 'no observation recorded'),
     a ? el('div', {class: 'reply'},
       el('div', {}, 'Answer: ', el('b', {class: 'parsed-key'}, a.parsed_key || '(no key)'),
+        offered ? el('span', {class: 'key-meaning'}, ' — ' + offered.description) : '',
         a.format_ok ? '' : el('span', {class: 'fail'}, ' unreadable'),
         a.error ? el('span', {class: 'fail'}, ' provider error: ' + a.error) : '',
         a.provider !== 'builtin' ? el('span', {class: 'muted'}, ' · ' + a.provider + (a.model ? ' ' + a.model : '') +
