@@ -17,13 +17,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"mtg human agent: play episodes in the browser"};
   std::string url = mtg::bus::default_url();
-  std::string run_id, host = "127.0.0.1", token_file;
+  std::string run_id, host = "127.0.0.1", token_file, unix_socket;
   int port = 8780;
   app.add_option("--url", url, "LCM URL");
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   app.add_option("--host", host, "address of the play page (default 127.0.0.1: this machine only)");
   app.add_option("--port", port, "port of the play page");
   app.add_option("--token-file", token_file, "the page's token (needed with a --host beyond loopback)");
+  app.add_option("--unix-socket", unix_socket, "serve the page on this Unix socket; --host/--port are where it is relayed from");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("agent human");
   mtg::process::install_stop_signals();
@@ -34,9 +35,14 @@ int main(int argc, char** argv) {
     mtg::agents::PlayDesk& desk = *desk_owner;
     mtg::agents::PlayServer server(desk);
     const std::string token = token_file.empty() ? "" : mtg::web::read_token_file(token_file);
-    server.start(host, port, token);
+    if (unix_socket.empty()) {
+      server.start(host, port, token);
+    } else {
+      server.start_unix(unix_socket, host, port, token);
+    }
     // The token stays out of the log: the run's folder may be shared.
-    mtg::log::info("play at " + mtg::web::page_url({host, port, token.empty() ? "" : "<token>"}));
+    mtg::log::info("play at " + mtg::web::page_url({host, port, token.empty() ? "" : "<token>"}) +
+                   (unix_socket.empty() ? "" : ", relayed to the socket " + unix_socket));
     // The judge's verdicts on the person's attempts, shown on the page after each episode.
     bus.subscribe<mtg::episode_result_t>(mtg::bus::kEpisodeResult,
                                          [&desk, &run_id](const std::string&, const mtg::episode_result_t& r) {

@@ -1,6 +1,8 @@
 #include "agents/human/play_server.h"
 
 #include <httplib.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "agents/human/exclusive_port.h"
 #include "agents/human/json_reply.h"
@@ -70,6 +72,15 @@ void PlayServer::start(const std::string& host, int port, const std::string& tok
     throw Error("the play page cannot listen on " + host + ":" + std::to_string(port) +
                 " (taken? choose another with --port)");
   }
+  thread_ = std::thread([this] { http_->listen_after_bind(); });
+}
+
+void PlayServer::start_unix(const std::string& path, const std::string& host, int port, const std::string& token) {
+  guard_.set_address({host, port, token});
+  ::unlink(path.c_str());  // one left by a killed run
+  http_->set_address_family(AF_UNIX);
+  if (!http_->bind_to_port(path, 80)) throw Error("the play page cannot listen on the socket " + path);
+  ::chmod(path.c_str(), 0600);
   thread_ = std::thread([this] { http_->listen_after_bind(); });
 }
 

@@ -26,6 +26,9 @@ class PlayServer {
   /// Binds and serves on a thread of its own; `token` is required (and checked) when `host` is
   /// not a loopback address. @throws mtg::Error when the port is taken or a token is missing.
   void start(const std::string& host, int port, const std::string& token = "");
+  /// The same on the Unix socket `path` (owner only): the page's address, host:port with its
+  /// token, is relayed to it from outside a run's namespace (orchestrator/run/page_relay.h).
+  void start_unix(const std::string& path, const std::string& host, int port, const std::string& token = "");
 
  private:
   PlayDesk& desk_;

@@ -22,6 +22,7 @@
 #include "orchestrator/cli/task_commands.h"
 #include "orchestrator/cli/view_commands.h"
 #include "orchestrator/cli/vlm_commands.h"
+#include "orchestrator/run/page_relay.h"
 #include "orchestrator/run/run_namespace.h"
 
 namespace mtg::cli {
@@ -331,7 +332,7 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
 }
 
 // mtg view | play
-void add_view_commands(CLI::App& app, Commands& commands) {
+void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   auto view_opts = std::make_shared<ViewOptions>();
   CLI::App* view = app.add_subcommand("view", "Look inside runs in the browser: results, Sankey, every step");
   view->add_option("runs", view_opts->runs, "run folders")->required();
@@ -353,7 +354,15 @@ void add_view_commands(CLI::App& app, Commands& commands) {
   play->add_option("--step-limit", play_opts->step_limit, "steps per episode, at least (default 15)");
   play->add_option("--host", play_opts->host, "address of the play page (default 127.0.0.1)");
   play->add_option("--port", play_opts->port, "port of the play page (default 8780)");
-  commands.push_back({play, [play_opts] { return run_play(*play_opts); }});
+  commands.push_back({play, [play_opts, argv]() -> int {
+                        // Like mtg run, a bus of its own; the page is relayed from the host's
+                        // network into the namespace (page_relay.h).
+                        if (play_opts->url.empty() && !orchestrator::inside_run_namespace()) {
+                          auto page = std::make_unique<orchestrator::PageRelay>(play_opts->host, play_opts->port);
+                          if (const auto isolated = orchestrator::run_in_own_namespace(argv, page.get())) return *isolated;
+                        }
+                        return run_play(*play_opts);
+                      }});
 
   auto audit_opts = std::make_shared<AuditCommandOptions>();
   CLI::App* audit = app.add_subcommand("audit", "Judge sampled tasks from what the agent sees, in the browser (Table 2)");
@@ -408,7 +417,7 @@ int main(int argc, char** argv) {
   mtg::cli::add_vlm_commands(app, commands);
   mtg::cli::add_result_commands(app, commands, argv);
   mtg::cli::add_bench_commands(app, commands);
-  mtg::cli::add_view_commands(app, commands);
+  mtg::cli::add_view_commands(app, commands, argv);
 
   try {
     app.parse(argc, argv);

@@ -31,6 +31,7 @@
 #include "orchestrator/run/rejudge.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
+#include "orchestrator/run/page_relay.h"
 #include "orchestrator/run/run_namespace.h"
 #include "orchestrator/run/run_plan.h"
 
@@ -358,6 +359,9 @@ int run_run(const RunOptions& o) {
   engine.remote = o.remote_options;
   engine.play_host = o.play_host;
   engine.play_port = o.play_port;
+  if (const char* socket = std::getenv(orchestrator::kPlaySocketEnv); socket != nullptr && orchestrator::inside_run_namespace()) {
+    engine.play_socket = socket;
+  }
   if (o.given.count("--slurm")) slurm.workers = submit_slurm_workers(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   slurm.workers.reset();  // cancel what is left of the array

@@ -145,6 +145,7 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
         web::write_token_file(file.string(), play_token_);
         argv.insert(argv.end(), {"--token-file", file.string()});
       }
+      if (!config_.play_socket.empty()) argv.insert(argv.end(), {"--unix-socket", config_.play_socket});
       supervisor_.start(name, with(argv));
     } else if (vlm::is_model_spec(spec)) {
       // As many calls in flight as episodes, unless the settings say otherwise.

@@ -290,6 +290,7 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.data_dir = plan.data_dir;
   c.play_host = options.play_host;
   c.play_port = options.play_port;
+  c.play_socket = options.play_socket;
   c.attempts_per_invocation = plan.max_attempts;
   return c;
 }

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "agents/vlm/http_relay.h"
+#include "orchestrator/run/page_relay.h"
 #include "core/util/log.h"
 
 extern char** environ;
@@ -82,20 +83,22 @@ bool inside_run_namespace() {
   return v != nullptr && *v != '\0';
 }
 
-std::optional<int> run_in_own_namespace(char** argv) {
+std::optional<int> run_in_own_namespace(char** argv, PageRelay* page) {
   if (inside_run_namespace()) return std::nullopt;
   vlm::HttpRelayServer relay;
   // Everything the child needs, made before fork: after it only async-signal-safe calls.
   std::vector<std::string> env_strings;
   for (char** e = environ; *e != nullptr; ++e) {
     const std::string var(*e);
-    if (var.rfind(std::string(kRunNamespaceEnv) + "=", 0) == 0 || var.rfind(std::string(vlm::kHttpRelayEnv) + "=", 0) == 0) {
+    if (var.rfind(std::string(kRunNamespaceEnv) + "=", 0) == 0 || var.rfind(std::string(vlm::kHttpRelayEnv) + "=", 0) == 0 ||
+        var.rfind(std::string(kPlaySocketEnv) + "=", 0) == 0) {
       continue;
     }
     env_strings.push_back(var);
   }
   env_strings.push_back(std::string(kRunNamespaceEnv) + "=1");
   env_strings.push_back(std::string(vlm::kHttpRelayEnv) + "=" + relay.socket_path());
+  if (page != nullptr) env_strings.push_back(std::string(kPlaySocketEnv) + "=" + page->socket_path());
   std::vector<char*> envp;
   for (auto& s : env_strings) envp.push_back(s.data());
   envp.push_back(nullptr);
@@ -144,6 +147,7 @@ std::optional<int> run_in_own_namespace(char** argv) {
     return std::nullopt;
   }
   relay.start();
+  if (page != nullptr) page->start();
   g_child = child;
   struct sigaction sa{};
   sa.sa_handler = forward_signal;

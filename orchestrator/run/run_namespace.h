@@ -17,6 +17,8 @@
 
 namespace mtg::orchestrator {
 
+class PageRelay;
+
 /// Set in the environment of a run inside its own namespace.
 inline constexpr const char* kRunNamespaceEnv = "MTG_RUN_NAMESPACE";
 
@@ -26,6 +28,8 @@ bool inside_run_namespace();
 /// Runs `argv` (this program's own command line) again in a new network namespace and returns
 /// its exit status, unless this process is inside one already (nullopt: go on here) or no
 /// namespace can be made (nullopt, after a one-line notice naming why).
-std::optional<int> run_in_own_namespace(char** argv);
+/// With `page`, the inner run serves the play page on its socket and `page` relays the page's TCP
+/// address to it (page_relay.h) while the run lasts.
+std::optional<int> run_in_own_namespace(char** argv, PageRelay* page = nullptr);
 
 }  // namespace mtg::orchestrator

@@ -283,6 +283,10 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
   for (const auto& t : tasks::read_tasks(tasks_db_)) plan_of_text[t.text] = t.oracle;
 
   const int port = 18780 + static_cast<int>(::getpid() % 1000);
+  // As on a fresh machine: no multicast route (this test's own network namespace). mtg play makes
+  // a namespace of its own with one, and relays the page into it.
+  const bool unrouted = testing::ChildProcess({"/sbin/ip", "route", "del", "224.0.0.0/4", "dev", "lo"},
+                                              log()).wait(10000) == 0;
   testing::ChildProcess play({testing::bin("mtg"), "play", "--tasks", tasks_db_, "--levels", "1,2,3", "--limit", "1",
                               "--out", (fx_.root() / "play").string(), "--data", fx_.root().string(), "--profile",
                               "none", "--port", std::to_string(port)},
@@ -343,6 +347,11 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
     ++clicks;
   }
   EXPECT_EQ(play.wait(60000), 0) << log_text();
+  EXPECT_EQ(log_text().find("not isolated"), std::string::npos) << log_text();
+  std::ifstream agent_log(fx_.root() / "play" / "logs" / "agent-0.log");
+  EXPECT_NE(std::string((std::istreambuf_iterator<char>(agent_log)), {}).find("relayed to the socket"), std::string::npos)
+      << "the page is served in the run's namespace";
+  EXPECT_TRUE(unrouted) << "the route could not be removed in this test's namespace";
   const auto rows = results("play");
   ASSERT_EQ(rows.size(), planned("play"));
   EXPECT_GE(attempts.size(), rows.size());
