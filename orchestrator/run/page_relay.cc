@@ -74,7 +74,7 @@ PageRelay::~PageRelay() {
     const std::lock_guard lock(mutex_);
     for (const int fd : open_fds_) ::shutdown(fd, SHUT_RDWR);
   }
-  for (auto& t : connections_) t.join();
+  for (auto& c : connections_) c.thread.join();
   if (listen_fd_ >= 0) ::close(listen_fd_);
   ::unlink(socket_path_.c_str());
 }
@@ -90,8 +90,20 @@ void PageRelay::accept_loop() {
     const int client = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
     if (client < 0) continue;
     const std::lock_guard lock(mutex_);
+    // A page long-polls: over an hour of play that is hundreds of connections, so the finished
+    // ones are joined here rather than kept.
+    std::erase_if(connections_, [](Connection& c) {
+      if (!*c.done) return false;
+      c.thread.join();
+      return true;
+    });
     open_fds_.push_back(client);
-    connections_.emplace_back([this, client] { relay(client); });
+    auto done = std::make_shared<std::atomic<bool>>(false);
+    connections_.push_back({std::thread([this, client, done] {
+                              relay(client);
+                              *done = true;
+                            }),
+                            done});
   }
 }
 

@@ -6,6 +6,7 @@
 // run's bus stays in the namespace.
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -37,8 +38,12 @@ class PageRelay {
   int listen_fd_ = -1;
   std::atomic<bool> stop_{false};
   std::thread acceptor_;
+  struct Connection {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done;
+  };
   std::mutex mutex_;
-  std::vector<std::thread> connections_;
+  std::vector<Connection> connections_;  // finished ones are joined as new ones come
   std::vector<int> open_fds_;  // shut down when stopping, so their threads end
 };
 
