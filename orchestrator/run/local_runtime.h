@@ -51,7 +51,7 @@ struct RuntimeConfig {
   int play_port = 8780;
   /// "" or a Unix socket to serve the page on, relayed from play_host:play_port by the outer
   /// `mtg play` (page_relay.h).
-  std::string play_socket;
+  std::string play_socket = "";
   /// Attempt numbers one invocation may use (the plan's max_attempts): invocation k of a run
   /// (its recording bus-<k>.lcmlog) numbers its attempts from k times this, so a resumed episode
   /// never repeats an attempt an earlier invocation recorded.

@@ -53,7 +53,7 @@ struct EngineOptions {
   /// Where the human agent serves its play page (`mtg play`).
   std::string play_host = "127.0.0.1";
   int play_port = 8780;
-  std::string play_socket;  // "" or the Unix socket the page is served on (a run in its own namespace)
+  std::string play_socket = "";  // or the Unix socket the page is served on (a run in its own namespace)
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.
