@@ -102,6 +102,8 @@ class ReplayPolicy : public Policy {
     r.error = a.error;
     r.provider = a.provider;
     r.model = a.model;
+    r.prompt_version = a.prompt_version;
+    r.request = a.request;  // what the recorded run sent, so the replayed run shows it too
     r.usage = bus::answer_usage(a);
     r.usage.cache_hit = true;  // nothing was asked of a provider
     return r;

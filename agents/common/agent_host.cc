@@ -142,6 +142,7 @@ void AgentHost::publish(const mtg::observation_t& obs, const AgentReply& reply) 
   a.model = reply.model;
   bus::set_usage(a, reply.usage);
   a.prompt_version = reply.prompt_version;
+  a.request = reply.request;
   bus_.publish(bus::episode_channel(bus::EpisodeStream::kAction), a);
 }
 

@@ -18,6 +18,7 @@ struct AgentReply {
   std::string model;
   episode::AnswerUsage usage;  // telemetry only
   std::string prompt_version; // "" for built-in agents
+  std::string request;        // model agents: what was sent, agent_action_t.request ("" for built-in agents)
   bool stop_agent = false;    // the error ends this agent for the whole run (auth, quota, billing)
 };
 

@@ -28,23 +28,30 @@ bool wanted(const VlmSettings& s, const std::string& role) {
 
 }  // namespace
 
-std::vector<ImagePart> images_to_send(const mtg::observation_t& obs, const VlmSettings& settings) {
-  std::vector<ImagePart> out;
-  for (const mtg::image_t& img : obs.images) {
+std::vector<OutgoingImage> images_to_send(const mtg::observation_t& obs, const VlmSettings& settings) {
+  std::vector<OutgoingImage> out;
+  for (std::size_t i = 0; i < obs.images.size(); ++i) {
+    const mtg::image_t& img = obs.images[i];
     if (!wanted(settings, img.role) || img.data.empty()) continue;
+    OutgoingImage o;
+    o.part.mime = img.encoding == "jpeg" ? "image/jpeg" : "image/png";
+    o.sent = {obs.step, static_cast<int>(i), o.part.mime, img.width, img.height, ""};
     const int longest = std::max(img.width, img.height);
+    std::vector<std::uint8_t> bytes;
     if (settings.image_max_side > 0 && longest > settings.image_max_side) {
       const cv::Mat decoded = cv::imdecode(img.data, cv::IMREAD_COLOR);
       if (decoded.empty()) throw Error("observation image '" + img.role + "' (" + img.encoding + ") cannot be decoded");
       const double f = static_cast<double>(settings.image_max_side) / longest;
       cv::Mat small;
       cv::resize(decoded, small, cv::Size(), f, f, cv::INTER_AREA);
-      std::vector<std::uint8_t> bytes;
       cv::imencode(img.encoding == "jpeg" ? ".jpg" : ".png", small, bytes);
-      out.push_back({img.encoding == "jpeg" ? "image/jpeg" : "image/png", base64_encode(bytes)});
-    } else {
-      out.push_back({img.encoding == "jpeg" ? "image/jpeg" : "image/png", base64_encode(img.data)});
+      o.sent.width = small.cols;
+      o.sent.height = small.rows;
     }
+    const std::vector<std::uint8_t>& sent = bytes.empty() ? img.data : bytes;
+    o.part.base64 = base64_encode(sent);
+    o.sent.sha256 = sha256_hex({reinterpret_cast<const char*>(sent.data()), sent.size()});
+    out.push_back(std::move(o));
   }
   return out;
 }
@@ -81,12 +88,30 @@ Conversation::Conversation(const PromptSet& prompts, const VlmSettings& settings
       prompts.dir + "/system.txt");
 }
 
+namespace {
+
+nlohmann::json request_params(const VlmSettings& s) {
+  nlohmann::json p = {{"temperature", s.temperature},       {"max_output_tokens", s.max_output_tokens},
+                      {"image_detail", s.image_detail},     {"image_max_side", s.image_max_side},
+                      {"image_roles", s.image_roles},       {"history_steps", s.history_steps},
+                      {"history_images", s.history_images}};
+  if (s.seed >= 0) p["seed"] = s.seed;
+  return p;
+}
+
+}  // namespace
+
 std::vector<ChatMessage> Conversation::ask(const mtg::observation_t& obs) {
   ChatMessage user;
   user.role = ChatMessage::Role::kUser;
   user.text = step_text(prompts_, settings_, obs);
-  user.images = images_to_send(obs, settings_);
+  episode::SentMessage sent{episode::SentMessage::Role::kUser, obs.step, user.text, {}};
+  for (auto& image : images_to_send(obs, settings_)) {
+    user.images.push_back(std::move(image.part));
+    sent.images.push_back(std::move(image.sent));
+  }
   turns_.push_back(std::move(user));
+  sent_.push_back(std::move(sent));
 
   // The last history_steps earlier (user, assistant) pairs, then this step's question.
   const std::size_t steps = (turns_.size() - 1) / 2;
@@ -94,12 +119,19 @@ std::vector<ChatMessage> Conversation::ask(const mtg::observation_t& obs) {
                                                         : std::min<std::size_t>(steps, settings_.history_steps);
   const std::size_t first = turns_.size() - 1 - 2 * kept;
   std::vector<ChatMessage> out = {system_};
+  episode::SentRequest request{obs.step, {{episode::SentMessage::Role::kSystem, -1, system_.text, {}}},
+                               request_params(settings_)};
   for (std::size_t i = first; i < turns_.size(); ++i) {
     out.push_back(turns_[i]);
+    request.messages.push_back(sent_[i]);
     // Images stay only on the newest history_images user turns.
     const std::size_t age = (turns_.size() - 1 - i) / 2;
-    if (age >= static_cast<std::size_t>(settings_.history_images)) out.back().images.clear();
+    if (age >= static_cast<std::size_t>(settings_.history_images)) {
+      out.back().images.clear();
+      request.messages.back().images.clear();
+    }
   }
+  last_request_ = episode::request_record(request, turns_.size() == 1);
   return out;
 }
 
@@ -108,6 +140,7 @@ void Conversation::answered(const std::string& reply) {
   a.role = ChatMessage::Role::kAssistant;
   a.text = reply;
   turns_.push_back(std::move(a));
+  sent_.push_back({episode::SentMessage::Role::kAssistant, sent_.back().step, "", {}});
 }
 
 }  // namespace mtg::vlm

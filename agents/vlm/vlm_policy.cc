@@ -43,6 +43,7 @@ agents::AgentReply VlmPolicy::reply(const mtg::episode_start_t& start, const mtg
   std::vector<ChatMessage> messages;
   try {
     messages = conv->ask(observation);
+    out.request = conv->last_request();
   } catch (const Error& e) {
     out.error = e.what();
     return out;

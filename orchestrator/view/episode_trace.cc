@@ -6,6 +6,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "core/episode/model_request.h"
 #include "core/episode/outcomes.h"
 #include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
@@ -102,6 +103,7 @@ json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>
   json out = {{"episode_id", episode_id.value()}, {"attempt", attempt}, {"attempts", recorded_attempts(messages)},
               {"task", nullptr}, {"result", nullptr}, {"errors", json::array()}};
   std::map<int, json> steps;  // by step number
+  std::map<int, std::string> requests, replies;  // model agents' records, by step
   auto step_of = [&](int step) -> json& {
     json& s = steps[step];
     if (s.is_null()) s = {{"step", step}, {"done", false}, {"observation", nullptr}, {"action", nullptr},
@@ -133,16 +135,58 @@ json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>
     } else if (bus::is_episode_channel(m.channel, EpisodeStream::kAction)) {
       const auto a = decode<mtg::agent_action_t>(m);
       step_of(a.step)["action"] = action_json(a);
+      requests[a.step] = a.request;
+      replies[a.step] = a.raw_reply;
     } else if (bus::is_episode_channel(m.channel, EpisodeStream::kJudge)) {
       const auto e = decode<mtg::judge_event_t>(m);
       step_of(e.step)["judge"].push_back({{"kind", e.kind}, {"subtask", e.subtask}, {"milestone", e.milestone},
                                           {"ip", e.ip}, {"text", e.text}});
     }
   }
+  // What a model received at each step, in full, and its reply with the chosen key's meaning.
+  const auto resolved = episode::resolve_requests(requests, replies);
   json list = json::array();
-  for (auto& [step, s] : steps) list.push_back(std::move(s));
+  for (auto& [step, s] : steps) {
+    const auto r = resolved.find(step);
+    s["request"] = r == resolved.end() ? json(nullptr) : r->second;
+    s["reply"] = nullptr;
+    if (!s["action"].is_null()) {
+      const json& a = s["action"];
+      json meaning = nullptr;
+      if (!s["observation"].is_null()) {
+        for (const auto& option : s["observation"]["actions"]) {
+          if (option["key"] == a["parsed_key"]) meaning = option["description"];
+        }
+      }
+      s["reply"] = {{"text", a["raw_reply"]}, {"parsed_key", a["parsed_key"]}, {"meaning", meaning}};
+    }
+    list.push_back(std::move(s));
+  }
   out["steps"] = std::move(list);
   return out;
+}
+
+void link_images(json& episode, const std::function<std::string(int step, int index)>& url_of) {
+  std::map<std::pair<int, int>, bool> recorded;  // (step, index) -> bytes present
+  for (json& step : episode["steps"]) {
+    if (step["observation"].is_null()) continue;
+    const int n = step["step"].get<int>();
+    for (json& img : step["observation"]["images"]) {
+      const bool present = img["bytes"].get<int>() > 0;
+      recorded[{n, img["index"].get<int>()}] = present;
+      img["url"] = present ? json(url_of(n, img["index"].get<int>())) : json(nullptr);
+    }
+  }
+  for (json& step : episode["steps"]) {
+    if (!step.contains("request") || !step["request"].is_object() || !step["request"].contains("messages")) continue;
+    for (json& m : step["request"]["messages"]) {
+      for (json& img : m["images"]) {
+        const std::pair<int, int> at = {img.value("step", -1), img.value("index", -1)};
+        const auto it = recorded.find(at);
+        img["url"] = it != recorded.end() && it->second ? json(url_of(at.first, at.second)) : json(nullptr);
+      }
+    }
+  }
 }
 
 json episode_truth(const std::vector<RecordedMessage>& messages, int attempt) {

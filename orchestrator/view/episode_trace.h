@@ -5,6 +5,7 @@
 // only when asked, as the agent never saw them.
 
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -22,10 +23,16 @@ std::vector<int> recorded_attempts(const std::vector<RecordedMessage>& messages)
 ///  step_limit, render, steps[{step, done, observation{text, hint, actions[{key, description}],
 ///  images[{index, role, encoding, width, height, bytes}]}, action{raw_reply, parsed_key, format_ok,
 ///  error, provider, model, input_tokens, output_tokens, cost_usd, latency_ms, cache_hit}|null,
+///  request (model agents: the request as sent, in full, episode::resolve_requests)|null,
+///  reply{text, parsed_key, meaning (the offered action's description)}|null,
 ///  judge[{kind, subtask, milestone, ip, text}]}], result{...verdict, stage_text, cause_text}|null,
 ///  errors[{source, severity, message}]}. `attempt` < 0 picks the last recorded attempt.
 /// @throws mtg::Error naming the channel of a message that does not decode.
 nlohmann::json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>& messages, int attempt);
+
+/// Sets "url" on every image of `episode` (an episode_trace): the observations' images and the
+/// images each model request names; null where the recording holds no bytes.
+void link_images(nlohmann::json& episode, const std::function<std::string(int step, int index)>& url_of);
 
 /// {task_id, goal (parsed), oracle_plan[], identify (parsed)} of the attempt, or null.
 nlohmann::json episode_truth(const std::vector<RecordedMessage>& messages, int attempt);

@@ -172,14 +172,7 @@ void ViewServer::add_routes() {
     if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + to_string(id));
     const std::string base = "/api/runs/" + r.name() + "/episodes/" + to_string(id) + "/images/" +
                              std::to_string(e["attempt"].get<int>()) + "/";
-    for (json& step : e["steps"]) {
-      if (step["observation"].is_null()) continue;
-      for (json& img : step["observation"]["images"]) {
-        img["url"] = img["bytes"].get<int>() > 0 ? json(base + std::to_string(step["step"].get<int>()) + "/" +
-                                                        std::to_string(img["index"].get<int>()))
-                                                 : json(nullptr);
-      }
-    }
+    link_images(e, [&](int step, int index) { return base + std::to_string(step) + "/" + std::to_string(index); });
     send_json(res, e);
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/truth)", with_run([](RunView& r, const httplib::Request& req,

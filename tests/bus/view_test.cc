@@ -21,22 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using testing::port_in_log;
 
 const fs::path kArtifacts = fs::path(MTG_ARTIFACT_DIR) / "view";
-
-// Waits for "http://127.0.0.1:<port>/" in a child's log; returns the port or -1.
-int port_in_log(const fs::path& log, int timeout_ms) {
-  const std::regex url(R"(http://127\.0\.0\.1:(\d+)/)");
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-  while (std::chrono::steady_clock::now() < deadline) {
-    std::ifstream in(log);
-    const std::string text((std::istreambuf_iterator<char>(in)), {});
-    std::smatch m;
-    if (std::regex_search(text, m, url)) return std::stoi(m[1]);
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return -1;
-}
 
 class BrowserTest : public testing::RunFixture {
  protected:

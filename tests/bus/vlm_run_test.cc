@@ -16,7 +16,11 @@
 #include "orchestrator/run/results_db.h"
 #include "tests/support/fake_model_server.h"
 #include "tests/support/graph_fixtures.h"
+#include "tests/support/browser.h"
 #include "tests/support/process.h"
+
+// Last: httplib.h brings in <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include <httplib.h>
 
 namespace mtg {
 namespace {
@@ -68,6 +72,82 @@ class VlmRunTest : public ::testing::Test {
     return p.wait(240000);
   }
 
+  // `mtg view` on the run gives, for every step of every episode, the request the server saw:
+  // the same system text, turns in order with the same texts, the same images per turn; and a
+  // browser shows it with its images.
+  void expect_the_viewer_shows_each_request_as_sent(const std::vector<testing::SeenRequest>& seen) {
+    using nlohmann::json;
+    std::multiset<std::string> sent;  // what the server saw, one fingerprint per request
+    auto fingerprint = [](const std::string& provider, const std::string& system,
+                          const std::vector<std::pair<std::string, std::string>>& turns, int images, int last) {
+      return json({provider, system, turns, images, last}).dump();
+    };
+    for (const auto& r : seen) {
+      sent.insert(fingerprint(r.chat.provider, r.chat.system, r.chat.turns, r.chat.images, r.chat.last_turn_images));
+    }
+    testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                               (fx_.root() / "view.log").string());
+    const int port = testing::port_in_log((fx_.root() / "view.log").string(), 10000);
+    ASSERT_GT(port, 0) << slurp(fx_.root() / "view.log");
+    httplib::Client http("127.0.0.1", port);
+    const auto list = http.Get("/api/runs/run/episodes?limit=100");
+    ASSERT_TRUE(list && list->status == 200);
+    const json rows = json::parse(list->body)["rows"];
+    ASSERT_FALSE(rows.empty()) << list->body;
+    std::multiset<std::string> shown;
+    int with_images = 0;
+    std::string an_episode;
+    for (const auto& row : rows) {
+      const std::string id = std::to_string(row["episode_id"].get<long long>());
+      const auto got = http.Get("/api/runs/run/episodes/" + id);
+      ASSERT_TRUE(got && got->status == 200) << id;
+      const json episode = json::parse(got->body);
+      for (const auto& step : episode["steps"]) {
+        if (step["action"].is_null()) continue;
+        ASSERT_TRUE(step["request"].is_object()) << "episode " << id << " step " << step["step"];
+        std::string system;
+        std::vector<std::pair<std::string, std::string>> turns;
+        int images = 0, last = 0;
+        for (const auto& m : step["request"]["messages"]) {
+          ASSERT_TRUE(m["text"].is_string()) << m.dump();
+          if (m["role"] == "system") {
+            system = m["text"];
+            continue;
+          }
+          turns.emplace_back(m["role"], m["text"]);
+          last = static_cast<int>(m["images"].size());
+          images += last;
+          for (const auto& img : m["images"]) with_images += img["url"].is_string() ? 1 : 0;
+        }
+        const std::string provider = step["action"]["provider"];
+        const auto it = shown.insert(fingerprint(provider, system, turns, images, last));
+        EXPECT_TRUE(sent.count(*it)) << "episode " << id << " step " << step["step"] << ": not a request the server saw";
+        EXPECT_EQ(step["reply"]["text"], step["action"]["raw_reply"]);
+        if (provider == "openai") an_episode = id;
+      }
+    }
+    EXPECT_TRUE(shown == sent) << "every request the server saw, each once: " << shown.size() << " shown, "
+                               << sent.size() << " sent";
+    EXPECT_GT(with_images, 0);
+
+    if (testing::HeadlessBrowser::executable().empty()) return;
+    testing::HeadlessBrowser b(fx_.root() / "chromium-profile");
+    b.navigate("http://127.0.0.1:" + std::to_string(port) + "/#/run/run/episode/" + an_episode);
+    ASSERT_TRUE(b.wait_for("document.querySelectorAll('details.request').length > 1", 20000));
+    // The second step's request: its question with the platform view, the first step's turns before it.
+    b.evaluate("(() => { const d = document.querySelectorAll('details.request')[1]; d.open = true; "
+               "d.scrollIntoView(); })()");
+    ASSERT_TRUE(b.wait_for("(() => { const i = [...document.querySelectorAll('details.request')[1]"
+                           ".querySelectorAll('img')]; return i.length > 0 && i.every((x) => x.complete && "
+                           "x.naturalWidth > 0); })()", 20000));
+    EXPECT_EQ(b.evaluate("document.querySelectorAll('details.request')[1].querySelectorAll('.msg').length").get<int>(),
+              4) << "system, step 1's question and answer, step 2's question";
+    const std::string summary = b.evaluate("document.querySelector('details.request summary').textContent");
+    EXPECT_THAT(summary, HasSubstr("prompts v3+"));
+    EXPECT_THAT(b.evaluate("document.querySelector('.usage').textContent").get<std::string>(), HasSubstr("tokens"));
+    b.screenshot(fs::path(MTG_ARTIFACT_DIR) / "view" / "model-request.png", true);
+  }
+
   testing::FixtureDataset fx_;
   testing::BuiltScene built_;
   std::string db_;
@@ -99,6 +179,7 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
     EXPECT_TRUE(keyed) << s.path;
   }
   EXPECT_EQ(providers, (std::set<std::string>{"openai", "anthropic", "gemini"}));
+  expect_the_viewer_shows_each_request_as_sent(seen);
 
   // The key is nowhere in what the run wrote: recording, logs, results, plan, reports.
   for (const auto& entry : fs::recursive_directory_iterator(fx_.root() / "run")) {

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <regex>
 #include <stdexcept>
 #include <thread>
 
@@ -76,6 +77,23 @@ pid_t descendant_pid(pid_t ancestor, const std::string& program) {
     for (pid_t p = parent_of(pid); p > 1; p = parent_of(p)) {
       if (p == ancestor) return pid;
     }
+  }
+  return -1;
+}
+
+}  // namespace mtg::testing
+
+namespace mtg::testing {
+
+int port_in_log(const std::string& log_file, int timeout_ms) {
+  const std::regex url(R"(http://127\.0\.0\.1:(\d+)/)");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::ifstream in(log_file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::smatch m;
+    if (std::regex_search(text, m, url)) return std::stoi(m[1]);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return -1;
 }

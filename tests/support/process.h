@@ -38,4 +38,8 @@ class ChildProcess {
 /// them through the process tree rather than through their heartbeats.
 pid_t descendant_pid(pid_t ancestor, const std::string& program);
 
+/// Waits for "http://127.0.0.1:<port>/" in a child's log (`mtg view`, `mtg play` print where
+/// they listen); returns the port, or -1 after `timeout_ms`.
+int port_in_log(const std::string& log_file, int timeout_ms);
+
 }  // namespace mtg::testing

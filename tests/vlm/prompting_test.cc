@@ -10,6 +10,8 @@
 #include <fstream>
 
 #include "agents/vlm/conversation.h"
+#include "agents/vlm/encoding.h"
+#include "core/episode/model_request.h"
 #include "agents/vlm/prompt.h"
 #include "agents/vlm/retry_policy.h"
 #include "agents/vlm/secrets.h"
@@ -126,6 +128,55 @@ TEST(ConversationTest, StepsCarryTaskActionsHintAndImagesAndTheHistoryIsWindowed
   EXPECT_EQ(m3[2].text, "l1");
   EXPECT_TRUE(m3[1].images.empty()) << "older steps lose their images";
   EXPECT_EQ(m3[5].images.size(), 2u);
+}
+
+// What the adapter records of each request (agent_action_t.request) gives back, in full, every
+// message it sent: texts, order, and which images with the bytes' digest, though each record
+// writes only its own step's question.
+TEST(ConversationTest, TheRecordOfEachRequestGivesBackExactlyWhatWasSent) {
+  const PromptSet prompts = PromptSet::builtin();
+  VlmSettings s;
+  s.history_steps = 2;
+  s.history_images = 2;
+  s.image_roles = {"view_marked", "item"};
+  mtg::episode_start_t start{};
+  start.step_limit = 15;
+  Conversation c(prompts, s, start);
+  std::map<int, std::string> records, replies;
+  std::map<int, std::vector<ChatMessage>> sent;
+  std::map<std::pair<int, int>, std::string> digests;  // (step, image index) -> sha256 of the bytes
+  for (int step = 0; step < 5; ++step) {
+    const auto obs = observation(step, 3);
+    for (std::size_t i = 0; i < obs.images.size(); ++i) {
+      const auto& d = obs.images[i].data;
+      digests[{step, static_cast<int>(i)}] = sha256_hex({reinterpret_cast<const char*>(d.data()), d.size()});
+    }
+    sent[step] = c.ask(obs);
+    records[step] = c.last_request();
+    replies[step] = "l" + std::to_string(step + 1) + " because";
+    c.answered(replies[step]);
+  }
+  EXPECT_LT(records[4].size(), 2 * records[1].size()) << "a record does not repeat earlier turns' texts";
+  const auto full = episode::resolve_requests(records, replies);
+  ASSERT_EQ(full.size(), 5u);
+  for (const auto& [step, messages] : sent) {
+    const auto& got = full.at(step)["messages"];
+    ASSERT_EQ(got.size(), messages.size()) << "step " << step;
+    EXPECT_EQ(full.at(step)["params"]["history_images"], 2);
+    for (std::size_t i = 0; i < messages.size(); ++i) {
+      EXPECT_EQ(got[i]["text"], messages[i].text) << "step " << step << " message " << i;
+      ASSERT_EQ(got[i]["images"].size(), messages[i].images.size()) << "step " << step << " message " << i;
+      for (const auto& img : got[i]["images"]) {
+        EXPECT_EQ(img["sha256"], digests.at({img["step"].get<int>(), img["index"].get<int>()}));
+      }
+    }
+  }
+  // A lost record (a damaged recording) is named, not invented.
+  records.erase(1);
+  const auto cut = episode::resolve_requests(records, replies);
+  bool named = false;
+  for (const auto& m : cut.at(2)["messages"]) named = named || (m.value("step", -1) == 1 && m.value("missing", false));
+  EXPECT_TRUE(named);
 }
 
 // A real key that is not offered ("l7" where the platforms are l3 and l12) is read as that key:

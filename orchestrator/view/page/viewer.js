@@ -276,21 +276,46 @@ function verdictBanner(e) {
     v.detail ? el('div', {class: 'muted'}, v.detail) : null);
 }
 
+// A model's request as it was sent: every message in order, images as thumbnails (full size on a
+// click), folded; the prompt version and parameters in the summary line.
+function requestBlock(req, a) {
+  if (!req) return null;
+  if (req.error) return el('div', {class: 'fail'}, 'Request: ' + req.error);
+  const images = req.messages.reduce((n, m) => n + m.images.length, 0);
+  const messages = req.messages.map((m) => el('div', {class: 'msg msg-' + m.role},
+    el('div', {class: 'muted'}, m.role + (m.role === 'system' ? '' : ' · step ' + (m.step + 1)) +
+      (m.images.length ? ' · ' + m.images.length + ' image(s)' : '')),
+    m.missing ? el('div', {class: 'fail'}, 'not in the recording (damaged or cut short)') : el('pre', {class: 'msg-text'}, m.text),
+    m.images.length ? el('div', {class: 'msg-images'}, ...m.images.map((i) => i.url
+      ? el('a', {href: i.url, target: '_blank', title: 'sent ' + i.width + '×' + i.height + ', sha256 ' + i.sha256},
+        el('img', {src: i.url, loading: 'lazy', alt: 'image ' + (i.index + 1) + ' of step ' + (i.step + 1)}))
+      : el('span', {class: 'muted'}, '[image not recorded]'))) : null));
+  const p = req.params || {};
+  return el('details', {class: 'request'},
+    el('summary', {}, 'What the model received: ' + req.messages.length + ' message(s), ' + images + ' image(s)' +
+      (a && a.prompt_version ? ', prompts ' + a.prompt_version : '') +
+      (p.temperature !== undefined ? ', temperature ' + p.temperature + ', max ' + p.max_output_tokens + ' output tokens' : '')),
+    ...messages);
+}
+
 function stepBlock(s) {
   const a = s.action;
-  // What the chosen key meant at this step, from the actions offered with it.
-  const offered = a && a.parsed_key && s.observation ? s.observation.actions.find((o) => o.key === a.parsed_key) : null;
+  const r = s.reply;
+  const model = a && a.provider !== 'builtin';
   return el('div', {class: 'step', 'data-step': s.step},
     el('h3', {}, s.done ? 'Final state (step ' + s.step + ')' : 'Step ' + (s.step + 1)),
     s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key}) : el('div', {class: 'muted'}, 'no observation recorded'),
+    requestBlock(s.request, a),
     a ? el('div', {class: 'reply'},
       el('div', {}, 'Answer: ', el('b', {class: 'parsed-key'}, a.parsed_key || '(no key)'),
-        offered ? el('span', {class: 'key-meaning'}, ' — ' + offered.description) : '',
+        r && r.meaning ? el('span', {class: 'key-meaning'}, ' — ' + r.meaning) : '',
         a.format_ok ? '' : el('span', {class: 'fail'}, ' unreadable'),
         a.error ? el('span', {class: 'fail'}, ' provider error: ' + a.error) : '',
-        a.provider !== 'builtin' ? el('span', {class: 'muted'}, ' · ' + a.provider + (a.model ? ' ' + a.model : '') +
-          ' · ' + a.input_tokens + '+' + a.output_tokens + ' tokens' + (a.cache_hit ? ' (cache)' : '')) : ''),
-      a.raw_reply !== a.parsed_key ? el('pre', {class: 'raw-reply'}, a.raw_reply) : null) : null,
+        model ? el('span', {class: 'muted usage'}, ' · ' + a.provider + (a.model ? ' ' + a.model : '') +
+          ' · ' + a.input_tokens + '+' + a.output_tokens + ' tokens · ' + Math.round(a.latency_ms) + ' ms · $' +
+          a.cost_usd.toFixed(4) + (a.cache_hit ? ' · cache hit' : '')) : ''),
+      model || a.raw_reply !== a.parsed_key ? el('div', {},
+        model ? el('div', {class: 'muted'}, 'Full reply:') : null, el('pre', {class: 'raw-reply'}, a.raw_reply)) : null) : null,
     ...s.judge.map((j) => el('div', {class: 'judge'}, '⚑ ' + (j.text || j.kind) + (j.kind === 'milestone' ? ' (IP ' + fmt(j.ip) + ')' : ''))));
 }
 
