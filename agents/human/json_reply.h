@@ -11,7 +11,8 @@ namespace mtg::web {
 
 inline void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  // A model reply need not be valid UTF-8: shown with U+FFFD rather than a failed page.
+  res.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
 }
 
 inline void send_error(httplib::Response& res, int status, const std::string& message) {

@@ -46,12 +46,22 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   TaskDbWriter writer(job.out, job.options, job.jsonl, job.jobs);
   GenerationReport report;
   std::vector<Vote> votes;
+  std::mutex progress_mutex;  // on_progress is called one at a time
+  const auto told = [&](std::size_t i, SceneProgress::Phase phase, std::int64_t tasks) {
+    if (!job.on_progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    job.on_progress({i, phase, tasks});
+  };
   std::mutex writing;    // the writer's store(), `head` and every scene's `waiting`
   std::size_t head = 0;  // the scene whose chunks go into the database now
   // Called on scene i's thread only, in its task order.
   const auto take = [&](std::size_t i, std::vector<Task> batch, bool last) {
     SceneOutput& out = outputs[i];
     for (const Task& t : batch) out.report.levels[static_cast<std::size_t>(t.level - 1)] += 1;
+    if (!batch.empty()) {
+      told(i, SceneProgress::Phase::kTasks,
+           out.report.levels[0] + out.report.levels[1] + out.report.levels[2] + out.report.levels[3]);
+    }
     out.rest.insert(out.rest.end(), std::make_move_iterator(batch.begin()), std::make_move_iterator(batch.end()));
     std::vector<TaskChunk> chunks = writer.make_chunks(out.rest, last);
     const std::lock_guard<std::mutex> lock(writing);
@@ -75,6 +85,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     render::SceneGeometry geometry;  // the triangles the agent's views draw (visibility rules)
     std::set<std::filesystem::path> source_files;
     std::future<scene::DatasetFingerprint> fingerprint;
+    told(i, SceneProgress::Phase::kLoading, 0);
     {  // the meshes (scene and cache) are not needed for tasks beyond their triangles: gone before generation
       scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
       // Meshes on several threads only when this scene has the machine to itself: scenes side by
@@ -86,10 +97,12 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
       fingerprint = std::async(std::launch::async, [&dataset, &source_files, &file_hashes] {
         return scene::fingerprint_files(dataset.root, source_files, &file_hashes);
       });
+      told(i, SceneProgress::Phase::kGraph, 0);
       g = graph::build_scene_graph(loaded, graph_options);
       if (job.options.visibility) geometry = render::SceneGeometry(loaded, g);
     }
     SceneOutput& out = outputs[i];
+    told(i, SceneProgress::Phase::kTasks, 0);
     std::optional<render::VisibilityOracle> seeing;
     if (job.options.visibility) seeing.emplace(g, geometry, *job.options.visibility);
     out.result = generate_tasks(g, job.options, job.votes, job.voters, level_jobs,
@@ -101,6 +114,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
     sr.scene = name;
     for (const std::int64_t n : sr.levels) sr.total += n;
     sr.seconds = watch.elapsed_ms() / 1000.0;
+    told(i, SceneProgress::Phase::kDone, sr.total);
     const std::lock_guard<std::mutex> lock(writing);
     out.done = true;
     while (head < outputs.size() && outputs[head].done) {

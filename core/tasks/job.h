@@ -13,6 +13,17 @@
 
 namespace mtg::tasks {
 
+/// Where one scene of a job stands, for a progress line on a terminal.
+struct SceneProgress {
+  enum class Phase { kLoading, kGraph, kTasks, kDone };
+  std::size_t index = 0;     // in GenerationJob::scenes
+  Phase phase = Phase::kLoading;
+  std::int64_t tasks = 0;    // made so far
+};
+/// Told when a scene starts loading, building its graph, generating, as its tasks come (in
+/// batches) and when it is done. From the generating threads, one call at a time: keep it short.
+using SceneProgressFn = std::function<void(const SceneProgress&)>;
+
 struct GenerationJob {
   std::vector<std::string> scenes;
   std::string data_dir;        // "" = default search order
@@ -23,6 +34,7 @@ struct GenerationJob {
   std::vector<Vote> votes;     // recorded Level 4 votes
   std::vector<VoteBatch> voters;  // live Level 4 voters (model adapters)
   int jobs = 1;                // threads; the output is the same for any number
+  SceneProgressFn on_progress; // optional; changes nothing that is written
 };
 
 struct SceneReport;

@@ -340,6 +340,12 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   view->add_option("--port", view_opts->port, "port (default 8770; 0 = any free port)");
   commands.push_back({view, [view_opts] { return run_view(*view_opts); }});
 
+  auto export_opts = std::make_shared<ExportOptions>();
+  CLI::App* exp = app.add_subcommand("export", "Write runs as a static site (no server, opens from file://, offline)");
+  exp->add_option("runs", export_opts->runs, "run folders")->required();
+  exp->add_option("--out", export_opts->out, "a new or empty folder")->required();
+  commands.push_back({exp, [export_opts] { return run_export(*export_opts); }});
+
   auto play_opts = std::make_shared<PlayOptions>();
   CLI::App* play = app.add_subcommand("play", "Play episodes yourself in the browser (the human agent)");
   play->add_option("--tasks", play_opts->tasks, "task database (tasks.sqlite)")->required();

@@ -1,5 +1,7 @@
 #include "orchestrator/cli/task_commands.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 #include <utility>
@@ -64,18 +66,56 @@ int run_tasks(const TasksOptions& o) {
     }
   }
 
+  // On a terminal, one line that says where every scene stands, redrawn at most 5 times a second
+  // (stderr, erased before each row and at the end; nothing of it in logs).
+  std::vector<std::string> states(job.scenes.size(), "waiting");
+  const Stopwatch started;
+  double drawn_ms = -1e9;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  auto draw = [&](bool force) {
+    if (!tty || (!force && started.elapsed_ms() - drawn_ms < 200)) return;
+    drawn_ms = started.elapsed_ms();
+    std::string line;
+    for (std::size_t i = 0; i < states.size(); ++i) line += (i ? " · " : "") + job.scenes[i] + " " + states[i];
+    std::fprintf(stderr, "\r\033[K%s  %.0f s", line.c_str(), drawn_ms / 1000.0);
+    std::fflush(stderr);
+  };
+  auto erase = [&] {
+    if (tty) std::fprintf(stderr, "\r\033[K");
+  };
+  if (tty) {
+    job.on_progress = [&](const tasks::SceneProgress& p) {
+      using Phase = tasks::SceneProgress::Phase;
+      switch (p.phase) {
+        case Phase::kLoading: states[p.index] = "loading meshes"; break;
+        case Phase::kGraph: states[p.index] = "scene graph"; break;
+        case Phase::kTasks: states[p.index] = std::to_string(p.tasks) + " tasks"; break;
+        case Phase::kDone: states[p.index] = "done"; break;
+      }
+      draw(p.phase != Phase::kTasks);
+    };
+  }
   // A row as each scene is done: a job over several apartments takes a while. The header comes
   // with the first row, so a job refused at once (a misspelt scene) prints only its error.
   bool header = false;
-  const tasks::GenerationReport report = tasks::run_generation(job, [&header](const tasks::SceneReport& s) {
-    if (!std::exchange(header, true)) {
-      std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
-    }
-    std::printf("%-8s %8ld %8ld %8ld %8ld %9ld %7.1f s\n", s.scene.c_str(), static_cast<long>(s.levels[0]),
-                static_cast<long>(s.levels[1]), static_cast<long>(s.levels[2]), static_cast<long>(s.levels[3]),
-                static_cast<long>(s.total), s.seconds);
-    std::fflush(stdout);
-  });
+  tasks::GenerationReport report;
+  try {
+    report = tasks::run_generation(job, [&](const tasks::SceneReport& s) {
+      erase();
+      if (!std::exchange(header, true)) {
+        std::printf("%-8s %8s %8s %8s %8s %9s %9s\n", "scene", "L1", "L2", "L3", "L4", "total", "time");
+      }
+      std::printf("%-8s %8ld %8ld %8ld %8ld %9ld %7.1f s\n", s.scene.c_str(), static_cast<long>(s.levels[0]),
+                  static_cast<long>(s.levels[1]), static_cast<long>(s.levels[2]), static_cast<long>(s.levels[3]),
+                  static_cast<long>(s.total), s.seconds);
+      std::fflush(stdout);
+      draw(true);
+    });
+  } catch (...) {
+    erase();  // the error's line starts clean
+    throw;
+  }
+  erase();
   for (const auto& w : report.warnings) log::warn(w);
   std::printf("wrote %s (%.1f s in all, peak RSS %.0f MiB)\n", o.out.c_str(), report.seconds, peak_rss_mib());
   if (!o.jsonl.empty()) std::printf("wrote %s\n", o.jsonl.c_str());

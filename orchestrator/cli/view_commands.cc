@@ -1,5 +1,7 @@
 #include "orchestrator/cli/view_commands.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -9,6 +11,7 @@
 #include "core/util/error.h"
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/serve_until_stopped.h"
+#include "orchestrator/view/site_export.h"
 #include "orchestrator/view/view_server.h"
 
 namespace mtg::cli {
@@ -22,6 +25,23 @@ int run_view(const ViewOptions& o) {
   std::printf("viewing %zu run(s) at %s (Ctrl-C stops)\n", dirs.size(), server.url().c_str());
   std::fflush(stdout);
   serve_until_stopped(server);
+  return 0;
+}
+
+int run_export(const ExportOptions& o) {
+  if (o.out.empty()) throw Error("--out names the folder to export into");
+  std::vector<std::filesystem::path> dirs(o.runs.begin(), o.runs.end());
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const auto start = std::chrono::steady_clock::now();  // telemetry only
+  const auto stats = orchestrator::view::export_site(dirs, o.out, [&](std::size_t done, std::size_t total) {
+    if (tty && (done % 50 == 0 || done == total)) std::fprintf(stderr, "\rexport: %zu/%zu episodes", done, total);
+  });
+  if (tty) std::fprintf(stderr, "\r\033[K");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("exported %zu episode(s) of %zu run(s) into %s: %zu page(s), %zu image file(s) for %zu shown, %.1f MiB "
+              "in %.1f s\nopen %s/index.html (no server needed)\n",
+              stats.episodes, stats.runs, o.out.c_str(), stats.attempts, stats.images, stats.image_refs,
+              static_cast<double>(stats.bytes) / (1 << 20), seconds, o.out.c_str());
   return 0;
 }
 

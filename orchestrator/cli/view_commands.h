@@ -1,6 +1,6 @@
 #pragma once
 // `mtg view` (the web viewer over run folders) and `mtg play` (a person plays episodes in the
-// browser as the `human` agent) (docs/view.md).
+// browser as the `human` agent), `mtg export` (the viewer as static files) (docs/view.md).
 
 #include <cstdint>
 #include <string>
@@ -12,6 +12,11 @@ struct ViewOptions {
   std::vector<std::string> runs;  // run folders
   std::string host = "127.0.0.1";
   int port = 8770;                // 0 = any free port
+};
+
+struct ExportOptions {
+  std::vector<std::string> runs;  // run folders
+  std::string out;                // a new or empty folder
 };
 
 struct PlayOptions {
@@ -31,5 +36,6 @@ struct PlayOptions {
 
 int run_view(const ViewOptions& options);
 int run_play(const PlayOptions& options);
+int run_export(const ExportOptions& options);
 
 }  // namespace mtg::cli

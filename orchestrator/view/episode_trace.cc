@@ -27,6 +27,12 @@ template <class Msg>
 Msg decode(const RecordedMessage& m) {
   Msg msg{};
   if (msg.decode(m.data.data(), 0, static_cast<int>(m.data.size())) < 0) {
+    // Most often a recording made by a build of another schema: say so rather than "corrupt".
+    const auto header = bus::peek_header(m.data);
+    if (header && !bus::speaks_our_schema(*header)) {
+      throw Error(bus::schema_mismatch(*header, "the recorded message on " + m.channel) +
+                  "; open it with the build that recorded it");
+    }
     throw Error("a recorded message on " + m.channel + " does not decode");
   }
   return msg;
@@ -213,6 +219,23 @@ std::optional<RecordedImage> observation_image(const std::vector<RecordedMessage
     return RecordedImage{img.encoding, img.data};
   }
   return std::nullopt;
+}
+
+std::map<std::pair<int, int>, RecordedImage> observation_images(const std::vector<RecordedMessage>& messages,
+                                                                int attempt) {
+  attempt = pick_attempt(messages, attempt);
+  std::map<std::pair<int, int>, RecordedImage> out;
+  std::set<int> seen;  // steps: the first copy of each, as episode_trace shows it
+  for (const auto& m : messages) {
+    if (!bus::is_episode_channel(m.channel, EpisodeStream::kObservation) || attempt_of(m) != attempt) continue;
+    const auto obs = decode<mtg::observation_t>(m);
+    if (!seen.insert(obs.step).second) continue;
+    for (std::size_t i = 0; i < obs.images.size(); ++i) {
+      const auto& img = obs.images[i];
+      if (img.nbytes > 0) out[{obs.step, static_cast<int>(i)}] = RecordedImage{img.encoding, img.data};
+    }
+  }
+  return out;
 }
 
 }  // namespace mtg::orchestrator::view

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -44,5 +45,8 @@ struct RecordedImage {
 /// The `index`-th image of the observation at `step` of the attempt, if recorded with its bytes.
 std::optional<RecordedImage> observation_image(const std::vector<RecordedMessage>& messages, int attempt, int step,
                                                int index);
+/// Every image of the attempt recorded with its bytes, by (step, index), in one pass.
+std::map<std::pair<int, int>, RecordedImage> observation_images(const std::vector<RecordedMessage>& messages,
+                                                                int attempt);
 
 }  // namespace mtg::orchestrator::view

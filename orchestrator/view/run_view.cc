@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "core/episode/outcomes.h"
@@ -207,6 +208,22 @@ json RunView::truth(bus::EpisodeId id, int attempt) { return episode_truth(messa
 
 std::optional<RecordedImage> RunView::image(bus::EpisodeId id, int attempt, int step, int index) {
   return observation_image(messages_of(id), attempt, step, index);
+}
+
+std::vector<std::string> run_names(const std::vector<std::filesystem::path>& dirs) {
+  std::map<std::string, int> seen;
+  std::vector<std::string> out;
+  for (const auto& dir : dirs) {
+    std::string name = std::filesystem::absolute(dir).lexically_normal().filename().string();
+    if (name.empty()) name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
+    if (const int n = ++seen[name]; n > 1) name += "-" + std::to_string(n);
+    out.push_back(std::move(name));
+  }
+  return out;
+}
+
+std::map<std::pair<int, int>, RecordedImage> RunView::images(bus::EpisodeId id, int attempt) {
+  return observation_images(messages_of(id), attempt);
 }
 
 }  // namespace mtg::orchestrator::view

@@ -50,6 +50,10 @@ class RunView {
   nlohmann::json episode(bus::EpisodeId id, int attempt);
   nlohmann::json truth(bus::EpisodeId id, int attempt);
   std::optional<RecordedImage> image(bus::EpisodeId id, int attempt, int step, int index);
+  /// Every recorded image of the attempt (observation_images).
+  std::map<std::pair<int, int>, RecordedImage> images(bus::EpisodeId id, int attempt);
+  /// Every results row (episode order).
+  std::vector<EpisodeRow> all_rows() { return *rows(); }
 
  private:
   using Rows = std::shared_ptr<const std::vector<EpisodeRow>>;
@@ -77,6 +81,9 @@ class RunView {
   std::atomic<bool> stop_{false};
   std::thread indexer_;  // refreshes the index about once a second
 };
+
+/// The runs' names as the viewer shows them: their folders' names, made unique with "-2", "-3"...
+std::vector<std::string> run_names(const std::vector<std::filesystem::path>& dirs);
 
 /// The JSON of one results row, as lists and the episode page show it.
 nlohmann::json row_json(const EpisodeRow& row);

@@ -96,13 +96,8 @@ httplib::Server::Handler guarded(std::function<void(const httplib::Request&, htt
 ViewServer::ViewServer(const std::vector<std::filesystem::path>& run_dirs) : http_(std::make_unique<httplib::Server>()) {
   web::bind_exclusively(*http_);
   guard_.install(*http_);
-  std::map<std::string, int> seen;
-  for (const auto& dir : run_dirs) {
-    std::string name = std::filesystem::absolute(dir).lexically_normal().filename().string();
-    if (name.empty()) name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
-    if (const int n = ++seen[name]; n > 1) name += "-" + std::to_string(n);
-    runs_.push_back(std::make_unique<RunView>(name, dir));
-  }
+  const auto names = run_names(run_dirs);
+  for (std::size_t i = 0; i < run_dirs.size(); ++i) runs_.push_back(std::make_unique<RunView>(names[i], run_dirs[i]));
   add_routes();
 }
 

@@ -238,6 +238,86 @@ TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
 
 // `mtg view --host 0.0.0.0`: reachable from other machines, so only a browser that opened the
 // printed URL (with its token) reads runs; the page's own requests then carry its cookie.
+// `mtg export`: the site opens from file:// with no server and answers every question the
+// page asks (lists searched and sorted, neighbours, per-agent reports and Sankeys, episodes with
+// their images) exactly as `mtg view` does; the same run exports to the same bytes.
+TEST_F(ViewerTest, TheExportedSiteOpensFromFileAndAnswersAsTheServerDoes) {
+  std::vector<std::string> args = run_args("run", {"oracle", "random"}, 2, 4);
+  args.insert(args.end(), {"--render", "--image-size", "320x240"});
+  ASSERT_EQ(mtg(args, 300000), 0) << log_text();
+  const fs::path site = fx_.root() / "site";
+  ASSERT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", site.string()}), 0)
+      << log_text();
+  EXPECT_NE(log_text().find("open " + site.string() + "/index.html"), std::string::npos) << log_text();
+  // A folder that is not empty is refused, and left as it was.
+  EXPECT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", site.string()}), 1);
+  EXPECT_NE(log_text().find("is not empty"), std::string::npos);
+  // Same run, same bytes.
+  ASSERT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", (fx_.root() / "again").string()}), 0);
+  std::size_t files = 0;
+  for (const auto& f : fs::recursive_directory_iterator(site)) {
+    if (!f.is_regular_file()) continue;
+    ++files;
+    const fs::path twin = fx_.root() / "again" / fs::relative(f.path(), site);
+    std::ifstream a(f.path(), std::ios::binary), b(twin, std::ios::binary);
+    ASSERT_EQ(std::string(std::istreambuf_iterator<char>(a), {}), std::string(std::istreambuf_iterator<char>(b), {}))
+        << f.path();
+  }
+  EXPECT_GT(files, 10u);
+
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  const auto rows = results("run");
+  const auto failed = std::find_if(rows.begin(), rows.end(), [](const auto& r) { return !r.success; });
+  ASSERT_NE(failed, rows.end());
+  const std::string id = to_string(failed->episode_id);
+  const std::vector<std::string> questions = {
+      "/api/runs", "/api/runs/run/episodes?q=L1&sort=ip&order=desc&limit=25",
+      "/api/runs/run/episodes?agent=random&sort=text", "/api/runs/run/episodes?cause=success&offset=1&limit=2",
+      "/api/runs/run/episodes?sort=verdict&order=desc&level=1",
+      "/api/runs/run/episodes/" + id + "/neighbours?sort=steps&order=desc",
+      "/api/runs/run/report?agent=random", "/api/runs/run/sankey.svg?agent=random", "/api/runs/run/sankey.svg",
+      "/api/runs/run/episodes/" + id + "/truth"};
+  auto b = browser();
+  auto answers = [&](const std::string& page, bool exported) {
+    b->navigate(page);
+    json out = json::array();
+    for (const auto& q : questions) {
+      out.push_back(b->evaluate(exported ? "mtgStaticApi('" + q + "')"
+                                         : "fetch('" + q + "').then((r) => r.headers.get('Content-Type').startsWith("
+                                           "'application/json') ? r.json() : r.text())"));
+    }
+    return out;
+  };
+  const json served = answers("http://127.0.0.1:" + std::to_string(port) + "/", false);
+  const json exported = answers("file://" + (site / "index.html").string() + "#/", true);
+  for (std::size_t i = 0; i < questions.size(); ++i) {
+    json s = served[i], e = exported[i];
+    if (i == 0) {  // the run list: where it lives differs, and an export is never live
+      for (json* r : {&s[0], &e[0]}) (*r).erase("dir");
+      s[0]["live"] = false;
+    }
+    EXPECT_EQ(s, e) << questions[i];
+  }
+
+  // The pages themselves, from file://: the overview's Sankey, the episode with every image.
+  b->navigate("file://" + (site / "index.html").string() + "#/run/run");
+  ASSERT_TRUE(b->wait_for("document.querySelectorAll('#sankey path.flow').length > 0", 20000));
+  b->navigate("file://" + (site / "index.html").string() + "#/run/run/episode/" + id);
+  ASSERT_TRUE(b->wait_for("document.getElementById('verdict') && document.querySelectorAll('.step img').length > 0", 20000));
+  b->evaluate("document.querySelectorAll('.step img').forEach((i) => { i.loading = 'eager'; })");
+  ASSERT_TRUE(b->wait_for("[...document.querySelectorAll('.step img')].every((i) => i.complete && i.naturalWidth === 320)",
+                          20000));
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('.step').length").get<int>(), failed->steps + 1);
+  EXPECT_NE(b->evaluate("document.getElementById('verdict').textContent").get<std::string>().find("Cause: " + failed->cause),
+            std::string::npos);
+  b->evaluate("document.querySelector('#truth').previousElementSibling.querySelector('button').click()");
+  ASSERT_TRUE(b->wait_for("document.getElementById('truth').textContent.includes('Oracle plan')", 10000));
+  b->screenshot(kArtifacts / "exported-episode.png");
+}
+
 TEST_F(ViewerTest, BeyondLoopbackOnlyTheBrowserThatOpenedTheTokenUrlReadsRuns) {
   ASSERT_EQ(mtg(run_args("run", {"oracle"}, 1, 2)), 0) << log_text();
   testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--host", "0.0.0.0",

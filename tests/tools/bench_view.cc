@@ -12,6 +12,7 @@
 #include <fstream>
 #include <regex>
 #include <thread>
+#include <tuple>
 
 #include "orchestrator/run/results_db.h"
 #include "tests/support/browser.h"
@@ -38,9 +39,10 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   CLI::App app{"mtg_bench_view: page times and memory of mtg view on a run"};
-  std::string run, work = "/tmp/mtg_bench_view";
+  std::string run, images_run, work = "/tmp/mtg_bench_view";
   int repeat = 3;
   app.add_option("--run", run, "run folder")->required();
+  app.add_option("--images-run", images_run, "a run with images: its episode page is timed with every image loaded");
   app.add_option("--work", work, "scratch folder (browser profile, logs)");
   app.add_option("--repeat", repeat, "loads per page");
   CLI11_PARSE(app, argc, argv);
@@ -97,6 +99,8 @@ int main(int argc, char** argv) {
       {"overview (tables)", base, "mtgRendered"},
       {"overview with Sankey", base, "mtgSankey"},
       {"episode list (100 rows)", base + "#/run/" + fs::path(run).filename().string() + "/episodes", "mtgRendered"},
+      {"list sorted by IP, searched", base + "#/run/" + fs::path(run).filename().string() +
+                                          "/episodes?q=L2&sort=ip&order=desc", "mtgRendered"},
       {"episode page", episode_url, "mtgRendered"}};
   std::printf("  mtg view listening after %.0f ms\n", listen_ms);
   std::printf("  episode page, first load after start (waits for the index): %.0f ms\n", cold_episode);
@@ -111,5 +115,65 @@ int main(int argc, char** argv) {
   std::printf("  mtg view memory: %.1f MiB resident now, %.1f MiB peak\n", status_kib(view.pid(), "VmRSS") / 1024.0,
               status_kib(view.pid(), "VmHWM") / 1024.0);
   view.kill(SIGTERM);
+
+  // An episode page with images: drawn, and every image loaded (polled every 50 ms).
+  auto load_with_images = [&](const std::string& url) {
+    browser.navigate("data:text/html,blank");
+    browser.navigate(url);
+    const std::string done = "window.mtgRendered && document.querySelectorAll('.step img').length > 0 && "
+                             "[...document.querySelectorAll('.step img')].every((i) => i.complete)";
+    if (!browser.wait_for("window.mtgRendered", 120000)) throw std::runtime_error("no page at " + url);
+    browser.evaluate("document.querySelectorAll('img').forEach((i) => { i.loading = 'eager'; })");
+    if (!browser.wait_for(done, 120000)) throw std::runtime_error("images never loaded at " + url);
+    return std::make_pair(browser.evaluate("performance.now()").get<double>(),
+                          browser.evaluate("document.querySelectorAll('.step img').length").get<int>());
+  };
+  if (!images_run.empty()) {
+    mtg::testing::ChildProcess iview({mtg::testing::bin("mtg"), "view", images_run, "--port", "0"}, work + "/iview.log");
+    const int iport = mtg::testing::port_in_log(work + "/iview.log", 20000);
+    const auto irows = mtg::orchestrator::read_results(fs::path(images_run) / "results.sqlite");
+    if (iport > 0 && !irows.empty()) {
+      const std::string url = "http://127.0.0.1:" + std::to_string(iport) + "/#/run/" +
+                              fs::path(images_run).filename().string() + "/episode/" +
+                              to_string(irows[irows.size() / 2].episode_id);
+      load_with_images(url);  // the index
+      std::vector<double> t;
+      int n = 0;
+      for (int i = 0; i < repeat; ++i) std::tie(t.emplace_back(), n) = load_with_images(url);
+      std::printf("  episode page with its %d images, all loaded: %.0f ms (median of %d)\n", n, median(t), repeat);
+    }
+    iview.kill(SIGTERM);
+  }
+
+  // mtg export of the whole run: time, size, and its pages from file://.
+  const fs::path site = fs::path(work) / "site";
+  const auto t0 = std::chrono::steady_clock::now();
+  mtg::testing::ChildProcess exporter({mtg::testing::bin("mtg"), "export", run, "--out", site.string()},
+                                      work + "/export.log");
+  if (exporter.wait(3600000) != 0) {
+    std::fprintf(stderr, "mtg export failed (%s/export.log)\n", work.c_str());
+    return 1;
+  }
+  const double export_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::uintmax_t site_bytes = 0;
+  std::size_t site_files = 0;
+  for (const auto& f : fs::recursive_directory_iterator(site)) {
+    if (f.is_regular_file()) {
+      site_bytes += f.file_size();
+      ++site_files;
+    }
+  }
+  std::printf("  mtg export: %.1f s, %zu files, %.0f MiB (%.1f KiB per episode)\n", export_s, site_files,
+              static_cast<double>(site_bytes) / (1 << 20), rows.empty() ? 0.0 : site_bytes / 1024.0 / rows.size());
+  const std::string file_base = "file://" + fs::absolute(site / "index.html").string() + "#/run/" +
+                                fs::path(run).filename().string();
+  for (const Page& p : std::vector<Page>{{"exported overview", file_base, "mtgRendered"},
+                                         {"exported list, sorted+searched", file_base + "/episodes?q=L2&sort=ip&order=desc",
+                                          "mtgRendered"},
+                                         {"exported episode page", file_base + "/episode/" + episode, "mtgRendered"}}) {
+    std::vector<double> t;
+    for (int i = 0; i < repeat; ++i) t.push_back(load(p.url, p.mark));
+    std::printf("  %-30s drawn after %.0f ms (median of %d loads, from file://)\n", p.name, median(t), repeat);
+  }
   return 0;
 }

@@ -17,6 +17,8 @@ function show(...parts) {
 }
 
 async function api(path) {
+  // An exported site (mtg export) answers from its data files: static_api.js.
+  if (window.mtgStaticApi) return window.mtgStaticApi(path);
   const res = await fetch(path);
   const body = res.headers.get('Content-Type').startsWith('application/json') ? await res.json() : await res.text();
   if (!res.ok) throw new Error(body.error || res.statusText);

@@ -1,0 +1,177 @@
+#include "orchestrator/view/site_export.h"
+
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "agents/vlm/encoding.h"
+#include "core/util/error.h"
+#include "orchestrator/report/sankey.h"
+#include "orchestrator/view/run_view.h"
+#include "orchestrator/view/viewer_assets.h"
+
+namespace mtg::web {
+extern const char* const kViewerStaticJs;  // page/static_api.js (mtg_embed_text)
+}
+
+namespace mtg::orchestrator::view {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kSankeyWidth = 1000, kSankeyHeight = 520;  // as `mtg view` draws it
+
+class SiteWriter {
+ public:
+  explicit SiteWriter(fs::path root) : root_(std::move(root)) {}
+
+  void text(const std::string& rel, std::string_view content) {
+    const fs::path file = root_ / rel;
+    fs::create_directories(file.parent_path());
+    std::ofstream out(file, std::ios::binary);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!out.flush()) throw Error("cannot write " + file.string());
+    stats.bytes += content.size();
+  }
+  /// A data file the page loads with <script>: mtgPut("<rel>", <value>).
+  void data(const std::string& rel, const json& value) {
+    text(rel, "mtgPut(" + json(rel).dump() + ", " +
+                  value.dump(-1, ' ', false, json::error_handler_t::replace) + ");\n");
+  }
+  /// The image's file (written once per content); its path from the page.
+  std::string image(const RecordedImage& img) {
+    const std::string rel = "img/" +
+                            vlm::sha256_hex({reinterpret_cast<const char*>(img.bytes.data()), img.bytes.size()}) +
+                            (img.encoding == "jpeg" ? ".jpg" : ".png");
+    ++stats.image_refs;
+    if (written_.insert(rel).second) {
+      text(rel, {reinterpret_cast<const char*>(img.bytes.data()), img.bytes.size()});
+      ++stats.images;
+    }
+    return rel;
+  }
+
+  ExportStats stats;
+
+ private:
+  fs::path root_;
+  std::set<std::string> written_;
+};
+
+void require_empty(const fs::path& out) {
+  std::error_code ec;
+  if (!fs::exists(out, ec)) return;
+  if (!fs::is_directory(out, ec)) throw Error(out.string() + " is a file: name a new or empty folder to export into");
+  if (!fs::is_empty(out, ec)) throw Error(out.string() + " is not empty: name a new or empty folder to export into");
+}
+
+// One episode: every recorded attempt with its images and goal (the viewer's "Show the goal").
+json episode_file(RunView& view, SiteWriter& site, const EpisodeRow& row) {
+  const bus::EpisodeId id = row.episode_id;
+  json latest = view.episode(id, -1);
+  json file = {{"attempt", row.attempt}, {"attempts", json::object()}, {"truth", json::object()}};
+  std::vector<int> attempts;
+  for (const auto& k : latest["attempts"]) attempts.push_back(k.get<int>());
+  if (attempts.empty()) attempts.push_back(latest["attempt"].get<int>());  // a row without a recording
+  for (const int k : attempts) {
+    json e = k == latest["attempt"].get<int>() ? latest : view.episode(id, k);
+    const auto images = view.images(id, k);
+    link_images(e, [&](int step, int index) {
+      const auto it = images.find({step, index});
+      return it == images.end() ? std::string() : site.image(it->second);
+    });
+    const std::string key = std::to_string(k);
+    file["truth"][key] = view.truth(id, k);
+    file["attempts"][key] = std::move(e);
+    ++site.stats.attempts;
+  }
+  return file;
+}
+
+ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
+                       const std::function<void(std::size_t, std::size_t)>& progress);
+
+}  // namespace
+
+ExportStats export_site(const std::vector<fs::path>& runs, const fs::path& out,
+                        const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (runs.empty()) throw Error("name at least one run folder to export");
+  require_empty(out);
+  // A failed export leaves no half site behind (the folder was new or empty).
+  try {
+    return write_site(runs, out, progress);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(out, ec);
+    throw;
+  }
+}
+
+namespace {
+
+ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
+                       const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::vector<std::unique_ptr<RunView>> views;
+  const auto names = run_names(runs);
+  for (std::size_t i = 0; i < runs.size(); ++i) views.push_back(std::make_unique<RunView>(names[i], runs[i]));
+  std::vector<std::vector<EpisodeRow>> rows;
+  std::size_t total = 0;
+  for (auto& v : views) {
+    rows.push_back(v->all_rows());
+    total += rows.back().size();
+  }
+
+  SiteWriter site(out);
+  // The viewer's own page, reading the data files instead of the server.
+  for (const auto& asset : web::viewer_assets()) {
+    std::string content(asset.content);
+    if (asset.path == "index.html") {
+      const std::string viewer = "<script src=\"viewer.js\"></script>";
+      const auto at = content.find(viewer);
+      if (at == std::string::npos) throw InternalError("the viewer page does not load viewer.js");
+      content.insert(at, "<script src=\"static_api.js\"></script>\n");
+    }
+    site.text(asset.path, content);
+  }
+  site.text("static_api.js", web::kViewerStaticJs);
+
+  json index = json::array();
+  std::size_t done = 0;
+  for (std::size_t r = 0; r < views.size(); ++r) {
+    RunView& view = *views[r];
+    const std::string dir = "data/r" + std::to_string(r) + "/";
+    json overview = view.overview();
+    // A snapshot: the exported page never polls; and where the run lived here is nobody's business.
+    overview["live"] = false;
+    overview.erase("dir");
+    json summary = view.summary();
+    summary["live"] = false;
+    summary.erase("dir");
+    json agents = json::array();
+    for (const auto& [agent, _] : overview["report"]["by_agent"].items()) agents.push_back(agent);
+    index.push_back({{"summary", summary}, {"dir", "r" + std::to_string(r)}, {"agents", agents}});
+    site.data(dir + "run.js", overview);
+    site.data(dir + "sankey.js", sankey_svg(overview["report"]["sankey"], kSankeyWidth, kSankeyHeight));
+    for (std::size_t a = 0; a < agents.size(); ++a) {
+      const json report = view.agent_report(agents[a].get<std::string>());
+      site.data(dir + "report-" + std::to_string(a) + ".js", report);
+      site.data(dir + "sankey-" + std::to_string(a) + ".js", sankey_svg(report["sankey"], kSankeyWidth, kSankeyHeight));
+    }
+    site.data(dir + "rows.js", view.episodes(EpisodeQuery{}, 0, std::numeric_limits<std::size_t>::max())["rows"]);
+    for (const EpisodeRow& row : rows[r]) {
+      site.data(dir + "episodes/" + to_string(row.episode_id) + ".js", episode_file(view, site, row));
+      ++site.stats.episodes;
+      if (progress) progress(++done, total);
+    }
+    ++site.stats.runs;
+  }
+  site.data("data/runs.js", index);
+  return site.stats;
+}
+
+}  // namespace
+
+}  // namespace mtg::orchestrator::view
