@@ -143,4 +143,8 @@ bool Bus::handle_until(const std::function<bool()>& done, int timeout_ms) {
   return done();
 }
 
+void Bus::log_unopened(const std::string& why) {
+  log::warn(why + "; dropped (this warning once per bus, Bus::unopened() counts them)");
+}
+
 }  // namespace mtg::bus

@@ -11,13 +11,17 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bus/authenticator.h"
 #include "bus/channel_filter.h"
+#include "bus/truth_seal.h"
 #include "core/util/error.h"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/header_t.hpp"
 
 namespace mtg::bus {
@@ -36,6 +40,15 @@ class Bus {
   /// From now on every message published is signed and every message received must carry a
   /// valid tag (authenticator.h): for a bus shared between hosts. Call before subscribing.
   void authenticate(std::shared_ptr<const Authenticator> auth) { auth_ = std::move(auth); }
+  /// From now on episode answers (episode_truth_t) this process publishes are sealed with
+  /// `seal` and those it receives are opened with it (truth_seal.h); one that does not open, or
+  /// comes unsealed, is dropped and counted. Call before subscribing. Without a seal, sealed
+  /// answers arrive sealed.
+  void seal_truths(std::shared_ptr<const TruthSeal> seal) { seal_ = std::move(seal); }
+  const TruthSeal* truth_seal() const { return seal_.get(); }
+  /// Sealed answers that did not open with this bus's seal.
+  std::int64_t unopened() const { return *unopened_; }
+
   /// Messages dropped for a missing or wrong tag (0 without authentication).
   std::int64_t rejected() const { return auth_ ? auth_->rejected() : 0; }
   /// Signed messages dropped as replays: taken before by this bus (0 without authentication).
@@ -47,6 +60,9 @@ class Bus {
   /// @throws mtg::Error if LCM reports a failure (e.g. the message exceeds the UDP limits).
   template <class Msg>
   void publish(const std::string& channel, const Msg& msg) {
+    if constexpr (std::is_same_v<Msg, mtg::episode_truth_t>) {
+      if (seal_ && !is_sealed(msg)) return publish(channel, seal_->seal(msg));
+    }
     if (auth_) {
       std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
       msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
@@ -77,6 +93,25 @@ class Bus {
   template <class Msg>
   void subscribe(const std::string& channel_regex,
                  std::function<void(const std::string&, const Msg&)> handler) {
+    if constexpr (std::is_same_v<Msg, mtg::episode_truth_t>) {
+      if (seal_) {
+        handler = [fn = std::move(handler), seal = seal_, unopened = unopened_](const std::string& channel,
+                                                                               const Msg& m) {
+          std::optional<Msg> opened;
+          try {
+            // Sealing also proves who wrote them: answers in clear could come from anyone.
+            if (!is_sealed(m)) {
+              throw Error("the answers of episode " + std::to_string(m.header.episode_id) + " came unsealed");
+            }
+            opened = seal->open(m);
+          } catch (const Error& e) {
+            if ((*unopened)++ == 0) log_unopened(e.what());
+            return;
+          }
+          fn(channel, *opened);
+        };
+      }
+    }
     if (auth_) {  // verified bytes first (subscribe_raw), then decoded
       subscribe_raw(channel_regex, [fn = std::move(handler), gate = &schema_gate_](const std::string& channel,
                                                              std::span<const std::uint8_t> bytes, std::int64_t) {
@@ -182,6 +217,9 @@ class Bus {
   std::exception_ptr pending_;
   std::vector<std::unique_ptr<HandlerBase>> handlers_;
   std::shared_ptr<const Authenticator> auth_;
+  std::shared_ptr<const TruthSeal> seal_;
+  std::shared_ptr<std::int64_t> unopened_ = std::make_shared<std::int64_t>(0);
+  static void log_unopened(const std::string& why);  // the first one, as a warning
   SchemaGate schema_gate_;
   // udpm only: liblcm opens its receive socket at the first subscription; it is the one socket
   // on the bus's port that was not open when this bus was made.

@@ -18,11 +18,16 @@ int main(int argc, char** argv) {
   app.add_option("--url", url, "LCM URL");
   app.add_option("--agent", spec, "oracle, random, replay:<run dir> or script:<file>")->required();
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
+  std::string truth_key;
+  app.add_option("--truth-key-file", truth_key, "the run's answer key (episode answers travel sealed; bus/truth_seal.h)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("agent " + spec);
   mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
+    if (!truth_key.empty()) {
+      bus.seal_truths(std::make_shared<const mtg::bus::TruthSeal>(mtg::bus::TruthSeal::from_file(truth_key)));
+    }
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("agent"));
     mtg::agents::AgentHost host(bus, stamp, spec, mtg::agents::make_builtin_policy(spec), run_id);
     mtg::process::ServiceLoop loop(bus, stamp, mtg::bus::agent_role(spec), 64);

@@ -136,11 +136,11 @@ class ScriptPolicy : public Policy {
 }  // namespace
 
 bool is_builtin_agent(const std::string& spec) {
-  return spec == "oracle" || spec == "random" || spec.rfind("replay:", 0) == 0 || spec.rfind("script:", 0) == 0;
+  return spec == kOracleAgent || spec == "random" || spec.rfind("replay:", 0) == 0 || spec.rfind("script:", 0) == 0;
 }
 
 std::unique_ptr<Policy> make_builtin_policy(const std::string& spec) {
-  if (spec == "oracle") return std::make_unique<OraclePolicy>();
+  if (spec == kOracleAgent) return std::make_unique<OraclePolicy>();
   if (spec == "random") return std::make_unique<RandomPolicy>();
   if (spec.rfind("replay:", 0) == 0) return std::make_unique<ReplayPolicy>(spec.substr(7));
   if (spec.rfind("script:", 0) == 0) return std::make_unique<ScriptPolicy>(spec.substr(7));

@@ -12,6 +12,9 @@
 
 namespace mtg::agents {
 
+/// The agent that plays each task's oracle plan: the one agent given the episodes' answers.
+inline constexpr const char* kOracleAgent = "oracle";
+
 /// A person playing in the browser (agents/human, `mtg play`): its own process, not built in.
 inline constexpr const char* kHumanAgent = "human";
 

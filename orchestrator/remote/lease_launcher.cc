@@ -44,6 +44,11 @@ LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCount
       book_(dir_ / "leases.sqlite") {
   options_.bus_key = bus::shared_bus_key_file(options_.bus_key);  // the governor signs with it too
   bus_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
+  // Grants carry the answers sealed with the key every host derives; the run folder keeps the
+  // derived key (not the secret) for the viewer and rejudge.
+  fs::create_directories(dir_);
+  truth_seal_ = std::make_shared<const bus::TruthSeal>(bus::TruthSeal::for_run_folder(
+      dir_, bus::TruthSeal::derived(bus::Authenticator::read_secret(options_.bus_key), run_.run_id)));
   subscribe();
 }
 
@@ -185,7 +190,7 @@ void LeaseLauncher::send_lease(const std::string& action, bus::EpisodeId episode
   if (launch != nullptr) {
     m.task_id = launch->start.task.task_id;
     m.start = launch->start;
-    m.truth = launch->truth;
+    m.truth = truth_seal_->seal(launch->truth);
   }
   bus_.publish(bus::kLease, m);
 }

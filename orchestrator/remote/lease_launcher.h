@@ -98,6 +98,7 @@ class LeaseLauncher final : public Launcher {
   const RunCounts& counts_;
   RemoteOptions options_;
   bus::Bus bus_;
+  std::shared_ptr<const bus::TruthSeal> truth_seal_;  // grants carry the answers sealed
   bus::HeaderStamper stamp_;
   Supervisor supervisor_;
   LeaseBook book_;

@@ -211,6 +211,9 @@ class Worker final : public LaunchSink {
     c.parallel = options_.capacity;
     c.recorder = options_.recorder;
     c.governor = false;  // the coordinator's governor serves every host
+    // The answers come sealed in the grants; this host's judge opens them with the key every
+    // host derives from the bus secret.
+    c.truth_secret_file = bus::shared_bus_key_file(options_.bus_key);
     log::info("joining run " + run_id_ + " of " + info.header.sender);
     try {
       check_dataset(c);

@@ -90,6 +90,13 @@ void LocalRuntime::subscribe() {
 std::vector<AdoptedAttempt> LocalRuntime::open() {
   const fs::path bin = executable_dir();
   fs::create_directories(dir_);
+  // Answers travel sealed; only the judge, the scene-graph service and the oracle get the key.
+  const bus::TruthSeal fresh =
+      config_.truth_secret_file.empty()
+          ? bus::TruthSeal::random()
+          : bus::TruthSeal::derived(bus::Authenticator::read_secret(config_.truth_secret_file), config_.run_id);
+  bus_.seal_truths(std::make_shared<const bus::TruthSeal>(bus::TruthSeal::for_run_folder(dir_, fresh)));
+  const std::string truth_key = (dir_ / bus::TruthSeal::kFileName).string();
   // The recording first, so it sees every message of the run; one file per invocation.
   int k = 0;
   while (fs::exists(dir_ / ("bus-" + std::to_string(k) + ".lcmlog"))) ++k;
@@ -117,7 +124,8 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     argv.insert(argv.end(), common.begin(), common.end());
     return argv;
   };
-  supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--profile", config_.profile,
+  supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--truth-key-file", truth_key,
+                                         "--profile", config_.profile,
                                          "--image-width", std::to_string(config_.image_width), "--image-height",
                                          std::to_string(config_.image_height), "--image-encoding",
                                          config_.image_encoding}));
@@ -125,7 +133,8 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     supervisor_.start("renderer", with({(bin / "mtg_renderer").string(), "--profile", config_.profile}));
     names_.push_back("renderer");
   }
-  supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--profile", config_.profile}));
+  supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--truth-key-file", truth_key, "--profile",
+                                   config_.profile}));
   names_.push_back("scene_graph");
   names_.push_back("judge");
   bool model_agents = false;
@@ -133,7 +142,10 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     const std::string& spec = config_.agents[i];
     const std::string name = "agent-" + std::to_string(i);
     if (agents::is_builtin_agent(spec)) {
-      supervisor_.start(name, with({(bin / "mtg_agent").string(), "--agent", spec}));
+      std::vector<std::string> argv = {(bin / "mtg_agent").string(), "--agent", spec};
+      // The one agent that plays the answers; no other agent process gets their key.
+      if (spec == agents::kOracleAgent) argv.insert(argv.end(), {"--truth-key-file", truth_key});
+      supervisor_.start(name, with(argv));
     } else if (spec == agents::kHumanAgent) {
       std::vector<std::string> argv = {(bin / "mtg_human_agent").string(), "--host", config_.play_host, "--port",
                                        std::to_string(config_.play_port)};

@@ -56,6 +56,10 @@ struct RuntimeConfig {
   /// (its recording bus-<k>.lcmlog) numbers its attempts from k times this, so a resumed episode
   /// never repeats an attempt an earlier invocation recorded.
   int attempts_per_invocation = 3;
+  /// The key file of a shared bus whose secret the run's answer key derives from (a worker's
+  /// runtime: every host seals and opens with the same key); "" = a key of the run's own.
+  /// Either way it is kept in the run folder's truth.key (bus/truth_seal.h).
+  std::string truth_secret_file = "";
 };
 
 class LocalRuntime final : public Launcher {

@@ -7,6 +7,7 @@
 #include "bus/channels.h"
 #include "bus/convert.h"
 #include "bus/recording.h"
+#include "bus/truth_seal.h"
 #include "core/episode/judge.h"
 #include "core/graph/scene_cache.h"
 #include "core/util/error.h"
@@ -29,6 +30,7 @@ struct Recorded {
 std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id,
                                                   std::vector<std::string>& damage) {
   std::map<bus::EpisodeId, Recorded> out;
+  const bus::RecordedTruths answers(run_dir);
   const auto damaged = bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
     if (ev.channel == bus::kEpisodeStart) {
       mtg::episode_start_t m{};
@@ -37,7 +39,7 @@ std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const
     } else if (ev.channel == bus::kEpisodeTruth) {
       mtg::episode_truth_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;
-      out[bus::episode_of(m.header)].truths[m.header.attempt] = m;
+      out[bus::episode_of(m.header)].truths[m.header.attempt] = answers.open(m);
     } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
       mtg::agent_action_t m{};
       if (m.decode(ev.data, 0, ev.datalen) < 0 || m.header.run_id != run_id) return;

@@ -195,11 +195,11 @@ void link_images(json& episode, const std::function<std::string(int step, int in
   }
 }
 
-json episode_truth(const std::vector<RecordedMessage>& messages, int attempt) {
+json episode_truth(const std::vector<RecordedMessage>& messages, int attempt, const bus::RecordedTruths& answers) {
   attempt = pick_attempt(messages, attempt);
   for (const auto& m : messages) {
     if (m.channel != bus::kEpisodeTruth || attempt_of(m) != attempt) continue;
-    const auto truth = decode<mtg::episode_truth_t>(m);
+    const auto truth = answers.open(decode<mtg::episode_truth_t>(m));
     return {{"task_id", truth.task_id}, {"goal", parse_or_text(truth.goal_json)},
             {"oracle_plan", truth.oracle_plan}, {"identify", parse_or_text(truth.identify_json)}};
   }

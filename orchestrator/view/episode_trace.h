@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bus/episode_id.h"
+#include "bus/truth_seal.h"
 #include "orchestrator/view/recording_index.h"
 
 namespace mtg::orchestrator::view {
@@ -36,7 +37,9 @@ nlohmann::json episode_trace(bus::EpisodeId episode_id, const std::vector<Record
 void link_images(nlohmann::json& episode, const std::function<std::string(int step, int index)>& url_of);
 
 /// {task_id, goal (parsed), oracle_plan[], identify (parsed)} of the attempt, or null.
-nlohmann::json episode_truth(const std::vector<RecordedMessage>& messages, int attempt);
+/// Sealed answers are opened with `answers` (the run folder's key).
+nlohmann::json episode_truth(const std::vector<RecordedMessage>& messages, int attempt,
+                             const bus::RecordedTruths& answers);
 
 struct RecordedImage {
   std::string encoding;  // "png" or "jpeg"

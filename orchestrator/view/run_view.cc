@@ -204,7 +204,10 @@ json RunView::episode(bus::EpisodeId id, int attempt) {
   return out;
 }
 
-json RunView::truth(bus::EpisodeId id, int attempt) { return episode_truth(messages_of(id), attempt); }
+json RunView::truth(bus::EpisodeId id, int attempt) {
+  // Read when asked: a run that is still being made writes its key when it starts.
+  return episode_truth(messages_of(id), attempt, bus::RecordedTruths(dir_));
+}
 
 std::optional<RecordedImage> RunView::image(bus::EpisodeId id, int attempt, int step, int index) {
   return observation_image(messages_of(id), attempt, step, index);

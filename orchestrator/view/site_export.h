@@ -21,6 +21,7 @@ struct ExportStats {
   std::size_t images = 0;        // image files written (after sharing identical ones)
   std::size_t image_refs = 0;    // images the pages show
   std::uintmax_t bytes = 0;      // everything written
+  std::size_t truths_missing = 0;  // attempts whose goal could not be read (no truth.key)
 };
 
 /// Exports `runs` into `out`, which must not exist or be empty. `progress(done, total)` is

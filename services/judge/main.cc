@@ -15,11 +15,16 @@ int main(int argc, char** argv) {
   app.add_option("--url", url, "LCM URL");
   app.add_option("--profile", profile, "scene profile");
   app.add_option("--run", run_id, "judge only this run ('' = every run)");
+  std::string truth_key;
+  app.add_option("--truth-key-file", truth_key, "the run's answer key (episode answers travel sealed; bus/truth_seal.h)");
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("judge");
   mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
+    if (!truth_key.empty()) {
+      bus.seal_truths(std::make_shared<const mtg::bus::TruthSeal>(mtg::bus::TruthSeal::from_file(truth_key)));
+    }
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("judge"));
     mtg::graph::SceneCache scenes(profile);
     mtg::services::JudgeHost host(bus, stamp, scenes, run_id);

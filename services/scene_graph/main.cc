@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   app.add_option("--url", url, "LCM URL");
   app.add_option("--profile", profile, "scene profile");
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
+  std::string truth_key;
+  app.add_option("--truth-key-file", truth_key, "the run's answer key (episode answers travel sealed; bus/truth_seal.h)");
   mtg::services::ImageOptions images;
   app.add_option("--image-width", images.width, "observation image width (pixels)")->check(CLI::Range(16, 8192));
   app.add_option("--image-height", images.height, "observation image height (pixels)")->check(CLI::Range(16, 8192));
@@ -26,6 +28,9 @@ int main(int argc, char** argv) {
   mtg::process::install_stop_signals();
   try {
     mtg::bus::Bus bus(url);
+    if (!truth_key.empty()) {
+      bus.seal_truths(std::make_shared<const mtg::bus::TruthSeal>(mtg::bus::TruthSeal::from_file(truth_key)));
+    }
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("scene_graph"));
     mtg::graph::SceneCache scenes(profile);
     mtg::services::EpisodeHost host(bus, stamp, scenes, run_id, mtg::services::FaultInjection::from_env(),

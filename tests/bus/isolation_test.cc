@@ -22,6 +22,7 @@
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
+#include "mtg/episode_truth_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/run_control_t.hpp"
 #include "orchestrator/run/rejudge.h"
@@ -157,10 +158,12 @@ TEST_F(IsolationTest, ARecorderKilledThreeTimesLeavesAWholeRecording) {
 
 // An agent subscribes to episode starts and observations: nothing it receives holds a goal or
 // an oracle plan (they travel on MTG_EPISODE_TRUTH, for the judge, the scene-graph service and
-// the oracle only), while the oracle still solves every task.
-TEST_F(IsolationTest, AgentsNeverReceiveTheAnswers) {
+// the oracle only), while the oracle still solves every task. A listener on that channel too
+// (any process on a shared bus) gets only sealed answers; the run folder's key opens them.
+TEST_F(IsolationTest, AgentsAndListenersNeverReadTheAnswers) {
   bus::Bus bus(bus::kDefaultUrl);
   int starts = 0, observations = 0;
+  std::vector<mtg::episode_truth_t> overheard;
   std::vector<std::string> leaks;
   auto inspect = [&](const std::string& channel, std::span<const std::uint8_t> bytes) {
     const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
@@ -178,6 +181,11 @@ TEST_F(IsolationTest, AgentsNeverReceiveTheAnswers) {
                       ++observations;
                       inspect(c, b);
                     });
+  bus.subscribe_raw(bus::kEpisodeTruth, [&](const std::string& c, std::span<const std::uint8_t> b, std::int64_t) {
+    inspect(c, b);
+    mtg::episode_truth_t t{};
+    if (t.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) overheard.push_back(t);
+  });
   // On this test's bus, so the test can listen as an agent would.
   auto args = run_args("watched", {"oracle"}, 6, 2);
   args.insert(args.end(), {"--bus", bus::kDefaultUrl});
@@ -191,6 +199,29 @@ TEST_F(IsolationTest, AgentsNeverReceiveTheAnswers) {
   EXPECT_EQ(starts, static_cast<int>(rows.size()));
   EXPECT_GT(observations, starts);
   EXPECT_THAT(leaks, ::testing::IsEmpty());
+  ASSERT_EQ(overheard.size(), rows.size());
+  const bus::RecordedTruths answers(fx_.root() / "watched");
+  for (const auto& t : overheard) {
+    EXPECT_TRUE(bus::is_sealed(t));
+    EXPECT_TRUE(t.goal_json.empty() && t.oracle_plan.empty() && t.identify_json.empty());
+    const auto opened = answers.open(t);
+    EXPECT_NE(opened.goal_json.find("\"item\""), std::string::npos) << opened.goal_json;
+    EXPECT_FALSE(opened.oracle_plan.empty());
+    // Bound to its episode: passed off as another's, it does not open.
+    auto moved = t;
+    moved.header.episode_id += 1;
+    EXPECT_THROW(answers.open(moved), Error);
+  }
+  // Whoever holds the run folder reads them: rejudge and the viewer.
+  const auto again = orchestrator::rejudge_run(fx_.root() / "watched");
+  EXPECT_EQ(again.identical, static_cast<std::int64_t>(rows.size()));
+  fs::remove(fx_.root() / "watched" / bus::TruthSeal::kFileName);
+  try {
+    orchestrator::rejudge_run(fx_.root() / "watched");
+    ADD_FAILURE() << "rejudge without the key";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("truth.key is missing"));
+  }
 }
 
 }  // namespace

@@ -126,6 +126,14 @@ TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothin
       beats.emplace_back(b.begin(), b.end());
     }
   });
+  // Grants carry the episode's answers: sealed, so the tap (no key) reads no goal or plan.
+  int grants = 0, open_grants = 0;
+  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::lease_t m{};
+    if (m.decode(b.data(), 0, static_cast<int>(b.size())) < 0 || m.action != "grant") return;
+    ++grants;
+    if (!bus::is_sealed(m.truth) || !m.truth.goal_json.empty() || !m.truth.oracle_plan.empty()) ++open_grants;
+  });
   auto pump = [&](testing::ChildProcess& run) {
     while (run.running()) tap.handle_once(50);
   };
@@ -135,6 +143,8 @@ TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothin
     ASSERT_EQ(first.wait(1000), 0) << log_text();
   }
   ASSERT_FALSE(announcements.empty());
+  EXPECT_GT(grants, 0);
+  EXPECT_EQ(open_grants, 0) << "grants with answers in clear on the shared bus";
   // The finished run's announcements ("running" included), re-sent at the idle workers.
   for (int round = 0; round < 4; ++round) {
     for (const auto& a : announcements) tap.publish_raw(bus::kRunInfo, a);

@@ -12,6 +12,8 @@
 #include "bus/convert.h"
 #include "bus/header.h"
 #include "bus/recording.h"
+#include "bus/channels.h"
+#include "bus/truth_seal.h"
 #include "bus/url.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
@@ -252,6 +254,65 @@ TEST(BusRoundTrip, EveryTypeOverUdpm) {
 TEST(BusRoundTrip, EveryTypeOverMemq) {
   RoundTrip rt("memq://");
   rt.check_all();
+}
+
+// The answers sealed on one bus open on another with the same key, bound to their episode; a
+// bus with another key, or one fed answers in clear, drops them and counts them.
+TEST(BusRoundTrip, SealedAnswersOpenOnlyWithTheRunsKeyAndOnlyForTheirEpisode) {
+  const auto key = std::make_shared<const TruthSeal>(TruthSeal::derived("a secret of at least 16 bytes", "run-7"));
+  mtg::episode_truth_t truth{};
+  truth.header = HeaderStamper("run-7", "test").next(EpisodeId(4), 1, "truth");
+  truth.task_id = "apt_0/L1/000001";
+  truth.goal_json = R"({"atomic":{"item":"box_1"}})";
+  truth.oracle_plan = {"l3", "o1", "l5", "startplace", "2", "0"};
+  truth.n_oracle = 6;
+  truth.identify_json = "[]";
+  const auto sealed = key->seal(truth);
+  EXPECT_TRUE(is_sealed(sealed));
+  EXPECT_TRUE(sealed.goal_json.empty() && sealed.oracle_plan.empty() && sealed.identify_json.empty());
+  const std::string bytes(sealed.sealed.begin(), sealed.sealed.end());
+  EXPECT_EQ(bytes.find("box_1"), std::string::npos);
+  const auto opened = TruthSeal::derived("a secret of at least 16 bytes", "run-7").open(sealed);
+  EXPECT_EQ(opened.goal_json, truth.goal_json);
+  EXPECT_EQ(opened.oracle_plan, truth.oracle_plan);
+  EXPECT_EQ(opened.identify_json, truth.identify_json);
+  EXPECT_THROW(TruthSeal::derived("a secret of at least 16 bytes", "run-8").open(sealed), Error);
+  auto other_attempt = sealed;
+  other_attempt.header.attempt = 2;
+  EXPECT_THROW(key->open(other_attempt), Error);
+  auto flipped = sealed;
+  flipped.sealed[20] ^= 1;
+  EXPECT_THROW(key->open(flipped), Error);
+
+  // Over a bus: sealed by the publisher's bus, opened by a subscriber's with the key; one with
+  // another key gets nothing, one without a key gets them sealed; answers in clear (a process
+  // without the key posing as the orchestrator) are refused by a keyed bus.
+  Bus publisher(kDefaultUrl), same(kDefaultUrl), other(kDefaultUrl), none(kDefaultUrl);
+  publisher.seal_truths(key);
+  same.seal_truths(key);
+  other.seal_truths(std::make_shared<const TruthSeal>(TruthSeal::random()));
+  std::vector<mtg::episode_truth_t> at_same, at_other, at_none;
+  auto into = [](std::vector<mtg::episode_truth_t>& v) {
+    return [&v](const std::string&, const mtg::episode_truth_t& m) { v.push_back(m); };
+  };
+  same.subscribe<mtg::episode_truth_t>(kEpisodeTruth, into(at_same));
+  other.subscribe<mtg::episode_truth_t>(kEpisodeTruth, into(at_other));
+  none.subscribe<mtg::episode_truth_t>(kEpisodeTruth, into(at_none));
+  publisher.publish(kEpisodeTruth, truth);
+  none.publish(kEpisodeTruth, truth);  // in clear
+  auto pump = [&] {
+    for (int i = 0; i < 40 && (at_none.size() < 2 || same.unopened() + other.unopened() < 3); ++i) {
+      for (Bus* b : {&same, &other, &none}) b->handle_once(10);
+    }
+  };
+  pump();
+  ASSERT_EQ(at_same.size(), 1u);
+  EXPECT_EQ(at_same[0].goal_json, truth.goal_json);
+  EXPECT_EQ(same.unopened(), 1) << "the answers in clear";
+  EXPECT_TRUE(at_other.empty());
+  EXPECT_EQ(other.unopened(), 2);
+  ASSERT_EQ(at_none.size(), 2u);
+  EXPECT_EQ(at_none[0].goal_json.empty() + at_none[1].goal_json.empty(), 1) << "one sealed, one in clear";
 }
 
 TEST(BusRoundTrip, OneMegabyteImageOverUdpm) {

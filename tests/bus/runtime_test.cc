@@ -363,7 +363,10 @@ TEST_F(RuntimeTest, LcmLogplayerOntoABusWithAJudgeGivesTheSameResults) {
   ASSERT_EQ(mtg(run_args("played", {"random"}, 5, 2)), 0) << log_text();
   const auto recorded = results("played");
   bus::Bus bus(bus::kDefaultUrl);
-  testing::ChildProcess judge({testing::bin("mtg_judge"), "--profile", "none"}, log());
+  // The recorded answers are sealed: the judge opens them with the run folder's key.
+  testing::ChildProcess judge({testing::bin("mtg_judge"), "--profile", "none", "--truth-key-file",
+                               (fx_.root() / "played" / "truth.key").string()},
+                              log());
   const std::string prefix = "judge:";
   std::map<std::int64_t, mtg::episode_result_t> fresh;
   bool ready = false;
