@@ -45,7 +45,6 @@ class Bus {
   /// comes unsealed, is dropped and counted. Call before subscribing. Without a seal, sealed
   /// answers arrive sealed.
   void seal_truths(std::shared_ptr<const TruthSeal> seal) { seal_ = std::move(seal); }
-  const TruthSeal* truth_seal() const { return seal_.get(); }
   /// Sealed answers that did not open with this bus's seal.
   std::int64_t unopened() const { return *unopened_; }
 

@@ -207,7 +207,7 @@ std::string report_html(const nlohmann::json& r) {
   }
   h << "</table>";
   h << "<h2>Failure Sankey: task level &rarr; stage reached &rarr; cause &rarr; outcome</h2>";
-  h << sankey_svg(r["sankey"], 1000, 520);
+  h << sankey_svg(r["sankey"], kSankeyWidth, kSankeyHeight);
   if (r.contains("usage")) {
     h << "<h2>Model usage</h2><table><tr><th>agent</th><th>calls</th><th>from cache</th><th>input tokens</th>"
          "<th>output tokens</th><th>images</th><th>list price ($)</th><th>spent ($)</th><th>mean latency (ms)</th>"

@@ -19,6 +19,8 @@ struct SankeyFlow {
 nlohmann::json sankey_graph(const std::vector<SankeyFlow>& flows);
 
 std::string sankey_svg(const nlohmann::json& graph, int width, int height);
+/// The size report.html, `mtg view` and `mtg export` draw it at.
+inline constexpr int kSankeyWidth = 1000, kSankeyHeight = 520;
 void sankey_png(const nlohmann::json& graph, const std::string& title, const std::filesystem::path& file, int width,
                 int height);
 

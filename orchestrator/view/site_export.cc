@@ -23,8 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr int kSankeyWidth = 1000, kSankeyHeight = 520;  // as `mtg view` draws it
-
 class SiteWriter {
  public:
   explicit SiteWriter(fs::path root) : root_(std::move(root)) {}

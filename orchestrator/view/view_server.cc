@@ -143,7 +143,7 @@ void ViewServer::add_routes() {
   };
   http_->Get(R"(/api/runs/([^/]+)/sankey\.svg)",
              with_run([report_for](RunView& r, const httplib::Request& req, httplib::Response& res) {
-               res.set_content(sankey_svg(report_for(r, req)["sankey"], 1000, 520), "image/svg+xml");
+               res.set_content(sankey_svg(report_for(r, req)["sankey"], kSankeyWidth, kSankeyHeight), "image/svg+xml");
              }));
   http_->Get(R"(/api/runs/([^/]+)/report)", with_run([report_for](RunView& r, const httplib::Request& req,
                                                                    httplib::Response& res) {
