@@ -126,16 +126,28 @@ std::string shared_bus_key_file(const std::string& key_file) {
   return file;
 }
 
-void create_key_file(const std::filesystem::path& file) {
-  unsigned char bytes[32];
-  if (RAND_bytes(bytes, sizeof bytes) != 1) throw Error("cannot draw a bus key: OpenSSL RAND_bytes failed");
-  std::string secret;
-  for (const unsigned char b : bytes) {
+namespace {
+
+std::string random_hex(std::size_t bytes, const std::string& what) {
+  std::vector<unsigned char> drawn(bytes);
+  if (RAND_bytes(drawn.data(), static_cast<int>(drawn.size())) != 1) {
+    throw Error("cannot draw " + what + ": OpenSSL RAND_bytes failed");
+  }
+  std::string out;
+  for (const unsigned char b : drawn) {
     char hex[3];
     std::snprintf(hex, sizeof hex, "%02x", b);
-    secret += hex;
+    out += hex;
   }
-  secret += '\n';
+  return out;
+}
+
+}  // namespace
+
+std::string draw_session_token() { return random_hex(16, "a session token"); }
+
+void create_key_file(const std::filesystem::path& file) {
+  const std::string secret = random_hex(32, "a bus key") + '\n';
   // Owner-only from its creation, and only if absent (a resume keeps its key). No umask: that is
   // the whole process's.
   const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);

@@ -74,6 +74,11 @@ class Authenticator {
   mutable ReplayWindow taken_;
 };
 
+/// A fresh session token: 16 random bytes (OpenSSL), hex. Coordinators and workers draw one when
+/// they start and name it in their messages, so a message of an earlier process never passes for
+/// one of this one. @throws mtg::Error when OpenSSL cannot draw.
+std::string draw_session_token();
+
 /// The key file of a shared bus: `key_file` if given, else $MTG_BUS_KEY.
 /// @throws mtg::Error with the fix when there is neither.
 std::string shared_bus_key_file(const std::string& key_file);

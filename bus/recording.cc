@@ -42,6 +42,41 @@ std::string describe(const RecordingDamage& d) {
          std::to_string(d.offset) + " (skipped; the recording is damaged there)";
 }
 
+RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from,
+                             const std::function<void(const lcm::LogEvent&, std::int64_t offset)>& fn) {
+  lcm::LogFile file(log.string(), "r");
+  if (!file.good()) throw Error(log.string() + ": cannot read the recording");
+  std::FILE* f = file.getFilePtr();
+  const auto size = static_cast<std::int64_t>(std::filesystem::file_size(log));
+  RecordingRead read;
+  std::int64_t at = from;  // where the next event should start
+  if (from > 0 && std::fseek(f, static_cast<long>(from), SEEK_SET) != 0) {
+    throw Error(log.string() + ": cannot seek in the recording");
+  }
+  while (true) {
+    for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
+      const std::int64_t end = std::ftell(f);
+      const std::int64_t start = end - event_bytes(*ev);
+      if (start > at) read.damage.push_back({log, at, start - at, false});
+      at = end;
+      fn(*ev, start);
+    }
+    if (at >= size) break;
+    // LCM stops at an event whose header does not hold; the events after it are still whole:
+    // go on from the next sync word.
+    const std::int64_t next = next_sync_word(log, at + 1);
+    if (next < 0) {
+      read.damage.push_back({log, at, size - at, true});
+      break;
+    }
+    read.damage.push_back({log, at, next - at, false});
+    at = next;
+    if (std::fseek(f, static_cast<long>(next), SEEK_SET) != 0) throw Error(log.string() + ": cannot seek in the recording");
+  }
+  read.end = at;
+  return read;
+}
+
 std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path& run_dir,
                                                      const std::function<void(const lcm::LogEvent&)>& fn) {
   if (!std::filesystem::is_directory(run_dir)) throw Error(run_dir.string() + ": no run folder");
@@ -53,40 +88,18 @@ std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path
   if (logs.empty()) throw Error(run_dir.string() + ": no recording (*.lcmlog)");
   std::vector<RecordingDamage> damage;
   for (const auto& log : logs) {
-    lcm::LogFile file(log.string(), "r");
-    if (!file.good()) throw Error(log.string() + ": cannot read the recording");
-    std::FILE* f = file.getFilePtr();
-    const auto size = static_cast<std::int64_t>(std::filesystem::file_size(log));
-    std::int64_t at = 0;  // where the next event should start
-    while (true) {
-      for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
-        const std::int64_t end = std::ftell(f);
-        if (const std::int64_t skipped = end - event_bytes(*ev) - at; skipped > 0) {
-          damage.push_back({log, at, skipped, false});
+    auto read = read_recording(log, 0, [&](const lcm::LogEvent& ev, std::int64_t) {
+      // A recording of another schema would be read wrongly without a word: refuse it.
+      if (ev.channel.starts_with("MTG_")) {
+        const auto header = peek_header({static_cast<const std::uint8_t*>(ev.data), static_cast<std::size_t>(ev.datalen)});
+        if (header && !speaks_our_schema(*header)) {
+          throw Error(log.string() + ": " + schema_mismatch(*header, "the message on " + ev.channel) +
+                      " (read it with the mtg that recorded it)");
         }
-        at = end;
-        // A recording of another schema would be read wrongly without a word: refuse it.
-        if (ev->channel.starts_with("MTG_")) {
-          const auto header = peek_header({static_cast<const std::uint8_t*>(ev->data), static_cast<std::size_t>(ev->datalen)});
-          if (header && !speaks_our_schema(*header)) {
-            throw Error(log.string() + ": " + schema_mismatch(*header, "the message on " + ev->channel) +
-                        " (read it with the mtg that recorded it)");
-          }
-        }
-        fn(*ev);
       }
-      if (at >= size) break;
-      // LCM stops at an event whose header does not hold; the events after it are still whole:
-      // go on from the next sync word.
-      const std::int64_t next = next_sync_word(log, at + 1);
-      if (next < 0) {
-        damage.push_back({log, at, size - at, true});
-        break;
-      }
-      damage.push_back({log, at, next - at, false});
-      at = next;
-      if (std::fseek(f, static_cast<long>(next), SEEK_SET) != 0) throw Error(log.string() + ": cannot seek in the recording");
-    }
+      fn(ev);
+    });
+    damage.insert(damage.end(), read.damage.begin(), read.damage.end());
   }
   return damage;
 }

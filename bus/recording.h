@@ -28,6 +28,19 @@ struct RecordingDamage {
 /// One line: "bus-0.lcmlog: 120 unreadable bytes at byte 4096 of 8192 (skipped)".
 std::string describe(const RecordingDamage& damage);
 
+/// What read_recording() found in one file.
+struct RecordingRead {
+  std::int64_t end = 0;  // where the last whole event read ends (a torn tail starts there)
+  std::vector<RecordingDamage> damage;
+};
+
+/// Calls `fn(event, offset)` for every whole event of the recording `log` from byte `from` (an
+/// event's start) on, going past damage from the next sync word; a torn tail is reported
+/// (at_end) and not read. A live recording's tail may be an event still being written: read
+/// again from `end` later. @throws mtg::Error naming the file when it cannot be read.
+RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from,
+                             const std::function<void(const lcm::LogEvent&, std::int64_t offset)>& fn);
+
 /// Calls `fn(event)` for every event of every recording in `run_dir`, file by file in name order,
 /// and returns what could not be read. @throws mtg::Error naming the folder when it holds no
 /// recording, or the file it cannot read.

@@ -2,6 +2,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "agents/vlm/model_spec.h"
@@ -41,7 +42,7 @@ void write_bytes(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
 LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCounts& counts, RemoteOptions options)
     : run_(std::move(run)), dir_(std::move(run_dir)), counts_(counts), options_(options), bus_(run_.bus_url),
       stamp_(run_.run_id, process::sender_id("coordinator")), supervisor_(dir_ / "logs"),
-      book_(dir_ / "leases.sqlite") {
+      book_(dir_ / "leases.sqlite"), session_(bus::draw_session_token()) {
   options_.bus_key = bus::shared_bus_key_file(options_.bus_key);  // the governor signs with it too
   bus_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
   // Grants carry the answers sealed with the key every host derives; the run folder keeps the
@@ -58,19 +59,25 @@ std::string LeaseLauncher::lease_id(bus::EpisodeId episode_id, int attempt) cons
 
 void LeaseLauncher::subscribe() {
   bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
-    if (m.role != "worker") return;
+    if (m.role != "worker" || m.session.empty()) return;
+    const auto now = Clock::now();
+    heard_[m.session] = now;
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
-    // A worker of another run, or one still starting its services, takes no lease.
+    w.session = m.session;
+    // A worker of another run or another coordinator session (an earlier invocation of this
+    // run, whose heartbeats an attacker may replay), or one still starting, takes no lease.
     const auto status = process::parse_heartbeat_status(m.status);
     const bool takes_work = status != process::HeartbeatStatus::kStarting && status != process::HeartbeatStatus::kDraining;
-    w.capacity = m.header.run_id == run_.run_id && takes_work ? m.capacity : 0;
+    const bool ours = m.header.run_id == run_.run_id && m.serving == session_;
+    w.capacity = ours && takes_work ? m.capacity : 0;
     w.status = m.status;
-    w.last_seen = Clock::now();
+    w.last_seen = now;
     w.live = true;
   });
   bus_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
-    if (m.header.run_id == run_.run_id && m.action == "renew") on_renew(m);
+    // A renewal names the session it renews for: one of an earlier invocation is not ours.
+    if (m.header.run_id == run_.run_id && m.action == "renew" && m.session == session_) on_renew(m);
   });
   bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
     if (m.header.run_id != run_.run_id) return;
@@ -186,6 +193,7 @@ void LeaseLauncher::send_lease(const std::string& action, bus::EpisodeId episode
   m.lease_id = lease_id(episode_id, attempt);
   m.worker = worker;
   m.action = action;
+  m.session = session_;
   m.ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
   if (launch != nullptr) {
     m.task_id = launch->start.task.task_id;
@@ -329,6 +337,9 @@ void LeaseLauncher::announce(const std::string& state) {
   mtg::run_info_t m = announcement(run_, counts_);
   m.header = stamp_.next({}, 0, "run_info");
   m.state = state;
+  m.session = session_;
+  m.heard = heard_sessions();
+  m.n_heard = static_cast<std::int16_t>(m.heard.size());
   m.lease_ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
   m.workers = live_workers();
   const auto now = Clock::now();
@@ -337,6 +348,18 @@ void LeaseLauncher::announce(const std::string& state) {
   // The dataset fingerprints are long: in one announcement of five; the digest is in all.
   if (announcements_++ % 5 != 0) m.dataset_json.clear();
   bus_.publish(bus::kRunInfo, m);
+}
+
+std::vector<std::string> LeaseLauncher::heard_sessions() {
+  const auto now = Clock::now();
+  std::erase_if(heard_, [&](const auto& h) { return seconds_between(h.second, now) > options_.lease_ttl_s; });
+  while (heard_.size() > kHeardKept) {
+    heard_.erase(std::min_element(heard_.begin(), heard_.end(),
+                                  [](const auto& a, const auto& b) { return a.second < b.second; }));
+  }
+  std::vector<std::string> out;
+  for (const auto& [session, at] : heard_) out.push_back(session);
+  return out;
 }
 
 void LeaseLauncher::close() {

@@ -57,6 +57,7 @@ class LeaseLauncher final : public Launcher {
   using Clock = std::chrono::steady_clock;
   struct Worker {
     std::string host;
+    std::string session;  // the worker process's (heartbeat_t.session)
     int capacity = 0;
     std::string status;
     Clock::time_point last_seen;
@@ -82,6 +83,8 @@ class LeaseLauncher final : public Launcher {
 
   void subscribe();
   void announce(const std::string& state);
+  /// The worker sessions heard within the lease TTL, oldest dropped beyond kHeardKept.
+  std::vector<std::string> heard_sessions();
   /// Clears `live` of the workers not heard within the lease ttl (a heartbeat sets it again).
   void mark_silent_workers();
   int live_workers() const;
@@ -108,6 +111,14 @@ class LeaseLauncher final : public Launcher {
   std::map<AttemptKey, Arrival> arrivals_;
   std::set<AttemptKey> delivered_;              // answered with "release" when resent
   std::deque<Clock::time_point> finish_times_;  // for the announced rate
+  // This coordinator process's session (run_info_t.session). A worker counts, and a renewal
+  // holds, only when it names this session: a heartbeat or renewal of an earlier invocation of
+  // the same run, replayed, names another.
+  std::string session_;
+  // Worker sessions heard lately (named in each announcement, so a worker joins only a live
+  // coordinator); at most kHeardKept, the least recently heard dropped first.
+  static constexpr std::size_t kHeardKept = 256;
+  std::map<std::string, Clock::time_point> heard_;
   LaunchSink* sink_ = nullptr;                  // during poll()
   Clock::time_point next_announce_;
   bool governor_ = false;

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +28,7 @@
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/episode_log.h"
 #include "orchestrator/remote/run_announcement.h"
+#include "orchestrator/remote/session_rules.h"
 #include "orchestrator/run/local_runtime.h"
 
 namespace mtg::orchestrator::remote {
@@ -171,23 +171,33 @@ class Worker final : public LaunchSink {
   void on_run_info(const mtg::run_info_t& m) {
     if (!options_.run_id.empty() && m.header.run_id != options_.run_id) return;
     heard_run_ = true;
-    // A coordinator session (its sender names host and pid) that announced its end is over for
-    // good: an announcement of it seen later is a replay or a straggler, never a run to join. A
-    // resumed run comes from a new session.
-    const std::string session = m.header.run_id + "|" + m.header.sender;
-    if (m.state == "done" && std::find(ended_.begin(), ended_.end(), session) == ended_.end()) {
-      ended_.push_back(session);
-      if (ended_.size() > kEndedKept) ended_.pop_front();
-    }
-    if (m.state == "running" && std::find(ended_.begin(), ended_.end(), session) != ended_.end()) return;
-    if (run_id_.empty() && m.state == "running" && !join_) {
-      // A run this host could not start is tried again after a while, not on every announcement.
-      if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
-      if (!m.dataset_digest.empty() && m.dataset_json.empty()) return;  // join with the fingerprints
-      join_ = m;
-    } else if (m.header.run_id == run_id_) {
-      last_announcement_ = Clock::now();
-      if (m.state == "done") leave_ = true;
+    const HeardAnnouncement heard{m.header.run_id, m.session, m.state == "done", m.heard};
+    switch (sessions_.hear(heard, session_, join_ ? join_->header.run_id : run_id_,
+                           join_ ? join_->session : serving_, options_.run_id)) {
+      case OnAnnouncement::kIgnore:
+        return;
+      case OnAnnouncement::kJoin:
+        // A run this host could not start is tried again after a while, not on every announcement.
+        if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
+        if (!m.dataset_digest.empty() && m.dataset_json.empty()) return;  // join with the fingerprints
+        join_ = m;
+        return;
+      case OnAnnouncement::kFollow:
+        if (join_) return;  // still starting: the run's services come up for the session joined
+        log::info("run " + run_id_ + " goes on under a new coordinator session (" + m.header.sender + ")");
+        sessions_.left(serving_);
+        serving_ = m.session;
+        [[fallthrough]];
+      case OnAnnouncement::kStay:
+        last_announcement_ = Clock::now();
+        return;
+      case OnAnnouncement::kLeave:
+        if (join_) {
+          join_.reset();  // over before this host started it
+        } else {
+          leave_ = true;
+        }
+        return;
     }
   }
 
@@ -201,6 +211,7 @@ class Worker final : public LaunchSink {
     const mtg::run_info_t info = *join_;
     join_.reset();
     run_id_ = info.header.run_id;
+    serving_ = info.session;
     stamp_.set_run_id(run_id_);
     last_announcement_ = Clock::now();
     status_ = process::HeartbeatStatus::kStarting;
@@ -237,6 +248,7 @@ class Worker final : public LaunchSink {
       retry_join_at_ = Clock::now() + std::chrono::seconds(30);
       runtime_.reset();
       run_id_.clear();
+      serving_.clear();
       stamp_.set_run_id("");
       status_ = process::HeartbeatStatus::kIdle;
     }
@@ -269,6 +281,7 @@ class Worker final : public LaunchSink {
     outbox_.clear();
     captured_.clear();
     run_id_.clear();
+    serving_.clear();
     stamp_.set_run_id("");
     status_ = process::HeartbeatStatus::kIdle;
     once_done_ = options_.once;
@@ -278,6 +291,8 @@ class Worker final : public LaunchSink {
     mtg::heartbeat_t hb = process::heartbeat_message(
         {"worker", host_, options_.capacity, static_cast<int>(held_.size()), tick_++, status_});
     hb.header = stamp_.next({}, 0, "heartbeat");
+    hb.session = session_;
+    hb.serving = serving_;
     shared_.publish(bus::kHeartbeat, hb);
   }
 
@@ -287,6 +302,7 @@ class Worker final : public LaunchSink {
     m.lease_id = lease_id(episode_id, attempt);
     m.worker = stamp_.sender();
     m.action = action;
+    m.session = serving_;
     shared_.publish(bus::kLease, m);
   }
 
@@ -303,15 +319,22 @@ class Worker final : public LaunchSink {
   void on_lease(const mtg::lease_t& m) {
     const bus::EpisodeId id = bus::episode_of(m.header);
     const int attempt = m.header.attempt;
+    if (m.session != serving_) return;  // an earlier coordinator session's (a replay, or late)
     if (m.action == "release" || m.action == "revoke") {
       forget(id, attempt);
       return;
     }
     if (m.action != "grant" || !runtime_ || status_ == process::HeartbeatStatus::kStarting) return;
     const auto it = held_.find(id);
-    if (it != held_.end() && it->second.attempt == attempt) {
-      send_lease("renew", id, attempt);  // a repeated grant: our renewal was lost
-      return;
+    const std::optional<int> held = it == held_.end() ? std::nullopt : std::optional<int>(it->second.attempt);
+    switch (hear_grant(m.session, attempt, serving_, held)) {
+      case OnGrant::kIgnore:
+        return;
+      case OnGrant::kRenew:
+        send_lease("renew", id, attempt);  // a repeated grant: our renewal was lost
+        return;
+      case OnGrant::kRun:
+        break;
     }
     if (it != held_.end()) forget(id, it->second.attempt);  // superseded by a newer attempt
     EpisodeLaunch launch{m.start, m.truth};
@@ -397,8 +420,9 @@ class Worker final : public LaunchSink {
   bool heard_run_ = false;  // the run of options_.run_id has been announced
   Clock::time_point last_announcement_;
   std::string failed_run_;
-  static constexpr std::size_t kEndedKept = 64;
-  std::deque<std::string> ended_;  // "<run id>|<coordinator sender>" of sessions that announced "done"
+  const std::string session_ = bus::draw_session_token();  // this worker process's (heartbeats)
+  std::string serving_;               // the coordinator session of run_id_ ("" = none)
+  CoordinatorSessions sessions_;      // ended and left ones
   Clock::time_point retry_join_at_;
   long tick_ = 0;
   std::map<bus::EpisodeId, Held> held_;

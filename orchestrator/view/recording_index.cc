@@ -8,6 +8,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/recording.h"
 #include "core/util/error.h"
 
 namespace mtg::orchestrator::view {
@@ -42,21 +43,19 @@ std::size_t RecordingIndex::refresh() {
   for (std::size_t i = 0; i < files_.size(); ++i) {
     File& file = files_[i];
     if (static_cast<long>(fs::file_size(file.path, ec)) <= file.indexed_to || ec) continue;
-    lcm::LogFile log(file.path.string(), "r");
-    if (!log.good()) throw Error(file.path.string() + ": cannot read the recording");
-    std::FILE* fp = log.getFilePtr();
-    if (std::fseek(fp, file.indexed_to, SEEK_SET) != 0) continue;
-    for (;;) {
-      const long offset = std::ftell(fp);
-      const lcm::LogEvent* ev = log.readNextEvent();
-      if (ev == nullptr) break;  // the end, or an event the recorder is still writing
-      file.indexed_to = std::ftell(fp);
-      if (!viewer_reads_channel(ev->channel)) continue;
-      const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev->data),
-                                            static_cast<std::size_t>(ev->datalen)});
-      if (!header || !bus::episode_of(*header).valid()) continue;
-      places_[bus::episode_of(*header)].push_back(place(i, offset));
+    // Read past damage (named once, damage()); a torn tail may be an event the recorder is still
+    // writing: read again from its start next time.
+    const bus::RecordingRead read = bus::read_recording(file.path, file.indexed_to, [&](const lcm::LogEvent& ev,
+                                                                                      std::int64_t offset) {
+      if (!viewer_reads_channel(ev.channel)) return;
+      const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev.data), static_cast<std::size_t>(ev.datalen)});
+      if (!header || !bus::episode_of(*header).valid()) return;
+      places_[bus::episode_of(*header)].push_back(place(i, static_cast<long>(offset)));
       ++added;
+    });
+    file.indexed_to = static_cast<long>(read.end);
+    for (const bus::RecordingDamage& d : read.damage) {
+      if (!d.at_end) damage_.push_back(bus::describe(d));
     }
   }
   size_ += added;
@@ -92,6 +91,11 @@ std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_
     out.push_back({ev->channel, std::vector<std::uint8_t>(bytes, bytes + ev->datalen)});
   }
   return out;
+}
+
+std::vector<std::string> RecordingIndex::damage() const {
+  const std::lock_guard lock(mutex_);
+  return damage_;
 }
 
 std::size_t RecordingIndex::size() const {

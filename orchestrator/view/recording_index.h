@@ -1,7 +1,8 @@
 #pragma once
 // Where each episode's messages lie in a run's recordings (bus-<k>.lcmlog), so the viewer reads
 // one episode without decoding the whole run. The index grows as a live run's recorder appends:
-// refresh() reads only the bytes added since the last call and stops before a half-written event.
+// refresh() reads only the bytes added since the last call and stops before a half-written event;
+// it reads on past damage inside a file and keeps a line for each damaged stretch.
 
 #include <cstdint>
 #include <filesystem>
@@ -29,6 +30,8 @@ class RecordingIndex {
   std::size_t refresh();
   /// The episode's messages of the channels the viewer reads, in recording order.
   std::vector<RecordedMessage> messages_of(bus::EpisodeId episode_id) const;
+  /// One line per damaged stretch found inside the recordings so far (bus::describe).
+  std::vector<std::string> damage() const;
   /// Messages indexed so far (all episodes).
   std::size_t size() const;
 
@@ -47,6 +50,7 @@ class RecordingIndex {
   std::vector<File> files_;
   std::map<bus::EpisodeId, std::vector<std::uint64_t>> places_;
   std::size_t size_ = 0;
+  std::vector<std::string> damage_;
 };
 
 /// Whether the viewer keeps messages of this channel (episode streams, starts, truths, results,

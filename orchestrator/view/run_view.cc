@@ -101,6 +101,7 @@ json RunView::summary() {
   s["planned"] = planned_;
   s["finished"] = finished;
   s["live"] = finished < planned_;
+  s["damage"] = index_.damage();
   return s;
 }
 
@@ -109,7 +110,11 @@ json RunView::overview() {
   {
     // The report is recomputed only when the results changed (a live page asks every 2 s).
     const std::lock_guard lock(rows_mutex_);
-    if (overview_rows_ == all) return overview_;
+    if (overview_rows_ == all) {
+      json o = overview_;
+      o["damage"] = index_.damage();  // found by the indexer meanwhile
+      return o;
+    }
   }
   json o = summary();
   o["report"] = make_report(*all, plan_summary_["run_id"].get<std::string>());

@@ -1,6 +1,11 @@
 #include "services/recorder/recorder.h"
 
+#include <stdio_ext.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 #include "bus/channels.h"
 #include "bus/event_log.h"
@@ -33,6 +38,8 @@ Recorder::Recorder(bus::Bus& bus, bus::HeaderStamper& stamp, const std::filesyst
   // A bigger buffer than stdio's 4 KiB: an observation alone filled that, so nearly every message
   // cost a write(2). What is on disk is unchanged: every result and every 100 ms still flush.
   std::setvbuf(log_.getFilePtr(), nullptr, _IOFBF, std::size_t{1} << 20);
+  std::fseek(log_.getFilePtr(), 0, SEEK_END);
+  flushed_to_ = std::ftell(log_.getFilePtr());
   bus.subscribe_raw(".*", [this](const std::string& channel, std::span<const std::uint8_t> data, std::int64_t utime) {
     write(channel, data, utime);
   });
@@ -47,7 +54,7 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
   ev.channel = channel;
   ev.datalen = static_cast<int32_t>(data.size());
   ev.data = const_cast<std::uint8_t*>(data.data());  // LogFile only reads it
-  if (log_.writeEvent(&ev) != 0) throw Error(path_.string() + ": cannot write to the recording (disk full?)");
+  if (log_.writeEvent(&ev) != 0) fail(std::strerror(errno));
   ++events_;
   if (!run_id_.empty() && channel == bus::kEpisodeResult && header && header->episode_id >= 0) {
     // The result is the attempt's last message: once it is on disk, the whole attempt is.
@@ -64,9 +71,24 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
 void Recorder::flush() {
   // With a large buffer most write errors surface here: a result must never be acknowledged
   // before its bytes are on disk.
-  if (std::fflush(log_.getFilePtr()) != 0) {
-    throw Error(path_.string() + ": cannot write to the recording (disk full?)");
+  if (std::fflush(log_.getFilePtr()) != 0) fail(std::strerror(errno));
+  flushed_to_ = std::ftell(log_.getFilePtr());
+}
+
+void Recorder::fail(const std::string& why) {
+  // What stdio still holds would go out when the file closes, torn by the same error: dropped.
+  // Those events were never acknowledged, so their attempts run again.
+  std::FILE* fp = log_.getFilePtr();
+  __fpurge(fp);
+  std::string cut = "the file ends after the last whole event";
+  const off_t length = ::lseek(::fileno(fp), 0, SEEK_END);
+  if (length > flushed_to_) {
+    cut = ::ftruncate(::fileno(fp), flushed_to_) == 0
+              ? "cut the " + std::to_string(length - flushed_to_) + " bytes of unfinished events off"
+              : "could not cut the unfinished events off (" + std::string(std::strerror(errno)) + ")";
   }
+  throw Error(path_.string() + ": cannot write to the recording (" + why + "; disk full?); " + cut +
+              ", so it is whole up to byte " + std::to_string(flushed_to_));
 }
 
 }  // namespace mtg::services

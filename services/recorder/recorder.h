@@ -5,7 +5,8 @@
 //   - its subscription queue holds kQueueCapacity messages (lcm-logger 1.3.1 keeps LCM's default
 //     of 30 and silently lost a quarter of a 16-episode run's messages on 2 busy cores);
 //   - a restarted recorder first cuts a torn last event (its predecessor killed mid-write) off the
-//     file, so the log stays readable to its end by every tool;
+//     file, and a recorder that cannot write (a full disk) cuts what it could not finish off
+//     before it stops, so the log stays readable to its end by every tool;
 //   - once an episode's result is written and flushed it says so (recorded_t on MTG_RECORDED):
 //     the orchestrator stores a result only then, and re-runs the attempts it never heard of.
 // With a run id it keeps the messages of that run (and those of no run), nothing else, and
@@ -38,6 +39,9 @@ class Recorder {
 
  private:
   void write(const std::string& channel, std::span<const std::uint8_t> data, std::int64_t recv_utime);
+  /// After a failed write: drops what is buffered, cuts the file back to the end of the last
+  /// flush (whole events only) and throws, naming the file and what was cut.
+  [[noreturn]] void fail(const std::string& why);
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
@@ -46,6 +50,7 @@ class Recorder {
   std::uintmax_t repaired_ = 0;
   lcm::LogFile log_;
   std::int64_t events_ = 0;
+  long flushed_to_ = 0;  // file length after the last successful flush: whole events only
 };
 
 }  // namespace mtg::services

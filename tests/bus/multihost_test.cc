@@ -10,6 +10,7 @@
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/observation_t.hpp"
+#include "mtg/run_info_t.hpp"
 #include "orchestrator/run/run_plan.h"
 #include "tests/bus/multihost_fixture.h"
 #include "tests/support/fake_model_server.h"
@@ -174,6 +175,111 @@ TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothin
   EXPECT_EQ(fingerprints(rows), single);
   for (const auto& r : rows) EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
   EXPECT_NE(log_text().find("were replays"), std::string::npos) << log_text();
+}
+
+// Replays to processes that never received the originals. A coordinator killed and resumed with
+// the same run id is a new process: before, it took the killed host's heartbeats of the first
+// invocation, re-sent every 0.5 s, as new, leased episodes to the dead host and ran them again
+// when the leases expired. Workers started after a run ended are new processes too: before, the
+// run's "running" announcements re-sent at them pulled them into that run. Now heartbeats and
+// renewals name the coordinator session they serve and a worker joins only an announcement that
+// names its own session: no lease goes to the dead host, the fresh workers stay free, and both
+// runs give the one-host verdicts.
+TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
+  ASSERT_EQ(mtg(run_args("one", 40, 4, 0)), 0) << log_text();  // long enough to be killed mid-run
+  const auto single = fingerprints(results("one"));
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+
+  bus::Bus tap(kSharedUrl);  // no key: it reads and re-sends datagrams as they are
+  std::vector<std::vector<std::uint8_t>> running, beats;
+  bool capture_beats = true;
+  tap.subscribe_raw(bus::kRunInfo, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::run_info_t m{};
+    if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && m.state == "running") running.emplace_back(b.begin(), b.end());
+  });
+  std::string dead_worker;
+  tap.subscribe_raw(bus::kHeartbeat, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::heartbeat_t hb{};
+    if (capture_beats && hb.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && hb.host == "host1" &&
+        !hb.header.run_id.empty()) {
+      beats.emplace_back(b.begin(), b.end());
+      dead_worker = hb.header.sender;
+    }
+  });
+  auto leases_of = [&](const std::string& worker) {
+    int n = 0;
+    for (const auto state : {orchestrator::remote::LeaseState::kGranted, orchestrator::remote::LeaseState::kDone,
+                             orchestrator::remote::LeaseState::kRevoked, orchestrator::remote::LeaseState::kExpired}) {
+      const auto m = leases_in_state("resumed", state);
+      const auto it = m.find(worker);
+      n += it == m.end() ? 0 : it->second;
+    }
+    return n;
+  };
+  const auto args = run_args("resumed", 40, 4, 2);
+  {
+    testing::ChildProcess first(args, log());
+    ASSERT_TRUE(wait_for([&] {
+      tap.handle_once(20);
+      return results("resumed").size() >= 2 && beats.size() >= 2;
+    }, 60000)) << log_text();
+    ASSERT_LT(results("resumed").size(), planned("resumed")) << "the run ended before it could be killed";
+    capture_beats = false;
+    kill_host(1);
+    first.kill(SIGKILL);
+  }
+  const int granted_to_dead = leases_of(dead_worker);
+  // Resumed (a new coordinator process, same run id) while the dead host's heartbeats are re-sent;
+  // one worker is left.
+  {
+    testing::ChildProcess resumed(run_args("resumed", 40, 4, 1), log());
+    auto last = std::chrono::steady_clock::now();
+    std::size_t next = 0;
+    while (resumed.running()) {
+      tap.handle_once(20);
+      if (std::chrono::steady_clock::now() - last > std::chrono::milliseconds(500)) {
+        tap.publish_raw(bus::kHeartbeat, beats[next++ % beats.size()]);
+        last = std::chrono::steady_clock::now();
+      }
+    }
+    ASSERT_EQ(resumed.wait(1000), 0) << log_text();
+  }
+  EXPECT_EQ(leases_of(dead_worker), granted_to_dead) << "the resumed coordinator leased episodes to the dead host";
+  auto rows = results("resumed");
+  EXPECT_EQ(rows.size(), planned("resumed"));
+  EXPECT_EQ(fingerprints(rows), single);
+  for (const auto& r : rows) EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+
+  // Fresh workers on both hosts; the finished run's "running" announcements re-sent at them.
+  kill_host(0);
+  std::map<int, std::size_t> said_before;  // the worker logs are appended to
+  for (int i = 0; i < 2; ++i) {
+    said_before[i] = testing_multihost::read_text(fx_.root() / ("worker" + std::to_string(i) + ".log")).size();
+    start_worker(i);
+  }
+  for (const int i : {0, 1}) {
+    const fs::path log = fx_.root() / ("worker" + std::to_string(i) + ".log");
+    ASSERT_TRUE(wait_for([&] {
+      return testing_multihost::read_text(log).find(", capacity ", said_before[i]) != std::string::npos;
+    }, 15000)) << log_text();
+  }
+  ASSERT_FALSE(running.empty());
+  for (int round = 0; round < 4; ++round) {
+    for (const auto& a : running) tap.publish_raw(bus::kRunInfo, a);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  for (const int i : {0, 1}) {
+    const std::string said =
+        testing_multihost::read_text(fx_.root() / ("worker" + std::to_string(i) + ".log")).substr(said_before[i]);
+    EXPECT_EQ(said.find("joining run"), std::string::npos) << "host " << i << " joined a replayed run:\n" << said;
+  }
+  ASSERT_EQ(mtg(run_args("after", 4, 4, 2)), 0) << log_text();
+  rows = results("after");
+  EXPECT_EQ(rows.size(), planned("after"));
+  std::set<std::string> used;
+  for (const auto& r : rows) used.insert(r.worker);
+  EXPECT_EQ(used.size(), 2u) << "both fresh workers served the next run";
 }
 
 // A worker whose dataset lacks a file the task set was made from stays out of the run, says why,

@@ -15,6 +15,8 @@
 
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/event_log.h"
+#include "bus/header.h"
 #include "bus/recording.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
@@ -22,6 +24,7 @@
 #include "mtg/episode_result_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "orchestrator/run/results_db.h"
+#include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
 #include "tests/support/run_fixture.h"
@@ -200,6 +203,51 @@ TEST_F(RuntimeTest, ADamagedRecordingIsNamedWithTheByteWhereItsDamageStarts) {
                  (fx_.root() / "whole-images").string()}),
             1);
   EXPECT_THAT(log_text(), ::testing::HasSubstr("images may have been in what could not be read"));
+}
+
+// A recorder that cannot write (here a file-size limit, as a full disk) stops with one line that
+// names the file, and leaves the recording whole: what it could not finish is cut off, so no
+// torn tail waits for a restarted recorder to repair it. (Before, the run ended with the torn
+// event in the file.)
+TEST(RecorderTest, AFullDiskLeavesTheRecordingWholeAndSaysSo) {
+  testing::FixtureDataset dir;
+  const fs::path file = dir.root() / "bus-0.lcmlog";
+  const std::string log = (dir.root() / "recorder.log").string();
+  // dash's `ulimit -f` counts 512-byte blocks: 96 KiB. SIGXFSZ ignored: write(2) says EFBIG.
+  testing::ChildProcess recorder({"/bin/sh", "-c", "trap '' XFSZ; ulimit -f 192; exec \"$0\" \"$@\"",
+                                  testing::bin("mtg_recorder"), "--url", bus::default_url(), "--run", "r",
+                                  file.string()},
+                                 log);
+  bus::Bus bus(bus::default_url());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!fs::exists(file) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(fs::exists(file));
+  int sent = 0;
+  bus::HeaderStamper stamp("r", "test:0");
+  while (recorder.running() && std::chrono::steady_clock::now() < deadline) {
+    // Three unflushed messages, then a result (flushed before it is acknowledged).
+    mtg::heartbeat_t beat{};
+    beat.header = stamp.next();
+    beat.role = std::string(3000, 'b');
+    for (int i = 0; i < 3; ++i) bus.publish(bus::kHeartbeat, beat);
+    mtg::episode_result_t result{};
+    result.header = stamp.next(bus::EpisodeId(sent++), 0, "result");
+    result.detail = std::string(2000, 'r');
+    bus.publish(bus::kEpisodeResult, result);
+    bus.handle_once(5);
+  }
+  EXPECT_EQ(recorder.wait(5000), 1);
+  std::ifstream in(log);
+  const std::string said(std::istreambuf_iterator<char>(in), {});
+  EXPECT_THAT(said, ::testing::HasSubstr(file.string() + ": cannot write to the recording (File too large; disk full?)"));
+  EXPECT_THAT(said, ::testing::HasSubstr("so it is whole up to byte " + std::to_string(fs::file_size(file))));
+  EXPECT_GT(fs::file_size(file), 64u * 1024u);
+  EXPECT_EQ(bus::whole_events_length(file), fs::file_size(file)) << "a torn event at the end";
+  int events = 0;
+  EXPECT_TRUE(bus::for_each_recorded_event(dir.root(), [&](const lcm::LogEvent&) { ++events; }).empty());
+  EXPECT_GT(events, 10);
 }
 
 // A user's mistakes get one line each, exit 1, and spoil nothing: the corrected command then

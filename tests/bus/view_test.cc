@@ -11,6 +11,9 @@
 #include <set>
 #include <thread>
 
+#include <lcm/lcm-cpp.hpp>
+
+#include "bus/channels.h"
 #include "core/tasks/audit_plan.h"
 #include "core/tasks/task_db.h"
 #include "tests/support/browser.h"
@@ -148,6 +151,60 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
   // A folder that is not a run.
   testing::ChildProcess wrong({testing::bin("mtg"), "view", fx_.root().string()}, (fx_.root() / "view3.log").string());
   EXPECT_EQ(wrong.wait(10000), 1);
+}
+
+// A recording damaged in the middle (an event's sync word overwritten): the viewer reads on past
+// the damage, so the episodes recorded after it still show their steps, and the overview says
+// where the recording is damaged. (Before, the index stopped at the damage for good: every later
+// episode showed no step, without a word.)
+TEST_F(ViewerTest, ADamagedRecordingIsReadPastItsDamageAndTheOverviewSaysWhere) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle"}, 2, 1)), 0) << log_text();
+  const fs::path log_file = fx_.root() / "run" / "bus-0.lcmlog";
+  long answer_at = -1;
+  {
+    lcm::LogFile in(log_file.string(), "r");
+    long at = 0;
+    for (const lcm::LogEvent* ev = in.readNextEvent(); ev != nullptr && answer_at < 0; ev = in.readNextEvent()) {
+      if (bus::is_episode_channel(ev->channel, bus::EpisodeStream::kAction)) answer_at = at;
+      at = std::ftell(in.getFilePtr());
+    }
+  }
+  ASSERT_GT(answer_at, 0);
+  fs::copy(fx_.root() / "run", fx_.root() / "whole", fs::copy_options::recursive);
+  {
+    std::fstream f(log_file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(answer_at);
+    f.write("XXXX", 4);
+  }
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(),
+                              (fx_.root() / "whole").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  auto b = browser();
+  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  b->navigate(base + "#/run/run");
+  ASSERT_TRUE(b->wait_for("document.getElementById('damage') !== null", 20000));
+  const std::string said = b->evaluate("document.getElementById('damage').textContent").get<std::string>();
+  EXPECT_NE(said.find("The recording is damaged: bus-0.lcmlog: "), std::string::npos) << said;
+  EXPECT_NE(said.find("unreadable bytes at byte "), std::string::npos) << said;
+  const json o = b->evaluate("fetch('/api/runs/run').then((r) => r.json())");
+  ASSERT_EQ(o["damage"].size(), 1u) << o.dump();
+  EXPECT_TRUE(b->evaluate("fetch('/api/runs/whole').then((r) => r.json())")["damage"].empty());
+  // Every episode but the damaged one's shows every step the undamaged copy shows.
+  const auto rows = results("run");
+  ASSERT_GE(rows.size(), 3u);
+  int same = 0;
+  for (const auto& r : rows) {
+    auto steps = [&](const std::string& run) {
+      return b->evaluate("fetch('/api/runs/" + run + "/episodes/" + to_string(r.episode_id) + "').then((r) => r.json())")["steps"];
+    };
+    const json whole = steps("whole");
+    EXPECT_FALSE(whole.empty());
+    same += steps("run") == whole ? 1 : 0;
+  }
+  EXPECT_GE(same, static_cast<int>(rows.size()) - 1);
+  b->screenshot(kArtifacts / "damaged-recording.png");
 }
 
 // The episode list as a researcher uses it: sorted by a column, searched by a part of a task id

@@ -121,6 +121,10 @@ async function showOverview(run, params) {
     (o.live ? ' (running: this page refreshes as results arrive)' : '') + '. ' + r.scored + ' scored' +
     (r.errors ? ', ' + r.errors + ' given up (infrastructure)' : '') + '. SR ' + fmt(r.sr) + ' %, IP ' + fmt(r.ip) + '. ',
     link('#/run/' + enc(run) + '/episodes', 'All episodes →')));
+  if (o.damage && o.damage.length) {
+    parts.push(el('p', {id: 'damage', class: 'warn'}, 'The recording is damaged: ' + o.damage.join('; ') +
+      '. Episodes whose messages lay there show less than happened; their results stand.'));
+  }
   if (o.model_agents) {
     parts.push(el('p', {id: 'usage'}, 'Tokens: ' + r.tokens.input + ' in, ' + r.tokens.output + ' out; cost $' +
       r.cost_usd.toFixed(4) + '. Prompt version: ' + (o.prompt_versions.join(', ') || '–') + '.'));
