@@ -15,7 +15,9 @@ EpisodeJoin::EpisodeJoin(bus::Bus& bus, std::string run_id, Ready ready)
 EpisodeJoin::Halves* EpisodeJoin::slot(const mtg::header_t& h) {
   if (!run_id_.empty() && h.run_id != run_id_) return nullptr;
   const Key key{h.run_id, episode_of(h)};
-  if (const auto s = started_.find(key); s != started_.end() && s->second >= h.attempt) return nullptr;
+  if (const auto s = started_.last(key); s && *s >= h.attempt) return nullptr;
+  // Bounded: a half whose other half was lost waits until thousands of others came after it.
+  if (waiting_.size() >= kWaitingKept && waiting_.count(key) == 0) waiting_.erase(waiting_.begin());
   Halves& halves = waiting_[key];
   if (halves.attempt > h.attempt) return nullptr;
   if (halves.attempt < h.attempt) halves = Halves{h.attempt, std::nullopt, std::nullopt};
@@ -27,7 +29,7 @@ void EpisodeJoin::complete(const Key& key) {
   if (it == waiting_.end() || !it->second.start || !it->second.truth) return;
   const Halves halves = std::move(it->second);
   waiting_.erase(it);
-  started_[key] = halves.attempt;
+  started_.add(key, halves.attempt);
   ready_(*halves.start, *halves.truth);
 }
 

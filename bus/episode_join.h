@@ -14,6 +14,7 @@
 
 #include "bus/bus.h"
 #include "bus/episode_id.h"
+#include "bus/finished_attempts.h"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
 
@@ -45,7 +46,8 @@ class EpisodeJoin {
   std::string run_id_;
   Ready ready_;
   std::map<Key, Halves> waiting_;
-  std::map<Key, int> started_;  // last attempt handed out
+  FinishedAttempts started_;  // last attempts handed out (bounded)
+  static constexpr std::size_t kWaitingKept = 4096;  // halves whose other half never came
 };
 
 }  // namespace mtg::bus

@@ -1,16 +1,31 @@
 #include "bus/header.h"
 
+#include <limits>
+
 namespace mtg::bus {
 
 mtg::header_t HeaderStamper::next(EpisodeId episode, std::int32_t attempt, const std::string& stream) {
+  mtg::header_t h = with_seq(episode, attempt, 0);
+  h.seq = next_seq_[{episode.value(), attempt, stream}]++;
+  return h;
+}
+
+mtg::header_t HeaderStamper::with_seq(EpisodeId episode, std::int32_t attempt, std::int64_t seq) const {
   mtg::header_t h{};
   h.run_id = run_id_;
   h.episode_id = episode.value();
   h.attempt = attempt;
-  h.seq = next_seq_[{stream, episode.value(), attempt}]++;
+  h.seq = seq;
   h.sender = sender_;
   h.schema_version = kSchemaVersion;
   return h;
+}
+
+void HeaderStamper::forget_episode(EpisodeId episode) {
+  const auto first = next_seq_.lower_bound({episode.value(), std::numeric_limits<std::int32_t>::min(), std::string()});
+  auto last = first;
+  while (last != next_seq_.end() && std::get<0>(last->first) == episode.value()) ++last;
+  next_seq_.erase(first, last);
 }
 
 std::string schema_mismatch(const mtg::header_t& header, const std::string& what) {

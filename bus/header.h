@@ -27,13 +27,21 @@ std::string schema_mismatch(const mtg::header_t& header, const std::string& what
 
 /// Stamps outgoing headers: seq counts from 0 per (stream, episode, attempt), where a stream is
 /// one kind of message (its channel family), so a receiver of that stream sees 0, 1, 2, ... and
-/// can tell a lost message from one it was never meant to see.
+/// can tell a lost message from one it was never meant to see. A process forgets an episode's
+/// streams once the episode is over for it (forget_episode), so what it keeps does not grow with
+/// the episodes of a long run (docs/runtime.md, "What each process keeps").
 class HeaderStamper {
  public:
   HeaderStamper(std::string run_id, std::string sender)
       : run_id_(std::move(run_id)), sender_(std::move(sender)) {}
 
   mtg::header_t next(EpisodeId episode = {}, std::int32_t attempt = 0, const std::string& stream = "");
+  /// A header with a given seq, for an answer numbered as its request (no stream kept).
+  mtg::header_t with_seq(EpisodeId episode, std::int32_t attempt, std::int64_t seq) const;
+  /// Forgets the streams of every attempt of `episode`: the next message about it starts at 0.
+  void forget_episode(EpisodeId episode);
+  /// Streams kept now.
+  std::size_t streams() const { return next_seq_.size(); }
   const std::string& sender() const { return sender_; }
   const std::string& run_id() const { return run_id_; }
   void set_run_id(std::string run_id) { run_id_ = std::move(run_id); }
@@ -41,7 +49,8 @@ class HeaderStamper {
  private:
   std::string run_id_;
   std::string sender_;
-  std::map<std::tuple<std::string, std::int64_t, std::int32_t>, std::int64_t> next_seq_;
+  // (episode, attempt, stream) -> next seq: an episode's streams lie together for forget_episode.
+  std::map<std::tuple<std::int64_t, std::int32_t, std::string>, std::int64_t> next_seq_;
 };
 
 /// The header_t every mtg message carries first (after LCM's 8-byte type fingerprint); nullopt

@@ -23,7 +23,10 @@ class OraclePolicy : public Policy {
  public:
   bool reads_answers() const override { return true; }
   void answer(const mtg::episode_truth_t& truth) override {
-    Plan& p = plans_[{truth.header.run_id, truth.header.episode_id}];
+    const std::pair<std::string, std::int64_t> key{truth.header.run_id, truth.header.episode_id};
+    // Bounded all the same: an answer whose start never came goes once thousands came after it.
+    if (plans_.size() >= kPlansKept && plans_.count(key) == 0) plans_.erase(plans_.begin());
+    Plan& p = plans_[key];
     if (p.attempt > truth.header.attempt) return;
     p = Plan{truth.header.attempt, truth.oracle_plan};
   }
@@ -44,12 +47,14 @@ class OraclePolicy : public Policy {
     const auto it = plans_.find({start.header.run_id, start.header.episode_id});
     if (it != plans_.end() && it->second.attempt == start.header.attempt) plans_.erase(it);
   }
+  void not_mine(const mtg::episode_start_t& start) override { plans_.erase({start.header.run_id, start.header.episode_id}); }
 
  private:
   struct Plan {
     int attempt = -1;
     std::vector<std::string> keys;
   };
+  static constexpr std::size_t kPlansKept = 4096;
   std::map<std::pair<std::string, std::int64_t>, Plan> plans_;  // the latest attempt per episode
 };
 

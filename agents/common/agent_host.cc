@@ -43,6 +43,7 @@ void AgentHost::on_start(const mtg::episode_start_t& start) {
   const std::vector<mtg::observation_t> early = early_.take(start.header);
   if (start.agent != spec_) {
     if (others_.is_new_attempt(start.header)) others_.start(start.header, Other{});
+    policy_->not_mine(start);
     return;
   }
   if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt
@@ -70,6 +71,7 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   if (obs.done) {
     policy_->end(e.start);
     episodes_.erase(Episodes::key_of(obs.header));
+    stamp_.forget_episode(bus::episode_of(obs.header));
     return;
   }
   if (obs.step <= e.last_step) return;  // answered already (a duplicate observation)

@@ -68,7 +68,7 @@ class AgentHost {
   std::string run_id_;
   using Episodes = bus::EpisodeTable<Episode>;
   Episodes episodes_;
-  bus::EpisodeTable<Other> others_;
+  bus::EpisodeTable<Other> others_{4096};  // never told when they end: bounded
   // First observations that came before their start. An observation may carry images (about
   // 1 MB): few are kept, and only an attempt's first (a later one needs this agent's answer).
   bus::EarlyMessages<mtg::observation_t> early_{16};

@@ -36,6 +36,9 @@ class Policy {
   /// start): the built-in oracle, which plays them, and no other agent.
   virtual bool reads_answers() const { return false; }
   virtual void answer(const mtg::episode_truth_t& /*truth*/) {}
+  /// The episode of `start` is another agent's: forget its answer (every answer reaches the
+  /// policy, so one kept for another agent's episode would stay for good).
+  virtual void not_mine(const mtg::episode_start_t& /*start*/) {}
 };
 
 }  // namespace mtg::agents

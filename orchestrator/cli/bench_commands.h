@@ -1,6 +1,7 @@
 #pragma once
 // `mtg bench ...`: the measurements scripts/bench prints (wall-clock, telemetry only).
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,21 @@ struct BenchRenderOptions {
   int episodes = 20;  // oracle episodes rendered end to end
 };
 
+struct BenchSoakOptions {
+  std::string scene = "apt_0";   // tasks generated for it (Levels 1-4) unless --tasks
+  std::string tasks;             // a task database to take instead
+  std::string data_dir;
+  std::string work = "/tmp/mtg_bench_soak";  // tasks and the run folder (emptied first)
+  std::int64_t episodes = 1000000;
+  std::vector<std::string> agents = {"oracle", "random"};
+  std::string levels = "1,2,3,4";
+  int parallel = 4;
+  bool render = false;
+  double every_s = 60.0;  // a row at least this often, besides every 100,000 episodes
+  std::string json;       // also write the samples here
+};
+
+int run_bench_soak(const BenchSoakOptions& options);
 int run_bench_render(const BenchRenderOptions& options);
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
 int run_bench_tasks(const BenchTasksOptions& options);

@@ -159,6 +159,9 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   run->add_option("--scene", run_opts->scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts->levels, "levels to run (default 1,2,3)");
   run->add_option("--limit", run_opts->limit, "tasks per scene and level, drawn with the seed (default all)");
+  run->add_option("--repeat", run_opts->repeat,
+                  "episodes per task and agent, each with its own episode seed (default 1; a random agent's spread, "
+                  "long soaks)");
   run->add_option("--parallel", run_opts->parallel,
                   "episodes at once (default 4; with --remote: what the workers' capacities allow)");
   run->add_option("--seed", run_opts->seed, "run seed (default 0)");
@@ -324,6 +327,20 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_render_cmd->add_option("--data", bench_render->data_dir, "dataset root");
   bench_render_cmd->add_option("--rounds", bench_render->rounds, "passes over every navigable platform");
   bench_render_cmd->add_option("--episodes", bench_render->episodes, "oracle episodes rendered end to end");
+  auto bench_soak = std::make_shared<BenchSoakOptions>();
+  CLI::App* bench_soak_cmd = bench->add_subcommand("soak", "A long run: every process's memory as episodes go by, episodes/s, bytes recorded");
+  bench_soak_cmd->add_option("--episodes", bench_soak->episodes, "episodes in all (default 1,000,000)");
+  bench_soak_cmd->add_option("--scene", bench_soak->scene, "scene whose tasks (Levels 1-4) are generated");
+  bench_soak_cmd->add_option("--tasks", bench_soak->tasks, "a task database to run instead");
+  bench_soak_cmd->add_option("--data", bench_soak->data_dir, "dataset root");
+  bench_soak_cmd->add_option("--work", bench_soak->work, "scratch folder for tasks and the run (emptied first)");
+  bench_soak_cmd->add_option("--agent", bench_soak->agents, "agents (repeatable; default oracle and random)");
+  bench_soak_cmd->add_option("--levels", bench_soak->levels, "levels (default 1,2,3,4)");
+  bench_soak_cmd->add_option("--parallel", bench_soak->parallel, "episodes in flight (default 4)");
+  bench_soak_cmd->add_flag("--render", bench_soak->render, "observations carry images");
+  bench_soak_cmd->add_option("--every", bench_soak->every_s, "seconds between rows (default 60)");
+  bench_soak_cmd->add_option("--json", bench_soak->json, "also write every sample to this file");
+  commands.push_back({bench_soak_cmd, [bench_soak] { return run_bench_soak(*bench_soak); }});
   commands.push_back({bench_scene_load, [bench_load] { return run_bench_scene_load(*bench_load); }});
   commands.push_back({bench_tasks_cmd, [bench_tasks] { return run_bench_tasks(*bench_tasks); }});
   commands.push_back({bench_scene_graph, [bench_graph] { return run_bench_scene_graph(*bench_graph); }});

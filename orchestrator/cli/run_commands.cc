@@ -162,6 +162,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   plan.scenes = {o.scenes.begin(), o.scenes.end()};
   plan.levels = tasks::parse_levels(o.levels);
   plan.limit = o.limit;
+  plan.repeat = o.repeat;
   plan.seed = o.seed;
   // With workers their capacities decide, unless --parallel caps the whole run.
   plan.parallel = o.given.count("--parallel") ? o.parallel : (o.remote ? 0 : 4);
@@ -226,6 +227,7 @@ void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir)
   };
   differs("--levels", tasks::parse_levels(o.levels) != plan.levels);
   differs("--limit", o.limit != plan.limit);
+  differs("--repeat", o.repeat != plan.repeat);
   differs("--seed", o.seed != plan.seed);
   differs("--scene", std::set<std::string>(o.scenes.begin(), o.scenes.end()) != plan.scenes);
   differs("--step-limit", o.step_limit != plan.step_limit);

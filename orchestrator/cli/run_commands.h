@@ -18,6 +18,7 @@ struct RunOptions {
   std::vector<std::string> scenes;   // empty = all
   std::string levels = "1,2,3";
   int limit = 0;                     // tasks per (scene, level); 0 = all
+  int repeat = 1;                    // episodes per (task, agent)
   int parallel = 0;                  // when not given: 4, or with --remote as many as the workers take
   std::uint64_t seed = 0;
   bool render = false;               // --render: images even for built-in agents

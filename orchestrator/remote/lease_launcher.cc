@@ -61,6 +61,9 @@ void LeaseLauncher::subscribe() {
   bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
     if (m.role != "worker" || m.session.empty()) return;
     const auto now = Clock::now();
+    // A worker heard for the first time joins from the next announcement that names it: make
+    // that one come now rather than within the second.
+    if (heard_.count(m.session) == 0) next_announce_ = now;
     heard_[m.session] = now;
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
@@ -253,6 +256,7 @@ void LeaseLauncher::on_renew(const mtg::lease_t& m) {
   } else {
     send_lease("revoke", id, m.header.attempt, m.worker);
   }
+  if (it == leases_.end()) stamp_.forget_episode(id);
 }
 
 void LeaseLauncher::arrived(const AttemptKey& key) {
@@ -279,7 +283,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
   const mtg::episode_result_t result = *a.result;
   const std::string worker = a.worker;
   arrivals_.erase(key);
-  delivered_.insert(key);
+  remember_delivered(key);
   finish_times_.push_back(Clock::now());
   const auto lease = leases_.find(id);
   std::string host = worker;
@@ -289,8 +293,10 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
     leases_.erase(lease);
     book_.close(id, attempt, LeaseState::kDone);
     sink_->on_result(result, host);
+    last_attempt_.erase(id);  // stored: no attempt of it is numbered again
   }
   send_lease("release", id, attempt, worker);
+  if (leases_.count(id) == 0) stamp_.forget_episode(id);
 }
 
 void LeaseLauncher::expire_leases(LaunchSink& sink) {
@@ -345,9 +351,20 @@ void LeaseLauncher::announce(const std::string& state) {
   const auto now = Clock::now();
   while (!finish_times_.empty() && seconds_between(finish_times_.front(), now) > 60.0) finish_times_.pop_front();
   m.episodes_per_min = static_cast<double>(finish_times_.size());
-  // The dataset fingerprints are long: in one announcement of five; the digest is in all.
+  // The dataset fingerprints are long: in one announcement of five; the digest is in all. (A
+  // worker keeps the last fingerprints it heard of a session, and joins from any announcement
+  // that names it.)
   if (announcements_++ % 5 != 0) m.dataset_json.clear();
   bus_.publish(bus::kRunInfo, m);
+}
+
+void LeaseLauncher::remember_delivered(const AttemptKey& key) {
+  if (!delivered_.insert(key).second) return;
+  delivered_order_.push_back(key);
+  if (delivered_order_.size() > kDeliveredKept) {
+    delivered_.erase(delivered_order_.front());
+    delivered_order_.pop_front();
+  }
 }
 
 std::vector<std::string> LeaseLauncher::heard_sessions() {

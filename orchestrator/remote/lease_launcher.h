@@ -93,6 +93,7 @@ class LeaseLauncher final : public Launcher {
                   const EpisodeLaunch* launch = nullptr);
   void on_renew(const mtg::lease_t& m);
   void arrived(const AttemptKey& key);
+  void remember_delivered(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);
   std::string lease_id(bus::EpisodeId episode_id, int attempt) const;
 
@@ -109,7 +110,11 @@ class LeaseLauncher final : public Launcher {
   std::map<std::string, Worker> workers_;       // by sender id
   std::map<bus::EpisodeId, Lease> leases_;        // by episode id
   std::map<AttemptKey, Arrival> arrivals_;
-  std::set<AttemptKey> delivered_;              // answered with "release" when resent
+  // Answered with "release" when resent; the last kDeliveredKept only (a worker resends within
+  // seconds, while thousands of episodes finish in between only on a very long run).
+  static constexpr std::size_t kDeliveredKept = 16384;
+  std::set<AttemptKey> delivered_;
+  std::deque<AttemptKey> delivered_order_;
   std::deque<Clock::time_point> finish_times_;  // for the announced rate
   // This coordinator process's session (run_info_t.session). A worker counts, and a renewal
   // holds, only when it names this session: a heartbeat or renewal of an earlier invocation of

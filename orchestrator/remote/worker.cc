@@ -172,6 +172,7 @@ class Worker final : public LaunchSink {
     if (!options_.run_id.empty() && m.header.run_id != options_.run_id) return;
     heard_run_ = true;
     const HeardAnnouncement heard{m.header.run_id, m.session, m.state == "done", m.heard};
+    if (!m.dataset_json.empty()) fingerprints_ = {m.session, m.dataset_json};
     switch (sessions_.hear(heard, session_, join_ ? join_->header.run_id : run_id_,
                            join_ ? join_->session : serving_, options_.run_id)) {
       case OnAnnouncement::kIgnore:
@@ -179,8 +180,15 @@ class Worker final : public LaunchSink {
       case OnAnnouncement::kJoin:
         // A run this host could not start is tried again after a while, not on every announcement.
         if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
-        if (!m.dataset_digest.empty() && m.dataset_json.empty()) return;  // join with the fingerprints
         join_ = m;
+        if (!m.dataset_digest.empty() && m.dataset_json.empty()) {
+          // Join with the fingerprints: those this session sent earlier, else wait for them.
+          if (fingerprints_.first != m.session) {
+            join_.reset();
+            return;
+          }
+          join_->dataset_json = fingerprints_.second;
+        }
         return;
       case OnAnnouncement::kFollow:
         if (join_) return;  // still starting: the run's services come up for the session joined
@@ -314,6 +322,7 @@ class Worker final : public LaunchSink {
     }
     captured_.erase({episode_id, attempt});
     outbox_.erase(lease_id(episode_id, attempt));
+    if (held_.count(episode_id) == 0) stamp_.forget_episode(episode_id);
   }
 
   void on_lease(const mtg::lease_t& m) {
@@ -423,6 +432,7 @@ class Worker final : public LaunchSink {
   const std::string session_ = bus::draw_session_token();  // this worker process's (heartbeats)
   std::string serving_;               // the coordinator session of run_id_ ("" = none)
   CoordinatorSessions sessions_;      // ended and left ones
+  std::pair<std::string, std::string> fingerprints_;  // the last dataset fingerprints heard: (session, json)
   Clock::time_point retry_join_at_;
   long tick_ = 0;
   std::map<bus::EpisodeId, Held> held_;

@@ -231,6 +231,7 @@ class Engine final : public LaunchSink {
   }
 
   void store(const EpisodeRow& row, bool scored) {
+    stamp_.forget_episode(row.episode_id);  // stored: no more starts of it from this invocation
     if (results_.insert(row)) {
       ++completed_;
       count(row);

@@ -22,6 +22,7 @@ nlohmann::json RunPlan::to_json() const {
           {"scenes", scenes},
           {"levels", levels},
           {"limit", limit},
+          {"repeat", repeat},
           {"seed", seed},
           {"parallel", parallel},
           {"step_limit", step_limit},
@@ -50,6 +51,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.scenes = j.at("scenes").get<std::set<std::string>>();
     p.levels = j.at("levels").get<std::set<int>>();
     p.limit = j.at("limit").get<int>();
+    p.repeat = j.value("repeat", 1);  // absent in plans written before --repeat
     p.seed = j.at("seed").get<std::uint64_t>();
     p.parallel = j.at("parallel").get<int>();
     p.step_limit = j.at("step_limit").get<int>();
@@ -102,12 +104,17 @@ RunPlan make_plan(RunPlan plan, const std::map<std::string, tasks::Task>& all_ta
   }
   std::sort(chosen.begin(), chosen.end(), [](const tasks::Task* a, const tasks::Task* b) { return a->id < b->id; });
   if (chosen.empty()) throw Error("no task of the requested scenes and levels in " + plan.tasks_db);
+  if (plan.repeat < 1) throw Error("--repeat must be at least 1, not " + std::to_string(plan.repeat));
   plan.episodes.clear();
+  plan.episodes.reserve(chosen.size() * plan.agents.size() * static_cast<std::size_t>(plan.repeat));
   std::int64_t id = 0;
-  for (const tasks::Task* t : chosen) {
-    for (const std::string& agent : plan.agents) {
-      plan.episodes.push_back({bus::EpisodeId(id), t->id, agent, derive_seed(plan.seed, static_cast<std::uint64_t>(id))});
-      ++id;
+  // Repetition outermost: a run cut short has covered every task as often as it could.
+  for (int r = 0; r < plan.repeat; ++r) {
+    for (const tasks::Task* t : chosen) {
+      for (const std::string& agent : plan.agents) {
+        plan.episodes.push_back({bus::EpisodeId(id), t->id, agent, derive_seed(plan.seed, static_cast<std::uint64_t>(id))});
+        ++id;
+      }
     }
   }
   return plan;

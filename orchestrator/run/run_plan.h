@@ -30,6 +30,7 @@ struct RunPlan {
   std::set<std::string> scenes;  // empty = every scene of the task set
   std::set<int> levels = {1, 2, 3};
   int limit = 0;                 // tasks per (scene, level), drawn with the seed; 0 = all
+  int repeat = 1;                // episodes per (task, agent), each with its own episode seed
   std::uint64_t seed = 0;
   int parallel = 4;              // attempts in flight; 0 = no cap (remote: the workers' capacities)
   int step_limit = 15;           // at least; a task may ask for more (long L3/L4 plans)

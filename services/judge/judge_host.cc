@@ -122,6 +122,7 @@ void JudgeHost::finish(const mtg::header_t& h, Episode& e, const std::string& tr
   bus_.publish(bus::kEpisodeResult, r);
   sequence_.forget_episode(h.run_id, bus::episode_of(h));
   episodes_.erase(EpisodeTable::key_of(h));
+  stamp_.forget_episode(bus::episode_of(h));
 }
 
 }  // namespace mtg::services

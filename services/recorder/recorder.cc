@@ -65,6 +65,7 @@ void Recorder::write(const std::string& channel, std::span<const std::uint8_t> d
     ack.file = path_.string();
     ack.events = events_;
     bus_.publish(bus::kRecorded, ack);
+    stamp_.forget_episode(bus::episode_of(*header));  // one acknowledgement per result
   }
 }
 

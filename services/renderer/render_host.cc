@@ -43,8 +43,9 @@ void RenderHost::on_request(const mtg::render_request_t& request) {
   }
   out.n_images = static_cast<int32_t>(out.images.size());
   out.render_ms = watch.elapsed_ms();
-  // The reply carries the requester's episode and attempt, so it is matched without any lookup.
-  out.header = stamp_.next(bus::episode_of(request.header), request.header.attempt, "render");
+  // The reply carries the requester's episode and attempt, so it is matched without any lookup,
+  // and its request's seq: numbered as the requests are, with nothing kept per episode here.
+  out.header = stamp_.with_seq(bus::episode_of(request.header), request.header.attempt, request.header.seq);
   out.header.run_id = request.header.run_id;
   bus_.publish(bus::kRenderResult, out);
   ++served_;

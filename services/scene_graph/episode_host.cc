@@ -179,6 +179,7 @@ void EpisodeHost::finish_observation(const Key& key, Episode& e, bool published)
   }
   if (e.pending.done) {
     episodes_.erase(key);  // the judge has what it needs; free the world
+    stamp_.forget_episode(key.second);
     return;
   }
   e.pending = mtg::observation_t{};
