@@ -30,7 +30,7 @@ OnAnnouncement CoordinatorSessions::hear(const HeardAnnouncement& m, const std::
   }
   if (m.done || was_over) return OnAnnouncement::kIgnore;
   // Only a live coordinator can name a session drawn after everything an attacker captured.
-  if (std::find(m.heard.begin(), m.heard.end(), own_session) == m.heard.end()) return OnAnnouncement::kIgnore;
+  if (std::find(m.heard.begin(), m.heard.end(), own_session) == m.heard.end()) return OnAnnouncement::kUnnamed;
   return run_id.empty() ? OnAnnouncement::kJoin : OnAnnouncement::kFollow;
 }
 

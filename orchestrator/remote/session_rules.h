@@ -30,6 +30,7 @@ struct HeardAnnouncement {
 
 enum class OnAnnouncement {
   kIgnore,  // not for this worker, a replay, or a session that is over
+  kUnnamed, // a session this worker could join or follow that has not heard it yet: heartbeat now
   kJoin,    // an idle worker joins this run
   kStay,    // the run this worker serves, from its session: still there
   kFollow,  // the run this worker serves, from a newer session (a resumed coordinator)

@@ -106,7 +106,8 @@ class Worker final : public LaunchSink {
       }
       send_outbox();
       const auto now = Clock::now();
-      if (now >= next_beat) {
+      if (now >= next_beat || beat_now_) {
+        beat_now_ = false;
         heartbeat();
         next_beat = now + std::chrono::milliseconds(500);
       }
@@ -176,6 +177,9 @@ class Worker final : public LaunchSink {
     switch (sessions_.hear(heard, session_, join_ ? join_->header.run_id : run_id_,
                            join_ ? join_->session : serving_, options_.run_id)) {
       case OnAnnouncement::kIgnore:
+        return;
+      case OnAnnouncement::kUnnamed:
+        beat_now_ = true;  // so the coordinator names this worker in its next announcement
         return;
       case OnAnnouncement::kJoin:
         // A run this host could not start is tried again after a while, not on every announcement.
@@ -425,6 +429,7 @@ class Worker final : public LaunchSink {
   process::HeartbeatStatus status_ = process::HeartbeatStatus::kIdle;
   std::optional<mtg::run_info_t> join_;
   bool leave_ = false;
+  bool beat_now_ = false;  // a coordinator that has not heard this worker yet announced itself
   bool once_done_ = false;
   bool heard_run_ = false;  // the run of options_.run_id has been announced
   Clock::time_point last_announcement_;

@@ -17,8 +17,8 @@ HeardAnnouncement done(const std::string& session, const std::string& run = "r1"
 // none of them can name the worker's session, drawn after they were sent.
 TEST(SessionRulesTest, AnIdleWorkerJoinsOnlyAnAnnouncementThatNamesIt) {
   CoordinatorSessions s;
-  EXPECT_EQ(s.hear(running("c1", {"old-worker"}), "w", "", ""), OnAnnouncement::kIgnore);
-  EXPECT_EQ(s.hear(running("c1", {}), "w", "", ""), OnAnnouncement::kIgnore);
+  EXPECT_EQ(s.hear(running("c1", {"old-worker"}), "w", "", ""), OnAnnouncement::kUnnamed);
+  EXPECT_EQ(s.hear(running("c1", {}), "w", "", ""), OnAnnouncement::kUnnamed);
   EXPECT_EQ(s.hear(running("c1", {"other", "w"}), "w", "", ""), OnAnnouncement::kJoin);
   EXPECT_EQ(s.hear(running("", {"w"}), "w", "", ""), OnAnnouncement::kIgnore) << "no session: not a coordinator of ours";
   EXPECT_EQ(s.hear(running("c1", {"w"}), "w", "", "", "another-run"), OnAnnouncement::kIgnore);
@@ -38,7 +38,7 @@ TEST(SessionRulesTest, ASessionThatAnnouncedItsEndIsNeverJoinedAgain) {
 // them; the session it replaced is never followed again, whatever is replayed.
 TEST(SessionRulesTest, AWorkerFollowsANewSessionOfItsRunAndNeverGoesBack) {
   CoordinatorSessions s;
-  EXPECT_EQ(s.hear(running("c2", {"x"}), "w", "r1", "c1"), OnAnnouncement::kIgnore) << "c2 has not heard w yet";
+  EXPECT_EQ(s.hear(running("c2", {"x"}), "w", "r1", "c1"), OnAnnouncement::kUnnamed) << "c2 has not heard w yet";
   EXPECT_EQ(s.hear(running("c2", {"w"}), "w", "r1", "c1"), OnAnnouncement::kFollow);
   s.left("c1");
   EXPECT_EQ(s.hear(running("c1", {"w"}), "w", "r1", "c2"), OnAnnouncement::kIgnore);
