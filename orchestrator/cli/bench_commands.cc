@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "core/episode/placement.h"
@@ -13,6 +14,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
+#include "core/util/error.h"
 #include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
@@ -30,6 +32,19 @@ struct Series {
 };
 
 }  // namespace
+
+std::filesystem::path fresh_scratch_folder(const std::string& work_dir, const std::string& command) {
+  namespace fs = std::filesystem;
+  const fs::path work = fs::absolute(work_dir);
+  const fs::path marker = work / (".mtg_bench_" + command);
+  if (fs::exists(work) && !fs::is_empty(work) && !fs::exists(marker)) {
+    throw Error(work.string() + " is not empty and not a scratch folder of mtg bench " + command + "; pass another --work");
+  }
+  fs::remove_all(work);
+  fs::create_directories(work);
+  std::ofstream(marker) << "scratch folder of mtg bench " << command << "; emptied on every run\n";
+  return work;
+}
 
 int run_bench_scene_load(const BenchSceneLoadOptions& options) {
   const scene::Dataset dataset = scene::index_dataset(scene::resolve_data_root(options.data_dir));

@@ -2,6 +2,7 @@
 // `mtg bench ...`: the measurements scripts/bench prints (wall-clock, telemetry only).
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,11 @@ struct BenchSoakOptions {
 };
 
 int run_bench_soak(const BenchSoakOptions& options);
+
+/// `work` (absolute), emptied and marked as the scratch folder of `mtg bench <command>`. A folder
+/// that holds anything and is not such a scratch folder is never emptied.
+/// @throws mtg::Error naming the folder then.
+std::filesystem::path fresh_scratch_folder(const std::string& work, const std::string& command);
 int run_bench_render(const BenchRenderOptions& options);
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
 int run_bench_tasks(const BenchTasksOptions& options);

@@ -87,15 +87,7 @@ void print_latency(const char* what, const std::vector<double>& ms) {
 }  // namespace
 
 int run_bench_runtime(const BenchRuntimeOptions& options) {
-  const fs::path work = fs::absolute(options.work);
-  // The scratch folder is emptied first; never a folder this command did not make.
-  const fs::path marker = work / ".mtg_bench_runtime";
-  if (fs::exists(work) && !fs::is_empty(work) && !fs::exists(marker)) {
-    throw Error(work.string() + " is not empty and not a bench scratch folder; pass another --work");
-  }
-  fs::remove_all(work);
-  fs::create_directories(work);
-  std::ofstream(marker) << "scratch folder of mtg bench runtime; emptied on every run\n";
+  const fs::path work = fresh_scratch_folder(options.work, "runtime");
 
   tasks::GenerationJob job;
   job.scenes = {options.scene};

@@ -81,14 +81,7 @@ void print_row(const Sample& s, const Sample* previous, const char* mark) {
 
 int run_bench_soak(const BenchSoakOptions& options) {
   if (options.episodes < 10) throw Error("--episodes must be at least 10");
-  const fs::path work = fs::absolute(options.work);
-  const fs::path marker = work / ".mtg_bench_soak";
-  if (fs::exists(work) && !fs::is_empty(work) && !fs::exists(marker)) {
-    throw Error(work.string() + " is not empty and not a soak scratch folder; pass another --work");
-  }
-  fs::remove_all(work);
-  fs::create_directories(work);
-  std::ofstream(marker) << "scratch folder of mtg bench soak; emptied on every run\n";
+  const fs::path work = fresh_scratch_folder(options.work, "soak");
 
   std::string tasks_db = options.tasks;
   if (tasks_db.empty()) {

@@ -181,10 +181,11 @@ TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothin
 // the same run id is a new process: before, it took the killed host's heartbeats of the first
 // invocation, re-sent every 0.5 s, as new, leased episodes to the dead host and ran them again
 // when the leases expired. Workers started after a run ended are new processes too: before, the
-// run's "running" announcements re-sent at them pulled them into that run. Now heartbeats and
-// renewals name the coordinator session they serve and a worker joins only an announcement that
-// names its own session: no lease goes to the dead host, the fresh workers stay free, and both
-// runs give the one-host verdicts.
+// run's "running" announcements re-sent at them pulled them into that run. The first
+// invocation's grants are re-sent into the resumed run too. Now heartbeats and renewals name the
+// coordinator session they serve, grants name theirs, and a worker joins only an announcement
+// that names its own session: no lease goes to the dead host, the fresh workers stay free, and
+// both runs give the one-host verdicts.
 TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
   ASSERT_EQ(mtg(run_args("one", 40, 4, 0)), 0) << log_text();  // long enough to be killed mid-run
   const auto single = fingerprints(results("one"));
@@ -192,8 +193,14 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
   for (int i = 0; i < 2; ++i) start_worker(i);
 
   bus::Bus tap(kSharedUrl);  // no key: it reads and re-sends datagrams as they are
-  std::vector<std::vector<std::uint8_t>> running, beats;
+  std::vector<std::vector<std::uint8_t>> running, beats, grants;
   bool capture_beats = true;
+  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::lease_t m{};
+    if (capture_beats && m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && m.action == "grant") {
+      grants.emplace_back(b.begin(), b.end());
+    }
+  });
   tap.subscribe_raw(bus::kRunInfo, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
     mtg::run_info_t m{};
     if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && m.state == "running") running.emplace_back(b.begin(), b.end());
@@ -230,8 +237,9 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
     first.kill(SIGKILL);
   }
   const int granted_to_dead = leases_of(dead_worker);
-  // Resumed (a new coordinator process, same run id) while the dead host's heartbeats are re-sent;
-  // one worker is left.
+  ASSERT_FALSE(grants.empty());
+  // Resumed (a new coordinator process, same run id) while the dead host's heartbeats and the
+  // first invocation's grants are re-sent; one worker is left.
   {
     testing::ChildProcess resumed(run_args("resumed", 40, 4, 1), log());
     auto last = std::chrono::steady_clock::now();
@@ -239,7 +247,9 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
     while (resumed.running()) {
       tap.handle_once(20);
       if (std::chrono::steady_clock::now() - last > std::chrono::milliseconds(500)) {
-        tap.publish_raw(bus::kHeartbeat, beats[next++ % beats.size()]);
+        tap.publish_raw(bus::kHeartbeat, beats[next % beats.size()]);
+        tap.publish_raw(bus::kLease, grants[next % grants.size()]);
+        ++next;
         last = std::chrono::steady_clock::now();
       }
     }
@@ -499,13 +509,7 @@ TEST_F(MultiHostTest, ModelAgentsOnTwoHostsShareTheCoordinatorsRateGovernor) {
 // Bad input and missing peers: one line on stderr naming what is wrong, exit 1, no hang.
 TEST(MultiHostErrors, NoWorkersNoOneOnTheBusAndAWorkerWithoutABusFailWithOneLine) {
   testing::FixtureDataset fx;
-  const auto built = testing::two_tables(fx);
-  tasks::TaskOptions options;
-  options.levels = {1, 2, 3};
-  options.level3_count = 10;
-  const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
-  const std::string db = (fx.root() / "tasks.sqlite").string();
-  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  const std::string db = testing::two_tables_task_db(fx);
   auto run = [&](const std::vector<std::string>& args) {
     const std::string log = (fx.root() / "out.log").string();
     testing::ChildProcess p(args, log);

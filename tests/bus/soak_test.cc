@@ -7,8 +7,6 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "core/tasks/generator.h"
-#include "core/tasks/task_db.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
@@ -18,13 +16,7 @@ namespace {
 
 TEST(SoakTest, FiftyThousandEpisodesLeaveEveryProcessAtTheSizeItHadAfterTheFirstTenThousand) {
   testing::FixtureDataset fx;
-  const auto built = testing::two_tables(fx);
-  tasks::TaskOptions options;
-  options.levels = {1, 2, 3};
-  options.level3_count = 10;
-  const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
-  const std::string db = (fx.root() / "tasks.sqlite").string();
-  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  const std::string db = testing::two_tables_task_db(fx);
   const auto json_file = fx.root() / "soak.json";
   const std::string log = (fx.root() / "soak.log").string();
   testing::ChildProcess soak({testing::bin("mtg"), "--log-level", "warn", "bench", "soak", "--episodes", "50000",

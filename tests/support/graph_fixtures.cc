@@ -1,6 +1,8 @@
 #include "tests/support/graph_fixtures.h"
 
 #include "core/scene/scene_loader.h"
+#include "core/tasks/generator.h"
+#include "core/tasks/task_db.h"
 
 namespace mtg::testing {
 
@@ -21,6 +23,17 @@ BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name
   graph::apply_profile(options, "none");
   b.graph = graph::build_scene_graph(b.scene, options);
   return b;
+}
+
+std::string two_tables_task_db(FixtureDataset& fx) {
+  const auto built = two_tables(fx);
+  tasks::TaskOptions options;
+  options.levels = {1, 2, 3};
+  options.level3_count = 10;
+  const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
+  const std::string db = (fx.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  return db;
 }
 
 BuiltScene two_tables(FixtureDataset& fx) {

@@ -28,6 +28,9 @@ BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name
 /// x = -0.3, 0, 0.3), and an empty table_4 at x = 3. Scene name "two_tables".
 BuiltScene two_tables(FixtureDataset& fx);
 
+/// two_tables' Levels 1-3 (10 Level 3 tasks) written to `<fixture>/tasks.sqlite`; its path.
+std::string two_tables_task_db(FixtureDataset& fx);
+
 /// The first object of template `template_name`, or none.
 graph::ObjectId object_of_template(const graph::SceneGraph& g, const std::string& template_name);
 /// The first navigable platform owned by an object of template `owner_template`, or none.
