@@ -62,8 +62,11 @@ void LeaseLauncher::subscribe() {
     if (m.role != "worker" || m.session.empty()) return;
     const auto now = Clock::now();
     // A worker heard for the first time joins from the next announcement that names it: make
-    // that one come now rather than within the second.
-    if (heard_.count(m.session) == 0) next_announce_ = now;
+    // that one come now rather than within the second, with the fingerprints it joins with.
+    if (heard_.count(m.session) == 0) {
+      next_announce_ = now;
+      fingerprints_due_ = true;
+    }
     heard_[m.session] = now;
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
@@ -351,10 +354,11 @@ void LeaseLauncher::announce(const std::string& state) {
   const auto now = Clock::now();
   while (!finish_times_.empty() && seconds_between(finish_times_.front(), now) > 60.0) finish_times_.pop_front();
   m.episodes_per_min = static_cast<double>(finish_times_.size());
-  // The dataset fingerprints are long: in one announcement of five; the digest is in all. (A
-  // worker keeps the last fingerprints it heard of a session, and joins from any announcement
-  // that names it.)
-  if (announcements_++ % 5 != 0) m.dataset_json.clear();
+  // The dataset fingerprints are long: in one announcement of five, and in the one that first
+  // names a new worker; the digest is in all. (A worker keeps the last fingerprints it heard of
+  // a session, and joins from any announcement that names it.)
+  if (announcements_++ % 5 != 0 && !fingerprints_due_) m.dataset_json.clear();
+  fingerprints_due_ = false;
   bus_.publish(bus::kRunInfo, m);
 }
 

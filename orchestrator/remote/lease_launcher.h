@@ -124,6 +124,7 @@ class LeaseLauncher final : public Launcher {
   // coordinator); at most kHeardKept, the least recently heard dropped first.
   static constexpr std::size_t kHeardKept = 256;
   std::map<std::string, Clock::time_point> heard_;
+  bool fingerprints_due_ = false;  // a new worker was heard: the next announcement carries them
   LaunchSink* sink_ = nullptr;                  // during poll()
   Clock::time_point next_announce_;
   bool governor_ = false;
