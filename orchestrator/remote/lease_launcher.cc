@@ -70,7 +70,6 @@ void LeaseLauncher::subscribe() {
     heard_[m.session] = now;
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
-    w.session = m.session;
     // A worker of another run or another coordinator session (an earlier invocation of this
     // run, whose heartbeats an attacker may replay), or one still starting, takes no lease.
     const auto status = process::parse_heartbeat_status(m.status);

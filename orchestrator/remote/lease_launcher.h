@@ -57,7 +57,6 @@ class LeaseLauncher final : public Launcher {
   using Clock = std::chrono::steady_clock;
   struct Worker {
     std::string host;
-    std::string session;  // the worker process's (heartbeat_t.session)
     int capacity = 0;
     std::string status;
     Clock::time_point last_seen;

@@ -181,19 +181,16 @@ class Worker final : public LaunchSink {
       case OnAnnouncement::kUnnamed:
         beat_now_ = true;  // so the coordinator names this worker in its next announcement
         return;
-      case OnAnnouncement::kJoin:
+      case OnAnnouncement::kJoin: {
         // A run this host could not start is tried again after a while, not on every announcement.
         if (m.header.run_id == failed_run_ && Clock::now() < retry_join_at_) return;
+        // Join with the fingerprints: those this session sent earlier, else wait for them.
+        const bool without_fingerprints = !m.dataset_digest.empty() && m.dataset_json.empty();
+        if (without_fingerprints && fingerprints_.first != m.session) return;
         join_ = m;
-        if (!m.dataset_digest.empty() && m.dataset_json.empty()) {
-          // Join with the fingerprints: those this session sent earlier, else wait for them.
-          if (fingerprints_.first != m.session) {
-            join_.reset();
-            return;
-          }
-          join_->dataset_json = fingerprints_.second;
-        }
+        if (without_fingerprints) join_->dataset_json = fingerprints_.second;
         return;
+      }
       case OnAnnouncement::kFollow:
         if (join_) return;  // still starting: the run's services come up for the session joined
         log::info("run " + run_id_ + " goes on under a new coordinator session (" + m.header.sender + ")");
