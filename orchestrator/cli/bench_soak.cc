@@ -173,24 +173,28 @@ int run_bench_soak(const BenchSoakOptions& options) {
   }
   const double per_episode = summary.completed > 0 ? static_cast<double>(recorded) / static_cast<double>(summary.completed) : 0.0;
   const double rate = summary.episode_seconds > 0 ? static_cast<double>(summary.completed) / summary.episode_seconds : 0.0;
-  // The bound, +10 MiB from 10,000 to 1,000,000 episodes, in proportion to this soak.
-  const Sample& last = samples.empty() ? Sample{} : samples.back();
+  // Every process is compared at one moment while the run still ran: the last row in which all of
+  // the reference's processes were alive (a row taken as the run closes sees the services gone
+  // and the orchestrator in the middle of shutting down). The bound, +10 MiB from 10,000
+  // to 1,000,000 episodes, in proportion to the episodes between the two rows.
+  const auto running = std::find_if(samples.rbegin(), samples.rend(), [&](const Sample& s) {
+    return reference && std::all_of(reference->rss_mib.begin(), reference->rss_mib.end(),
+                                     [&](const auto& r) { return s.rss_mib.count(r.first) != 0; });
+  });
+  const Sample last = running == samples.rend() ? Sample{} : *running;
   const double bound = reference ? 10.0 * static_cast<double>(last.episodes - reference->episodes) / 990000.0 : 0.0;
   std::printf("  %lld episodes in %.1f s: %.1f episodes/s, %lld retries; recorded %.1f MB = %.0f bytes per episode\n",
               static_cast<long long>(summary.completed), summary.episode_seconds, rate,
               static_cast<long long>(summary.retries), static_cast<double>(recorded) / 1e6, per_episode);
   nlohmann::json growth = nlohmann::json::object();
   if (reference) {
-    std::printf("  growth from %lld to %lld episodes (bound in proportion to +10 MiB per 990,000: %.2f MiB):\n",
+    std::printf("  growth from %lld to %lld episodes, the last row with every process running (bound in proportion "
+                "to +10 MiB per 990,000: %.2f MiB):\n",
                 static_cast<long long>(reference->episodes), static_cast<long long>(last.episodes), bound);
     for (const auto& [role, was] : reference->rss_mib) {
-      // The last row that holds the process (the services are gone after the run).
-      const auto held = std::find_if(samples.rbegin(), samples.rend(),
-                                     [&](const Sample& s) { return s.rss_mib.count(role) != 0; });
-      const double mib = held->rss_mib.at(role);
+      const double mib = last.rss_mib.at(role);
       growth[role] = mib - was;
-      std::printf("    %-16s %8.1f -> %8.1f MiB  %+6.2f MiB  (at %lld episodes)\n", role.c_str(), was, mib, mib - was,
-                  static_cast<long long>(held->episodes));
+      std::printf("    %-16s %8.1f -> %8.1f MiB  %+6.2f MiB\n", role.c_str(), was, mib, mib - was);
     }
   }
   if (!options.json.empty()) {
