@@ -20,7 +20,6 @@
 #include <vector>
 
 #include "bus/url.h"
-#include "core/store/sqlite.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
@@ -41,17 +40,6 @@ struct Sample {
   double seconds = 0.0;
   std::map<std::string, double> rss_mib;  // by role; the bench process itself is "orchestrator"
 };
-
-std::int64_t stored_episodes(const fs::path& results) {
-  if (!fs::exists(results)) return 0;
-  try {
-    store::Database db(results, store::Database::Mode::kReadOnly);
-    store::Statement q(db, "SELECT COUNT(*) FROM episodes");
-    return q.step() ? q.column_int(0) : 0;
-  } catch (const Error&) {
-    return 0;  // being created
-  }
-}
 
 Sample sample(std::int64_t episodes, double seconds) {
   Sample s{episodes, seconds, {}};
@@ -123,6 +111,7 @@ int run_bench_soak(const BenchSoakOptions& options) {
   std::fflush(stdout);
 
   std::atomic<bool> done{false};
+  std::atomic<std::int64_t> stored{0};
   std::vector<Sample> samples;  // every row printed
   std::optional<Sample> reference;
   const auto started = Clock::now();
@@ -132,7 +121,7 @@ int run_bench_soak(const BenchSoakOptions& options) {
     bool header = false;
     while (!done) {
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
-      const std::int64_t n = stored_episodes(dir / "results.sqlite");
+      const std::int64_t n = stored.load(std::memory_order_relaxed);
       const auto now = Clock::now();
       const bool mark = n >= next_mark;
       if (!mark && now < next_time) continue;
@@ -152,8 +141,9 @@ int run_bench_soak(const BenchSoakOptions& options) {
       next_time = now + std::chrono::duration<double>(options.every_s);
     }
   });
-  const orchestrator::EngineOptions engine{
-      .progress = false, .recorder = "mtg", .vlm_args = {}, .remote = {}, .dataset_json = {}};
+  orchestrator::EngineOptions engine;
+  engine.progress = false;
+  engine.stored = &stored;
   orchestrator::RunSummary summary;
   try {
     summary = orchestrator::run_plan(plan, dir, by_id, engine);

@@ -234,6 +234,7 @@ class Engine final : public LaunchSink {
     stamp_.forget_episode(row.episode_id);  // stored: no more starts of it from this invocation
     if (results_.insert(row)) {
       ++completed_;
+      if (options_.stored != nullptr) options_.stored->fetch_add(1, std::memory_order_relaxed);
       count(row);
       if (progress_ != nullptr) {
         progress_->record(row.agent, row.success, row.ip, scored);

@@ -12,6 +12,7 @@
 //   - after max_attempts an episode is recorded with status "error" (excluded from SR and IP).
 // A killed orchestrator loses nothing: finished episodes are on disk; the next run resumes.
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -54,6 +55,10 @@ struct EngineOptions {
   std::string play_host = "127.0.0.1";
   int play_port = 8780;
   std::string play_socket = "";  // or the Unix socket the page is served on (a run in its own namespace)
+  /// When set, the number of results this invocation has stored so far, for an observer in
+  /// another thread (`mtg bench soak` samples by it instead of querying results.sqlite, whose
+  /// page cache would count in the orchestrator's memory it measures).
+  std::atomic<std::int64_t>* stored = nullptr;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.
