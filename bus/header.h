@@ -17,7 +17,10 @@ namespace mtg::bus {
 // per-episode streams have one channel each (MTG_OBS, not MTG_OBS_E<n>). 3: render requests
 // carry the world state typed (world_state_delta_t), not as a JSON string. 4: images carry a
 // caption, render views an object number and caption (close-ups numbered, zoomed views).
-inline constexpr std::int32_t kSchemaVersion = 6;
+// 5: actions carry the model's request. 6: heartbeats, announcements and leases name sessions.
+// 7: observations travel packed, their words against the step before and unchanged images by
+// reference (bus/observation_packing.h).
+inline constexpr std::int32_t kSchemaVersion = 7;
 
 /// Whether a message with this header was written by a build of this schema (a message of another
 /// schema may decode and still mean something else).

@@ -4,6 +4,7 @@
 #include "bus/convert.h"
 #include "bus/error_events.h"
 #include "core/episode/reply_parser.h"
+#include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/error_event_t.hpp"
@@ -76,13 +77,25 @@ void AgentHost::on_observation(const mtg::observation_t& obs) {
   }
   if (obs.step <= e.last_step) return;  // answered already (a duplicate observation)
   e.last_step = obs.step;
+  mtg::observation_t whole;
+  try {
+    whole = e.reader.whole(obs, codec_);
+  } catch (const Error& unreadable) {
+    // It refers to what never came (or came damaged): the attempt cannot go on as the scene
+    // graph sees it, so say so at once; the orchestrator runs the episode again.
+    log::error(unreadable.what());
+    AgentReply reply;
+    reply.error = std::string("unreadable observation: ") + unreadable.what();
+    publish(obs, reply);
+    return;
+  }
   if (workers_.empty()) {
-    publish(obs, policy_->reply(e.start, obs));
+    publish(whole, policy_->reply(e.start, whole));
     return;
   }
   {
     std::lock_guard lock(mutex_);
-    jobs_.push_back({e.start, obs});
+    jobs_.push_back({e.start, std::move(whole)});
   }
   work_ready_.notify_one();
 }

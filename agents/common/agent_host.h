@@ -1,7 +1,8 @@
 #pragma once
 // Runs a Policy on the bus: serves the episodes whose episode_start names this agent, answers
 // each observation once (per episode, attempt and step), parses the reply against the offered
-// keys and publishes an agent_action_t. The agent sees only episode starts and observations
+// keys and publishes an agent_action_t. The policy gets each observation whole, as the scene
+// graph made it: its words unpacked and every image by reference filled in. The agent sees only episode starts and observations
 // (the built-in oracle also its plans: Policy::reads_answers).
 //
 // Built-in policies answer in the bus thread (workers = 0). Model policies wait seconds for an
@@ -23,6 +24,7 @@
 #include "bus/early_messages.h"
 #include "bus/episode_table.h"
 #include "bus/header.h"
+#include "bus/observation_packing.h"
 
 namespace mtg::agents {
 
@@ -44,6 +46,7 @@ class AgentHost {
     int attempt = 0;  // set by the table
     mtg::episode_start_t start{};
     int last_step = -1;
+    bus::ObservationReader reader;  // makes the packed observations whole (schema 7)
   };
   struct Other {  // an episode another agent serves: its observations are not for this one
     int attempt = 0;  // set by the table
@@ -73,6 +76,7 @@ class AgentHost {
   // 1 MB): few are kept, and only an attempt's first (a later one needs this agent's answer).
   bus::EarlyMessages<mtg::observation_t> early_{16};
   bool stop_reported_ = false;
+  bus::WordsCodec codec_;  // the bus thread's
 
   std::mutex mutex_;
   std::condition_variable work_ready_;

@@ -10,6 +10,7 @@
 #include <ostream>
 
 #include "bus/channels.h"
+#include "bus/observation_packing.h"
 #include "bus/recording.h"
 #include "core/episode/goals.h"
 #include "core/render/image_renderer.h"
@@ -188,16 +189,27 @@ int run_render(const RenderOptions& o) {
 int run_images(const ImagesOptions& o) {
   if (o.out.empty()) throw Error("mtg images: --out <folder> is required");
   fs::create_directories(o.out);
-  long written = 0;
+  long written = 0, unreadable = 0;
   bool seen_episode = false;
+  // Observations come packed (bus/observation_packing.h): each attempt's are made whole in the
+  // order recorded; an unchanged view is written at every step that showed it, as the agent saw it.
+  bus::RecordedObservations observations;
   const auto damage = bus::for_each_recorded_event(o.run, [&](const lcm::LogEvent& ev) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
-    mtg::observation_t obs{};
-    if (obs.decode(ev.data, 0, ev.datalen) < 0) {
+    mtg::observation_t packed{};
+    if (packed.decode(ev.data, 0, ev.datalen) < 0) {
       throw Error("mtg images: a message on " + ev.channel + " in " + o.run + " does not decode");
     }
-    if (o.episode >= 0 && obs.header.episode_id != o.episode) return;
+    if (o.episode >= 0 && packed.header.episode_id != o.episode) return;
     seen_episode = true;
+    mtg::observation_t obs;
+    try {
+      obs = observations.whole(packed);
+    } catch (const Error& e) {
+      std::fprintf(stderr, "mtg images: %s; not written\n", e.what());
+      ++unreadable;
+      return;
+    }
     // An observation may hold several images of one role (a close-up per look-alike): the
     // second and later get _2, _3, ... so that none overwrites another.
     std::map<std::string, int> of_role;
@@ -222,7 +234,9 @@ int run_images(const ImagesOptions& o) {
     throw Error("no image read from " + o.run + ", and the recording is damaged: images may have been in what "
                 "could not be read" + damaged);
   }
-  std::printf("wrote %ld image(s) to %s\n", written, o.out.c_str());
+  std::printf("wrote %ld image(s) to %s%s\n", written, o.out.c_str(),
+              unreadable > 0 ? (" (" + std::to_string(unreadable) + " observation(s) refer to what the recording lacks)").c_str()
+                             : "");
   return 0;
 }
 

@@ -6,6 +6,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/observation_packing.h"
 #include "core/episode/model_request.h"
 #include "core/episode/outcomes.h"
 #include "core/util/error.h"
@@ -110,6 +111,8 @@ json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>
               {"task", nullptr}, {"result", nullptr}, {"errors", json::array()}};
   std::map<int, json> steps;  // by step number
   std::map<int, std::string> requests, replies;  // model agents' records, by step
+  bus::WordsCodec codec;
+  bus::ObservationReader reader;  // the attempt's observations, whole
   auto step_of = [&](int step) -> json& {
     json& s = steps[step];
     if (s.is_null()) s = {{"step", step}, {"done", false}, {"observation", nullptr}, {"action", nullptr},
@@ -132,7 +135,13 @@ json episode_trace(bus::EpisodeId episode_id, const std::vector<RecordedMessage>
       const auto e = decode<mtg::error_event_t>(m);
       out["errors"].push_back({{"source", e.source}, {"severity", e.severity}, {"message", e.message}});
     } else if (bus::is_episode_channel(m.channel, EpisodeStream::kObservation)) {
-      const auto obs = decode<mtg::observation_t>(m);
+      mtg::observation_t obs;
+      try {
+        obs = reader.whole(decode<mtg::observation_t>(m), codec);
+      } catch (const Error& e) {  // what it refers to is not in the recording
+        out["errors"].push_back({{"source", "recording"}, {"severity", "error"}, {"message", e.what()}});
+        continue;
+      }
       json& s = step_of(obs.step);
       // The first copy of a step is what the agent answered (a late renderer may send a second).
       if (!s["observation"].is_null()) continue;
@@ -209,9 +218,13 @@ json episode_truth(const std::vector<RecordedMessage>& messages, int attempt, co
 std::optional<RecordedImage> observation_image(const std::vector<RecordedMessage>& messages, int attempt, int step,
                                                int index) {
   attempt = pick_attempt(messages, attempt);
+  bus::WordsCodec codec;
+  bus::ObservationReader reader;
   for (const auto& m : messages) {
     if (!bus::is_episode_channel(m.channel, EpisodeStream::kObservation) || attempt_of(m) != attempt) continue;
-    const auto obs = decode<mtg::observation_t>(m);
+    const auto packed = decode<mtg::observation_t>(m);
+    if (packed.step > step) break;  // images refer only to earlier steps
+    const auto obs = reader.whole(packed, codec);
     if (obs.step != step) continue;  // the first copy of the step, as episode_trace shows it
     if (index < 0 || index >= static_cast<int>(obs.images.size())) return std::nullopt;
     const auto& img = obs.images[static_cast<std::size_t>(index)];
@@ -226,9 +239,16 @@ std::map<std::pair<int, int>, RecordedImage> observation_images(const std::vecto
   attempt = pick_attempt(messages, attempt);
   std::map<std::pair<int, int>, RecordedImage> out;
   std::set<int> seen;  // steps: the first copy of each, as episode_trace shows it
+  bus::WordsCodec codec;
+  bus::ObservationReader reader;
   for (const auto& m : messages) {
     if (!bus::is_episode_channel(m.channel, EpisodeStream::kObservation) || attempt_of(m) != attempt) continue;
-    const auto obs = decode<mtg::observation_t>(m);
+    mtg::observation_t obs;
+    try {
+      obs = reader.whole(decode<mtg::observation_t>(m), codec);
+    } catch (const Error&) {
+      continue;  // refers to what the recording lacks: episode_trace says so
+    }
     if (!seen.insert(obs.step).second) continue;
     for (std::size_t i = 0; i < obs.images.size(); ++i) {
       const auto& img = obs.images[i];

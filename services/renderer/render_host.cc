@@ -30,9 +30,15 @@ void RenderHost::on_request(const mtg::render_request_t& request) {
       mtg::observation_t obs = request.observation;
       obs.images = std::move(out.images);
       obs.n_images = static_cast<int32_t>(obs.images.size());
+      sent_.refer_to_earlier(obs);
       out.images.clear();
       out.images_published = obs.n_images;
-      bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), obs);
+      try {
+        bus_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), obs);
+      } catch (...) {
+        sent_.forget(obs.header);  // nothing reached the agent: the attempt's later views go whole
+        throw;
+      }
     }
   } catch (const std::exception& e) {
     out.ok = false;

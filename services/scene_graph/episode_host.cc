@@ -129,6 +129,7 @@ void EpisodeHost::publish_observation(const Key& key, Episode& e) {
   }
   obs.n_actions = static_cast<int32_t>(obs.actions.size());
   obs.n_images = 0;
+  e.words.pack(obs, codec_);
   send_observation(key, e, std::move(obs));
 }
 

@@ -17,6 +17,7 @@
 #include "bus/episode_join.h"
 #include "bus/episode_table.h"
 #include "bus/header.h"
+#include "bus/observation_packing.h"
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
@@ -82,6 +83,7 @@ class EpisodeHost {
     mtg::render_request_t request;  // kept for the one resend
     std::chrono::steady_clock::time_point requested_at;
     bool resent = false;
+    bus::WordsPacker words;  // the words of the last observation, which the next is packed against
   };
   using Episodes = bus::EpisodeTable<Episode>;
   using Key = Episodes::Key;
@@ -104,6 +106,7 @@ class EpisodeHost {
   ImageOptions images_;
   Episodes episodes_;
   bus::EpisodeJoin starts_;
+  bus::WordsCodec codec_;
 };
 
 }  // namespace mtg::services

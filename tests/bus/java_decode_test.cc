@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bus/observation_packing.h"
 #include "mtg/action_option_t.hpp"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
@@ -23,6 +24,7 @@
 #include "mtg/recorded_t.hpp"
 #include "mtg/object_placement_t.hpp"
 #include "mtg/observation_t.hpp"
+#include "mtg/observation_words_t.hpp"
 #include "mtg/rate_limit_t.hpp"
 #include "mtg/record_chunk_t.hpp"
 #include "mtg/render_request_t.hpp"
@@ -93,6 +95,14 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     obs.n_actions = 1;
     obs.images = {image};
     obs.n_images = 1;
+    mtg::observation_words_t words{};  // what a packed observation's bytes hold (schema 7)
+    words.text = "You are at the start.";
+    words.actions = obs.actions;
+    words.n_actions = 1;
+    w.add("NESTED_WORDS", words);
+    bus::WordsCodec codec;
+    bus::WordsPacker packer;
+    packer.pack(obs, codec);  // as it travels
     w.add("MTG_OBS", obs);
     w.add("MTG_ACT", with_header<mtg::agent_action_t>());
     mtg::object_placement_t placed{};

@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <iterator>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <set>
 
 #include "bus/bus.h"
 #include "bus/header.h"
@@ -19,6 +21,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "mtg/heartbeat_t.hpp"
+#include "bus/observation_packing.h"
 #include "mtg/observation_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
@@ -132,7 +135,9 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
 
-  int observations = 0, with_images = 0, marked = 0, published = 0;
+  int observations = 0, with_images = 0, marked = 0, published = 0, by_reference = 0;
+  bus::RecordedObservations recorded;  // packed on the bus: made whole as an agent gets them
+  std::map<std::pair<std::int64_t, int>, std::set<std::string>> whole_images;  // (episode, attempt) -> hashes
   bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
     if (ev.channel == bus::kRenderResult) {  // each image once: in the observation, not here too
       mtg::render_result_t result{};
@@ -142,8 +147,20 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
       return;
     }
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
-    mtg::observation_t obs{};
-    ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
+    mtg::observation_t packed{};
+    ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
+    // Each image is recorded once per attempt: a view shown again comes by reference.
+    auto& carried = whole_images[{packed.header.episode_id, packed.header.attempt}];
+    for (const auto& img : packed.images) {
+      if (img.nbytes == 0) {
+        ++by_reference;
+        EXPECT_EQ(carried.count(img.content_hash), 1u) << "step " << packed.step << " refers to an image not carried";
+      } else {
+        EXPECT_TRUE(carried.insert(img.content_hash).second)
+            << "step " << packed.step << " of episode " << packed.header.episode_id << " carries an image again";
+      }
+    }
+    const mtg::observation_t obs = recorded.whole(packed);
     ++observations;
     if (obs.done) {
       EXPECT_EQ(obs.n_images, 0) << "the final observation needs no picture";
@@ -162,6 +179,7 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   EXPECT_EQ(with_images, observations - 3);
   EXPECT_GE(marked, with_images);
   EXPECT_GE(published, 2 * with_images);
+  EXPECT_GT(by_reference, 0) << "the oracle's views repeat (the start view, a platform seen twice)";
 }
 
 // Look-alikes are shown, not only named: the first observation of a task about one of three
@@ -194,10 +212,12 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   }
   int first_observations = 0;
   std::size_t images = 0, most_close_ups = 0;
+  bus::RecordedObservations recorded;
   bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
-    mtg::observation_t obs{};
-    ASSERT_GE(obs.decode(ev.data, 0, ev.datalen), 0);
+    mtg::observation_t packed{};
+    ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
+    const mtg::observation_t obs = recorded.whole(packed);
     std::size_t focus = 0;
     for (const auto& img : obs.images) {
       if (img.role == "focus") {

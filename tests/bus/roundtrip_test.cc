@@ -11,10 +11,12 @@
 #include "bus/bus.h"
 #include "bus/convert.h"
 #include "bus/header.h"
+#include "bus/observation_packing.h"
 #include "bus/recording.h"
 #include "bus/channels.h"
 #include "bus/truth_seal.h"
 #include "bus/url.h"
+#include "core/util/error.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
@@ -421,6 +423,145 @@ TEST(BusHeader, AnotherSchemaVersionIsDroppedLiveAndRefusedInARecording) {
         << e.what();
   }
   std::filesystem::remove_all(dir);
+}
+
+
+// Schema 7: observations travel packed (bus/observation_packing.h). What a reader makes of them
+// is, field for field, what the scene graph and the renderer made; a step that repeats the
+// previous one costs a small fraction of it; what a reader cannot have is an error, never other words.
+mtg::observation_t step_observation(int step, bool holding) {
+  mtg::observation_t o{};
+  o.header.run_id = "pack";
+  o.header.episode_id = 3;
+  o.header.attempt = 1;
+  o.step = step;
+  o.step_limit = 15;
+  o.task_text = "Put the clock from cabinet_5_platform_1 on the center part of bin_03_4_platform_0.";
+  o.text = "You are standing at the rear side of platform bin_02_3_platform_0 (l2). " +
+           std::string(holding ? "You hold an object." : "Your hand is empty.") + " You have used " +
+           std::to_string(step) + " of 15 steps.";
+  o.hint = step == 2 ? "That platform has no free part left." : "";
+  o.actions.push_back({"0", "call_end: finish the task now"});
+  if (holding) o.actions.push_back({"startplace", "start placing the object in your hand on this platform"});
+  for (int i = 1; i <= 60; ++i) {
+    o.actions.push_back({"l" + std::to_string(i), "go to platform " + std::to_string(i) + ": wall_cabinet_0" +
+                                                     std::to_string(i % 7) + "_platform_" + std::to_string(i % 5)});
+  }
+  o.n_actions = static_cast<int32_t>(o.actions.size());
+  return o;
+}
+
+mtg::observation_t through_the_bus(const mtg::observation_t& o) {
+  const auto bytes = encode(o);
+  mtg::observation_t back{};
+  EXPECT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  return back;
+}
+
+TEST(ObservationPacking, AReaderGetsEveryObservationAsItWasMadeAndARepeatedStepIsSmall) {
+  WordsCodec codec;
+  WordsPacker packer;
+  ObservationReader reader;
+  std::size_t first_size = 0;
+  for (int step = 0; step < 5; ++step) {
+    const mtg::observation_t made = step_observation(step, step >= 3);
+    mtg::observation_t sent = made;
+    packer.pack(sent, codec);
+    EXPECT_TRUE(sent.text.empty() && sent.task_text.empty() && sent.actions.empty() && sent.n_actions == 0);
+    EXPECT_EQ(sent.packed_base, step - 1);
+    const std::size_t size = encode(sent).size();
+    if (step == 0) first_size = size;
+    // An unchanged list of 61 actions and task: only the changed words cost.
+    if (step == 1 || step == 4) {
+      EXPECT_LT(size * 10, encode(made).size()) << "step " << step;
+    }
+    const mtg::observation_t got = reader.whole(through_the_bus(sent), codec);
+    EXPECT_EQ(encode(got), encode([&] {
+                mtg::observation_t m = made;
+                m.packed_base = -1;
+                return m;
+              }()))
+        << "step " << step;
+  }
+  EXPECT_LT(first_size * 3, encode(step_observation(0, false)).size()) << "the first step is compressed too";
+
+  // A reader that missed step 1 cannot read step 2 and says which step it lacks.
+  WordsPacker again;
+  mtg::observation_t s0 = step_observation(0, false), s1 = step_observation(1, false), s2 = step_observation(2, false);
+  again.pack(s0, codec);
+  again.pack(s1, codec);
+  again.pack(s2, codec);
+  ObservationReader missed;
+  missed.whole(s0, codec);
+  try {
+    missed.whole(s2, codec);
+    ADD_FAILURE() << "read step 2 without step 1";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("refers to the words of step 1"), std::string::npos) << e.what();
+  }
+  // Damaged words are an error (the frame's checksum), not other words.
+  ObservationReader damaged;
+  damaged.whole(s0, codec);
+  damaged.whole(s1, codec);
+  s2.packed[s2.packed.size() / 2] ^= 0x5a;
+  EXPECT_THROW(damaged.whole(s2, codec), Error);
+}
+
+TEST(ObservationPacking, AnImageSentEarlierInTheAttemptGoesByReferenceAndComesBackWhole) {
+  WordsCodec codec;
+  SentImages sent;
+  ObservationReader reader;
+  auto with_images = [](int step, std::vector<int> sizes) {
+    mtg::observation_t o = step_observation(step, false);
+    for (int n : sizes) {
+      mtg::image_t im = sample_image(n);
+      im.content_hash = "hash" + std::to_string(n);
+      o.images.push_back(im);
+    }
+    o.n_images = static_cast<int32_t>(o.images.size());
+    return o;
+  };
+  // Step 0: two views; the second repeats the first within the observation.
+  mtg::observation_t o0 = with_images(0, {100, 200, 100});
+  const mtg::observation_t made0 = o0;
+  sent.refer_to_earlier(o0);
+  EXPECT_EQ(o0.images[0].nbytes, 100);
+  EXPECT_EQ(o0.images[1].nbytes, 200);
+  EXPECT_EQ(o0.images[2].nbytes, 0);
+  EXPECT_EQ(encode(reader.whole(through_the_bus(o0), codec)), encode(made0));
+  // Step 1: the view of 200 bytes did not change; a new one did.
+  mtg::observation_t o1 = with_images(1, {200, 300});
+  const mtg::observation_t made1 = o1;
+  sent.refer_to_earlier(o1);
+  EXPECT_EQ(o1.images[0].nbytes, 0);
+  EXPECT_TRUE(o1.images[0].data.empty());
+  EXPECT_EQ(o1.images[0].role, made1.images[0].role);
+  EXPECT_EQ(o1.images[1].nbytes, 300);
+  EXPECT_EQ(encode(reader.whole(through_the_bus(o1), codec)), encode(made1));
+  // A resent step 1 (its first copy may have been lost) refers only to step 0.
+  mtg::observation_t again = with_images(1, {200, 300});
+  sent.refer_to_earlier(again);
+  EXPECT_EQ(again.images[0].nbytes, 0);
+  EXPECT_EQ(again.images[1].nbytes, 300);
+  // Another attempt of the episode starts from nothing.
+  mtg::observation_t other = with_images(0, {200});
+  other.header.attempt = 2;
+  sent.refer_to_earlier(other);
+  EXPECT_EQ(other.images[0].nbytes, 200);
+  // A reference a reader cannot resolve is an error naming the image.
+  ObservationReader fresh;
+  try {
+    fresh.whole(o1, codec);
+    ADD_FAILURE() << "resolved an image never carried";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("refers to image hash200"), std::string::npos) << e.what();
+  }
+  // The attempt's last observation forgets it.
+  mtg::observation_t last = with_images(2, {});
+  last.header.attempt = 2;
+  last.done = true;
+  sent.refer_to_earlier(last);
+  EXPECT_EQ(sent.attempts(), 0u);
 }
 
 }  // namespace
