@@ -3,35 +3,39 @@
 //
 // An attempt's observations repeat themselves: the task text at every step, most of the offered
 // actions (the "go to platform" list is the same at every step), most of the situation text, and
-// the views of what did not change. On the bus and in recordings:
-//   - the words (task text, situation, hint, actions) of a step are a zstd frame of their
-//     observation_words_t, compressed with the previous step's words as its prefix (zstd's
-//     "patch-from"): a step whose actions did not change costs tens of bytes, not kilobytes;
+// the views of what did not change. On the bus and in recordings (observation_t, schema 7):
+//   - a step's words are a change of the steps before: the task text only when it changed; the
+//     situation text as copies from the step before's and the bytes that are new; the offered
+//     actions as runs of the attempt's table of options, with only the options never offered
+//     before in full (the first step's long list zstd-compressed);
 //   - an image that an earlier observation of the attempt carried comes as a reference: the
 //     image_t with nbytes == 0 and the earlier one's content_hash.
 // Nothing a policy receives changes: the agent host (and every reader of recordings: the viewer,
 // `mtg images`, exports) makes each observation whole with an ObservationReader before use.
 //
-// What may be referred to is only what the receiver must already have: words of an earlier step
-// of the same attempt (the agent answered it, so it had it), and images of an earlier step or
-// earlier in the same observation (never of a resent copy of the same step, whose first copy may
-// have been lost).
+// What may be referred to is only what the receiver must already have: words and images of an
+// earlier step of the same attempt (the agent answered it, so it had it), or an earlier image of
+// the same observation; never a resent copy of the same step, whose first copy may have been
+// lost (a resent observation is the same message).
 
 #include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "bus/episode_table.h"
+#include "bus/finished_attempts.h"
 #include "mtg/observation_t.hpp"
 
 namespace mtg::bus {
 
-/// zstd contexts for packing and unpacking words; one per thread that uses it (not thread-safe).
+/// zstd contexts for the first step's list of options; one per thread that uses it.
 class WordsCodec {
  public:
   WordsCodec();
@@ -39,27 +43,31 @@ class WordsCodec {
   WordsCodec(const WordsCodec&) = delete;
   WordsCodec& operator=(const WordsCodec&) = delete;
 
-  /// `words` compressed with `prefix` as the reference (empty: none). Deterministic.
-  std::string pack(std::string_view words, std::string_view prefix);
-  /// What `pack` was given. @throws mtg::Error when the frame is damaged or not of this prefix.
-  std::string unpack(std::string_view packed, std::string_view prefix);
+  std::string compress(std::string_view bytes);
+  /// @throws mtg::Error when the frame is damaged (its checksum) or claims more than `max` bytes.
+  std::string decompress(std::string_view frame, std::size_t max);
 
  private:
   struct Contexts;
   std::unique_ptr<Contexts> z_;
 };
 
-/// The encoding of an observation's words (what `packed` holds unpacked).
-std::string encode_words(const mtg::observation_t& obs);
-
 /// The sender's side for one attempt (the scene-graph service keeps one per episode).
 class WordsPacker {
  public:
-  /// Moves obs's words into obs.packed, against the words of the last step packed here.
+  /// Packs obs's words as a change of the steps packed here before. Steps are packed in order,
+  /// each once.
   void pack(mtg::observation_t& obs, WordsCodec& codec);
 
+  /// The options an attempt has offered, each once, first offered first.
+  struct Options {
+    std::vector<mtg::action_option_t> items;
+    std::unordered_map<std::string, int> index;  // key '\0' description -> its place in items
+  };
+
  private:
-  std::string last_words_;
+  Options options_;
+  std::string last_task_, last_text_;
   int last_step_ = -1;
 };
 
@@ -67,13 +75,20 @@ class WordsPacker {
 class ObservationReader {
  public:
   /// `obs` with its words unpacked and every image by reference filled in from the earlier one.
-  /// Remembers what later observations of the attempt may refer to. An observation that is
-  /// already whole (n_packed == 0) passes as it is.
-  /// @throws mtg::Error naming the step and what is missing (a lost or unrecorded observation).
+  /// A second copy of a step read before reads as the first. An observation that is already
+  /// whole (packed = false) passes as it is.
+  /// @throws mtg::Error naming the step and what is missing or damaged (a lost or unrecorded
+  /// observation); the attempt's later observations cannot be read either.
   mtg::observation_t whole(const mtg::observation_t& obs, WordsCodec& codec);
 
  private:
-  std::map<int, std::string> words_;                 // by step: the words as packed against
+  struct Words {
+    std::string task_text, text, hint;
+    std::vector<mtg::action_option_t> actions;
+  };
+  std::vector<mtg::action_option_t> options_;
+  std::map<int, Words> steps_;                          // by step: for the next step, and a second copy
+  int last_step_ = -1;                                  // the step read last
   std::map<std::string, std::vector<uint8_t>> images_;  // by content hash: the bytes
 };
 
@@ -81,12 +96,15 @@ class ObservationReader {
 /// attempt's reader, kept until the attempt's last observation.
 class RecordedObservations {
  public:
-  /// `packed` whole. @throws mtg::Error as ObservationReader::whole does.
-  mtg::observation_t whole(const mtg::observation_t& packed);
+  /// `packed` whole; nothing for a second copy of an attempt's last observation read before
+  /// (its reader is gone; the first copy said all it holds).
+  /// @throws mtg::Error as ObservationReader::whole does.
+  std::optional<mtg::observation_t> whole(const mtg::observation_t& packed);
 
  private:
   WordsCodec codec_;
   std::map<std::tuple<std::string, std::int64_t, int>, ObservationReader> readers_;  // (run, episode, attempt)
+  FinishedAttempts finished_;
 };
 
 /// The renderer's side: which images each attempt's observations carried, so that an unchanged

@@ -52,7 +52,7 @@ void AgentHost::on_start(const mtg::episode_start_t& start) {
     policy_->end(older->start);
   }
   others_.erase(Episodes::key_of(start.header));
-  episodes_.start(start.header, Episode{0, start, -1});
+  episodes_.start(start.header, Episode{0, start, -1, {}});
   policy_->begin(start);
   for (const mtg::observation_t& obs : early) on_observation(obs);
 }

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <ostream>
 
 #include "bus/channels.h"
@@ -202,14 +203,16 @@ int run_images(const ImagesOptions& o) {
     }
     if (o.episode >= 0 && packed.header.episode_id != o.episode) return;
     seen_episode = true;
-    mtg::observation_t obs;
+    std::optional<mtg::observation_t> whole;
     try {
-      obs = observations.whole(packed);
+      whole = observations.whole(packed);
     } catch (const Error& e) {
       std::fprintf(stderr, "mtg images: %s; not written\n", e.what());
       ++unreadable;
       return;
     }
+    if (!whole) return;  // a second copy of an attempt's last observation
+    const mtg::observation_t& obs = *whole;
     // An observation may hold several images of one role (a close-up per look-alike): the
     // second and later get _2, _3, ... so that none overwrites another.
     std::map<std::string, int> of_role;

@@ -103,10 +103,6 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   // WAL: a killed orchestrator never leaves a torn database; every insert is its own commit.
   db_->exec("PRAGMA journal_mode=WAL");
   db_->exec("PRAGMA synchronous=NORMAL");
-  // Inserts append at the table's right edge: 512 KiB of page cache (SQLite's default is 2 MiB)
-  // holds what they touch, and fills within the first few thousand episodes, so the
-  // orchestrator's memory is flat after them (docs/runtime.md, "What each process keeps").
-  db_->exec("PRAGMA cache_size=-512");
   db_->exec(kSchema);
   add_missing_columns(*db_);
   insert_ = std::make_unique<store::Statement>(

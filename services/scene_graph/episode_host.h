@@ -83,7 +83,7 @@ class EpisodeHost {
     mtg::render_request_t request;  // kept for the one resend
     std::chrono::steady_clock::time_point requested_at;
     bool resent = false;
-    bus::WordsPacker words;  // the words of the last observation, which the next is packed against
+    bus::WordsPacker words;  // what the next observation's words are packed against (docs/bus.md)
   };
   using Episodes = bus::EpisodeTable<Episode>;
   using Key = Episodes::Key;

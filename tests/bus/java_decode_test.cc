@@ -24,7 +24,7 @@
 #include "mtg/recorded_t.hpp"
 #include "mtg/object_placement_t.hpp"
 #include "mtg/observation_t.hpp"
-#include "mtg/observation_words_t.hpp"
+#include "mtg/action_list_t.hpp"
 #include "mtg/rate_limit_t.hpp"
 #include "mtg/record_chunk_t.hpp"
 #include "mtg/render_request_t.hpp"
@@ -95,11 +95,10 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     obs.n_actions = 1;
     obs.images = {image};
     obs.n_images = 1;
-    mtg::observation_words_t words{};  // what a packed observation's bytes hold (schema 7)
-    words.text = "You are at the start.";
-    words.actions = obs.actions;
-    words.n_actions = 1;
-    w.add("NESTED_WORDS", words);
+    mtg::action_list_t list{};  // what a packed observation's zactions hold (schema 7)
+    list.actions = obs.actions;
+    list.n_actions = 1;
+    w.add("NESTED_ACTIONS", list);
     bus::WordsCodec codec;
     bus::WordsPacker packer;
     packer.pack(obs, codec);  // as it travels

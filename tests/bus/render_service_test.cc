@@ -160,7 +160,7 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
             << "step " << packed.step << " of episode " << packed.header.episode_id << " carries an image again";
       }
     }
-    const mtg::observation_t obs = recorded.whole(packed);
+    const mtg::observation_t obs = recorded.whole(packed).value();
     ++observations;
     if (obs.done) {
       EXPECT_EQ(obs.n_images, 0) << "the final observation needs no picture";
@@ -217,7 +217,7 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
     mtg::observation_t packed{};
     ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
-    const mtg::observation_t obs = recorded.whole(packed);
+    const mtg::observation_t obs = recorded.whole(packed).value();
     std::size_t focus = 0;
     for (const auto& img : obs.images) {
       if (img.role == "focus") {

@@ -462,49 +462,70 @@ TEST(ObservationPacking, AReaderGetsEveryObservationAsItWasMadeAndARepeatedStepI
   WordsCodec codec;
   WordsPacker packer;
   ObservationReader reader;
-  std::size_t first_size = 0;
-  for (int step = 0; step < 5; ++step) {
-    const mtg::observation_t made = step_observation(step, step >= 3);
-    mtg::observation_t sent = made;
-    packer.pack(sent, codec);
-    EXPECT_TRUE(sent.text.empty() && sent.task_text.empty() && sent.actions.empty() && sent.n_actions == 0);
-    EXPECT_EQ(sent.packed_base, step - 1);
-    const std::size_t size = encode(sent).size();
-    if (step == 0) first_size = size;
-    // An unchanged list of 61 actions and task: only the changed words cost.
-    if (step == 1 || step == 4) {
-      EXPECT_LT(size * 10, encode(made).size()) << "step " << step;
+  std::vector<mtg::observation_t> sent;
+  auto made_at = [](int step) {
+    // Steps 3 and 4 hold an object (an option added in the middle of the list), step 5 places
+    // it (another list), step 6 is back to the first list, step 7 ends the attempt.
+    mtg::observation_t m = step_observation(step, step == 3 || step == 4);
+    if (step == 5) {
+      m.actions.clear();
+      for (int cell = 1; cell <= 9; ++cell) {
+        m.actions.push_back({std::to_string(cell), "place it in part " + std::to_string(cell) + " of the platform"});
+      }
+      m.n_actions = 9;
     }
-    const mtg::observation_t got = reader.whole(through_the_bus(sent), codec);
-    EXPECT_EQ(encode(got), encode([&] {
-                mtg::observation_t m = made;
-                m.packed_base = -1;
-                return m;
-              }()))
-        << "step " << step;
+    m.done = step == 7;
+    if (m.done) {
+      m.actions.clear();
+      m.n_actions = 0;
+    }
+    return m;
+  };
+  for (int step = 0; step <= 7; ++step) {
+    mtg::observation_t made = made_at(step);
+    mtg::observation_t packed = made;
+    packer.pack(packed, codec);
+    EXPECT_TRUE(packed.packed);
+    EXPECT_EQ(packed.packed_base, step - 1);
+    // An unchanged list of 61 actions and task text: only what changed costs. The first step's
+    // long list is compressed.
+    if (step == 1 || step == 4 || step == 6) {
+      EXPECT_LT(encode(packed).size() * 8, encode(made).size()) << "step " << step;
+    }
+    if (step == 0) {
+      EXPECT_GT(packed.n_zactions, 0);
+      EXPECT_LT(encode(packed).size() * 3, encode(made).size()) << "the first step";
+    }
+    const mtg::observation_t got = reader.whole(through_the_bus(packed), codec);
+    EXPECT_EQ(encode(got), encode(made)) << "step " << step;
+    // A second copy of a step (a resent observation) reads as the first.
+    if (step == 2 || step == 5) {
+      EXPECT_EQ(encode(reader.whole(through_the_bus(packed), codec)), encode(made)) << "step " << step;
+    }
+    sent.push_back(packed);
   }
-  EXPECT_LT(first_size * 3, encode(step_observation(0, false)).size()) << "the first step is compressed too";
 
-  // A reader that missed step 1 cannot read step 2 and says which step it lacks.
-  WordsPacker again;
-  mtg::observation_t s0 = step_observation(0, false), s1 = step_observation(1, false), s2 = step_observation(2, false);
-  again.pack(s0, codec);
-  again.pack(s1, codec);
-  again.pack(s2, codec);
+  // A reader that missed step 1 cannot read step 2, and says which step it lacks.
   ObservationReader missed;
-  missed.whole(s0, codec);
+  missed.whole(sent[0], codec);
   try {
-    missed.whole(s2, codec);
+    missed.whole(sent[2], codec);
     ADD_FAILURE() << "read step 2 without step 1";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("refers to the words of step 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("changes the words of step 1, but step 0 came before it"), std::string::npos)
+        << e.what();
   }
-  // Damaged words are an error (the frame's checksum), not other words.
+  // A damaged compressed list is an error (its frame's checksum), never other actions; so is a
+  // run outside what was offered.
   ObservationReader damaged;
-  damaged.whole(s0, codec);
-  damaged.whole(s1, codec);
-  s2.packed[s2.packed.size() / 2] ^= 0x5a;
-  EXPECT_THROW(damaged.whole(s2, codec), Error);
+  mtg::observation_t first = sent[0];
+  first.zactions[first.zactions.size() / 2] ^= 0x5a;
+  EXPECT_THROW(damaged.whole(first, codec), Error);
+  ObservationReader outside;
+  outside.whole(sent[0], codec);
+  mtg::observation_t wild = sent[1];
+  wild.runs[0] = 30000;
+  EXPECT_THROW(outside.whole(wild, codec), Error);
 }
 
 TEST(ObservationPacking, AnImageSentEarlierInTheAttemptGoesByReferenceAndComesBackWhole) {
