@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <iterator>
 #include <set>
 #include <utility>
 
@@ -257,24 +258,26 @@ std::string apply_text_ops(const mtg::observation_t& obs, const std::string& bas
 
 }  // namespace
 
-mtg::observation_t ObservationReader::whole(const mtg::observation_t& obs, WordsCodec& codec) {
-  mtg::observation_t out = obs;
+mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& codec) {
   if (obs.packed) {
-    if (steps_.count(obs.step) == 0) {
+    auto read = steps_.find(obs.step);
+    if (read == steps_.end()) {
       if (obs.packed_base != last_step_) {
         throw Error(step_name(obs) + " changes the words of step " + std::to_string(obs.packed_base) + ", but " +
                     (last_step_ < 0 ? std::string("no step") : "step " + std::to_string(last_step_)) +
                     " came before it (an observation was lost, or is not in the recording)");
       }
+      const Words* before = last_step_ >= 0 ? &steps_.at(last_step_) : nullptr;
       Words w;
       if (obs.same_task) {
-        if (last_step_ < 0) throw Error(step_name(obs) + " repeats the task text of no step");
-        w.task_text = steps_.at(last_step_).task_text;
+        if (before == nullptr) throw Error(step_name(obs) + " repeats the task text of no step");
+        w.task_text = before->task_text;
       } else {
-        w.task_text = obs.task_text;
+        w.task_text = std::move(obs.task_text);
       }
-      w.hint = obs.hint;
-      // What is new first (appended to the tables), then the runs over them.
+      w.text = apply_text_ops(obs, before != nullptr ? before->text : std::string());
+      w.hint = std::move(obs.hint);
+      // What is new joins the table; the runs refer to it.
       if (obs.n_zactions > 0) {
         std::string bytes;
         try {
@@ -288,33 +291,32 @@ mtg::observation_t ObservationReader::whole(const mtg::observation_t& obs, Words
         if (fresh.decode(bytes.data(), 0, static_cast<int>(bytes.size())) != static_cast<int>(bytes.size())) {
           throw Error(step_name(obs) + ": its compressed actions do not decode");
         }
-        options_.insert(options_.end(), fresh.actions.begin(), fresh.actions.end());
+        std::move(fresh.actions.begin(), fresh.actions.end(), std::back_inserter(options_));
       } else {
-        options_.insert(options_.end(), obs.actions.begin(), obs.actions.end());
+        std::move(obs.actions.begin(), obs.actions.end(), std::back_inserter(options_));
       }
-      w.actions = resolve(obs.runs, options_, step_name(obs) + ": its runs of actions");
-      w.text = apply_text_ops(obs, last_step_ >= 0 ? steps_.at(last_step_).text : std::string());
+      w.runs = std::move(obs.runs);
       last_step_ = obs.step;
-      steps_[obs.step] = std::move(w);  // earlier steps stay for a late second copy
+      read = steps_.emplace(obs.step, std::move(w)).first;  // earlier steps stay for a late second copy
     }
-    const Words& w = steps_.at(obs.step);
-    out.task_text = w.task_text;
-    out.text = w.text;
-    out.hint = w.hint;
-    out.actions = w.actions;
-    out.n_actions = static_cast<int32_t>(out.actions.size());
-    out.packed = false;
-    out.packed_base = 0;
-    out.same_task = false;
-    out.text_ops.clear();
-    out.n_text_ops = 0;
-    out.runs.clear();
-    out.n_runs = 0;
-    out.zactions.clear();
-    out.n_zactions = 0;
+    const Words& w = read->second;
+    obs.task_text = w.task_text;
+    obs.text = w.text;
+    obs.hint = w.hint;
+    obs.actions = resolve(w.runs, options_, step_name(obs) + ": its runs of actions");
+    obs.n_actions = static_cast<int32_t>(obs.actions.size());
+    obs.packed = false;
+    obs.packed_base = 0;
+    obs.same_task = false;
+    obs.text_ops.clear();
+    obs.n_text_ops = 0;
+    obs.runs.clear();
+    obs.n_runs = 0;
+    obs.zactions.clear();
+    obs.n_zactions = 0;
   }
-  for (std::size_t i = 0; i < out.images.size(); ++i) {
-    mtg::image_t& img = out.images[i];
+  for (std::size_t i = 0; i < obs.images.size(); ++i) {
+    mtg::image_t& img = obs.images[i];
     if (img.nbytes > 0) {
       images_.emplace(img.content_hash, img.data);
       continue;
@@ -327,7 +329,7 @@ mtg::observation_t ObservationReader::whole(const mtg::observation_t& obs, Words
     img.data = earlier->second;
     img.nbytes = static_cast<int32_t>(img.data.size());
   }
-  return out;
+  return obs;
 }
 
 std::optional<mtg::observation_t> RecordedObservations::whole(const mtg::observation_t& packed) {

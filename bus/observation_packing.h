@@ -79,12 +79,12 @@ class ObservationReader {
   /// whole (packed = false) passes as it is.
   /// @throws mtg::Error naming the step and what is missing or damaged (a lost or unrecorded
   /// observation); the attempt's later observations cannot be read either.
-  mtg::observation_t whole(const mtg::observation_t& obs, WordsCodec& codec);
+  mtg::observation_t whole(mtg::observation_t obs, WordsCodec& codec);
 
  private:
-  struct Words {
+  struct Words {  // a step read: its texts, and its actions as runs of options_
     std::string task_text, text, hint;
-    std::vector<mtg::action_option_t> actions;
+    std::vector<int16_t> runs;
   };
   std::vector<mtg::action_option_t> options_;
   std::map<int, Words> steps_;                          // by step: for the next step, and a second copy
