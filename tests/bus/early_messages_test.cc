@@ -14,7 +14,10 @@
 #include "bus/bus.h"
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/observation_packing.h"
 #include "mtg/agent_action_t.hpp"
+#include "mtg/episode_start_t.hpp"
+#include "mtg/observation_t.hpp"
 #include "mtg/state_update_t.hpp"
 
 namespace mtg::bus {
@@ -132,6 +135,87 @@ TEST_F(AgentOnBus, AnotherAgentsEpisodesAreNeitherAnsweredNorHeld) {
   observe(8, 0);
   EXPECT_EQ(answered(), std::vector<std::int64_t>{8});
   EXPECT_EQ(host_.in_flight(), 1);
+}
+
+
+// Observations come packed (schema 7): the policy gets each as it was made; one that refers to a
+// step the agent never received is answered at once with an error, so the episode runs again
+// instead of waiting out its time-out.
+class Seeing final : public agents::Policy {
+ public:
+  explicit Seeing(std::vector<mtg::observation_t>* seen) : seen_(seen) {}
+  agents::AgentReply reply(const mtg::episode_start_t&, const mtg::observation_t& obs) override {
+    seen_->push_back(obs);
+    agents::AgentReply r;
+    r.raw = "0";
+    return r;
+  }
+
+ private:
+  std::vector<mtg::observation_t>* seen_;
+};
+
+mtg::observation_t made_at(int step) {
+  mtg::observation_t o{};
+  o.header = header(1, 0, step);
+  o.step = step;
+  o.step_limit = 15;
+  o.task_text = "Put the cup from table_1_platform_0 on the shelf.";
+  o.text = "You are standing at the front side of platform table_1_platform_0 (l1). Your hand is empty. You have used " +
+           std::to_string(step) + " of 15 steps.";
+  o.actions = {{"0", "call_end: finish the task now"}, {"l1", "go to platform 1: table_1_platform_0"}};
+  if (step % 2 == 1) o.actions.insert(o.actions.begin() + 1, {"o1", "pick up object 1"});
+  o.n_actions = static_cast<int32_t>(o.actions.size());
+  return o;
+}
+
+std::vector<std::uint8_t> bytes_of(const mtg::observation_t& o) {
+  std::vector<std::uint8_t> b(static_cast<std::size_t>(o.getEncodedSize()));
+  o.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
+TEST(AgentOnPackedBus, ThePolicyGetsObservationsWholeAndOneReferringToALostStepIsAnErrorAtOnce) {
+  Bus bus("memq://");
+  HeaderStamper stamp("run", "agent:test");
+  std::vector<mtg::observation_t> seen;
+  agents::AgentHost host(bus, stamp, "seeing", std::make_unique<Seeing>(&seen), "run");
+  std::vector<mtg::agent_action_t> actions;
+  bus.subscribe<mtg::agent_action_t>(episode_channel(EpisodeStream::kAction),
+                                     [&](const std::string&, const mtg::agent_action_t& a) { actions.push_back(a); });
+  auto pump = [&] {
+    while (bus.handle_once(0)) {
+    }
+  };
+  mtg::episode_start_t s{};
+  s.header = header(1, 0);
+  s.agent = "seeing";
+  bus.publish(kEpisodeStart, s);
+  WordsCodec codec;
+  WordsPacker packer;
+  for (int step = 0; step < 3; ++step) {
+    mtg::observation_t packed = made_at(step);
+    packer.pack(packed, codec);
+    bus.publish(episode_channel(EpisodeStream::kObservation), packed);
+    pump();
+  }
+  ASSERT_EQ(seen.size(), 3u);
+  for (int step = 0; step < 3; ++step) {
+    EXPECT_EQ(bytes_of(seen[static_cast<std::size_t>(step)]), bytes_of(made_at(step))) << "step " << step;
+  }
+  ASSERT_EQ(actions.size(), 3u);
+  EXPECT_TRUE(actions[2].error.empty());
+  mtg::observation_t lost = made_at(3);
+  packer.pack(lost, codec);  // never reaches the agent
+  mtg::observation_t next = made_at(4);
+  packer.pack(next, codec);
+  bus.publish(episode_channel(EpisodeStream::kObservation), next);
+  pump();
+  EXPECT_EQ(seen.size(), 3u) << "the policy is not asked about what cannot be read";
+  ASSERT_EQ(actions.size(), 4u);
+  EXPECT_EQ(actions[3].step, 4);
+  EXPECT_NE(actions[3].error.find("unreadable observation"), std::string::npos) << actions[3].error;
+  EXPECT_NE(actions[3].error.find("step 3"), std::string::npos) << actions[3].error;
 }
 
 }  // namespace
