@@ -84,7 +84,6 @@ std::string WordsCodec::decompress(std::string_view frame, std::size_t max) {
 
 namespace {
 
-
 // The places of `items` in `table`, appending those it lacks (moved from `items`). A list that
 // repeats an earlier one in order costs one comparison per item: the guess is the place after
 // the item before's.
@@ -209,8 +208,8 @@ void WordsPacker::pack(mtg::observation_t& obs, WordsCodec& codec) {
   fresh.n_actions = static_cast<int32_t>(fresh.actions.size());
   obs.zactions.clear();
   obs.actions.clear();
-  if (static_cast<std::size_t>(fresh.getEncodedSize()) > kCompressAbove) {
-    std::string bytes(static_cast<std::size_t>(fresh.getEncodedSize()), '\0');
+  if (const auto size = static_cast<std::size_t>(fresh.getEncodedSize()); size > kCompressAbove) {
+    std::string bytes(size, '\0');
     if (fresh.encode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0) throw InternalError("actions do not encode");
     const std::string frame = codec.compress(bytes);
     obs.zactions.assign(frame.begin(), frame.end());

@@ -2,8 +2,8 @@
 // Runs a Policy on the bus: serves the episodes whose episode_start names this agent, answers
 // each observation once (per episode, attempt and step), parses the reply against the offered
 // keys and publishes an agent_action_t. The policy gets each observation whole, as the scene
-// graph made it: its words unpacked and every image by reference filled in. The agent sees only episode starts and observations
-// (the built-in oracle also its plans: Policy::reads_answers).
+// graph made it: its words unpacked and every image by reference filled in. The agent sees only
+// episode starts and observations (the built-in oracle also its plans: Policy::reads_answers).
 //
 // Built-in policies answer in the bus thread (workers = 0). Model policies wait seconds for an
 // API, so they answer on `workers` threads, several episodes at once; the bus thread publishes
