@@ -21,16 +21,28 @@ std::string platform_title(const graph::SceneGraph& g, graph::PlatformId platfor
   return p.name + " (" + graph::navigation_key(p.label) + ")";
 }
 
-// What a placement target offers, in the words of the action space.
-std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t, const RuleOptions& options) {
+// What a placement target offers, in the words of the action space: which side of which object,
+// the object by its number where it has one (the numbers of the platform's marked view), else by
+// what it is.
+std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t, const RuleOptions& options,
+                               const std::vector<graph::ObjectId>& numbering) {
   switch (t.kind) {
     case PlaceTarget::Kind::kGridCell:
       return std::string("place it in the ") + graph::direction_name(t.relative_dir) + " part of the platform (grid cell " +
              t.key + ")";
-    case PlaceTarget::Kind::kObjectRegion:
+    case PlaceTarget::Kind::kObjectRegion: {
+      std::string anchor;
+      if (options.object_names) {
+        anchor = "the " + listed_name(g.objects[t.anchor]);
+      } else if (const auto it = std::find(numbering.begin(), numbering.end(), t.anchor); it != numbering.end()) {
+        anchor = "object " + std::to_string(it - numbering.begin() + 1);
+      } else {
+        const graph::GraphObject& o = g.objects[t.anchor];  // not numbered: scenery
+        anchor = "the " + (o.noun.empty() ? display_name(o) : o.noun) + " it is drawn next to";
+      }
       return std::string("place it in free space ") + t.key + ": " + graph::direction_name(t.relative_dir) + " of " +
-             (options.object_names ? "the " + listed_name(g.objects[t.anchor])
-                                   : std::string("the object it is drawn next to"));
+             anchor;
+    }
     case PlaceTarget::Kind::kAnywhere:
       break;
   }
@@ -141,9 +153,10 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
   if (s.phase == Phase::kDone) return out;
   if (s.phase == Phase::kPlacing) {
     out.push_back({"0", "call_end: finish the task now"});
+    const std::vector<graph::ObjectId> numbering = pickable_on(g, s, s.at_platform);
     for (const PlaceTarget& t : place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
                                               options.min_region_size)) {
-      out.push_back({t.key, target_description(g, t, options)});
+      out.push_back({t.key, target_description(g, t, options, numbering)});
     }
     return out;
   }

@@ -24,4 +24,9 @@ struct TriangleSoup {
 double ray_hit(const TriangleSoup& soup, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
                double t_min, double t_max);
 
+/// Whether anything of `soup` lies on the ray within (t_min, t_max): ray_hit >= 0, stopping at
+/// the first triangle hit.
+bool ray_blocked(const TriangleSoup& soup, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_min,
+                 double t_max);
+
 }  // namespace mtg::geom

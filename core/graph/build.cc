@@ -9,6 +9,7 @@
 #include "core/graph/object_geometry.h"
 #include "core/graph/overlap_check.h"
 #include "core/graph/platforms.h"
+#include "core/graph/sight_lines.h"
 #include "core/graph/standing.h"
 #include "core/util/stopwatch.h"
 
@@ -408,20 +409,81 @@ class GraphBuilder {
     }
   }
 
+  // Everything on platform `p`, at any depth (an item's own platforms carry what stands on it).
+  std::vector<ObjectId> objects_resting_on(const Platform& p) const {
+    std::vector<ObjectId> out;
+    std::vector<ObjectId> stack(p.items.rbegin(), p.items.rend());
+    while (!stack.empty()) {
+      const ObjectId o = stack.back();
+      stack.pop_back();
+      out.push_back(o);
+      for (const PlatformId q : g_.objects[o].platforms) {
+        const auto& on = g_.platforms[q].items;
+        stack.insert(stack.end(), on.rbegin(), on.rend());
+      }
+    }
+    return out;
+  }
+
+  // What the view from each usable side of `p` shows of the objects on it (at any depth), and
+  // so the side the robot arrives at.
+  void count_objects_seen(Platform& p, const std::vector<Occluder>& occluders) const {
+    std::vector<SightTarget> targets;
+    double top = p.height;
+    for (const ObjectId o : objects_resting_on(p)) {
+      targets.push_back({o, Eigen::AlignedBox3d(geo_[o].soup.bounds)});
+      top = std::max(top, g_.objects[o].top);
+    }
+    if (targets.empty()) return;
+    // And nine points of the surface itself: a side that looks past the furniture in front (a
+    // TV stand seen from behind its TV) sees less of it.
+    std::vector<Eigen::Vector3d> surface;
+    const geom::Region poly_W = p.polygon_W();
+    for (const double fx : {-0.35, 0.0, 0.35}) {
+      for (const double fy : {-0.35, 0.0, 0.35}) {
+        const geom::Point2 q = geom::closest_point(
+            poly_W, p.X_WP * Eigen::Vector2d(fx * p.box_P.sizes().x(), fy * p.box_P.sizes().y()));
+        surface.emplace_back(q.x(), q.y(), p.height + 0.01);
+      }
+    }
+    const double eye_z = eye_height(p, p.height, top);
+    for (const Side side : kSides) {
+      SideInfo& info = p.sides[static_cast<std::size_t>(side)];
+      if (!info.usable()) continue;
+      const Eigen::Vector3d eye(info.standing_point.x(), info.standing_point.y(), eye_z);
+      const Seen seen = count_seen(eye, targets, occluders);
+      info.objects_seen = seen.objects;
+      info.sight_lines = seen.lines + clear_lines(eye, surface, occluders);
+    }
+    p.default_side = arrival_side(p);
+  }
+
   // Standing areas, visibility, navigability and the agent's numbering.
   void find_standing_areas() {
     // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
     std::vector<const geom::TriangleSoup*> on_floor;
+    std::vector<bool> steppable;
     for (const ObjectId i : object_ids()) {
       const GraphObject& o = g_.objects[i];
       const bool floor = o.kind == ObjectKind::kFurniture || o.kind == ObjectKind::kFixed;
-      if (floor && !o.parent.valid() && o.bottom <= options_.contact_tolerance) on_floor.push_back(&geo_[i].soup);
+      if (floor && !o.parent.valid() && o.bottom <= options_.contact_tolerance) {
+        on_floor.push_back(&geo_[i].soup);
+        // Light furniture a person steps around (a stool in front of a counter).
+        steppable.push_back(o.kind == ObjectKind::kFurniture && o.movable &&
+                            geom::area(geom::Region{{o.footprint}}) <= options_.steppable_max_area &&
+                            o.height() <= options_.steppable_max_height);
+      }
     }
-    const FloorRaster raster(on_floor, options_);
+    const FloorRaster raster(on_floor, steppable, options_);
+    std::vector<Occluder> occluders;
+    for (const ObjectId i : object_ids()) {
+      if (g_.objects[i].kind != ObjectKind::kUnsupported && geo_[i].has_geometry()) occluders.push_back({i, &geo_[i].soup});
+    }
     for (Platform& p : g_.platforms) {
       if (!p.destination) continue;
       const ObjectId owner = p.owner;
       evaluate_sides(p, g_.objects[owner].footprint, g_.objects[owner].heading, geo_[owner].soup, raster, options_);
+      count_objects_seen(p, occluders);
       const bool useful = !p.items.empty() || p.clearance > kUsefulClearance;
       p.navigable = p.height <= options_.max_platform_height && useful && p.default_side >= 0;
     }

@@ -88,7 +88,8 @@ nlohmann::json graph_to_json(const SceneGraph& g, const GraphOptions& options) {
       nlohmann::json sides;
       for (const Side side : kSides) {
         const SideInfo& s = p.sides[static_cast<std::size_t>(side)];
-        nlohmann::json js = {{"standing_area", sq(s.standing_area)}, {"visible", s.visible}};
+        nlohmann::json js = {{"standing_area", sq(s.standing_area)}, {"visible", s.visible},
+                             {"objects_seen", s.objects_seen}, {"sight_lines", s.sight_lines}};
         if (s.standing_area > 0.0) js["standing_point"] = point(s.standing_point);
         sides[to_string(side)] = js;
       }

@@ -34,6 +34,8 @@ nlohmann::json GraphOptions::to_json() const {
           {"min_region_size", min_region_size},
           {"robot_size", robot_size},
           {"standing_depth", standing_depth},
+          {"steppable_max_area", steppable_max_area},
+          {"steppable_max_height", steppable_max_height},
           {"raster_resolution", raster_resolution},
           {"camera_heights_above", camera_heights_above},
           {"profile", profile_name},

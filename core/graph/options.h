@@ -42,6 +42,11 @@ struct GraphOptions {
   double robot_size = 0.4;           // square robot footprint, m
   double standing_depth = 0.5;       // strip depth outside the owner's side, m
   double raster_resolution = 0.01;   // m per cell
+  // Light furniture a person steps around or pushes aside (a stool, a dining chair): movable,
+  // at most this footprint and height. It does not take standing area away, but a standing
+  // point clear of it is preferred (docs/graph.md, "Standing areas").
+  double steppable_max_area = 0.36;  // m²
+  double steppable_max_height = 1.0; // m
   // Observer heights above the surface for the visibility rays (visible from any of them).
   std::vector<double> camera_heights_above = {0.15, 0.35, 0.6};
 

@@ -66,6 +66,14 @@ struct SideInfo {
   double standing_area = 0.0;               // m², floor where the robot can stand on this side
   geom::Point2 standing_point = geom::Point2::Zero();  // world xy of the chosen robot centre
   bool visible = false;                     // the surface can be seen from the standing point
+  /// Where the robot can stand along the side, every 10 cm across it (world xy): in each
+  /// 10 cm slice of the strip the valid centre nearest the owner's face. Views of part of a
+  /// long platform stand in front of that part (render/view.h).
+  std::vector<geom::Point2> stands;
+  /// How many of the platform's objects the view from the standing point shows (at least 4 of 6
+  /// sight lines to each reach it), as the graph found them: the arrival side is chosen by it.
+  int objects_seen = 0;
+  int sight_lines = 0;  // of the 6 lines to each object, those that pass nothing (ties of objects_seen)
   bool usable() const { return standing_area > 0.0 && visible; }
 };
 
@@ -88,7 +96,8 @@ struct Platform {
 
   geom::Region polygon_W() const;
   double area() const { return geom::area(polygon_P); }
-  /// First usable side in kSides order, or the largest standing area (see standing.h).
+  /// The usable side the robot arrives at (`l<N>`): the one whose view shows the most of the
+  /// platform's objects, then the one with the most standing area (see standing.h).
   int default_side = -1;
 };
 

@@ -6,11 +6,14 @@
 #include <cmath>
 #include <limits>
 
+#include "core/util/error.h"
+
 namespace mtg::graph {
 
-FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles,
+FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles, const std::vector<bool>& steppable,
                          const GraphOptions& options)
     : resolution_(options.raster_resolution) {
+  MTG_DEMAND(steppable.size() == obstacles.size(), "floor raster: one steppable flag per obstacle");
   Eigen::AlignedBox2d bounds;
   for (const auto* soup : obstacles) {
     if (!soup->bounds.isEmpty()) {
@@ -23,11 +26,17 @@ FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles
   const Eigen::Vector2d size = bounds.sizes() + Eigen::Vector2d(2.0, 2.0);
   const int cols = static_cast<int>(std::ceil(size.x() / resolution_));
   const int rows = static_cast<int>(std::ceil(size.y() / resolution_));
-  cv::Mat occupied = cv::Mat::zeros(rows, cols, CV_8U);  // 1 = furniture
+  cv::Mat occupied = cv::Mat::zeros(rows, cols, CV_8U);  // 1 = furniture, 2 = steppable furniture
   // Fixed-point drawing (shift 4) keeps sub-cell precision of the triangle corners.
   constexpr int kShift = 4;
   const double scale = (1 << kShift) / resolution_;
-  for (const auto* soup : obstacles) {
+  // Steppable furniture first, so that anything else drawn over it stays a hard obstacle.
+  std::vector<std::size_t> order(obstacles.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(), [&](std::size_t i) { return steppable[i]; });
+  for (const std::size_t i : order) {
+    const geom::TriangleSoup* soup = obstacles[i];
+    const cv::Scalar value(steppable[i] ? 2 : 1);
     for (const auto& t : soup->triangles) {
       cv::Point pts[3];
       const Eigen::Vector3d* v[3] = {&t.a, &t.b, &t.c};
@@ -35,15 +44,17 @@ FloorRaster::FloorRaster(const std::vector<const geom::TriangleSoup*>& obstacles
         pts[k] = cv::Point(static_cast<int>(std::lround((v[k]->x() - origin_.x()) * scale)),
                            static_cast<int>(std::lround((v[k]->y() - origin_.y()) * scale)));
       }
-      cv::fillConvexPoly(occupied, pts, 3, cv::Scalar(1), cv::LINE_8, kShift);
+      cv::fillConvexPoly(occupied, pts, 3, value, cv::LINE_8, kShift);
     }
   }
   // A centre is valid when the robot square around it is clear: dilate the obstacles by it.
   const int half = static_cast<int>(std::lround(options.robot_size / 2.0 / resolution_));
-  cv::Mat blocked;
-  cv::dilate(occupied, blocked,
-             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1)));
-  robot_free_ = 1 - blocked;
+  const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1));
+  cv::Mat blocked, hard_blocked;
+  cv::dilate(occupied > 0, blocked, square);
+  cv::dilate(occupied == 1, hard_blocked, square);
+  robot_free_ = 1 - blocked / 255;
+  robot_room_ = 1 - hard_blocked / 255;
 }
 
 cv::Point2i FloorRaster::cell_of(const geom::Point2& p) const {
@@ -137,11 +148,13 @@ void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, doubl
   }
   const std::vector<geom::Point2> targets = visibility_targets(platform, poly_W);
   const double cell_area = raster.resolution() * raster.resolution();
-  double best_area = -1.0;
-  platform.default_side = -1;
+  constexpr double kSlice = 0.10;  // m across the side per entry of SideInfo::stands
   for (const Side side : kSides) {
     const Strip strip =
         side_strip(side, owner_H, plat_H, owner_heading, options.standing_depth, options.robot_size);
+    // Across the side runs along H's x for the rear and front, along y for the left and right.
+    const int across = side == Side::kRear || side == Side::kFront ? 0 : 1;
+    const int slices = std::max(1, static_cast<int>(std::ceil((strip.hi[across] - strip.lo[across]) / kSlice)));
     SideInfo info;
     // Scan the raster cells under the strip's world bounding box.
     Eigen::AlignedBox2d box_W;
@@ -153,12 +166,30 @@ void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, doubl
     const cv::Point2i c0 = raster.cell_of(box_W.min());
     const cv::Point2i c1 = raster.cell_of(box_W.max());
     const geom::Point2 ideal_W = R_WH * strip.ideal;
-    double best_d = std::numeric_limits<double>::infinity();
+    // The best cell so far: clear of everything beats clear but for steppable furniture, then
+    // nearness to the ideal point (or, per slice, to the ideal line along the face).
+    struct Best {
+      bool clear = false;
+      double d = std::numeric_limits<double>::infinity();
+      geom::Point2 at = geom::Point2::Zero();
+      bool found = false;
+      void offer(bool c, double dist, const geom::Point2& p) {
+        if (found && (clear && !c)) return;
+        if (found && clear == c && dist >= d) return;
+        clear = c;
+        d = dist;
+        at = p;
+        found = true;
+      }
+    };
+    Best point;
+    std::vector<Best> per_slice(static_cast<std::size_t>(slices));
     long count = 0;
-    for (int row = std::max(0, c0.y); row <= std::min(raster.robot_free().rows - 1, c1.y); ++row) {
+    for (int row = std::max(0, c0.y); row <= std::min(raster.robot_room().rows - 1, c1.y); ++row) {
+      const std::uint8_t* room = raster.robot_room().ptr<std::uint8_t>(row);
       const std::uint8_t* free = raster.robot_free().ptr<std::uint8_t>(row);
-      for (int col = std::max(0, c0.x); col <= std::min(raster.robot_free().cols - 1, c1.x); ++col) {
-        if (free[col] == 0) continue;
+      for (int col = std::max(0, c0.x); col <= std::min(raster.robot_room().cols - 1, c1.x); ++col) {
+        if (room[col] == 0) continue;
         const geom::Point2 p_W = raster.cell_centre(row, col);
         const Eigen::Vector2d p_H = R_HW * p_W;
         if (p_H.x() < strip.lo.x() || p_H.x() > strip.hi.x() || p_H.y() < strip.lo.y() ||
@@ -166,21 +197,49 @@ void evaluate_sides(Platform& platform, const geom::Ring& owner_footprint, doubl
           continue;
         }
         ++count;
-        const double d = (p_W - ideal_W).squaredNorm();
-        if (d < best_d) {
-          best_d = d;
-          info.standing_point = p_W;
-        }
+        const bool clear = free[col] != 0;
+        point.offer(clear, (p_W - ideal_W).squaredNorm(), p_W);
+        const int k = std::clamp(static_cast<int>((p_H[across] - strip.lo[across]) / kSlice), 0, slices - 1);
+        per_slice[static_cast<std::size_t>(k)].offer(clear, std::abs(p_H[1 - across] - strip.ideal[1 - across]), p_W);
       }
     }
     info.standing_area = static_cast<double>(count) * cell_area;
+    if (point.found) info.standing_point = point.at;
+    for (const Best& b : per_slice) {
+      if (b.found) info.stands.push_back(b.at);
+    }
     if (count > 0) info.visible = visible_from(info.standing_point, platform, targets, owner_soup, options);
     platform.sides[static_cast<std::size_t>(side)] = info;
-    if (info.usable() && info.standing_area > best_area + 1e-9) {
-      best_area = info.standing_area;
-      platform.default_side = static_cast<int>(side);
-    }
   }
+  platform.default_side = arrival_side(platform);
+}
+
+int arrival_side(const Platform& platform) {
+  int best = -1;
+  for (const Side side : kSides) {
+    const SideInfo& info = platform.sides[static_cast<std::size_t>(side)];
+    if (!info.usable()) continue;
+    if (best >= 0) {
+      const SideInfo& b = platform.sides[static_cast<std::size_t>(best)];
+      if (info.objects_seen != b.objects_seen) {
+        if (info.objects_seen < b.objects_seen) continue;
+      } else if (info.sight_lines != b.sight_lines) {
+        if (info.sight_lines < b.sight_lines) continue;
+      } else if (info.standing_area <= b.standing_area + 1e-9) {
+        continue;
+      }
+    }
+    best = static_cast<int>(side);
+  }
+  return best;
+}
+
+double eye_height(const Platform& platform, double platform_height, double tallest_top) {
+  double eye_z = std::max(platform_height + 0.6, tallest_top + 0.35);
+  if (std::isfinite(platform.clearance)) {
+    eye_z = std::min(eye_z, platform_height + std::max(0.06, platform.clearance - 0.04));
+  }
+  return eye_z;
 }
 
 }  // namespace mtg::graph

@@ -14,7 +14,7 @@ int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::O
 
 void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
-                   CloseUpsShown& shown, std::vector<ViewRequest>& views) {
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views, bool numbered) {
   for (ViewRequest& v : views) {
     if (v.view != ViewKind::kItem || held_number <= 0) continue;
     v.number = held_number;
@@ -30,7 +30,9 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
     const bool here = s.at_platform == platform;
     if (!at_start && !here) continue;
     const int side = here && s.side >= 0 ? s.side : std::max(0, g.platforms[platform].default_side);
-    const int number = number_of(g, s, object);
+    // The paper's aid for finding the object, not its answer: no number unless the run asks for
+    // the assisted variant (then shown afresh whenever the number changed).
+    const int number = numbered ? number_of(g, s, object) : 0;
     const std::string seen = g.platforms[platform].name + "|" + std::to_string(side) + "|" + std::to_string(number);
     std::string& last = shown.last[id.object];
     if (last == seen) continue;
@@ -41,9 +43,10 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
     v.width = width;
     v.height = height;
     v.number = number;
-    const std::string where = here ? "here" : "on " + g.platforms[platform].name + " as it stands now";
+    const std::string where = here ? "here" : "on " + g.platforms[platform].name;
     v.caption = "The object the task calls '" + id.phrase + "'" +
-                (number > 0 ? ", object " + std::to_string(number) + " " + where : std::string()) +
+                (number > 0 ? ", object " + std::to_string(number) + " " + where + " as it stands now"
+                            : ", where it stands " + where) +
                 ", seen from where you " + (here ? "stand" : "arrive") + "; every other object faded.";
     views.push_back(std::move(v));
   }

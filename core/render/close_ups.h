@@ -1,10 +1,12 @@
 #pragma once
 // The close-ups an observation adds to its platform view (docs/render.md, "What the agent sees"):
-// the object in hand, numbered as it was when picked, and the task's look-alikes, each numbered
-// as its o<N> key on the platform where it stands and seen from where the robot stands (or will
-// arrive) there. A look-alike's close-up comes with the first observation and again whenever the
-// robot stands at its platform and its number or the robot's side changed since it was last
-// shown, so the number in a close-up is always the one the agent can use.
+// the object in hand, numbered as it was when picked, and the task's look-alikes, each where it
+// stands, seen from where the robot stands (or will arrive) at its platform, every other object
+// faded: the paper's task-provided image that helps the agent find the object, not its key, so by
+// default it carries no number (`numbered`: the assisted variant a run may ask for, recorded in
+// its plan). A look-alike's close-up comes with the first observation and again whenever the
+// robot stands at its platform and the side it sees it from (or, numbered, its number) changed
+// since it was last shown.
 
 #include <map>
 #include <string>
@@ -26,7 +28,7 @@ struct CloseUpsShown {
 /// observation_views) and appends the look-alike close-ups due now.
 void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
-                   CloseUpsShown& shown, std::vector<ViewRequest>& views);
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views, bool numbered = false);
 
 /// The object's o<N> number on the platform where it stands in `s` (0 when it is not pickable
 /// there or stands on none).

@@ -1,6 +1,7 @@
 #include "core/render/image_renderer.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "core/episode/state_delta.h"
 #include "core/render/image_codec.h"
@@ -36,12 +37,12 @@ std::string join_words(const std::string& a, const std::string& b) {
 }
 
 // What a marked view leaves to its zoomed views, in words.
-std::string zoomed_caption(const ViewImages& images) {
+std::string zoomed_caption(const ViewImages& images, std::size_t first) {
   if (images.zooms.empty()) return "";
   const std::size_t n = images.zooms.size();
-  std::string out = n == 1   ? "The close-up Z1 (framed here) shows"
-                    : n == 2 ? "The close-ups Z1 and Z2 (framed here) show"
-                             : "The close-ups Z1 to " + zoom_name(n - 1) + " (framed here) show";
+  std::string out = n == 1   ? "The close-up " + zoom_name(first) + " (framed here) shows"
+                    : n == 2 ? "The close-ups " + zoom_name(first) + " and " + zoom_name(first + 1) + " (framed here) show"
+                             : "The close-ups " + zoom_name(first) + " to " + zoom_name(first + n - 1) + " (framed here) show";
   out += " small or crowded objects larger.";
   std::vector<int> numbers = images.zoomed;
   std::sort(numbers.begin(), numbers.end());
@@ -57,6 +58,37 @@ std::string zoom_caption(std::size_t k, const ZoomImage& z) {
   std::sort(numbers.begin(), numbers.end());
   return zoom_name(k) + ": a close-up of the part framed " + zoom_name(k) +
          " in the marked view, from where you stand; objects " + numbers_text(numbers) + " numbered as their keys.";
+}
+
+// The pictures of a platform view after the whole platform's: each part of a long platform, seen
+// from in front of it, numbered as the whole (its own part's objects and whatever else shows).
+std::vector<ViewPlan> part_plans(const graph::SceneGraph& g, const SceneGeometry& geometry,
+                                 const episode::WorldState& s, const ViewRequest& r, const ViewPlan& whole) {
+  std::vector<ViewPlan> out;
+  const std::vector<PlatformPicture> pictures = platform_pictures(g, s, r.platform, whole.side, r.width, r.height);
+  for (std::size_t k = 1; k < pictures.size(); ++k) {
+    ViewPlan part = whole;
+    part.camera = pictures[k].camera;
+    if (!whole.marks.items.empty()) {
+      const IdImage pass = mark_pass(g, geometry, s, part.camera, whole.marks.items, whole.hidden);
+      std::vector<graph::ObjectId> showing;
+      for (const std::int32_t id : pass.ids) {
+        if (id < 0) continue;
+        const graph::ObjectId o = graph::ObjectId::of_index(static_cast<std::size_t>(id));
+        if (std::find(showing.begin(), showing.end(), o) == showing.end()) showing.push_back(o);
+      }
+      part.marks.items = numbered_in(g, s, r.platform, whole.side, pictures[k], whole.marks.items, showing);
+    }
+    part.marks.regions = regions_in(g, s, r.platform, whole.side, pictures[k], whole.marks.regions);
+    out.push_back(std::move(part));
+  }
+  return out;
+}
+
+std::string part_caption(const PlatformPicture& picture, const std::string& platform) {
+  std::string words = part_words(picture);
+  words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
+  return words + " of " + platform + ", seen from in front of it, numbered as in the whole view.";
 }
 
 }  // namespace
@@ -113,19 +145,35 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
       if (!r.object.valid()) throw Error("render: scene " + request.scene + " has no object '" + v.item + "'");
     }
     const ViewPlan plan = plan_view(g, state, r);
-    drawn.push_back(draw_view(renderer, g, state, plan, v.marks != MarkKind::kNone, geometry(entry)));
-    reply.triangles += drawn.back().triangles;
-    const ViewImages& images = drawn.back();
-    const std::string role = role_of(r.view);
-    roles.push_back(role);
-    captions.push_back(v.caption);
-    if (!images.marked.empty()) {
-      roles.push_back(role + "_marked");
-      captions.push_back(join_words(v.caption, zoomed_caption(images)));
+    std::vector<ViewPlan> plans = {plan};
+    std::vector<std::string> picture_captions = {v.caption};
+    if (r.view == ViewKind::kPlatform) {
+      const std::vector<PlatformPicture> pictures =
+          platform_pictures(g, state, r.platform, plan.side, r.width, r.height);
+      std::vector<ViewPlan> parts = part_plans(g, geometry(entry), state, r, plan);
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        plans.push_back(std::move(parts[k]));
+        picture_captions.push_back(part_caption(pictures[k + 1], v.platform));
+      }
     }
-    for (std::size_t k = 0; k < images.zooms.size(); ++k) {
-      roles.push_back(role + "_zoom");
-      captions.push_back(zoom_caption(k, images.zooms[k]));
+    std::size_t zooms_so_far = 0;  // zoom names run on across the pictures of one view
+    for (std::size_t k = 0; k < plans.size(); ++k) {
+      plans[k].first_zoom = zooms_so_far;
+      drawn.push_back(draw_view(renderer, g, state, plans[k], v.marks != MarkKind::kNone, geometry(entry)));
+      reply.triangles += drawn.back().triangles;
+      const ViewImages& images = drawn.back();
+      const std::string role = role_of(r.view);
+      roles.push_back(role);
+      captions.push_back(picture_captions[k]);
+      if (!images.marked.empty()) {
+        roles.push_back(role + "_marked");
+        captions.push_back(join_words(picture_captions[k], zoomed_caption(images, zooms_so_far)));
+      }
+      for (std::size_t z = 0; z < images.zooms.size(); ++z) {
+        roles.push_back(role + "_zoom");
+        captions.push_back(zoom_caption(zooms_so_far + z, images.zooms[z]));
+      }
+      zooms_so_far += images.zooms.size();
     }
   }
   const std::vector<const cv::Mat*> images = images_in_reply_order(drawn);

@@ -290,19 +290,23 @@ namespace {
 void add_zooms(const graph::SceneGraph& g, const SceneGeometry& geometry, const episode::WorldState& s,
                const std::vector<graph::ObjectId>& hidden, const Camera& camera, const MarkLayout& layout,
                const std::vector<ItemMark>& items, int depth,
-               std::vector<Eigen::AlignedBox2d>& regions, std::vector<MarkedZoom>& zooms) {
+               std::vector<Eigen::AlignedBox2d>& regions, std::vector<std::size_t>& region_zooms,
+               std::vector<MarkedZoom>& zooms) {
   // Small marks are zoomed once; a zoom's own zooms are for what is crowded in it.
   for (ZoomView& z : zoom_views(camera, layout, items, /*with_small=*/depth > 1, /*max_views=*/4)) {
     regions.push_back(z.region);
     const std::size_t slot = zooms.size();
+    region_zooms.push_back(slot);
     zooms.emplace_back();
     IdImage pass = mark_pass(g, geometry, s, z.camera, z.items, hidden);
     MarkLayout here = layout_item_marks(pass, kMarkPassScale, z.camera, z.items);
     std::vector<Eigen::AlignedBox2d> inner;
-    if (depth > 1) add_zooms(g, geometry, s, hidden, z.camera, here, z.items, depth - 1, inner, zooms);
+    std::vector<std::size_t> inner_zooms;
+    if (depth > 1) add_zooms(g, geometry, s, hidden, z.camera, here, z.items, depth - 1, inner, inner_zooms, zooms);
     zooms[slot].view = std::move(z);
     zooms[slot].layout = std::move(here);
     zooms[slot].regions = std::move(inner);
+    zooms[slot].region_zooms = std::move(inner_zooms);
     zooms[slot].pass = std::move(pass);
   }
 }
@@ -323,7 +327,8 @@ ItemMarksPlan plan_item_marks(const graph::SceneGraph& g, const SceneGeometry& g
   plan.items = items;
   plan.layout = layout_item_marks(pass, kMarkPassScale, camera, items);
   plan.pass = pass;
-  add_zooms(g, geometry, s, hidden, camera, plan.layout, items, /*depth=*/2, plan.regions, plan.zooms);
+  add_zooms(g, geometry, s, hidden, camera, plan.layout, items, /*depth=*/2, plan.regions, plan.region_zooms,
+            plan.zooms);
   return plan;
 }
 

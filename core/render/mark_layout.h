@@ -76,6 +76,7 @@ struct MarkedZoom {
   ZoomView view;
   MarkLayout layout;
   std::vector<Eigen::AlignedBox2d> regions;
+  std::vector<std::size_t> region_zooms;  // each region's zoom: its index in ItemMarksPlan::zooms
   IdImage pass;  // the id pass its marks were laid out on
 };
 
@@ -88,6 +89,7 @@ struct ItemMarksPlan {
   IdImage pass;   // the id pass the picture's marks were laid out on
   MarkLayout layout;
   std::vector<Eigen::AlignedBox2d> regions;  // the picture's zooms, framed on it
+  std::vector<std::size_t> region_zooms;     // each region's zoom: its index in `zooms`
   std::vector<MarkedZoom> zooms;
   /// Whether item number `n` has a readable place in the picture or a zoom.
   bool placed(int number) const;

@@ -164,12 +164,13 @@ void draw_items(cv::Mat& image, const MarkLayout& layout) {
 }
 
 // A zoomed view's region: a white frame outlined in black, its name in a box at the top left.
-void draw_zoom_frames(cv::Mat& image, const std::vector<Eigen::AlignedBox2d>& zooms, const Style& st) {
+void draw_zoom_frames(cv::Mat& image, const std::vector<Eigen::AlignedBox2d>& zooms,
+                      const std::vector<std::string>& names, const Style& st) {
   for (std::size_t k = 0; k < zooms.size(); ++k) {
     const cv::Rect box(to_cv(zooms[k].min()), to_cv(zooms[k].max()));
     cv::rectangle(image, box, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
     cv::rectangle(image, box, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
-    const std::string name = zoom_name(k);
+    const std::string name = k < names.size() ? names[k] : zoom_name(k);
     int baseline = 0;
     const cv::Size size = cv::getTextSize(name, cv::FONT_HERSHEY_SIMPLEX, st.font, st.thickness, &baseline);
     const cv::Rect tag(box.x + 2, box.y + 2, size.width + 6, size.height + 6);
@@ -251,12 +252,12 @@ cv::Scalar mark_colour(int n) {
 }
 
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items,
-                 const std::vector<Eigen::AlignedBox2d>& zooms) {
+                 const std::vector<Eigen::AlignedBox2d>& zooms, const std::vector<std::string>& zoom_names) {
   cv::Mat out = image.clone();
   const Style st = style_for(out.cols, out.rows);
   DiscPlacer placer(out, st);
   if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, placer);
-  if (!zooms.empty()) draw_zoom_frames(out, zooms, st);
+  if (!zooms.empty()) draw_zoom_frames(out, zooms, zoom_names, st);
   if (items != nullptr) draw_items(out, *items);
   if (!marks.labels.empty()) draw_labels(out, camera, marks.labels, st);
   return out;

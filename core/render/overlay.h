@@ -17,8 +17,10 @@ namespace mtg::render {
 /// A copy of `image` (8-bit BGR, the camera's size) with `marks` drawn on it: the item marks as
 /// `items` lays them out (mark_layout.h; they are not drawn without it), each `zooms` region
 /// framed and labelled Z1, Z2, ... (where a zoomed view numbers what is crowded there).
+/// Zoom frame k is named `zoom_names[k]` ("Z3": zooms are numbered across an observation's
+/// pictures, depth first), zoom_name(k) where none is given.
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items = nullptr,
-                 const std::vector<Eigen::AlignedBox2d>& zooms = {});
+                 const std::vector<Eigen::AlignedBox2d>& zooms = {}, const std::vector<std::string>& zoom_names = {});
 
 
 /// Where the overview's labels go on the image: each label's box, clear of the others and inside

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/graph/standing.h"
 #include "core/util/error.h"
 
 namespace mtg::render {
@@ -17,6 +18,9 @@ constexpr double kStepBack = 0.25;            // metres per step when even kMaxF
 constexpr int kMaxStepsBack = 8;
 constexpr double kMinSpan = 0.6;              // metres of surroundings around a small platform
 constexpr double kCloseUpFovy = 40.0 * kPi / 180;
+constexpr double kPartsFrom = 1.6;            // m across the view: longer platforms get part pictures
+constexpr double kPartLength = 1.0;           // m of platform per part, about
+constexpr int kMaxParts = 3;
 
 // Bad requests are the caller's input, not our invariants: a plain one-line error.
 void require(bool condition, const std::string& message) {
@@ -82,50 +86,21 @@ Eigen::Vector2d standing_point(const graph::SceneGraph& g, const episode::WorldS
   return X_WP * Eigen::Vector2d(out.x() * (half.x() + 1.0), out.y() * (half.y() + 1.0));
 }
 
-// The camera of a platform view, planned in the layout state `s`.
-Camera plan_platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
-                            int side, int width, int height) {
-  const graph::Platform& p = g.platforms[platform];
-  const double h = episode::platform_height(g, s, platform);
-  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
-  std::vector<Eigen::Vector3d> keys;
-  for (const geom::Ring& ring : geom::transform(p.polygon_P, X_WP).rings) {
-    for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
-  }
-  double top = h;
-  for (const graph::ObjectId o : episode::pickable_on(g, s, platform)) {
-    const episode::ObjectState& st = s.objects[o];
-    top = std::max(top, st.top);
-  }
-  for (const graph::ObjectId o : episode::objects_on(s, platform)) {
-    const episode::ObjectState& st = s.objects[o];
-    top = std::max(top, st.top);
-    for (const auto& q : st.footprint) {
-      keys.emplace_back(q.x(), q.y(), st.bottom);
-      keys.emplace_back(q.x(), q.y(), st.top);
-    }
-  }
-  // A small surface (a stool, a bin lid) is shown with some of its surroundings, so the agent
-  // can tell where it is: the key points span at least kMinSpan around the platform's centre.
-  const Eigen::Vector2d mid = X_WP.translation();
-  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
-                                       Eigen::Vector2d(-1, 1)}) {
-    const Eigen::Vector2d q = mid + corner * (kMinSpan / 2.0);
-    keys.emplace_back(q.x(), q.y(), h);
-  }
-  // Eye height: above the tallest item, looking down on the surface; under the layer above an
-  // interior platform (a shelf), so the robot looks into the cabinet rather than at its top.
-  double eye_z = std::max(h + 0.6, top + 0.35);
-  if (std::isfinite(p.clearance)) eye_z = std::min(eye_z, h + std::max(0.06, p.clearance - 0.04));
+// Which way is right for a robot on `side` of a platform, in the platform frame P.
+Eigen::Vector2d viewer_right(int side) {
+  static const Eigen::Vector2d kRight[4] = {{1, 0}, {0, -1}, {-1, 0}, {0, 1}};
+  return kRight[side];
+}
 
-  const Eigen::Vector2d stand = standing_point(g, s, platform, side);
-  const Eigen::Vector2d centre = X_WP.translation();
+// Where a camera at `stand` (eyes at `eye_z`) sees `keys` best: aimed at their middle, with the
+// narrowest lens that holds them, stepping back from `centre` when even the widest cannot.
+Camera frame_keys(const std::vector<Eigen::Vector3d>& keys, const Eigen::Vector2d& stand, const Eigen::Vector2d& centre,
+                  double eye_z, int width, int height) {
   Eigen::Vector2d away = stand - centre;
   away = away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d(0, -1);
   Eigen::Vector3d target = Eigen::Vector3d::Zero();
   for (const auto& k : keys) target += k;
   target /= static_cast<double>(keys.size());
-
   Camera cam;
   cam.width = width;
   cam.height = height;
@@ -136,6 +111,111 @@ Camera plan_platform_camera(const graph::SceneGraph& g, const episode::WorldStat
     cam.fovy = kMaxFovy;  // the last step keeps the widest lens
   }
   return cam;
+}
+
+// The pictures of a platform view, planned in the layout state `s`: the whole platform, then its
+// parts when it is too long for one picture.
+std::vector<PlatformPicture> plan_platform_pictures(const graph::SceneGraph& g, const episode::WorldState& s,
+                                                    graph::PlatformId platform, int side, int width, int height) {
+  const graph::Platform& p = g.platforms[platform];
+  const double h = episode::platform_height(g, s, platform);
+  const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
+  const Eigen::Isometry2d X_PW = X_WP.inverse();
+  const Eigen::Vector2d right = viewer_right(side);
+  // Everything on the platform, each with where it stands across the view (u, in P).
+  struct Thing {
+    const episode::ObjectState* state;
+    double u;
+    bool direct;
+  };
+  std::vector<Thing> things;
+  const std::vector<graph::ObjectId>& direct = episode::objects_on(s, platform);
+  for (const graph::ObjectId o : episode::everything_on(g, s, platform)) {
+    const episode::ObjectState& st = s.objects[o];
+    const bool is_direct = std::find(direct.begin(), direct.end(), o) != direct.end();
+    things.push_back({&st, (X_PW * episode::footprint_centre(st)).dot(right), is_direct});
+  }
+  // The key points and the tallest top of what stands within [lo, hi) across the view.
+  auto keys_of = [&](double lo, double hi, std::vector<Eigen::Vector3d>& keys, double& top) {
+    top = h;
+    for (const Thing& t : things) {
+      if (t.u < lo || t.u >= hi) continue;
+      top = std::max(top, t.state->top);
+      if (!t.direct) continue;
+      for (const auto& q : t.state->footprint) {
+        keys.emplace_back(q.x(), q.y(), t.state->bottom);
+        keys.emplace_back(q.x(), q.y(), t.state->top);
+      }
+    }
+  };
+
+  std::vector<PlatformPicture> out;
+  {
+    std::vector<Eigen::Vector3d> keys;
+    for (const geom::Ring& ring : geom::transform(p.polygon_P, X_WP).rings) {
+      for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
+    }
+    double top = h;
+    keys_of(-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), keys, top);
+    // A small surface (a stool, a bin lid) is shown with some of its surroundings, so the agent
+    // can tell where it is: the key points span at least kMinSpan around the platform's centre.
+    const Eigen::Vector2d mid = X_WP.translation();
+    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                                         Eigen::Vector2d(-1, 1)}) {
+      const Eigen::Vector2d q = mid + corner * (kMinSpan / 2.0);
+      keys.emplace_back(q.x(), q.y(), h);
+    }
+    PlatformPicture whole;
+    whole.camera = frame_keys(keys, standing_point(g, s, platform, side), X_WP.translation(),
+                              graph::eye_height(p, h, top), width, height);
+    whole.lo = -std::numeric_limits<double>::infinity();
+    whole.hi = std::numeric_limits<double>::infinity();
+    out.push_back(whole);
+  }
+  // A platform longer than one picture shows well (a kitchen counter) gets a picture of each
+  // part that holds something, seen from in front of that part (SideInfo::stands).
+  const double extent = std::abs(p.box_P.sizes().dot(right));
+  if (extent < kPartsFrom || things.empty()) return out;
+  const int parts = std::min(kMaxParts, std::max(2, static_cast<int>(std::lround(extent / kPartLength))));
+  const graph::SideInfo& info = p.sides[static_cast<std::size_t>(side)];
+  const Eigen::Vector2d shift = s.platform_offset[platform].head<2>();
+  const double u0 = -extent / 2.0;
+  const double along = p.box_P.center().dot(right);
+  const Eigen::Vector2d depth(right.y(), -right.x());  // across the view's other axis
+  const double dmin = std::min((p.box_P.min()).dot(depth), (p.box_P.max()).dot(depth));
+  const double dmax = std::max((p.box_P.min()).dot(depth), (p.box_P.max()).dot(depth));
+  for (int k = 0; k < parts; ++k) {
+    const double lo = along + u0 + extent * k / parts, hi = along + u0 + extent * (k + 1) / parts;
+    std::vector<Eigen::Vector3d> keys;
+    double top = h;
+    keys_of(k == 0 ? -std::numeric_limits<double>::infinity() : lo,
+            k + 1 == parts ? std::numeric_limits<double>::infinity() : hi, keys, top);
+    if (keys.empty()) continue;  // nothing stands there
+    for (const double u : {lo, hi}) {
+      for (const double d : {dmin, dmax}) {
+        const Eigen::Vector2d q = X_WP * (right * u + depth * d);
+        keys.emplace_back(q.x(), q.y(), h);
+      }
+    }
+    const Eigen::Vector2d centre = X_WP * (right * ((lo + hi) / 2.0) + depth * ((dmin + dmax) / 2.0));
+    Eigen::Vector2d stand = standing_point(g, s, platform, side);
+    double best = std::numeric_limits<double>::infinity();
+    for (const geom::Point2& q : info.stands) {
+      const double d = (q + shift - centre).squaredNorm();
+      if (d < best) {
+        best = d;
+        stand = q + shift;
+      }
+    }
+    PlatformPicture part;
+    part.camera = frame_keys(keys, stand, centre, graph::eye_height(p, h, top), width, height);
+    part.part = k + 1;
+    part.parts = parts;
+    part.lo = k == 0 ? -std::numeric_limits<double>::infinity() : lo;
+    part.hi = k + 1 == parts ? std::numeric_limits<double>::infinity() : hi;
+    out.push_back(part);
+  }
+  return out;
 }
 
 ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
@@ -222,16 +302,12 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
   plan.camera = close_up_camera(e.centre, from, distance, elevation, r);
   plan.camera.near = std::max(0.01, distance - 3.0 * radius);
   plan.camera.far = distance + 6.0;
-  // Every other item fades, so only this one stands out; what it rests on stays solid.
-  std::vector<graph::ObjectId> supports;
-  for (graph::PlatformId p_below = o.parent; p_below.valid() && p_below != platform;) {
-    const graph::ObjectId below = g.platforms[p_below].owner;
-    supports.push_back(below);
-    p_below = s.objects[below].parent;
-  }
+  // Every other item fades, what it rests on too (a book on a book must not look like two
+  // answers), so only this one stands out.
+  const std::vector<graph::ObjectId> beside = episode::everything_on(g, s, platform);
   for (const graph::ObjectId other : g.objects.ids()) {
-    const bool support = std::find(supports.begin(), supports.end(), other) != supports.end();
-    if (other != r.object && g.objects[other].pickable() && !support) plan.faded.push_back(other);
+    const bool on_platform = std::find(beside.begin(), beside.end(), other) != beside.end();
+    if (other != r.object && (g.objects[other].pickable() || on_platform)) plan.faded.push_back(other);
   }
   if (s.held.valid()) plan.hidden.push_back(s.held);
   plan.numbered = {r.number, r.object, e.centre};
@@ -272,16 +348,69 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
 
 }  // namespace
 
-Camera platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
-                       int width, int height) {
+std::vector<PlatformPicture> platform_pictures(const graph::SceneGraph& g, const episode::WorldState& s,
+                                               graph::PlatformId platform, int side, int width, int height) {
   require(g.platforms.contains(platform), "render: platform index " + to_string(platform) + " out of range");
   require(side >= 0 && side <= 3, "render: side " + std::to_string(side) + " is not 0..3");
   require_image_size(width, height);
   // Planned in the scene as the graph found it, so the view holds still while items come and go;
-  // a platform that moved (one on an item) takes its camera along.
-  Camera cam = plan_platform_camera(g, episode::initial_state(g), platform, side, width, height);
-  cam.X_WC.pretranslate(s.platform_offset[platform]);
-  return cam;
+  // a platform that moved (one on an item) takes its cameras along.
+  std::vector<PlatformPicture> out =
+      plan_platform_pictures(g, episode::initial_state(g), platform, side, width, height);
+  for (PlatformPicture& picture : out) picture.camera.X_WC.pretranslate(s.platform_offset[platform]);
+  return out;
+}
+
+Camera platform_camera(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                       int width, int height) {
+  return platform_pictures(g, s, platform, side, width, height).front().camera;
+}
+
+namespace {
+
+bool in_part_at(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                const PlatformPicture& picture, const Eigen::Vector2d& xy_W) {
+  if (picture.part == 0) return true;
+  const Eigen::Isometry2d X_PW = episode::platform_frame(g, s, platform).inverse();
+  const double u = (X_PW * xy_W).dot(viewer_right(side));
+  return u >= picture.lo && u < picture.hi;
+}
+
+}  // namespace
+
+bool in_picture_part(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                     const PlatformPicture& picture, graph::ObjectId object) {
+  return in_part_at(g, s, platform, side, picture, episode::footprint_centre(s.objects[object]));
+}
+
+std::vector<RegionMark> regions_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                   int side, const PlatformPicture& picture, const std::vector<RegionMark>& regions) {
+  std::vector<RegionMark> out;
+  for (const RegionMark& r : regions) {
+    if (in_part_at(g, s, platform, side, picture, r.label_W.head<2>())) out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<ItemMark> numbered_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                  int side, const PlatformPicture& picture, const std::vector<ItemMark>& items,
+                                  const std::vector<graph::ObjectId>& showing) {
+  if (picture.part == 0) return items;
+  std::vector<ItemMark> out;
+  for (const ItemMark& m : items) {
+    if (std::find(showing.begin(), showing.end(), m.object) != showing.end() ||
+        in_picture_part(g, s, platform, side, picture, m.object)) {
+      out.push_back(m);
+    }
+  }
+  return out;
+}
+
+std::string part_words(const PlatformPicture& picture) {
+  if (picture.part == 0) return "the whole platform";
+  if (picture.parts == 2) return picture.part == 1 ? "the left half" : "the right half";
+  if (picture.parts == 3) return picture.part == 1 ? "the left part" : picture.part == 2 ? "the middle part" : "the right part";
+  return "part " + std::to_string(picture.part) + " of " + std::to_string(picture.parts) + " from the left";
 }
 
 const char* to_string(ViewKind kind) {

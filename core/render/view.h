@@ -55,6 +55,7 @@ struct ViewPlan {
   std::vector<graph::ObjectId> faded;   // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
   ItemMark numbered;  // a close-up's object with its number drawn on it (number 0: none)
+  std::size_t first_zoom = 0;  // the name of its first zoom: Z<first_zoom + 1>
 };
 
 /// @throws mtg::Error unless 1 <= width, height <= 8192 (checked before any work).
@@ -62,6 +63,45 @@ void require_image_size(int width, int height);
 
 /// @throws mtg::Error naming the problem (index out of range, non-positive size, ...).
 ViewPlan plan_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& request);
+
+/// One picture of a platform view: the whole platform, or one part of a platform too long for a
+/// single picture (a kitchen counter), seen from in front of that part.
+struct PlatformPicture {
+  Camera camera;
+  int part = 0;   // 0: the whole platform; k >= 1: the k-th of `parts` parts, from the viewer's left
+  int parts = 0;  // how many parts the platform is cut into (0 for the whole)
+  // What the part holds: objects whose footprint centre lies in [lo, hi) along the viewer's right,
+  // in the platform frame (unbounded for the whole and at the ends).
+  double lo = 0.0, hi = 0.0;
+};
+
+/// The pictures of the platform view from `side` at `width` x `height`: the whole platform
+/// (platform_camera), then, for a platform more than 1.6 m across the view, one picture of
+/// each part (about a metre, at most three) that holds something, from the place along the side
+/// nearest that part (graph::SideInfo::stands). Planned in the scene as the graph found it, like
+/// the camera; the agent gets them all when it arrives, and what it can see is decided on them.
+/// @throws mtg::Error for a bad platform, side or size.
+std::vector<PlatformPicture> platform_pictures(const graph::SceneGraph& g, const episode::WorldState& s,
+                                               graph::PlatformId platform, int side, int width, int height);
+
+/// Whether `object` (on `platform` in `s`) belongs to `picture`'s part: it numbers these, and
+/// whatever else shows in it.
+bool in_picture_part(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform, int side,
+                     const PlatformPicture& picture, graph::ObjectId object);
+
+/// The item marks `picture` numbers: all of `items` for the whole platform; for a part, the items
+/// of that part and every other that shows in it (`showing`: the objects with pixels in it).
+std::vector<ItemMark> numbered_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                  int side, const PlatformPicture& picture, const std::vector<ItemMark>& items,
+                                  const std::vector<graph::ObjectId>& showing);
+
+/// The placement targets `picture` numbers: those whose number stands in its part (all of them for
+/// the whole platform).
+std::vector<RegionMark> regions_in(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                   int side, const PlatformPicture& picture, const std::vector<RegionMark>& regions);
+
+/// "the whole platform", "the left half", "the middle part", ...
+std::string part_words(const PlatformPicture& picture);
 
 /// The camera of the platform view from `side` (0..3) at `width` x `height`. It is planned in the
 /// scene as the graph found it and does not move while items are picked and placed (docs/render.md,

@@ -83,21 +83,78 @@ nlohmann::json VisibilityOptions::to_json() const {
           {"min_pixels", min_pixels}, {"min_gap", min_gap}};
 }
 
+struct ViewSight::Slot {
+  Camera camera;
+  Count count;
+  std::once_flag once;
+  std::shared_ptr<const std::vector<ObjectSight>> objects;
+};
+
 ViewSight::ViewSight(Camera image_camera, std::vector<ObjectSight> objects, const VisibilityOptions& options)
-    : camera_(std::move(image_camera)), objects_(std::move(objects)), options_(options) {
+    : ViewSight(std::vector<Picture>{{std::move(image_camera), std::move(objects)}}, options) {}
+
+ViewSight::ViewSight(std::vector<Picture> pictures, const VisibilityOptions& options) : options_(options) {
+  MTG_DEMAND(!pictures.empty(), "visibility: a view has at least one picture");
+  for (Picture& p : pictures) {
+    auto slot = std::make_unique<Slot>();
+    slot->camera = std::move(p.camera);
+    slot->objects = std::make_shared<const std::vector<ObjectSight>>(std::move(p.objects));
+    std::call_once(slot->once, [] {});
+    pictures_.push_back(std::move(slot));
+  }
   pixel_area_ = static_cast<double>(options.image_width) * options.image_height /
                 (static_cast<double>(options.pass_width()) * options.pass_height());
 }
 
-ObjectSight ViewSight::of(graph::ObjectId o) const { return sight_of(objects_, o); }
+ViewSight::ViewSight(std::vector<Camera> cameras, std::vector<Count> counts, const VisibilityOptions& options)
+    : options_(options) {
+  MTG_DEMAND(!cameras.empty() && cameras.size() == counts.size(), "visibility: one count per picture");
+  for (std::size_t k = 0; k < cameras.size(); ++k) {
+    auto slot = std::make_unique<Slot>();
+    slot->camera = std::move(cameras[k]);
+    slot->count = std::move(counts[k]);
+    pictures_.push_back(std::move(slot));
+  }
+  pixel_area_ = static_cast<double>(options.image_width) * options.image_height /
+                (static_cast<double>(options.pass_width()) * options.pass_height());
+}
+
+ViewSight::~ViewSight() = default;
+
+const Camera& ViewSight::camera(std::size_t k) const { return pictures_.at(k)->camera; }
+
+const std::vector<ObjectSight>& ViewSight::objects(std::size_t k) const {
+  Slot& slot = *pictures_.at(k);
+  std::call_once(slot.once, [&] {
+    slot.objects = slot.count();
+    slot.count = nullptr;  // what it held (the deciders) is not needed again
+  });
+  return *slot.objects;
+}
+
+ObjectSight ViewSight::of(std::size_t k, graph::ObjectId o) const { return sight_of(objects(k), o); }
+
+ObjectSight ViewSight::of(graph::ObjectId o) const {
+  ObjectSight best = of(0, o);
+  for (std::size_t k = 1; k < pictures_.size(); ++k) {
+    const ObjectSight here = of(k, o);
+    if (here.visible > best.visible) best = here;
+  }
+  return best;
+}
 
 double ViewSight::image_pixels(graph::ObjectId o) const { return of(o).visible * pixel_area_; }
 
-
+bool ViewSight::clearly_visible_in(std::size_t k, graph::ObjectId o) const {
+  const ObjectSight seen = of(k, o);
+  return seen.visible * pixel_area_ >= options_.min_pixels && seen.share() >= options_.min_share;
+}
 
 bool ViewSight::clearly_visible(graph::ObjectId o) const {
-  const ObjectSight seen = of(o);
-  return seen.visible * pixel_area_ >= options_.min_pixels && seen.share() >= options_.min_share;
+  for (std::size_t k = 0; k < pictures_.size(); ++k) {
+    if (clearly_visible_in(k, o)) return true;
+  }
+  return false;
 }
 
 std::vector<ObjectSight> count_pixels(const IdImage& image, std::vector<ObjectSight> silhouettes) {
@@ -160,8 +217,22 @@ IdView draw_id_view_of(const graph::SceneGraph& g, const SceneGeometry& geometry
   return out;
 }
 
-struct VisibilityOracle::Scenery {
-  Camera image_camera;
+std::vector<std::int32_t> VisibilityOracle::readable_marks(const episode::WorldState& s,
+                                                          const std::vector<ItemMark>& items,
+                                                          const Camera& image_camera, const IdImage& pass) const {
+  const ItemMarksPlan plan = plan_item_marks(g_, geometry_, s, image_camera, items, {}, pass);
+  std::vector<std::int32_t> out;
+  for (const ItemMark& m : items) {
+    if (plan.placed(m.number)) out.push_back(static_cast<std::int32_t>(m.object.index()));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// One picture of a view: its camera and its drawing of everything that never moves.
+struct VisibilityOracle::PictureScenery {
+  PlatformPicture picture;
+  std::int64_t slot = 0;                 // the picture's place in memo keys
   Camera pass_camera;
   Eigen::Matrix4f clip_from_world;
   IdImage background;                    // everything that never moves, in the platform's window
@@ -169,11 +240,17 @@ struct VisibilityOracle::Scenery {
   std::vector<NdcBox> initial_boxes;     // each object's image where the graph found it
 };
 
-// What decides a view of a platform's objects in one state.
+// The pictures of the view of one platform from one side.
+struct VisibilityOracle::Scenery {
+  std::vector<PictureScenery> pictures;
+};
+
+// What decides a picture of a platform's objects in one state.
 struct VisibilityOracle::Deciders {
-  std::string key;                       // the view's memo key
+  std::string key;                       // the picture's memo key
   std::vector<graph::ObjectId> on;       // the platform's objects (not the held one)
   std::vector<graph::ObjectId> items;    // the items to draw: its own, and those that may cover them
+  std::vector<Eigen::Vector3d> at;       // where each of `items` stands
   int left = 0, top = 0, width = 0, height = 0;  // the pass pixels the platform's objects may cover
 };
 
@@ -225,67 +302,79 @@ void VisibilityOracle::prepare(int jobs) const {
 }
 
 std::unique_ptr<VisibilityOracle::Scenery> VisibilityOracle::make_scenery(graph::PlatformId platform, int side) const {
-  auto sc = std::make_unique<Scenery>();
+  auto out = std::make_unique<Scenery>();
   const episode::WorldState initial = episode::initial_state(g_);
-  sc->image_camera = platform_camera(g_, initial, platform, side, options_.image_width, options_.image_height);
-  sc->pass_camera = at_resolution(sc->image_camera, options_.pass_width(), options_.pass_height());
-  sc->clip_from_world = sc->pass_camera.clip_from_world();
-  // The window where anything on the platform can show: its surface up to the layer above (at
-  // most 1.5 m), and what stands on it now.
-  const graph::Platform& p = g_.platforms[platform];
-  const double h = p.height;
-  const double up = std::isfinite(p.clearance) ? std::min(p.clearance, 1.5) : 1.5;
-  NdcBox reach;
-  Eigen::AlignedBox3d surface;
-  for (const geom::Ring& ring : p.polygon_W().rings) {
-    for (const auto& q : ring) {
-      surface.extend(Eigen::Vector3d(q.x(), q.y(), h));
-      surface.extend(Eigen::Vector3d(q.x(), q.y(), h + up));
+  const std::vector<PlatformPicture> pictures =
+      platform_pictures(g_, initial, platform, side, options_.image_width, options_.image_height);
+  for (std::size_t k = 0; k < pictures.size(); ++k) {
+    PictureScenery& sc = out->pictures.emplace_back();
+    sc.picture = pictures[k];
+    sc.slot = static_cast<std::int64_t>((platform.index() * 4 + static_cast<std::size_t>(side)) * 8 + k);
+    sc.pass_camera = at_resolution(sc.picture.camera, options_.pass_width(), options_.pass_height());
+    sc.clip_from_world = sc.pass_camera.clip_from_world();
+    // The window where anything on the platform can show: its surface up to the layer above (at
+    // most 1.5 m), and what stands on it now.
+    const graph::Platform& p = g_.platforms[platform];
+    const double h = p.height;
+    const double up = std::isfinite(p.clearance) ? std::min(p.clearance, 1.5) : 1.5;
+    NdcBox reach;
+    Eigen::AlignedBox3d surface;
+    for (const geom::Ring& ring : p.polygon_W().rings) {
+      for (const auto& q : ring) {
+        surface.extend(Eigen::Vector3d(q.x(), q.y(), h));
+        surface.extend(Eigen::Vector3d(q.x(), q.y(), h + up));
+      }
     }
+    surface.min() -= Eigen::Vector3d(0.05, 0.05, 0.0);
+    surface.max() += Eigen::Vector3d(0.05, 0.05, 0.0);
+    reach.box.extend(ndc_box(sc.clip_from_world, surface).box);
+    for (const graph::ObjectId o : episode::everything_on(g_, initial, platform)) {
+      reach.box.extend(ndc_box(sc.clip_from_world, boxes_[o.index()]).box);
+    }
+    int left = 0, top = 0, width = 0, height = 0;
+    if (!reach.box.isEmpty()) {
+      pixel_window(reach.box, sc.pass_camera.width, sc.pass_camera.height, left, top, width, height);
+    }
+    // Scenery that can cover none of the window (beside it in the picture, or behind all of it)
+    // is left out: it changes none of the pixels the platform's objects can take.
+    IdPass pass(sc.pass_camera, IdImage(left, top, width, height));
+    for (const graph::ObjectId o : g_.objects.ids()) {
+      if (g_.objects[o].pickable() || geometry_.of(o).indices.empty()) continue;
+      if (!may_cover(ndc_box(sc.clip_from_world, boxes_[o.index()]), reach)) continue;
+      add_silhouette(sc.silhouettes, o,
+                     pass.draw(geometry_.of(o), object_pose(g_, initial, o), static_cast<std::int32_t>(o.index())));
+    }
+    sc.background = pass.take();
+    for (const graph::ObjectId o : g_.objects.ids()) sc.initial_boxes.push_back(ndc_box(sc.clip_from_world, boxes_[o.index()]));
   }
-  surface.min() -= Eigen::Vector3d(0.05, 0.05, 0.0);
-  surface.max() += Eigen::Vector3d(0.05, 0.05, 0.0);
-  reach.box.extend(ndc_box(sc->clip_from_world, surface).box);
-  for (const graph::ObjectId o : episode::everything_on(g_, initial, platform)) {
-    reach.box.extend(ndc_box(sc->clip_from_world, boxes_[o.index()]).box);
-  }
-  int left = 0, top = 0, width = 0, height = 0;
-  if (!reach.box.isEmpty()) {
-    pixel_window(reach.box, sc->pass_camera.width, sc->pass_camera.height, left, top, width, height);
-  }
-  // Scenery that can cover none of the window (beside it in the picture, or behind all of it)
-  // is left out: it changes none of the pixels the platform's objects can take.
-  IdPass pass(sc->pass_camera, IdImage(left, top, width, height));
-  for (const graph::ObjectId o : g_.objects.ids()) {
-    if (g_.objects[o].pickable() || geometry_.of(o).indices.empty()) continue;
-    if (!may_cover(ndc_box(sc->clip_from_world, boxes_[o.index()]), reach)) continue;
-    add_silhouette(sc->silhouettes, o,
-                   pass.draw(geometry_.of(o), object_pose(g_, initial, o), static_cast<std::int32_t>(o.index())));
-  }
-  sc->background = pass.take();
-  for (const graph::ObjectId o : g_.objects.ids()) sc->initial_boxes.push_back(ndc_box(sc->clip_from_world, boxes_[o.index()]));
-  return sc;
+  return out;
 }
 
-NdcBox VisibilityOracle::image_box(const episode::WorldState& s, graph::ObjectId o, const Scenery& sc) const {
+NdcBox VisibilityOracle::image_box(const episode::WorldState& s, graph::ObjectId o, const PictureScenery& sc) const {
   // Most objects stand where the graph found them: their image is known.
   if (s.objects[o].position == g_.objects[o].X_WO.translation()) return sc.initial_boxes[o.index()];
   return ndc_box(sc.clip_from_world, box_in(s, o));
 }
 
 VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState& s, graph::PlatformId platform,
-                                                      int side, const Scenery& sc) const {
+                                                      const PictureScenery& sc) const {
   // The platform's objects, and the items that may stand in front of them: nothing else changes
   // their pixels (the scenery is drawn already, and an item behind them or beside them in the
   // picture covers none of theirs).
   Deciders d;
-  append_key(d.key, static_cast<std::int64_t>(platform.index() * 4 + static_cast<std::size_t>(side)));
-  for (const graph::ObjectId o : episode::everything_on(g_, s, platform)) {
-    if (o != s.held) d.on.push_back(o);
-  }
-  std::sort(d.on.begin(), d.on.end());
+  append_key(d.key, sc.slot);
+  // The platform's objects in this picture: one wholly outside it (in another part of a long
+  // platform) shows nothing here and covers nothing that does, so the picture does not depend on
+  // where it stands.
   std::vector<NdcBox> targets;
   Eigen::AlignedBox3f all;
+  for (const graph::ObjectId o : episode::everything_on(g_, s, platform)) {
+    if (o == s.held) continue;
+    const NdcBox box = image_box(s, o, sc);
+    if (box.box.isEmpty() && !box.anywhere) continue;
+    d.on.push_back(o);
+  }
+  std::sort(d.on.begin(), d.on.end());
   for (const graph::ObjectId o : d.on) {
     targets.push_back(image_box(s, o, sc));
     all.extend(targets.back().box);
@@ -302,6 +391,7 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
     }
     d.items.push_back(o);
     const Eigen::Vector3d& at = s.objects[o].position;
+    d.at.push_back(at);
     append_key(d.key, static_cast<std::int64_t>(o.index()));
     append_key(d.key, at.x());
     append_key(d.key, at.y());
@@ -311,27 +401,19 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
   return d;
 }
 
-std::vector<std::int32_t> VisibilityOracle::readable_marks(const episode::WorldState& s,
-                                                          const std::vector<ItemMark>& items,
-                                                          const Camera& image_camera, const IdImage& pass) const {
-  const ItemMarksPlan plan = plan_item_marks(g_, geometry_, s, image_camera, items, {}, pass);
-  std::vector<std::int32_t> out;
-  for (const ItemMark& m : items) {
-    if (plan.placed(m.number)) out.push_back(static_cast<std::int32_t>(m.object.index()));
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 bool VisibilityOracle::in_view(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
-  const Deciders d = deciders(s, platform, side, scenery(platform, side));
-  return std::find(d.items.begin(), d.items.end(), o) != d.items.end();
+  for (const PictureScenery& sc : scenery(platform, side).pictures) {
+    const Deciders d = deciders(s, platform, sc);
+    if (std::find(d.items.begin(), d.items.end(), o) != d.items.end()) return true;
+  }
+  return false;
 }
 
 std::string VisibilityOracle::view_key(const episode::WorldState& s, graph::PlatformId platform) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
-  std::string key = deciders(s, platform, side, scenery(platform, side)).key;
+  std::string key;
+  for (const PictureScenery& sc : scenery(platform, side).pictures) key += deciders(s, platform, sc).key;
   append_key(key, s.platform_offset.at(platform).x());
   append_key(key, s.platform_offset.at(platform).y());
   append_key(key, s.platform_offset.at(platform).z());
@@ -343,7 +425,7 @@ std::shared_ptr<const ViewSight> VisibilityOracle::arrival_view(const episode::W
   return view(s, platform, std::max(0, g_.platforms.at(platform).default_side));
 }
 
-IdImage VisibilityOracle::draw_window(const episode::WorldState& s, const Scenery& sc, const Deciders& d,
+IdImage VisibilityOracle::draw_window(const PictureScenery& sc, const Deciders& d,
                                       std::vector<ObjectSight>& silhouettes) const {
   const IdImage& bg = sc.background;
   const bool inside = d.left >= bg.left && d.top >= bg.top && d.left + d.width <= bg.left + bg.width &&
@@ -358,16 +440,20 @@ IdImage VisibilityOracle::draw_window(const episode::WorldState& s, const Scener
     }
   } else {
     // Something on the platform reaches out of the window drawn beforehand (an item placed
-    // overhanging it): the scenery of this window is drawn afresh, the same pixels.
+    // overhanging it): the scenery of this window is drawn afresh, the same pixels (scenery
+    // stands where the graph found it).
     pass.emplace(sc.pass_camera, IdImage(d.left, d.top, d.width, d.height));
     for (const graph::ObjectId o : g_.objects.ids()) {
       if (g_.objects[o].pickable() || geometry_.of(o).indices.empty()) continue;
-      const int pixels = pass->draw(geometry_.of(o), object_pose(g_, s, o), static_cast<std::int32_t>(o.index()));
+      const int pixels = pass->draw(geometry_.of(o), g_.objects[o].X_WO, static_cast<std::int32_t>(o.index()));
       if (std::binary_search(d.on.begin(), d.on.end(), o)) add_silhouette(silhouettes, o, pixels);
     }
   }
-  for (const graph::ObjectId o : d.items) {
-    const int pixels = pass->draw(geometry_.of(o), object_pose(g_, s, o), static_cast<std::int32_t>(o.index()));
+  for (std::size_t k = 0; k < d.items.size(); ++k) {
+    const graph::ObjectId o = d.items[k];
+    // Items move without turning (episode::place_held): the graph's pose moved to where it stands.
+    const Eigen::Isometry3d pose = Eigen::Translation3d(d.at[k] - g_.objects[o].X_WO.translation()) * g_.objects[o].X_WO;
+    const int pixels = pass->draw(geometry_.of(o), pose, static_cast<std::int32_t>(o.index()));
     if (std::binary_search(d.on.begin(), d.on.end(), o)) add_silhouette(silhouettes, o, pixels);
   }
   std::sort(silhouettes.begin(), silhouettes.end(),
@@ -375,79 +461,122 @@ IdImage VisibilityOracle::draw_window(const episode::WorldState& s, const Scener
   return pass->take();
 }
 
+std::shared_ptr<const std::vector<ObjectSight>> VisibilityOracle::picture_counts(const PictureScenery& sc,
+                                                                                const Deciders& d) const {
+  return picture_sights_.get(d.key, [&] {
+    const std::shared_ptr<const Window> w = window(sc, d);
+    return std::make_shared<const std::vector<ObjectSight>>(count_pixels(w->image, w->silhouettes));
+  });
+}
+
 std::shared_ptr<const ViewSight> VisibilityOracle::view(const episode::WorldState& s, graph::PlatformId platform,
                                                         int side) const {
   MTG_DEMAND(side >= 0 && side <= 3, "visibility: side out of range");
   if (!s.platform_offset.at(platform).isZero()) {
     // A platform that moved with its item: no scenery drawing fits it; draw it all.
-    const Camera image_camera =
-        platform_camera(g_, s, platform, side, options_.image_width, options_.image_height);
-    IdView v = draw_id_view(g_, geometry_, s, at_resolution(image_camera, options_.pass_width(), options_.pass_height()));
-    return std::make_shared<const ViewSight>(image_camera, std::move(v.objects), options_);
+    std::vector<ViewSight::Picture> pictures;
+    for (const PlatformPicture& picture :
+         platform_pictures(g_, s, platform, side, options_.image_width, options_.image_height)) {
+      IdView v = draw_id_view(g_, geometry_, s,
+                              at_resolution(picture.camera, options_.pass_width(), options_.pass_height()));
+      pictures.push_back({picture.camera, std::move(v.objects)});
+    }
+    return std::make_shared<const ViewSight>(std::move(pictures), options_);
   }
   const Scenery& sc = scenery(platform, side);
-  const Deciders d = deciders(s, platform, side, sc);
-  return drawn_.get(d.key, [&] {
-    const std::shared_ptr<const Window> w = window(s, sc, d);
-    return std::make_shared<const ViewSight>(sc.image_camera, count_pixels(w->image, w->silhouettes), options_);
-  });
+  // Each picture is counted when first asked about (most questions are settled by the first),
+  // and its counts are remembered by its own deciders.
+  std::vector<Camera> cameras;
+  std::vector<ViewSight::Count> counts;
+  for (const PictureScenery& picture : sc.pictures) {
+    cameras.push_back(picture.picture.camera);
+    counts.push_back([this, p = &picture, d = deciders(s, platform, picture)] { return picture_counts(*p, d); });
+  }
+  return std::make_shared<const ViewSight>(std::move(cameras), std::move(counts), options_);
 }
 
-std::shared_ptr<const VisibilityOracle::Window> VisibilityOracle::window(const episode::WorldState& s,
-                                                                         const Scenery& sc, const Deciders& d) const {
+std::shared_ptr<const VisibilityOracle::Window> VisibilityOracle::window(const PictureScenery& sc,
+                                                                         const Deciders& d) const {
   return windows_.get(d.key, [&] {
     auto w = std::make_shared<Window>();
-    w->image = draw_window(s, sc, d, w->silhouettes);
+    w->image = draw_window(sc, d, w->silhouettes);
     return std::shared_ptr<const Window>(std::move(w));
   });
 }
 
+namespace {
+
+// The objects with some pixels in a picture.
+std::vector<graph::ObjectId> showing_in(const std::vector<ObjectSight>& sights) {
+  std::vector<graph::ObjectId> out;
+  for (const ObjectSight& o : sights) {
+    if (o.visible > 0) out.push_back(graph::ObjectId::of_index(static_cast<std::size_t>(o.object)));
+  }
+  return out;
+}
+
+}  // namespace
+
 bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
   const auto index = static_cast<std::int32_t>(o.index());
-  const std::vector<ItemMark> items = item_marks(g_, s, platform);
+  const std::vector<ItemMark> all_items = item_marks(g_, s, platform);
   if (!s.platform_offset.at(platform).isZero()) {
-    const Camera image_camera = platform_camera(g_, s, platform, side, options_.image_width, options_.image_height);
-    const IdImage whole =
-        draw_id_view(g_, geometry_, s, at_resolution(image_camera, options_.pass_width(), options_.pass_height())).image;
-    const std::vector<std::int32_t> readable = readable_marks(s, items, image_camera, whole);
-    return std::binary_search(readable.begin(), readable.end(), index);
-  }
-  const Scenery& sc = scenery(platform, side);
-  const Deciders d = deciders(s, platform, side, sc);
-  // The items' numbers (their order on the platform) decide where their marks go too.
-  std::string key = d.key;
-  for (const ItemMark& m : items) append_key(key, static_cast<std::int64_t>(m.object.index()));
-  // The numbered objects are all inside the window, and their pixels there are those of a whole
-  // pass: laid out on it, the marks go where the renderer puts them.
-  auto whole = [&] {
-    const std::shared_ptr<const Window> w = window(s, sc, d);
-    IdImage out(sc.pass_camera.width, sc.pass_camera.height);
-    for (int v = 0; v < w->image.height; ++v) {
-      for (int u = 0; u < w->image.width; ++u) {
-        out.ids[static_cast<std::size_t>(w->image.top + v) * static_cast<std::size_t>(out.width) +
-                static_cast<std::size_t>(w->image.left + u)] = w->image.at(u, v);
-      }
+    for (const PlatformPicture& picture :
+         platform_pictures(g_, s, platform, side, options_.image_width, options_.image_height)) {
+      const IdView whole =
+          draw_id_view(g_, geometry_, s, at_resolution(picture.camera, options_.pass_width(), options_.pass_height()));
+      const std::vector<ItemMark> items =
+          picture.part == 0 ? all_items : numbered_in(g_, s, platform, side, picture, all_items, showing_in(whole.objects));
+      const std::vector<std::int32_t> readable = readable_marks(s, items, picture.camera, whole.image);
+      if (std::binary_search(readable.begin(), readable.end(), index)) return true;
     }
-    return out;
-  };
-  // The picture itself first: most marks have their place there, and the zooms (drawn anew)
-  // are worked out only for a mark that has not.
-  const std::shared_ptr<const MarksInPicture> main = in_picture_.get(key, [&] {
-    const MarkLayout layout = layout_item_marks(whole(), kMarkPassScale, sc.image_camera, items);
-    auto m = std::make_shared<MarksInPicture>();
-    for (const PlacedMark& p : layout.placed) m->placed.push_back(static_cast<std::int32_t>(p.object.index()));
-    for (const ItemMark& c : layout.crowded) m->crowded.push_back(static_cast<std::int32_t>(c.object.index()));
-    std::sort(m->placed.begin(), m->placed.end());
-    std::sort(m->crowded.begin(), m->crowded.end());
-    return std::shared_ptr<const MarksInPicture>(std::move(m));
-  });
-  if (std::binary_search(main->placed.begin(), main->placed.end(), index)) return true;
-  if (!std::binary_search(main->crowded.begin(), main->crowded.end(), index)) return false;
-  const std::shared_ptr<const std::vector<std::int32_t>> readable = with_zooms_.get(key, [&] {
-    return std::make_shared<const std::vector<std::int32_t>>(readable_marks(s, items, sc.image_camera, whole()));
-  });
-  return std::binary_search(readable->begin(), readable->end(), index);
+    return false;
+  }
+  for (const PictureScenery& sc : scenery(platform, side).pictures) {
+    const Deciders d = deciders(s, platform, sc);
+    // The numbered objects are all inside the window, and their pixels there are those of a whole
+    // pass: laid out on it, the marks go where the renderer puts them.
+    auto whole = [&] {
+      const std::shared_ptr<const Window> w = window(sc, d);
+      IdImage out(sc.pass_camera.width, sc.pass_camera.height);
+      for (int v = 0; v < w->image.height; ++v) {
+        for (int u = 0; u < w->image.width; ++u) {
+          out.ids[static_cast<std::size_t>(w->image.top + v) * static_cast<std::size_t>(out.width) +
+                  static_cast<std::size_t>(w->image.left + u)] = w->image.at(u, v);
+        }
+      }
+      return out;
+    };
+    std::vector<ItemMark> items = all_items;
+    if (sc.picture.part != 0) {
+      const std::shared_ptr<const Window> w = window(sc, d);
+      items = numbered_in(g_, s, platform, side, sc.picture, all_items,
+                          showing_in(count_pixels(w->image, w->silhouettes)));
+    }
+    if (std::none_of(items.begin(), items.end(), [&](const ItemMark& m) { return m.object == o; })) continue;
+    // The items' numbers (their order on the platform) decide where their marks go too.
+    std::string key = d.key;
+    for (const ItemMark& m : items) append_key(key, static_cast<std::int64_t>(m.object.index()));
+    // The picture itself first: most marks have their place there, and the zooms (drawn anew)
+    // are worked out only for a mark that has not.
+    const std::shared_ptr<const MarksInPicture> main = in_picture_.get(key, [&] {
+      const MarkLayout layout = layout_item_marks(whole(), kMarkPassScale, sc.picture.camera, items);
+      auto m = std::make_shared<MarksInPicture>();
+      for (const PlacedMark& p : layout.placed) m->placed.push_back(static_cast<std::int32_t>(p.object.index()));
+      for (const ItemMark& c : layout.crowded) m->crowded.push_back(static_cast<std::int32_t>(c.object.index()));
+      std::sort(m->placed.begin(), m->placed.end());
+      std::sort(m->crowded.begin(), m->crowded.end());
+      return std::shared_ptr<const MarksInPicture>(std::move(m));
+    });
+    if (std::binary_search(main->placed.begin(), main->placed.end(), index)) return true;
+    if (!std::binary_search(main->crowded.begin(), main->crowded.end(), index)) continue;
+    const std::shared_ptr<const std::vector<std::int32_t>> readable = with_zooms_.get(key, [&] {
+      return std::make_shared<const std::vector<std::int32_t>>(readable_marks(s, items, sc.picture.camera, whole()));
+    });
+    if (std::binary_search(readable->begin(), readable->end(), index)) return true;
+  }
+  return false;
 }
 
 }  // namespace mtg::render

@@ -11,6 +11,7 @@
 // view stand where they stood gets the same answer, bit for bit, from any thread.
 
 #include <algorithm>
+#include <functional>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <memory>
@@ -36,25 +37,47 @@ struct ObjectSight {
   double share() const { return silhouette > 0 ? static_cast<double>(visible) / silhouette : 0.0; }
 };
 
-/// What one view shows of a platform's objects (and of whatever else it drew), by object index.
+/// What a view shows of a platform's objects (and of whatever else it drew), by object index:
+/// one picture, or the several pictures of a long platform's view (view.h, platform_pictures),
+/// of which an object needs to show clearly in one.
 class ViewSight {
  public:
-  ViewSight(Camera image_camera, std::vector<ObjectSight> objects, const VisibilityOptions& options);
+  struct Picture {
+    Camera camera;                    // at the agent's image size
+    std::vector<ObjectSight> objects; // sorted by object index
+  };
+  /// Counts a picture's objects when it is first asked about (the oracle's pictures: most
+  /// questions are settled by the first picture).
+  using Count = std::function<std::shared_ptr<const std::vector<ObjectSight>>()>;
 
-  /// The object's pixels (zero when it does not show at all).
+  ViewSight(Camera image_camera, std::vector<ObjectSight> objects, const VisibilityOptions& options);
+  ViewSight(std::vector<Picture> pictures, const VisibilityOptions& options);
+  /// Pictures counted on demand, each once (thread-safe); `counts[k]` belongs to `cameras[k]`.
+  ViewSight(std::vector<Camera> cameras, std::vector<Count> counts, const VisibilityOptions& options);
+  ~ViewSight();
+  ViewSight(const ViewSight&) = delete;
+  ViewSight& operator=(const ViewSight&) = delete;
+
+  /// The object's pixels in the picture that shows most of it (zero when none shows it).
   ObjectSight of(graph::ObjectId o) const;
-  /// Enough of it shows, and a large enough share of it, for a person to tell what it is.
+  /// The object's pixels in picture `k`.
+  ObjectSight of(std::size_t k, graph::ObjectId o) const;
+  /// Enough of it shows in some picture, and a large enough share of it, for a person to tell
+  /// what it is.
   bool clearly_visible(graph::ObjectId o) const;
-  /// Image pixels (at the agent's image size) showing the object.
+  bool clearly_visible_in(std::size_t k, graph::ObjectId o) const;
+  /// Image pixels (at the agent's image size) showing the object, in the picture that shows most.
   double image_pixels(graph::ObjectId o) const;
 
-  /// The camera of the agent's image (its size), for placing things in the picture.
-  const Camera& camera() const { return camera_; }
-  const std::vector<ObjectSight>& objects() const { return objects_; }
+  std::size_t pictures() const { return pictures_.size(); }
+  /// The camera of picture `k` (the agent's image size), for placing things in the picture.
+  const Camera& camera(std::size_t k = 0) const;
+  /// Picture k's objects, sorted by object index.
+  const std::vector<ObjectSight>& objects(std::size_t k = 0) const;
 
  private:
-  Camera camera_;
-  std::vector<ObjectSight> objects_;  // by object index
+  struct Slot;
+  std::vector<std::unique_ptr<Slot>> pictures_;
   double pixel_area_ = 1.0;           // image pixels per pass pixel
   VisibilityOptions options_;
 };
@@ -91,17 +114,18 @@ class VisibilityOracle {
 
   const VisibilityOptions& options() const { return options_; }
   /// Distinct views drawn so far (telemetry).
-  std::size_t views_drawn() const { return drawn_.size(); }
+  std::size_t views_drawn() const { return picture_sights_.size(); }
 
  private:
-  struct Scenery;  // a view's camera and its drawing of everything that never moves
+  struct PictureScenery;  // one picture's camera and its drawing of everything that never moves
+  struct Scenery;         // the pictures of a platform's view from one side
   const Scenery& scenery(graph::PlatformId platform, int side) const;
   std::unique_ptr<Scenery> make_scenery(graph::PlatformId platform, int side) const;
-  // What decides what the view shows of the platform's objects in `s`: those objects and the
+  // What decides what a picture shows of the platform's objects in `s`: those objects and the
   // items that may stand in front of them (in id order), where they stand (the memo key), and
   // the pixels they may cover.
   struct Deciders;
-  Deciders deciders(const episode::WorldState& s, graph::PlatformId platform, int side, const Scenery& sc) const;
+  Deciders deciders(const episode::WorldState& s, graph::PlatformId platform, const PictureScenery& sc) const;
   // The numbered items of the view whose marks have a readable place (by object index), laid out
   // on `pass`, a whole pass of the view.
   std::vector<std::int32_t> readable_marks(const episode::WorldState& s, const std::vector<ItemMark>& items,
@@ -112,7 +136,9 @@ class VisibilityOracle {
     IdImage image;
     std::vector<ObjectSight> silhouettes;
   };
-  std::shared_ptr<const Window> window(const episode::WorldState& s, const Scenery& sc, const Deciders& d) const;
+  std::shared_ptr<const Window> window(const PictureScenery& sc, const Deciders& d) const;
+  // A picture's counts (memo of its deciders).
+  std::shared_ptr<const std::vector<ObjectSight>> picture_counts(const PictureScenery& sc, const Deciders& d) const;
   // Which numbered objects have their place in the marked picture itself, and which are left
   // to its zooms (object indices, sorted).
   struct MarksInPicture {
@@ -121,11 +147,11 @@ class VisibilityOracle {
   };
   // The window of the view where the platform's objects can show, drawn with the deciders;
   // their silhouettes go to `silhouettes` (sorted by object index).
-  IdImage draw_window(const episode::WorldState& s, const Scenery& sc, const Deciders& d,
+  IdImage draw_window(const PictureScenery& sc, const Deciders& d,
                       std::vector<ObjectSight>& silhouettes) const;
   // Object o's world box in `s` (it moves without turning), and where it lands in the view.
   Eigen::AlignedBox3d box_in(const episode::WorldState& s, graph::ObjectId o) const;
-  NdcBox image_box(const episode::WorldState& s, graph::ObjectId o, const Scenery& sc) const;
+  NdcBox image_box(const episode::WorldState& s, graph::ObjectId o, const PictureScenery& sc) const;
 
   const graph::SceneGraph& g_;
   const SceneGeometry& geometry_;
@@ -137,7 +163,9 @@ class VisibilityOracle {
     std::unique_ptr<Scenery> scenery;
   };
   mutable std::vector<SceneryOnce> scenery_;  // per platform and side, drawn on first use
-  mutable BoundedMemoTable<std::shared_ptr<const ViewSight>> drawn_{32768};
+  // One picture's counts, by its own deciders: a change in one part of a long platform leaves
+  // the other parts' pictures as they were.
+  mutable BoundedMemoTable<std::shared_ptr<const std::vector<ObjectSight>>> picture_sights_{65536};
   mutable BoundedMemoTable<std::shared_ptr<const Window>> windows_{64};
   mutable BoundedMemoTable<std::shared_ptr<const MarksInPicture>> in_picture_{4096};
   mutable BoundedMemoTable<std::shared_ptr<const std::vector<std::int32_t>>> with_zooms_{1024};

@@ -334,8 +334,16 @@ class ItemEnumeration {
     const double margin = candidate.margin;
     if (margin <= 0.0) return false;  // not a goal of this placement: the judge decides
     const char* why = nullptr;
+    // A direction is asked for only where the agent is offered it in the task's own words: the
+    // free space of that side of that object ("front-right of object 3"), not a neighbour's
+    // region that happens to reach there.
+    const bool words_match = goal.type != GoalType::kDirection ||
+                             (t.kind == episode::PlaceTarget::Kind::kObjectRegion && t.anchor == goal.anchor &&
+                              t.relative_dir == goal.direction);
     if (d.too_tall) {
       why = "stack";
+    } else if (!words_match) {
+      why = "unworded";
     } else if (episode::goal_met_from_any_side(g_, s_, goal, options_.goals)) {
       why = "trivial";
     } else if (margin < options_.min_margin) {

@@ -9,6 +9,7 @@
 #include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 #include "core/tasks/atomic.h"
+#include "core/tasks/coverage.h"
 #include "core/tasks/identify.h"
 #include "core/tasks/outcome.h"
 #include "core/tasks/phrasing.h"
@@ -267,6 +268,7 @@ GenerationResult generate_tasks(const graph::SceneGraph& g, const TaskOptions& o
   TaskSet& set = result.set;
   set.scene = g.scene;
   const episode::WorldState initial = episode::initial_state(g);
+  set.coverage = to_json(coverage_items(g, initial, options.ambiguity, seeing));
   TaskNumbering numbering(g.scene, sink);
   episode::PlacementMemo memo;  // Levels 1-3 of this scene, on every thread
 

@@ -112,7 +112,7 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
 }
 
 // Object-level placeholders are drawn this many times per platform-level binding.
-constexpr std::size_t kSamples = 3;
+constexpr std::size_t kSamples = 4;
 
 struct Move {
   ObjectId object;

@@ -5,10 +5,10 @@
 namespace mtg::tasks {
 namespace {
 
-constexpr int kMaxRank = 4;  // "the fourth book from the left" at most
+constexpr int kMaxRank = 5;  // "the fifth book from the left" at most
 
 const char* ordinal(int rank) {
-  static const char* kWords[] = {"", "first", "second", "third", "fourth"};
+  static const char* kWords[] = {"", "first", "second", "third", "fourth", "fifth"};
   return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
 }
 
@@ -26,19 +26,27 @@ const char* to_string(Relation r) {
     case Relation::kFromRight: return "from_right";
     case Relation::kNearest: return "nearest";
     case Relation::kFarthest: return "farthest";
+    case Relation::kFromTop: return "from_top";
+    case Relation::kFromBottom: return "from_bottom";
   }
   return "alone";
 }
 
 Relation relation_from_string(const std::string& name) {
   for (const Relation r : {Relation::kAlone, Relation::kOn, Relation::kUnder, Relation::kNextTo, Relation::kFromLeft,
-                           Relation::kFromRight, Relation::kNearest, Relation::kFarthest}) {
+                           Relation::kFromRight, Relation::kNearest, Relation::kFarthest, Relation::kFromTop,
+                           Relation::kFromBottom}) {
     if (name == to_string(r)) return r;
   }
   throw Error("reference: unknown relation '" + name + "'");
 }
 
 std::string Reference::phrase() const {
+  if (row != Row::kNone && (relation == Relation::kFromLeft || relation == Relation::kFromRight)) {
+    Reference in_row = *this;
+    in_row.row = Row::kNone;
+    return in_row.phrase() + (row == Row::kFront ? " in the front row" : " in the back row");
+  }
   switch (relation) {
     case Relation::kAlone: return "the " + noun;
     case Relation::kOn: return "the " + noun + " on the " + landmark;
@@ -50,6 +58,12 @@ std::string Reference::phrase() const {
       return rank <= 1 ? "the rightmost " + noun : std::string("the ") + ordinal(rank) + " " + noun + " from the right";
     case Relation::kNearest: return "the nearest " + noun;
     case Relation::kFarthest: return "the farthest " + noun;
+    case Relation::kFromTop:
+      return rank <= 1 ? "the " + noun + " at the top of the stack"
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of the stack";
+    case Relation::kFromBottom:
+      return rank <= 1 ? "the " + noun + " at the bottom of the stack"
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of the stack";
   }
   return "the " + noun;
 }
@@ -58,6 +72,7 @@ nlohmann::json Reference::to_json() const {
   nlohmann::json j = {{"relation", tasks::to_string(relation)}, {"noun", noun}};
   if (!landmark.empty()) j["landmark"] = landmark;
   if (rank > 0) j["rank"] = rank;
+  if (row != Row::kNone) j["row"] = row == Row::kFront ? "front" : "back";
   return j;
 }
 
@@ -72,7 +87,17 @@ Reference Reference::from_json(const nlohmann::json& j) {
   r.rank = j.value("rank", 0);
   if (needs_landmark(r.relation) && r.landmark.empty()) throw Error("reference: relation needs 'landmark'");
   const bool ordinal_relation = !needs_landmark(r.relation) && r.relation != Relation::kAlone;
-  if (ordinal_relation && (r.rank < 1 || r.rank > kMaxRank)) throw Error("reference: 'rank' must be 1..4");
+  if (ordinal_relation && (r.rank < 1 || r.rank > kMaxRank)) {
+    throw Error("reference: 'rank' must be 1.." + std::to_string(kMaxRank));
+  }
+  const std::string row = j.value("row", "");
+  if (!row.empty()) {
+    if (row != "front" && row != "back") throw Error("reference: 'row' must be front or back, not '" + row + "'");
+    if (r.relation != Relation::kFromLeft && r.relation != Relation::kFromRight) {
+      throw Error("reference: only from_left and from_right count in a row");
+    }
+    r.row = row == "front" ? Row::kFront : Row::kBack;
+  }
   return r;
 }
 

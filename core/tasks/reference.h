@@ -8,20 +8,26 @@
 
 namespace mtg::tasks {
 
-enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNearest, kFarthest };
+enum class Relation { kAlone, kOn, kUnder, kNextTo, kFromLeft, kFromRight, kNearest, kFarthest, kFromTop, kFromBottom };
 /// "alone", "on", ... @throws mtg::Error for an unknown name.
 Relation relation_from_string(const std::string& name);
 const char* to_string(Relation r);
 /// Whether the relation names a second object (on, under, next_to).
 bool needs_landmark(Relation r);
 
+/// Look-alikes that stand in two rows, one behind the other (spice jars in a rack): an ordinal may
+/// count in the front (nearer) row or the back row only.
+enum class Row { kNone, kFront, kBack };
+
 struct Reference {
   Relation relation = Relation::kAlone;
   std::string noun;
   std::string landmark;  // on, under, next_to: the other object's noun
-  int rank = 0;          // from_left, from_right: 1 = the first; nearest, farthest: 1
+  int rank = 0;          // from_left, from_right, from_top, from_bottom: 1 = the first; nearest, farthest: 1
+  Row row = Row::kNone;  // from_left, from_right: counted in that row only
 
-  /// "the book", "the book on the box", "the leftmost book", "the second book from the right"...
+  /// "the book", "the book on the box", "the leftmost book", "the second book from the right",
+  /// "the leftmost spice jar in the back row"...
   std::string phrase() const;
   nlohmann::json to_json() const;
   /// @throws mtg::Error naming the field.

@@ -1,6 +1,7 @@
 #include "core/tasks/referring.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <memory>
 #include <set>
@@ -17,14 +18,33 @@ using episode::WorldState;
 
 constexpr double kNextTo = 0.05;       // m between footprints: "next to"
 constexpr double kNextToClear = 0.15;  // m: no other candidate this close to any landmark
-constexpr double kOrdinalGap = 0.03;   // m between consecutive centres when counting along an axis
+constexpr double kOrdinalGap = 0.02;   // m between consecutive centres when counting along an axis
+                                       // (and 10 image pixels in the picture, VisibilityOptions::min_gap)
+constexpr double kRowGap = 0.03;       // m between two rows of look-alikes, front to back
 
-// Relations tried, in order, with their rank (0: not an ordinal).
-constexpr std::pair<Relation, int> kPreference[] = {
-    {Relation::kOn, 0},        {Relation::kUnder, 0},    {Relation::kNextTo, 0},    {Relation::kFromLeft, 1},
-    {Relation::kFromRight, 1}, {Relation::kNearest, 1},  {Relation::kFarthest, 1},  {Relation::kFromLeft, 2},
-    {Relation::kFromRight, 2}, {Relation::kFromLeft, 3}, {Relation::kFromRight, 3}, {Relation::kFromLeft, 4},
-    {Relation::kFromRight, 4}};
+// Relations tried, in order, with their rank (0: not an ordinal) and row.
+struct Preferred {
+  Relation relation;
+  int rank;
+  Row row;
+};
+constexpr Preferred kPreference[] = {
+    {Relation::kOn, 0, Row::kNone},        {Relation::kUnder, 0, Row::kNone},     {Relation::kNextTo, 0, Row::kNone},
+    {Relation::kFromLeft, 1, Row::kNone},  {Relation::kFromRight, 1, Row::kNone}, {Relation::kNearest, 1, Row::kNone},
+    {Relation::kFarthest, 1, Row::kNone},  {Relation::kFromLeft, 2, Row::kNone},  {Relation::kFromRight, 2, Row::kNone},
+    {Relation::kFromLeft, 3, Row::kNone},  {Relation::kFromRight, 3, Row::kNone}, {Relation::kFromLeft, 4, Row::kNone},
+    {Relation::kFromRight, 4, Row::kNone}, {Relation::kFromLeft, 5, Row::kNone},  {Relation::kFromRight, 5, Row::kNone},
+    // Look-alikes in two rows (a rack of spice jars): counted along one row.
+    {Relation::kFromLeft, 1, Row::kFront}, {Relation::kFromRight, 1, Row::kFront},
+    {Relation::kFromLeft, 1, Row::kBack},  {Relation::kFromRight, 1, Row::kBack},
+    {Relation::kFromLeft, 2, Row::kFront}, {Relation::kFromRight, 2, Row::kFront},
+    {Relation::kFromLeft, 2, Row::kBack},  {Relation::kFromRight, 2, Row::kBack},
+    {Relation::kFromLeft, 3, Row::kFront}, {Relation::kFromRight, 3, Row::kFront},
+    {Relation::kFromLeft, 3, Row::kBack},  {Relation::kFromRight, 3, Row::kBack},
+    // Look-alikes in one stack (books lying on each other): counted from its top or bottom.
+    {Relation::kFromTop, 1, Row::kNone},   {Relation::kFromBottom, 1, Row::kNone},
+    {Relation::kFromTop, 2, Row::kNone},   {Relation::kFromBottom, 2, Row::kNone},
+    {Relation::kFromTop, 3, Row::kNone},   {Relation::kFromBottom, 3, Row::kNone}};
 
 // One platform as a reader of references sees it in one state: everything on it (at any depth),
 // what each is called, and where each stands as seen from the arrival side.
@@ -125,11 +145,66 @@ class PlatformView {
         // One candidate in the clear zone, and really next to its landmark.
         if (out.size() == 1 && gap_to(out.front(), r.landmark, kNextTo) > kNextTo) out.clear();
         return out;
-      case Relation::kFromLeft: return counted(candidates, 2, r.rank);
-      case Relation::kFromRight: return counted(candidates, 6, r.rank);
+      case Relation::kFromLeft: return counted(in_row(candidates, r.row), 2, r.rank);
+      case Relation::kFromRight: return counted(in_row(candidates, r.row), 6, r.rank);
       case Relation::kNearest: return counted(candidates, 0, 1);
       case Relation::kFarthest: return counted(candidates, 4, 1);
+      case Relation::kFromTop: return stacked(candidates, true, r.rank);
+      case Relation::kFromBottom: return stacked(candidates, false, r.rank);
     }
+    return out;
+  }
+
+  // The object at the bottom of the stack object i stands in (itself when it stands on the
+  // platform).
+  std::size_t stack_base(std::size_t i) const {
+    while (support(i) >= 0) i = static_cast<std::size_t>(support(i));
+    return i;
+  }
+  // Counting candidates down (or up) their stack: only when every candidate stands in one stack.
+  std::vector<std::size_t> stacked(const std::vector<std::size_t>& candidates, bool from_top, int rank) const {
+    if (candidates.size() < 2 || rank < 1 || rank > static_cast<int>(candidates.size())) return {};
+    const std::size_t base = stack_base(candidates.front());
+    for (const std::size_t c : candidates) {
+      if (stack_base(c) != base) return candidates;  // several stacks: "the top book" names none
+    }
+    std::vector<std::pair<double, std::size_t>> order;
+    for (const std::size_t c : candidates) {
+      const double z = s_.objects[objects_[c]].bottom;
+      order.emplace_back(from_top ? -z : z, c);
+    }
+    std::sort(order.begin(), order.end());
+    return {order[static_cast<std::size_t>(rank) - 1].second};
+  }
+
+  // The candidates of one row when they stand in two rows, front to back, at least kRowGap apart
+  // with each row narrower than that gap; none when they do not (or for Row::kNone, all).
+  std::vector<std::size_t> in_row(const std::vector<std::size_t>& candidates, Row row) const {
+    if (row == Row::kNone) return candidates;
+    const std::array<std::vector<std::size_t>, 2> rows = rows_of(candidates);
+    return rows[row == Row::kFront ? 0 : 1];
+  }
+  std::array<std::vector<std::size_t>, 2> rows_of(const std::vector<std::size_t>& candidates) const {
+    std::vector<std::pair<double, std::size_t>> depth;  // farther is larger
+    for (const std::size_t c : candidates) depth.emplace_back(along(c, 4), c);
+    std::sort(depth.begin(), depth.end());
+    if (depth.size() < 2) return {};
+    std::size_t cut = 0;
+    double widest = -1.0;
+    for (std::size_t k = 0; k + 1 < depth.size(); ++k) {
+      const double gap = depth[k + 1].first - depth[k].first;
+      if (gap > widest) {
+        widest = gap;
+        cut = k + 1;
+      }
+    }
+    const double front_spread = depth[cut - 1].first - depth.front().first;
+    const double back_spread = depth.back().first - depth[cut].first;
+    if (widest < kRowGap || front_spread >= widest || back_spread >= widest) return {};
+    std::array<std::vector<std::size_t>, 2> out;
+    for (std::size_t k = 0; k < depth.size(); ++k) out[k < cut ? 0 : 1].push_back(depth[k].second);
+    std::sort(out[0].begin(), out[0].end());
+    std::sort(out[1].begin(), out[1].end());
     return out;
   }
 
@@ -156,10 +231,12 @@ class PlatformView {
           if (k != i && nouns_[k] == r.landmark && gap(i, k, kNextTo) <= kNextTo && visible(k)) return true;
         }
         return false;
-      case Relation::kFromLeft: return counted_in_view(r.noun, 2, r.rank);
-      case Relation::kFromRight: return counted_in_view(r.noun, 6, r.rank);
-      case Relation::kNearest: return counted_in_view(r.noun, 0, 1);
-      case Relation::kFarthest: return counted_in_view(r.noun, 4, 1);
+      case Relation::kFromLeft: return counted_in_view(r.noun, 2, r.rank, r.row);
+      case Relation::kFromRight: return counted_in_view(r.noun, 6, r.rank, r.row);
+      case Relation::kNearest: return counted_in_view(r.noun, 0, 1, Row::kNone);
+      case Relation::kFarthest: return counted_in_view(r.noun, 4, 1, Row::kNone);
+      case Relation::kFromTop: return stacked_in_view(r.noun, true, r.rank);
+      case Relation::kFromBottom: return stacked_in_view(r.noun, false, r.rank);
     }
     return false;
   }
@@ -180,26 +257,89 @@ class PlatformView {
   }
 
  private:
-  // Whether a person counting the candidates called `noun` along a viewer axis in the picture
-  // counts as the footprints do: every candidate clearly visible, the picture's order the
-  // footprints' order, and each of the first `rank` neighbours at least min_gap pixels from the
+  // Whether a person counting the candidates called `noun` along a viewer axis counts as the
+  // footprints do, in one of the view's pictures: the candidates up to the `rank`-th clearly
+  // visible there, the picture's order of all of them the footprints' order (one that shows less
+  // still stands where it stands), and each of the first `rank` at least min_gap pixels from the
   // next. Left/right read along the image's width at mid-height; near/far along its height at
   // the bottom (nearer stands lower in the picture).
-  bool counted_in_view(const std::string& noun, int relative_dir, int rank) const {
-    std::vector<std::pair<double, std::size_t>> order;
+  // Counting in a row, the two rows must show as rows too: every candidate of the front row lower
+  // in the picture than every one of the back row, by min_gap pixels.
+  bool counted_in_view(const std::string& noun, int relative_dir, int rank, Row row) const {
+    std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < size(); ++i) {
-      if (nouns_[i] != noun) continue;
-      if (!sight_->clearly_visible(objects_[i])) return false;
+      if (nouns_[i] == noun) candidates.push_back(i);
+    }
+    const std::array<std::vector<std::size_t>, 2> rows =
+        row == Row::kNone ? std::array<std::vector<std::size_t>, 2>{} : rows_of(candidates);
+    std::vector<std::pair<double, std::size_t>> order;
+    for (const std::size_t i : row == Row::kNone ? candidates : rows[row == Row::kFront ? 0 : 1]) {
       order.emplace_back(-along(i, relative_dir), i);
     }
     std::sort(order.begin(), order.end());
+    for (std::size_t k = 0; k < sight_->pictures(); ++k) {
+      if (!counted_in_picture(order, k, relative_dir, rank)) continue;
+      if (row == Row::kNone || rows_apart_in_picture(rows, k)) return true;
+    }
+    return false;
+  }
+
+  // Counting down (or up) a stack in a picture: the candidates up to the counted one clearly
+  // visible there, each standing at least min_gap pixels above (below) the next.
+  bool stacked_in_view(const std::string& noun, bool from_top, int rank) const {
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (nouns_[i] != noun) continue;
+      const double z = s_.objects[objects_[i]].bottom;
+      order.emplace_back(from_top ? -z : z, i);
+    }
+    std::sort(order.begin(), order.end());
+    for (std::size_t k = 0; k < sight_->pictures(); ++k) {
+      bool ok = true;
+      std::vector<double> at;  // image y, growing along the count
+      for (std::size_t n = 0; n < order.size() && ok; ++n) {
+        const std::size_t i = order[n].second;
+        if (static_cast<int>(n) < rank && !sight_->clearly_visible_in(k, objects_[i])) ok = false;
+        const episode::ObjectState& o = s_.objects[objects_[i]];
+        const auto px =
+            sight_->camera(k).project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), (o.bottom + o.top) / 2.0));
+        if (!px) ok = false;
+        if (ok) at.push_back(from_top ? px->y() : -px->y());
+      }
+      for (std::size_t n = 0; ok && n + 1 < at.size(); ++n) {
+        if (at[n + 1] - at[n] < (static_cast<int>(n) < rank ? min_gap_ : 0.0)) ok = false;
+      }
+      if (ok) return true;
+    }
+    return false;
+  }
+
+  bool rows_apart_in_picture(const std::array<std::vector<std::size_t>, 2>& rows, std::size_t picture) const {
+    double front_top = std::numeric_limits<double>::infinity();  // image y grows downwards
+    double back_bottom = -std::numeric_limits<double>::infinity();
+    for (int r = 0; r < 2; ++r) {
+      for (const std::size_t i : rows[static_cast<std::size_t>(r)]) {
+        const auto px = sight_->camera(picture).project(
+            Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), s_.objects[objects_[i]].bottom));
+        if (!px) return false;
+        if (r == 0) front_top = std::min(front_top, px->y());
+        if (r == 1) back_bottom = std::max(back_bottom, px->y());
+      }
+    }
+    return front_top - back_bottom >= min_gap_;
+  }
+
+  bool counted_in_picture(const std::vector<std::pair<double, std::size_t>>& order, std::size_t picture,
+                          int relative_dir, int rank) const {
     const bool sideways = relative_dir == 2 || relative_dir == 6;
     // Image coordinate growing along the counting direction.
     std::vector<double> at;
-    for (const auto& [key, i] : order) {
+    for (std::size_t n = 0; n < order.size(); ++n) {
+      const std::size_t i = order[n].second;
+      if (static_cast<int>(n) < rank && !sight_->clearly_visible_in(picture, objects_[i])) return false;
       const episode::ObjectState& o = s_.objects[objects_[i]];
       const double z = sideways ? (o.bottom + o.top) / 2.0 : o.bottom;
-      const auto px = sight_->camera().project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), z));
+      const auto px = sight_->camera(picture).project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), z));
       if (!px) return false;
       const double coordinate = sideways ? px->x() : px->y();
       at.push_back(relative_dir == 2 || relative_dir == 4 ? coordinate : -coordinate);
@@ -304,9 +444,10 @@ Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>&
     return out;
   };
   if (names_it(r)) return found(r);
-  for (const auto& [relation, rank] : kPreference) {
+  for (const auto& [relation, rank, row] : kPreference) {
     r.relation = relation;
     r.rank = rank;
+    r.row = row;
     r.landmark.clear();
     if (!needs_landmark(relation)) {
       if (names_it(r)) return found(r);

@@ -16,8 +16,9 @@ namespace mtg::tasks {
 // One arrival view drawn afresh: what it shows of the platform's objects, and whose number has a
 // readable place (in the picture or a zoom).
 struct SeenAudit::View {
-  render::Camera camera;
-  render::IdImage pass;
+  std::vector<render::PlatformPicture> pictures;
+  std::vector<render::IdImage> passes;  // one per picture
+  int side = 0;
   std::shared_ptr<const render::ViewSight> sight;
   bool marks_laid_out = false;
   std::vector<graph::ObjectId> readable;
@@ -43,15 +44,18 @@ SeenAudit::View& SeenAudit::view(const episode::WorldState& s, graph::PlatformId
   auto& slot = views_[key];
   if (slot) return *slot;
   const render::VisibilityOptions& vo = *options_.visibility;
-  const int side = std::max(0, g_.platforms[platform].default_side);
-  const render::Camera camera = render::platform_camera(g_, s, platform, side, vo.image_width, vo.image_height);
-  const render::Camera pass = render::at_resolution(camera, vo.pass_width(), vo.pass_height());
-  const std::vector<graph::ObjectId> on = episode::everything_on(g_, s, platform);
-  render::IdView ids = render::draw_id_view_of(g_, geometry_, s, pass, on);
   auto v = std::make_shared<View>();
-  v->camera = camera;
-  v->sight = std::make_shared<const render::ViewSight>(camera, ids.objects, vo);
-  v->pass = std::move(ids.image);
+  v->side = std::max(0, g_.platforms[platform].default_side);
+  v->pictures = render::platform_pictures(g_, s, platform, v->side, vo.image_width, vo.image_height);
+  const std::vector<graph::ObjectId> on = episode::everything_on(g_, s, platform);
+  std::vector<render::ViewSight::Picture> pictures;
+  for (const render::PlatformPicture& picture : v->pictures) {
+    const render::Camera pass = render::at_resolution(picture.camera, vo.pass_width(), vo.pass_height());
+    render::IdView ids = render::draw_id_view_of(g_, geometry_, s, pass, on);
+    pictures.push_back({picture.camera, std::move(ids.objects)});
+    v->passes.push_back(std::move(ids.image));
+  }
+  v->sight = std::make_shared<const render::ViewSight>(std::move(pictures), vo);
   slot = std::move(v);
   return *slot;
 }
@@ -61,13 +65,27 @@ void SeenAudit::lay_out_marks(View& v, const episode::WorldState& s, graph::Plat
   v.marks_laid_out = true;
   // The pass holds every numbered object's pixels as a whole pass has them (they are on the
   // platform), so the marks go where the renderer puts them.
-  const std::vector<render::ItemMark> items = render::item_marks(g_, s, platform);
-  const render::ItemMarksPlan marks = render::plan_item_marks(g_, geometry_, s, v.camera, items, {}, v.pass);
-  for (const render::ItemMark& m : items) {
-    if (marks.placed(m.number)) v.readable.push_back(m.object);
+  const std::vector<render::ItemMark> all_items = render::item_marks(g_, s, platform);
+  for (std::size_t k = 0; k < v.pictures.size(); ++k) {
+    std::vector<graph::ObjectId> showing;
+    for (const render::ObjectSight& o : v.sight->objects(k)) {
+      if (o.visible > 0) showing.push_back(graph::ObjectId::of_index(static_cast<std::size_t>(o.object)));
+    }
+    const std::vector<render::ItemMark> items =
+        render::numbered_in(g_, s, platform, v.side, v.pictures[k], all_items, showing);
+    const render::ItemMarksPlan marks =
+        render::plan_item_marks(g_, geometry_, s, v.pictures[k].camera, items, {}, v.passes[k]);
+    for (const render::ItemMark& m : items) {
+      if (marks.placed(m.number) &&
+          std::find(v.readable.begin(), v.readable.end(), m.object) == v.readable.end()) {
+        v.readable.push_back(m.object);
+      }
+    }
+    for (const std::string& p : marks.problems()) {
+      v.mark_problems.push_back(k == 0 ? p : render::part_words(v.pictures[k]) + ": " + p);
+    }
   }
-  v.mark_problems = marks.problems();
-  v.pass = {};  // not needed again
+  v.passes.clear();  // not needed again
 }
 
 std::vector<std::string> SeenAudit::check(const Task& task) const {

@@ -112,7 +112,8 @@ struct TaskOptions {
 /// "small_area" (less than the minimum feasible area for the item's centre), "stack" (the item
 /// with what rests on it is taller than the destination's clearance, though the item alone is
 /// not), "unidentifiable" (look-alikes no reference tells apart), "vague" (Level 4: the text's
-/// words match other objects than the goal's).
+/// words match other objects than the goal's), "unworded" (a direction no key offers in those
+/// words: only another object's free space reaches there).
 struct DropCounts {
   std::map<std::string, std::map<int, long>> by_reason;
   void add(const std::string& reason, int level, long n = 1) { by_reason[reason][level] += n; }
@@ -127,6 +128,7 @@ struct TaskSet {
   std::vector<Task> tasks;
   std::vector<std::string> warnings;
   DropCounts dropped;
+  nlohmann::json coverage = nlohmann::json::array();  // coverage.h: the scene's pickable items
   scene::DatasetFingerprint dataset;  // the files the scene was loaded from
 };
 

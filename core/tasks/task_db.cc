@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "core/store/sqlite.h"
+#include "core/tasks/coverage.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_writer.h"
@@ -109,6 +110,7 @@ void write_reference(JsonWriter& w, const Reference& r) {
   w.key("noun").value(r.noun);
   if (r.rank > 0) w.key("rank").value(r.rank);
   w.key("relation").value(to_string(r.relation));
+  if (r.row != Row::kNone) w.key("row").value(r.row == Row::kFront ? "front" : "back");
   w.end_object();
 }
 
@@ -202,6 +204,7 @@ struct TaskDbWriter::Open {
   std::int64_t next_chunk = 0;
   std::vector<std::string> scenes;
   nlohmann::json dropped = nlohmann::json::object();
+  nlohmann::json coverage = nlohmann::json::object();
   std::map<std::string, scene::DatasetFingerprint> dataset;
   std::string hash;
   std::ofstream jsonl;
@@ -242,6 +245,7 @@ void TaskDbWriter::end_scene(const TaskSet& set) {
   Open& o = *open_;
   o.scenes.push_back(set.scene);
   o.dropped[set.scene] = set.dropped.to_json();
+  o.coverage[set.scene] = set.coverage;
   o.dataset[set.scene] = set.dataset;
   scene_open_ = false;
 }
@@ -257,6 +261,7 @@ void TaskDbWriter::add(const TaskSet& set) {
   TaskSet meta;
   meta.scene = set.scene;
   meta.dropped = set.dropped;
+  meta.coverage = set.coverage;
   meta.dataset = set.dataset;
   end_scene(meta);
 }
@@ -326,6 +331,7 @@ void TaskDbWriter::finish(const std::vector<Vote>& votes) {
   for (const auto& [k, v] : std::vector<std::pair<std::string, std::string>>{
            {"format", kFormat},
            {"dropped", o.dropped.dump()},
+           {"coverage", o.coverage.dump()},
            {"dataset", scene::to_json(o.dataset).dump()},
            {"generator_version", kGeneratorVersion},
            {"config_json", options_.to_json().dump()},
@@ -354,6 +360,13 @@ void write_task_db(const fs::path& file, const std::vector<TaskSet>& sets, const
 }
 
 std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) {
+  std::vector<Task> out;
+  for_each_task(file, levels, [&](Task t) { out.push_back(std::move(t)); });
+  std::sort(out.begin(), out.end(), [](const Task& a, const Task& b) { return a.id < b.id; });
+  return out;
+}
+
+void for_each_task(const fs::path& file, const std::set<int>& levels, const std::function<void(Task)>& take) {
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
   // In storage order, so each chunk is inflated once (a set's levels interleave in its chunks),
@@ -363,7 +376,6 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
   constexpr std::int64_t kMaxChunkBytes = 1 << 30;  // far above 64 tasks: a larger size is damage
   std::int64_t open_chunk = -1;
   nlohmann::json chunk_tasks;
-  std::vector<Task> out;
   while (q.step()) {
     if (!levels.empty() && levels.count(static_cast<int>(q.column_int(1))) == 0) continue;
     const std::string id = q.column_text(0);
@@ -388,7 +400,7 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
       }
       Task t = task_from_json(chunk_tasks[static_cast<std::size_t>(slot)]);
       if (t.id != id) throw Error("slot " + std::to_string(slot) + " holds " + t.id);
-      out.push_back(std::move(t));
+      take(std::move(t));
     } catch (const nlohmann::json::parse_error&) {
       throw Error(where + ": not JSON");
     } catch (const nlohmann::json::exception& e) {
@@ -397,8 +409,6 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
       throw Error(where + ": " + e.what());
     }
   }
-  std::sort(out.begin(), out.end(), [](const Task& a, const Task& b) { return a.id < b.id; });
-  return out;
 }
 
 namespace {
@@ -463,6 +473,16 @@ nlohmann::json task_db_stats(const fs::path& file) {
   j["dropped"] = meta.contains("dropped") ? nlohmann::json::parse(meta["dropped"].get<std::string>())
                                           : nlohmann::json::object();
   meta.erase("dropped");
+  // Breadth (coverage.h): what each scene's tasks use of its pickable items.
+  j["coverage"] = nlohmann::json::object();
+  if (meta.contains("coverage")) {
+    const nlohmann::json recorded = nlohmann::json::parse(meta["coverage"].get<std::string>(), nullptr, false);
+    if (!recorded.is_object()) throw Error(file.string() + ": meta 'coverage' is not a JSON object");
+    std::map<std::string, CoverageCount> counts;
+    for_each_task(file, {}, [&](Task t) { counts[t.scene].add(t); });
+    for (const auto& [scene, items] : recorded.items()) j["coverage"][scene] = counts[scene].report(coverage_items_from_json(items));
+    meta.erase("coverage");
+  }
   meta.erase("dataset");  // file hashes: read_dataset_fingerprints
   j["meta"] = meta;
   return j;

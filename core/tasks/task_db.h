@@ -4,6 +4,7 @@
 // leaves a half-written database behind.
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <map>
 #include <memory>
@@ -89,6 +90,10 @@ Task task_from_json(const nlohmann::json& j);
 /// Tasks of the database, optionally only some levels, in id order.
 /// @throws mtg::Error if the file is missing or is not a task database.
 std::vector<Task> read_tasks(const std::filesystem::path& file, const std::set<int>& levels = {});
+
+/// Each task of the database (optionally only some levels) in storage order, one at a time: a
+/// whole set is never held. @throws mtg::Error as read_tasks.
+void for_each_task(const std::filesystem::path& file, const std::set<int>& levels, const std::function<void(Task)>& take);
 
 /// Per scene, the dataset files its tasks were made from (the `dataset` meta entry).
 /// @throws mtg::Error if the file is not a task database.

@@ -14,6 +14,7 @@
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/cli/audit_commands.h"
+#include "orchestrator/cli/sight_commands.h"
 #include "orchestrator/cli/bench_commands.h"
 #include "orchestrator/cli/cluster_commands.h"
 #include "orchestrator/cli/render_commands.h"
@@ -408,6 +409,23 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   audit_report->add_option("dir", audit_report_opts->dir, "the audit's folder")->required();
   audit_report->add_flag("--json", audit_report_opts->json, "print one JSON object");
   commands.push_back({audit_report, [audit_report_opts] { return run_audit_report(*audit_report_opts); }});
+  auto sights_opts = std::make_shared<SightsDrawOptions>();
+  CLI::App* sights = audit->add_subcommand(
+      "sights", "Objects drawn from platform views with an arrow each, for people to say whether they see and can name them");
+  sights->require_subcommand(0, 1);
+  sights->add_option("--scene", sights_opts->scenes, "scene (repeat for several)");
+  sights->add_option("--data", sights_opts->data_dir, "dataset root (default: search order)");
+  sights->add_option("--profile", sights_opts->profile, "scene profile (default replica_cad)");
+  sights->add_option("--count", sights_opts->count, "objects drawn (default 200)");
+  sights->add_option("--seed", sights_opts->seed, "seed of the draw (default 0)");
+  sights->add_option("--out", sights_opts->out, "folder for images/, sights.json and labels/");
+  auto sights_report_opts = std::make_shared<SightsReportOptions>();
+  CLI::App* sights_report =
+      sights->add_subcommand("report", "The visibility rule against the answers in DIR/labels: agreement, best thresholds, kappa");
+  sights_report->add_option("dir", sights_report_opts->dir, "the draw's folder")->required();
+  sights_report->add_flag("--json", sights_report_opts->json, "print one JSON object");
+  commands.push_back({sights_report, [sights_report_opts] { return run_sights_report(*sights_report_opts); }});
+  commands.push_back({sights, [sights_opts] { return run_sights_draw(*sights_opts); }});
   commands.push_back({audit, [audit_opts] {
                         if (audit_opts->tasks.empty() || audit_opts->out.empty()) {
                           throw mtg::Error("mtg audit: --tasks <task database> and --out <folder> are required");

@@ -171,13 +171,15 @@ int run_render(const RenderOptions& o) {
   const render::ImageReply reply = renderer.render(request);
   const double draw_ms = draw.elapsed_ms();
   int zooms = 0;
+  int pictures = 0;  // a long platform's view has a picture of each part after the whole
   for (const render::EncodedImage& image : reply.images) {
     const bool marked = image.role.ends_with("_marked");
     const bool zoom = image.role.ends_with("_zoom");
-    const std::string stem = out.stem().string();
-    const fs::path file = zoom     ? out.parent_path() / (stem + "_zoom" + std::to_string(++zooms) + ext)
+    if (!marked && !zoom) ++pictures;
+    const std::string stem = out.stem().string() + (pictures > 1 ? "_part" + std::to_string(pictures - 1) : "");
+    const fs::path file = zoom     ? out.parent_path() / (out.stem().string() + "_zoom" + std::to_string(++zooms) + ext)
                           : marked ? out.parent_path() / (stem + "_marked" + ext)
-                                   : out;
+                                   : out.parent_path() / (stem + ext);
     write_bytes(file, image.bytes.data(), image.bytes.size());
     std::printf("wrote %s (%dx%d, %s)\n", file.c_str(), image.width, image.height, image.role.c_str());
   }

@@ -127,6 +127,16 @@ int run_tasks(const TasksOptions& o) {
   return 0;
 }
 
+namespace {
+
+std::string join_names(const nlohmann::json& names) {
+  std::string out;
+  for (const nlohmann::json& n : names) out += (out.empty() ? "" : ", ") + n.get<std::string>();
+  return out;
+}
+
+}  // namespace
+
 int run_task_stats(const TaskStatsOptions& o) {
   const nlohmann::json stats = tasks::task_db_stats(o.db);
   if (o.json) {
@@ -140,6 +150,21 @@ int run_task_stats(const TaskStatsOptions& o) {
     const long l1 = counts["1"].get<long>(), l2 = counts["2"].get<long>();
     std::printf("  %-8s L1 %ld  L2 %ld  L3 %ld  L4 %ld  (L1 share of L1+L2: %.1f %%)\n", scene.c_str(), l1, l2,
                 counts["3"].get<long>(), counts["4"].get<long>(), l1 + l2 > 0 ? 100.0 * l1 / (l1 + l2) : 0.0);
+  }
+  // Breadth beside the drops (docs/tasks.md, "Breadth").
+  for (const auto& [scene, c] : stats["coverage"].items()) {
+    const long pickable = c["pickable"].get<long>();
+    auto pct = [&](long n) { return pickable > 0 ? 100.0 * static_cast<double>(n) / static_cast<double>(pickable) : 0.0; };
+    std::printf("  %-8s coverage: %ld pickable items on navigable platforms; in Levels 1-2 %ld (%.0f %%), in any task "
+                "%ld (%.0f %%); seen with look-alikes %ld, in Level 2 %ld; Level 2 from its top 3 source platforms "
+                "%.0f %%; Levels 1-2: %ld source platforms, %ld nouns, %ld reference phrases\n",
+                scene.c_str(), pickable, c["in_levels_1_2"].get<long>(), pct(c["in_levels_1_2"].get<long>()),
+                c["in_any_task"].get<long>(), pct(c["in_any_task"].get<long>()), c["seen_with_lookalike"].get<long>(),
+                c["seen_with_lookalike_in_level_2"].get<long>(), 100.0 * c["level_2_top3_share"].get<double>(),
+                c["source_platforms_1_2"].get<long>(), c["nouns_1_2"].get<long>(), c["phrases_1_2"].get<long>());
+    if (!c["not_in_levels_1_2"].empty()) {
+      std::printf("  %-8s not in Levels 1-2: %s\n", scene.c_str(), join_names(c["not_in_levels_1_2"]).c_str());
+    }
   }
   // Candidates the generator left out, and why (docs/tasks.md, "What is never generated").
   for (const auto& [scene, reasons] : stats["dropped"].items()) {

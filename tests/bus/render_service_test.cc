@@ -184,9 +184,9 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
 
 // Look-alikes are shown, not only named: the first observation of a task about one of three
 // identical boxes carries a close-up of the box meant (role "focus") and a hint naming it.
-// The look-alikes' close-ups come with the first observation, numbered and captioned with their
-// o<N>, and again where the robot stands at their platform; the held item's close-up says the
-// number it was picked as.
+// The look-alikes' close-ups come with the first observation and again where the robot stands at
+// their platform, without a number (the paper's aid to find the object, not its key); the held
+// item's close-up says the number it was picked as.
 TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   testing::FixtureDataset fx;
   const auto b = testing::two_tables(fx);
@@ -222,9 +222,10 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     for (const auto& img : obs.images) {
       if (img.role == "focus") {
         ++focus;
-        // Numbered, and the caption says which number it is.
+        // Where it stands, and no number: the number belongs to the platform view.
         EXPECT_THAT(img.caption, ::testing::HasSubstr("The object the task calls '")) << img.caption;
-        EXPECT_THAT(img.caption, ::testing::ContainsRegex("object [0-9]+ ")) << img.caption;
+        EXPECT_THAT(img.caption, ::testing::HasSubstr("where it stands")) << img.caption;
+        EXPECT_THAT(img.caption, ::testing::Not(::testing::ContainsRegex("(object|number) [0-9]"))) << img.caption;
       }
       if (img.role == "item") {
         EXPECT_THAT(img.caption, ::testing::HasSubstr("where you picked it up")) << img.caption;
@@ -233,7 +234,7 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
     }
     most_close_ups = std::max(most_close_ups, focus);
     if (obs.step != 0) {
-      // Later, only where the robot stands at a look-alike's platform, numbered as it is there.
+      // Later, only where the robot stands at a look-alike's platform.
       if (focus > 0) {
         EXPECT_THAT(obs.text, ::testing::HasSubstr("You are standing at")) << obs.text;
       }

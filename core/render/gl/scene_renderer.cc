@@ -33,6 +33,10 @@ void main() {
 
 // A head light plus a sky term: enough shading to read shapes, no shadows (the agent needs to
 // see items, not a photograph). Normals may face either way in the data, hence abs().
+// ReplicaCAD's textures carry the scan's own light baked in, so the inside of a fridge or a
+// cupboard is near black in the texture itself, and no light multiplies it back: dark texels
+// are lifted towards a luminance floor first (as a torch or the fridge's lamp would show them),
+// which leaves every texel brighter than the floor as it was (docs/render.md, "Light").
 constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 v_normal;
 in vec2 v_uv;
@@ -44,6 +48,8 @@ out vec4 o_colour;
 void main() {
   vec4 c = u_colour;
   if (u_textured) c *= texture(u_texture, v_uv);
+  float albedo = dot(c.rgb, vec3(0.299, 0.587, 0.114));
+  c.rgb += vec3(max(0.0, 0.50 - albedo) * 0.8);
   vec3 n = normalize(v_normal);
   float light = 0.30 + 0.50 * abs(dot(n, u_light)) + 0.20 * (0.5 + 0.5 * n.z);
   o_colour = vec4(min(c.rgb * light, vec3(1.0)), 1.0);
@@ -310,6 +316,17 @@ DrawList draw_list(const graph::SceneGraph& g, const episode::WorldState& s, con
 
 }  // namespace
 
+namespace {
+
+// The names of zoom frames: each zoom's place in the observation's list of zooms.
+std::vector<std::string> zoom_names(const std::vector<std::size_t>& zooms, std::size_t first) {
+  std::vector<std::string> out;
+  for (const std::size_t z : zooms) out.push_back(zoom_name(first + z));
+  return out;
+}
+
+}  // namespace
+
 ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const episode::WorldState& s,
                      const ViewPlan& plan, bool with_marks, const SceneGeometry& geometry) {
   if (plan.only.valid() && !renderer.has_geometry(plan.only)) {
@@ -344,12 +361,14 @@ ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const 
         Frame zoomed = renderer.render(z.view.camera, d.poses, d.draw);
         out.triangles += zoomed.triangles;
         ZoomImage image;
-        image.marked = annotate(zoomed.image, z.view.camera, Marks{}, &z.layout, z.regions);
+        image.marked = annotate(zoomed.image, z.view.camera, Marks{}, &z.layout, z.regions,
+                                zoom_names(z.region_zooms, plan.first_zoom));
         for (const PlacedMark& m : z.layout.placed) image.numbers.push_back(m.number);
         out.zooms.push_back(std::move(image));
       }
       for (const ItemMark& m : marks.layout.crowded) out.zoomed.push_back(m.number);
-      out.marked = annotate(frame.image, plan.camera, plan.marks, &marks.layout, marks.regions);
+      out.marked = annotate(frame.image, plan.camera, plan.marks, &marks.layout, marks.regions,
+                            zoom_names(marks.region_zooms, plan.first_zoom));
     }
   }
   out.plain = std::move(frame.image);

@@ -69,7 +69,7 @@ TEST(References, LevelTwoTextsPickOutTheGoalsInstances) {
 }
 
 // A box on a box: "the box on the box" and "the box under the box"; two thin pens whose centres
-// stand 2.5 cm apart cannot be counted, so tasks about them are dropped and counted.
+// stand 1.5 cm apart (touching) cannot be counted, so tasks about them are dropped and counted.
 TEST(References, StacksAreNamedAndCrowdsAreDropped) {
   testing::FixtureDataset fx;
   testing::add_table(fx, "table");
@@ -80,14 +80,14 @@ TEST(References, StacksAreNamedAndCrowdsAreDropped) {
                        testing::FixtureDataset::instance("toy_box", testing::hab(-0.3, 0, 0.75)),
                        testing::FixtureDataset::instance("toy_box", testing::hab(-0.3, 0, 0.85)),
                        testing::FixtureDataset::instance("toy_pen", testing::hab(0.2, 0, 0.75)),
-                       testing::FixtureDataset::instance("toy_pen", testing::hab(0.225, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_pen", testing::hab(0.215, 0, 0.75)),
                        testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0))}}});
   const auto b = testing::build_fixture_scene(fx, "s");
   const auto& g = b.graph;
   const episode::WorldState s = episode::initial_state(g);
   EXPECT_EQ(refer_to(g, s, "box_1")->phrase(), "the box under the box");
   EXPECT_EQ(refer_to(g, s, "box_2")->phrase(), "the box on the box");
-  // The pens stand 2.5 cm apart: left-to-right counting cannot tell them apart.
+  // The pens stand 1.5 cm apart: left-to-right counting cannot tell them apart.
   EXPECT_FALSE(refer_to(g, s, "pen_3").has_value());
   EXPECT_FALSE(refer_to(g, s, "pen_4").has_value());
   TaskOptions o;
