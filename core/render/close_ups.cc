@@ -16,9 +16,11 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
                    CloseUpsShown& shown, std::vector<ViewRequest>& views, bool numbered) {
   for (ViewRequest& v : views) {
-    if (v.view != ViewKind::kItem || held_number <= 0) continue;
-    v.number = held_number;
-    v.caption = "The object in your hand, number " + std::to_string(held_number) + " where you picked it up.";
+    if (v.view != ViewKind::kItem) continue;
+    v.number = std::max(0, held_number);
+    v.caption = held_number > 0
+                    ? "The object in your hand, number " + std::to_string(held_number) + " where you picked it up."
+                    : "The object in your hand.";
   }
   if (s.phase == episode::Phase::kDone) return;
   for (const tasks::Identification& id : lookalikes) {

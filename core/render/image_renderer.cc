@@ -43,12 +43,18 @@ std::string zoomed_caption(const ViewImages& images, std::size_t first) {
   std::string out = n == 1   ? "The close-up " + zoom_name(first) + " (framed here) shows"
                     : n == 2 ? "The close-ups " + zoom_name(first) + " and " + zoom_name(first + 1) + " (framed here) show"
                              : "The close-ups " + zoom_name(first) + " to " + zoom_name(first + n - 1) + " (framed here) show";
-  out += " small or crowded objects larger.";
+  out += images.zoomed_targets.empty() ? " small or crowded objects larger." : " crowded free spaces larger.";
   std::vector<int> numbers = images.zoomed;
   std::sort(numbers.begin(), numbers.end());
   if (!numbers.empty()) {
     out += numbers.size() == 1 ? " Object " + numbers_text(numbers) + " is numbered only there."
                                : " Objects " + numbers_text(numbers) + " are numbered only there.";
+  }
+  std::vector<int> targets = images.zoomed_targets;
+  std::sort(targets.begin(), targets.end());
+  if (!targets.empty()) {
+    out += targets.size() == 1 ? " Free space " + numbers_text(targets) + " is numbered only there."
+                               : " Free spaces " + numbers_text(targets) + " are numbered only there.";
   }
   return out;
 }
@@ -56,8 +62,8 @@ std::string zoomed_caption(const ViewImages& images, std::size_t first) {
 std::string zoom_caption(std::size_t k, const ZoomImage& z) {
   std::vector<int> numbers = z.numbers;
   std::sort(numbers.begin(), numbers.end());
-  return zoom_name(k) + ": a close-up of the part framed " + zoom_name(k) +
-         " in the marked view, from where you stand; objects " + numbers_text(numbers) + " numbered as their keys.";
+  return zoom_name(k) + ": a close-up of the part framed " + zoom_name(k) + " in the marked view, from where you stand; " +
+         (z.targets ? "free spaces " : "objects ") + numbers_text(numbers) + " numbered as their keys.";
 }
 
 // The pictures of a platform view after the whole platform's: each part of a long platform, seen

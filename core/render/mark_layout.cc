@@ -1,5 +1,6 @@
 #include "core/render/mark_layout.h"
 
+#include "core/render/disc_geometry.h"
 #include "core/render/visibility.h"
 
 #include <algorithm>
@@ -12,7 +13,6 @@
 namespace mtg::render {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kOwnShare = 0.7;  // a disc sits on its object when the object holds this much of it
 
 // The pixels of the numbered objects in the pass: how many each has, and their bounding rect.
@@ -96,41 +96,6 @@ std::vector<std::pair<std::int32_t, int>> under_disc(const IdImage& ids, int sca
   return out;
 }
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-// Whether segments p1-p2 and q1-q2 cross (touching at an end counts, unless they share it).
-bool segments_cross(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, const Eigen::Vector2d& q1,
-                    const Eigen::Vector2d& q2) {
-  if ((p1 - p2).norm() < 0.5 || (q1 - q2).norm() < 0.5) return false;  // a disc on its object: no line
-  const double d1 = cross(p2 - p1, q1 - p1), d2 = cross(p2 - p1, q2 - p1);
-  const double d3 = cross(q2 - q1, p1 - q1), d4 = cross(q2 - q1, p2 - q1);
-  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0;
-}
-
-double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 < 1e-12) return (p - a).norm();
-  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
-
-// The candidate disc centres around an anchor, in the order they are tried: rings farther and
-// farther out, and on each ring up first (the label above its object reads best), then left
-// and right alternately, down last.
-std::vector<Eigen::Vector2d> candidates(const Eigen::Vector2d& anchor, double r) {
-  static const std::array<double, 6> kRings = {2.0, 2.8, 3.8, 5.0, 6.5, 8.5};
-  static const std::array<int, 16> kOrder = {0, 1, 15, 2, 14, 3, 13, 4, 12, 5, 11, 6, 10, 7, 9, 8};
-  std::vector<Eigen::Vector2d> out;
-  for (const double ring : kRings) {
-    for (const int k : kOrder) {
-      const double angle = -kPi / 2 + 2 * kPi * k / 16.0;
-      out.push_back(anchor + ring * r * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 MarkStyle mark_style(int width, int height) {
@@ -206,7 +171,7 @@ MarkLayout layout_item_marks(const IdImage& ids, int scale, const Camera& camera
       if (total > 0 && mine >= kOwnShare * total && fits(m.anchor)) chosen = m.anchor;
     }
     if (!chosen) {
-      for (const Eigen::Vector2d& c : candidates(m.anchor, r)) {
+      for (const Eigen::Vector2d& c : disc_candidates(m.anchor, r)) {
         if (fits(c)) {
           chosen = c;
           break;
@@ -349,32 +314,16 @@ std::vector<std::string> ItemMarksPlan::problems() const {
   return out;
 }
 
-std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout, const std::vector<ItemMark>& items,
-                                 bool with_small, int max_views) {
-  std::vector<ZoomView> out;
-  std::vector<ItemMark> wanted = layout.crowded;
-  if (with_small) wanted.insert(wanted.end(), layout.small.begin(), layout.small.end());
-  if (wanted.empty() || camera.orthographic) return out;
-  // The crowded marks' anchors, where they would be (their projected top centre).
-  struct Point {
-    ItemMark mark;
-    Eigen::Vector2d at;
-  };
-  std::vector<Point> points;
-  for (const ItemMark& m : wanted) {
-    const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
-                                     [&](const PlacedMark& p) { return p.number == m.number; });
-    const auto at = placed != layout.placed.end() ? std::optional<Eigen::Vector2d>(placed->anchor)
-                                                  : camera.project(m.anchor_W);
-    if (at) points.push_back({m, *at});
-  }
-  std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) {
-    return a.at.x() != b.at.x() ? a.at.x() < b.at.x() : a.mark.number < b.mark.number;
+std::vector<ZoomFrame> zoom_frames(const Camera& camera, std::vector<ZoomPoint> points, double radius, int max_views) {
+  std::vector<ZoomFrame> out;
+  if (points.empty() || camera.orthographic || max_views < 1) return out;
+  std::sort(points.begin(), points.end(), [](const ZoomPoint& a, const ZoomPoint& b) {
+    return a.at.x() != b.at.x() ? a.at.x() < b.at.x() : a.number < b.number;
   });
   // Clusters along the image's width: a gap of a quarter of the image starts a new one, and so
   // does a cluster that would grow wider than a third of it (a zoom shows at least twice as big).
-  std::vector<std::vector<Point>> clusters;
-  for (const Point& p : points) {
+  std::vector<std::vector<ZoomPoint>> clusters;
+  for (const ZoomPoint& p : points) {
     if (clusters.empty() || p.at.x() - clusters.back().back().at.x() > camera.width / 4.0 ||
         p.at.x() - clusters.back().front().at.x() > camera.width / 3.0) {
       clusters.emplace_back();
@@ -398,25 +347,19 @@ std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout,
   const double aspect = camera.aspect();
   for (const auto& cluster : clusters) {
     Eigen::AlignedBox2d box;
-    for (const Point& p : cluster) box.extend(p.at);
-    // A margin for the objects around the anchors, and at least a third of the picture; at most
+    for (const ZoomPoint& p : cluster) box.extend(p.at);
+    // A margin for the things around the points, and at least a third of the picture; at most
     // half of it, so the zoom shows things at least twice as big (what does not fit is cut).
-    Eigen::Vector2d half = box.sizes() / 2.0 + Eigen::Vector2d::Constant(5.0 * layout.style.radius);
+    Eigen::Vector2d half = box.sizes() / 2.0 + Eigen::Vector2d::Constant(5.0 * radius);
     half = half.cwiseMax(Eigen::Vector2d(camera.width / 6.0, camera.height / 6.0));
     if (half.x() < half.y() * aspect) half.x() = half.y() * aspect;
     else half.y() = half.x() / aspect;
     half = half.cwiseMin(Eigen::Vector2d(camera.width / 4.0, camera.height / 4.0));
     Eigen::Vector2d centre = box.center();
     centre = centre.cwiseMax(half).cwiseMin(Eigen::Vector2d(camera.width, camera.height) - half);
-    ZoomView z;
+    ZoomFrame z;
     z.region = Eigen::AlignedBox2d(centre - half, centre + half);
-    for (const ItemMark& m : items) {
-      const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
-                                       [&](const PlacedMark& p) { return p.number == m.number; });
-      const bool crowded_here =
-          std::any_of(cluster.begin(), cluster.end(), [&](const Point& p) { return p.mark.number == m.number; });
-      if (crowded_here || (placed != layout.placed.end() && z.region.contains(placed->anchor))) z.items.push_back(m);
-    }
+    for (const ZoomPoint& p : cluster) z.numbers.push_back(p.number);
     // The same eye, looking through the region's centre, with the lens narrowed to it.
     const double t = std::tan(camera.fovy / 2.0);
     const Eigen::Vector3d dir_C((2.0 * centre.x() / camera.width - 1.0) * t * aspect,
@@ -425,6 +368,35 @@ std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout,
     z.camera = camera;
     z.camera.X_WC = look_at(eye, eye + camera.X_WC.linear() * dir_C);
     z.camera.fovy = 2.0 * std::atan(t * (2.0 * half.y()) / camera.height);
+    out.push_back(std::move(z));
+  }
+  return out;
+}
+
+std::vector<ZoomView> zoom_views(const Camera& camera, const MarkLayout& layout, const std::vector<ItemMark>& items,
+                                 bool with_small, int max_views) {
+  std::vector<ItemMark> wanted = layout.crowded;
+  if (with_small) wanted.insert(wanted.end(), layout.small.begin(), layout.small.end());
+  // The wanted marks' anchors, where they would be (their projected top centre).
+  std::vector<ZoomPoint> points;
+  for (const ItemMark& m : wanted) {
+    const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
+                                     [&](const PlacedMark& p) { return p.number == m.number; });
+    const auto at = placed != layout.placed.end() ? std::optional<Eigen::Vector2d>(placed->anchor)
+                                                  : camera.project(m.anchor_W);
+    if (at) points.push_back({m.number, *at});
+  }
+  std::vector<ZoomView> out;
+  for (ZoomFrame& f : zoom_frames(camera, std::move(points), layout.style.radius, max_views)) {
+    ZoomView z;
+    z.region = f.region;
+    z.camera = f.camera;
+    for (const ItemMark& m : items) {
+      const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
+                                       [&](const PlacedMark& p) { return p.number == m.number; });
+      const bool crowded_here = std::find(f.numbers.begin(), f.numbers.end(), m.number) != f.numbers.end();
+      if (crowded_here || (placed != layout.placed.end() && z.region.contains(placed->anchor))) z.items.push_back(m);
+    }
     out.push_back(std::move(z));
   }
   return out;

@@ -121,6 +121,26 @@ IdImage mark_pass(const graph::SceneGraph& g, const SceneGeometry& geometry, con
                   const Camera& camera, const std::vector<ItemMark>& items,
                   const std::vector<graph::ObjectId>& hidden = {});
 
+/// A mark's place in a picture, for clustering them into zoomed views.
+struct ZoomPoint {
+  int number = 0;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();
+};
+
+/// A zoomed view of a cluster of points: the same eye looking through the cluster's middle.
+struct ZoomFrame {
+  Camera camera;
+  Eigen::AlignedBox2d region;  // in the picture's pixels
+  std::vector<int> numbers;    // the points it was made for
+};
+
+/// Zoomed views for `points` of a picture of `camera` (marks of disc radius `radius`): clusters
+/// of points within a quarter of the image's width, each at most a third of it wide, merged
+/// neighbour by neighbour down to `max_views`; each view's lens narrowed so its cluster, with a
+/// margin, fills the image, at least twice as big as in the picture. None for an orthographic
+/// camera.
+std::vector<ZoomFrame> zoom_frames(const Camera& camera, std::vector<ZoomPoint> points, double radius, int max_views);
+
 /// Cameras for the crowded marks of a layout of `items` (and, `with_small`, its small ones): the
 /// same eye, aimed at each cluster of them (anchors within a quarter of the image's width of each
 /// other) and narrowed so the cluster, with a margin, fills the image; at most `max_views`. Each

@@ -49,43 +49,6 @@ void centred_text(cv::Mat& image, const std::string& text, cv::Point at, const S
 }
 
 
-// Places number discs near their anchors without covering each other: each disc tries a fixed
-// sequence of offsets and keeps the first that is clear of the discs already placed (or, when
-// none is, the one farthest from them). Deterministic: the order of the marks decides.
-class DiscPlacer {
- public:
-  DiscPlacer(const cv::Mat& image, const Style& st)
-      : r_(st.radius), lo_(r_ + 2, r_ + 2), hi_(image.cols - r_ - 3, image.rows - r_ - 3) {}
-
-  Eigen::Vector2d place(const Eigen::Vector2d& anchor, bool on_anchor_first) {
-    static const std::array<Eigen::Vector2d, 13> kOffsets = {{{0, 0}, {0, -2.6}, {2.4, -2.4}, {-2.4, -2.4},
-                                                             {0, -4.6}, {3.6, -3.6}, {-3.6, -3.6}, {2.6, 0},
-                                                             {-2.6, 0}, {0, 2.6}, {2.4, 2.4}, {-2.4, 2.4}, {0, -6.6}}};
-    Eigen::Vector2d best = anchor;
-    double best_gap = -1.0;
-    for (std::size_t k = on_anchor_first ? 0 : 1; k < kOffsets.size(); ++k) {
-      const Eigen::Vector2d c = (anchor + kOffsets[k] * r_).cwiseMax(lo_).cwiseMin(hi_);
-      double gap = std::numeric_limits<double>::infinity();
-      for (const auto& q : placed_) gap = std::min(gap, (q - c).norm());
-      if (gap >= 2.3 * r_) {
-        best = c;
-        break;
-      }
-      if (gap > best_gap) {
-        best_gap = gap;
-        best = c;
-      }
-    }
-    placed_.push_back(best);
-    return best;
-  }
-
- private:
-  double r_;
-  Eigen::Vector2d lo_, hi_;
-  std::vector<Eigen::Vector2d> placed_;
-};
-
 struct Disc {
   int number;
   cv::Point anchor, label;
@@ -110,9 +73,10 @@ bool inside(const cv::Mat& image, const Eigen::Vector2d& p) {
   return p.x() >= 0 && p.y() >= 0 && p.x() < image.cols && p.y() < image.rows;
 }
 
-// Targets: translucent regions in their colour, a white disc with the black key on each.
+// Targets: translucent regions in their colour, a white disc with the black key where the layout
+// placed it (target_layout.h); a crowded target is tinted here and numbered in its zoom.
 void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<RegionMark>& regions, const Style& st,
-                  DiscPlacer& placer) {
+                  const TargetLayout& layout) {
   cv::Mat tint = image.clone();
   std::vector<Disc> discs;
   for (const RegionMark& r : regions) {
@@ -127,12 +91,13 @@ void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<Region
       }
       polys.push_back(std::move(poly));
     }
-    const auto label = camera.project(r.label_W);
-    if (!visible || !label) continue;  // a region behind the camera is not drawn at all
+    if (!visible) continue;  // a region behind the camera is not drawn at all
     cv::fillPoly(tint, polys, mark_colour(r.number), cv::LINE_AA);
     cv::polylines(image, polys, true, mark_colour(r.number), st.thickness, cv::LINE_AA);
-    if (!inside(image, *label)) continue;
-    discs.push_back({r.number, to_cv(*label), to_cv(placer.place(*label, true)), cv::Scalar(255, 255, 255),
+    const auto placed = std::find_if(layout.placed.begin(), layout.placed.end(),
+                                     [&](const PlacedTarget& t) { return t.number == r.number; });
+    if (placed == layout.placed.end()) continue;
+    discs.push_back({r.number, to_cv(placed->anchor), to_cv(placed->disc), cv::Scalar(255, 255, 255),
                      cv::Scalar(0, 0, 0)});
   }
   cv::addWeighted(tint, 0.5, image, 0.5, 0.0, image);
@@ -252,11 +217,13 @@ cv::Scalar mark_colour(int n) {
 }
 
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items,
-                 const std::vector<Eigen::AlignedBox2d>& zooms, const std::vector<std::string>& zoom_names) {
+                 const std::vector<Eigen::AlignedBox2d>& zooms, const std::vector<std::string>& zoom_names,
+                 const TargetLayout* targets) {
   cv::Mat out = image.clone();
   const Style st = style_for(out.cols, out.rows);
-  DiscPlacer placer(out, st);
-  if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, placer);
+  if (!marks.regions.empty()) {
+    draw_regions(out, camera, marks.regions, st, targets != nullptr ? *targets : layout_target_marks(camera, marks.regions));
+  }
   if (!zooms.empty()) draw_zoom_frames(out, zooms, zoom_names, st);
   if (items != nullptr) draw_items(out, *items);
   if (!marks.labels.empty()) draw_labels(out, camera, marks.labels, st);

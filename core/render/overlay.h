@@ -11,6 +11,7 @@
 #include "core/render/camera.h"
 #include "core/render/mark_layout.h"
 #include "core/render/marks.h"
+#include "core/render/target_layout.h"
 
 namespace mtg::render {
 
@@ -19,8 +20,10 @@ namespace mtg::render {
 /// framed and labelled Z1, Z2, ... (where a zoomed view numbers what is crowded there).
 /// Zoom frame k is named `zoom_names[k]` ("Z3": zooms are numbered across an observation's
 /// pictures, depth first), zoom_name(k) where none is given.
+/// Placement targets get their numbers where `targets` places them (layout_target_marks when none).
 cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks, const MarkLayout* items = nullptr,
-                 const std::vector<Eigen::AlignedBox2d>& zooms = {}, const std::vector<std::string>& zoom_names = {});
+                 const std::vector<Eigen::AlignedBox2d>& zooms = {}, const std::vector<std::string>& zoom_names = {},
+                 const TargetLayout* targets = nullptr);
 
 
 /// Where the overview's labels go on the image: each label's box, clear of the others and inside

@@ -22,6 +22,28 @@ std::string key_of(const graph::SceneGraph& g, const episode::WorldState& s, gra
   return it == items.end() ? "" : "o" + std::to_string(it - items.begin() + 1);
 }
 
+// An item's model: its name without the instance number ("book_01" of "book_01_37").
+std::string item_model(const std::string& name) {
+  const auto cut = name.find_last_of('_');
+  return cut == std::string::npos ? name : name.substr(0, cut);
+}
+
+// The placement keys offered in `s` (placing) that leave part `part`'s goal met: what a person
+// may answer to "which key does what the task says?", in the order offered, space-separated.
+std::string placing_keys(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part,
+                         const TaskOptions& options, const episode::TaskConstraints& constraints) {
+  episode::RuleOptions rules = options.rules;
+  rules.step_limit = 1 << 20;
+  std::string out;
+  for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
+    if (option.key == "0") continue;
+    episode::WorldState trial = s;
+    if (!episode::apply_action(g, trial, option.key, constraints, rules).applied) continue;
+    if (episode::goal_satisfied(g, trial, part, options.goals)) out += (out.empty() ? "" : " ") + option.key;
+  }
+  return out;
+}
+
 // How the text names `object` in part `part` (its reference's phrase), else its noun.
 std::string words_for(const graph::SceneGraph& g, const Task& task, int part, const std::string& role,
                       graph::ObjectId object, Ambiguity rule) {
@@ -35,18 +57,39 @@ std::string words_for(const graph::SceneGraph& g, const Task& task, int part, co
 
 std::vector<const Task*> sample_for_audit(const std::vector<Task>& tasks, int per_level, std::uint64_t seed,
                                           const std::string& scene) {
-  std::map<int, std::vector<const Task*>> by_level;
+  // Per level, tasks grouped by where their item comes from and what it is (Level 4: by
+  // template), and the draw taken from the groups in turn: a few crowded platforms would
+  // otherwise fill it.
+  std::map<int, std::map<std::string, std::vector<const Task*>>> by_level;
   for (const Task& t : tasks) {
-    if (scene.empty() || t.scene == scene) by_level[t.level].push_back(&t);
+    if (!scene.empty() && t.scene != scene) continue;
+    const std::string group = t.scene + "|" + (t.level == 4 ? t.template_id : t.source + "|" + item_model(t.item));
+    by_level[t.level][group].push_back(&t);
   }
   std::vector<const Task*> out;
-  for (auto& [level, list] : by_level) {
-    std::sort(list.begin(), list.end(), [](const Task* a, const Task* b) { return a->id < b->id; });
+  for (auto& [level, groups] : by_level) {
     Rng rng(derive_seed(seed, fnv1a64("audit/L" + std::to_string(level))));
-    rng.shuffle(list);
-    list.resize(std::min(list.size(), static_cast<std::size_t>(std::max(0, per_level))));
-    std::sort(list.begin(), list.end(), [](const Task* a, const Task* b) { return a->id < b->id; });
-    out.insert(out.end(), list.begin(), list.end());
+    std::vector<std::vector<const Task*>*> order;
+    for (auto& [group, list] : groups) {
+      std::sort(list.begin(), list.end(), [](const Task* a, const Task* b) { return a->id < b->id; });
+      rng.shuffle(list);
+      order.push_back(&list);
+    }
+    rng.shuffle(order);
+    std::vector<const Task*> drawn;
+    const auto wanted = static_cast<std::size_t>(std::max(0, per_level));
+    for (std::size_t round = 0; drawn.size() < wanted; ++round) {
+      bool any = false;
+      for (const auto* list : order) {
+        if (round < list->size() && drawn.size() < wanted) {
+          drawn.push_back((*list)[round]);
+          any = true;
+        }
+      }
+      if (!any) break;
+    }
+    std::sort(drawn.begin(), drawn.end(), [](const Task* a, const Task* b) { return a->id < b->id; });
+    out.insert(out.end(), drawn.begin(), drawn.end());
   }
   return out;
 }
@@ -73,6 +116,11 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
            "After " + key + ": arriving at " + g.platforms[s.at_platform].name +
                (s.held.valid() ? " with the item in hand" : ""),
            static_cast<int>(plan.steps.size()) - 1});
+    }
+    if (key == "startplace") {
+      plan.observations.push_back({key, s, "After startplace: choosing where to put the item on " +
+                                               g.platforms[s.at_platform].name,
+                                   static_cast<int>(plan.steps.size()) - 1});
     }
   }
   // Each object the text names is asked for where the agent arrives at its platform: an atomic
@@ -115,6 +163,17 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
     const int destination = arrival(part.platform, 1, static_cast<std::size_t>(source));
     from = static_cast<std::size_t>(std::max(source, destination)) + 1;
     if (destination < 0) continue;
+    // Where it goes: the placing view as the agent sees it, and which key does what the task says.
+    for (std::size_t at = static_cast<std::size_t>(destination) + 1; at < plan.observations.size(); ++at) {
+      const AuditObservation& placing = plan.observations[at];
+      if (placing.state.phase != episode::Phase::kPlacing || placing.state.at_platform != part.platform) continue;
+      ask({p + "place",
+           "Which key puts the item where the task says" +
+               (goal.parts.size() > 1 ? " in part " + std::to_string(k + 1) : std::string()) + "?",
+           static_cast<int>(at), placing_keys(g, placing.state, part, options, constraints)});
+      from = std::max(from, at + 1);
+      break;
+    }
     const std::pair<graph::ObjectId, const char*> anchors[] = {{part.anchor, "anchor"}, {part.anchor2, "anchor2"}};
     for (const auto& [anchor, role] : anchors) {
       if (!anchor.valid()) continue;

@@ -16,7 +16,9 @@
 namespace mtg::tasks {
 
 /// `per_level` tasks of each level present (all when fewer), drawn with `seed`, in level then id
-/// order; `scene` ("" any) restricts the draw. The same tasks, seed and count give the same draw.
+/// order; `scene` ("" any) restricts the draw. The draw takes from groups of tasks in turn (an
+/// item model on a source platform; a Level 4 template), so it spreads over platforms and nouns.
+/// The same tasks, seed and count give the same draw.
 std::vector<const Task*> sample_for_audit(const std::vector<Task>& tasks, int per_level, std::uint64_t seed,
                                           const std::string& scene = "");
 
@@ -36,13 +38,14 @@ struct AuditStep {
   int held_number = 0;
 };
 
-/// "Which number is it?": `truth` is the o<N> the object has in observation `observation` (never
-/// shown to the person).
+/// "Which number is it?": `truth` is the o<N> the object has in observation `observation`; for
+/// "p<k>.place", "which key puts the item where the task says?", every placement key offered there
+/// that meets the part's goal, space-separated (never shown to the person).
 struct AuditQuestion {
-  std::string id;          // "p0.item", "p0.anchor", "p1.anchor2", "o2.object" (Level 4)
+  std::string id;          // "p0.item", "p0.anchor", "p1.anchor2", "p0.place", "o2.object" (Level 4)
   std::string ask;         // "Which number is the item to move ('the leftmost book')?"
   int observation = 0;     // the observation where it is numbered
-  std::string truth;       // "o3"
+  std::string truth;       // "o3"; "5 7" for a placement
 };
 
 struct AuditPlan {

@@ -1,5 +1,6 @@
 #include "core/tasks/validate.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/episode/goals.h"
@@ -24,6 +25,13 @@ bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, 
 }
 
 }  // namespace
+
+std::string placement_words(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part) {
+  const std::vector<graph::ObjectId> numbering = episode::pickable_on(g, s, s.at_platform);
+  const auto it = std::find(numbering.begin(), numbering.end(), part.anchor);
+  const std::string anchor = it == numbering.end() ? "the " : "object " + std::to_string(it - numbering.begin() + 1);
+  return std::string(graph::direction_name(part.direction)) + " of " + anchor;
+}
 
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
   PlayResult r;
@@ -124,6 +132,15 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
     }
     for (std::size_t i = 0; i < kKeysPerPart; ++i) {
       const std::string& key = task.oracle[kKeysPerPart * k + i];
+      // A direction's key is offered in the task's own words: that side of that object.
+      if (i + 1 == kKeysPerPart && part.type == episode::GoalType::kDirection) {
+        const std::string wanted = placement_words(g, s, part);
+        bool worded = false;
+        for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
+          if (option.key == key) worded = option.description.find(wanted) != std::string::npos;
+        }
+        if (!worded) fail(which + "the key '" + key + "' is not offered as '" + wanted + "'");
+      }
       if (!episode::apply_action(g, s, key, constraints, rules).applied) {
         fail(which + "'" + key + "' is not applied");
         return problems;

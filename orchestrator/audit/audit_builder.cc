@@ -90,7 +90,8 @@ int build_audit(const AuditOptions& o, std::ostream& progress) {
     for (std::size_t k = 0; k < plan.steps.size(); ++k) {
       const episode::WorldState& s = plan.steps[k].state;
       views_at[k] = render::observation_views(s, o.width, o.height, rules.min_region_size);
-      render::add_close_ups(g, s, task.identify, plan.steps[k].held_number, o.width, o.height, shown, views_at[k]);
+      // Without the held item's number: it would answer a question asked earlier in the page.
+      render::add_close_ups(g, s, task.identify, 0, o.width, o.height, shown, views_at[k]);
     }
     json observations = json::array();
     for (std::size_t k = 0; k < plan.observations.size(); ++k) {

@@ -1,7 +1,9 @@
 #include "orchestrator/audit/audit_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace mtg::orchestrator::audit {
 namespace {
@@ -21,12 +23,85 @@ nlohmann::json row_json(const LevelRow& r) {
 
 }  // namespace
 
+bool right_pick(const std::string& pick, const std::string& truth) {
+  if (pick.empty()) return false;
+  std::istringstream keys(truth);
+  std::string key;
+  while (keys >> key) {
+    if (key == pick) return true;
+  }
+  return false;
+}
+
 std::pair<double, double> wilson_interval(int k, int n) {
   if (n <= 0) return {0.0, 0.0};
   const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2 = z * z;
   const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
   const double half = z * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n)) / (1.0 + z2 / n);
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+AuditReport make_report(const std::vector<Item>& items, const std::map<std::string, std::map<int, Answer>>& by_rater) {
+  // Every rater's answers together: each answer counts once, each rater's misses named.
+  std::map<int, Answer> none;
+  AuditReport report = make_report(items, none);
+  std::map<int, LevelRow> rows;
+  for (const LevelRow& r : report.levels) rows[r.level] = {r.level};
+  for (const auto& [rater, answers] : by_rater) {
+    const AuditReport one = make_report(items, answers);
+    report.per_rater[rater] = one;
+    report.raters.push_back(rater);
+    for (const LevelRow& r : one.levels) {
+      LevelRow& sum = rows[r.level];
+      sum.level = r.level;
+      sum.sampled += r.sampled;
+      sum.answered += r.answered;
+      sum.valid += r.valid;
+      sum.picks += r.picks;
+      sum.right += r.right;
+    }
+    for (Miss m : one.misses) {
+      m.cause = rater + ": " + m.cause;
+      report.misses.push_back(std::move(m));
+    }
+  }
+  if (!by_rater.empty()) {
+    report.levels.clear();
+    report.all = {};
+    for (auto& [level, r] : rows) {
+      finish(r);
+      report.levels.push_back(r);
+      report.all.sampled += r.sampled;
+      report.all.answered += r.answered;
+      report.all.valid += r.valid;
+      report.all.picks += r.picks;
+      report.all.right += r.right;
+    }
+    finish(report.all);
+  }
+  // How alike each pair judged the tasks both answered.
+  for (auto a = by_rater.begin(); a != by_rater.end(); ++a) {
+    for (auto b = std::next(a); b != by_rater.end(); ++b) {
+      std::vector<std::string> valid_a, valid_b, picks_a, picks_b;
+      for (const Item& item : items) {
+        const auto x = a->second.find(item.index), y = b->second.find(item.index);
+        if (x == a->second.end() || y == b->second.end()) continue;
+        valid_a.push_back(x->second.valid ? "valid" : "invalid");
+        valid_b.push_back(y->second.valid ? "valid" : "invalid");
+        for (const auto& [question, truth] : item.truth.items()) {
+          const auto px = x->second.picks.find(question), py = y->second.picks.find(question);
+          if (px == x->second.picks.end() || py == y->second.picks.end()) continue;
+          auto judged = [&](const std::string& pick) {
+            return pick.empty() ? "unknown" : right_pick(pick, truth.get<std::string>()) ? "right" : "wrong";
+          };
+          picks_a.push_back(judged(px->second));
+          picks_b.push_back(judged(py->second));
+        }
+      }
+      report.agreement.push_back({a->first, b->first, agreement(valid_a, valid_b), agreement(picks_a, picks_b)});
+    }
+  }
+  return report;
 }
 
 AuditReport make_report(const std::vector<Item>& items, const std::map<int, Answer>& answers) {
@@ -55,7 +130,7 @@ AuditReport make_report(const std::vector<Item>& items, const std::map<int, Answ
       if (pick == a.picks.end()) continue;  // not asked of this answer
       ++r.picks;
       ++report.all.picks;
-      if (pick->second == truth.get<std::string>()) {
+      if (right_pick(pick->second, truth.get<std::string>())) {
         ++r.right;
         ++report.all.right;
       } else {
@@ -78,8 +153,24 @@ nlohmann::json AuditReport::to_json() const {
   for (const LevelRow& r : levels) levels_json.push_back(row_json(r));
   nlohmann::json misses_json = nlohmann::json::array();
   for (const Miss& m : misses) misses_json.push_back({{"task_id", m.task_id}, {"level", m.level}, {"cause", m.cause}});
-  return {{"levels", levels_json}, {"all", row_json(all)}, {"misses", misses_json},
-          {"paper_validity", {{"1", 93.8}, {"2", 98.4}, {"3", 92.3}, {"4", 74.1}}}};
+  nlohmann::json agreement_json = nlohmann::json::array();
+  auto agreed = [](const Agreement& x) {
+    return nlohmann::json{{"questions", x.questions}, {"percent", std::round(x.percent * 10.0) / 10.0},
+                          {"kappa", std::round(x.kappa * 1000.0) / 1000.0}};
+  };
+  for (const PairAgreement& p : agreement) {
+    agreement_json.push_back({{"raters", {p.a, p.b}}, {"validity", agreed(p.validity)}, {"picks", agreed(p.picks)}});
+  }
+  nlohmann::json out = {{"levels", levels_json}, {"all", row_json(all)}, {"misses", misses_json},
+                        {"paper_validity", {{"1", 93.8}, {"2", 98.4}, {"3", 92.3}, {"4", 74.1}}},
+                        {"agreement", agreement_json}};
+  if (!raters.empty()) out["raters"] = raters;
+  if (!per_rater.empty()) {
+    nlohmann::json each = nlohmann::json::object();
+    for (const auto& [name, r] : per_rater) each[name] = r.to_json();
+    out["per_rater"] = each;
+  }
+  return out;
 }
 
 std::string AuditReport::to_text() const {
@@ -96,6 +187,14 @@ std::string AuditReport::to_text() const {
   };
   for (const LevelRow& r : levels) print(r, std::to_string(r.level));
   print(all, "all");
+  for (const PairAgreement& p : agreement) {
+    std::snprintf(line, sizeof line,
+                  "%s / %s: validity %.1f %% alike over %d tasks (Cohen's kappa %.2f); picks %.1f %% alike over %d "
+                  "questions (kappa %.2f)\n",
+                  p.a.c_str(), p.b.c_str(), p.validity.percent, p.validity.questions, p.validity.kappa, p.picks.percent,
+                  p.picks.questions, p.picks.kappa);
+    out += line;
+  }
   if (!misses.empty()) out += "misses:\n";
   for (const Miss& m : misses) out += "  " + m.task_id + " (level " + std::to_string(m.level) + "): " + m.cause + "\n";
   return out;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/util/agreement.h"
 #include "orchestrator/audit/audit_store.h"
 
 namespace mtg::orchestrator::audit {
@@ -30,17 +31,34 @@ struct Miss {
   std::string cause;  // "invalid: occluded (note)", "p0.item: answered o3, it is o5", ...
 };
 
+/// How alike two raters judged the tasks both answered: validity, and whether each pick was
+/// right, wrong or "don't know".
+struct PairAgreement {
+  std::string a, b;
+  Agreement validity;
+  Agreement picks;
+};
+
 struct AuditReport {
   std::vector<LevelRow> levels;
   LevelRow all;  // level 0
   std::vector<Miss> misses;
+  std::vector<std::string> raters;  // whose answers are counted (every one once)
+  std::map<std::string, AuditReport> per_rater;
+  std::vector<PairAgreement> agreement;
   nlohmann::json to_json() const;
   std::string to_text() const;
 };
 
+/// Whether `pick` is one of the space-separated keys of `truth`.
+bool right_pick(const std::string& pick, const std::string& truth);
+
 /// 95 % Wilson score interval of k successes in n trials ({0, 0} for n = 0).
 std::pair<double, double> wilson_interval(int k, int n);
 
+/// One rater's report.
 AuditReport make_report(const std::vector<Item>& items, const std::map<int, Answer>& answers);
+/// Every rater's answers counted together, with pairwise agreement (percent, Cohen's kappa).
+AuditReport make_report(const std::vector<Item>& items, const std::map<std::string, std::map<int, Answer>>& by_rater);
 
 }  // namespace mtg::orchestrator::audit

@@ -23,6 +23,25 @@ using nlohmann::json;
 using web::send_error;
 using web::send_json;
 
+// Picks from the page: {"p0.item": "o3", "p0.place": "5"}, each for a question the item asks.
+std::map<std::string, std::string> picks_from(const json& j, const Item& item) {
+  std::map<std::string, std::string> out;
+  if (!j.is_object()) throw Error("field 'picks' must be an object");
+  for (const auto& [question, key] : j.items()) {
+    if (!item.truth.contains(question)) throw Error("task " + item.task_id + " asks no question '" + question + "'");
+    if (!key.is_string()) throw Error("pick '" + question + "' must be a key such as \"o3\" (or \"\")");
+    const std::string k = key.get<std::string>();
+    // Objects are picked by their o<N>; a placement by its number (999: anywhere).
+    const bool placement = question.size() > 6 && question.ends_with(".place");
+    const std::size_t digits = placement ? 0 : 1;
+    const bool well_formed = k.empty() || (k.size() > digits && k.size() <= 8 && (placement || k[0] == 'o') &&
+                                           k.find_first_not_of("0123456789", digits) == std::string::npos);
+    if (!well_formed) throw Error("pick '" + question + "' is '" + k + "', not a key such as " + (placement ? "5" : "o3"));
+    out[question] = k;
+  }
+  return out;
+}
+
 // An answer from the page: {"valid": bool, "reason": "...", "note": "...", "picks": {"p0.item": "o3"}}.
 Answer answer_from(const json& j, const Item& item) {
   if (!j.is_object()) throw Error("the answer must be a JSON object");
@@ -37,25 +56,41 @@ Answer answer_from(const json& j, const Item& item) {
     if (!j["note"].is_string()) throw Error("field 'note' must be text");
     a.note = j["note"].get<std::string>().substr(0, 2000);
   }
-  if (j.contains("picks")) {
-    if (!j["picks"].is_object()) throw Error("field 'picks' must be an object");
-    for (const auto& [question, key] : j["picks"].items()) {
-      if (!item.truth.contains(question)) throw Error("task " + item.task_id + " asks no question '" + question + "'");
-      if (!key.is_string()) throw Error("pick '" + question + "' must be a key such as \"o3\" (or \"\")");
-      const std::string k = key.get<std::string>();
-      const bool well_formed = k.empty() || (k.size() >= 2 && k[0] == 'o' &&
-                                             k.find_first_not_of("0123456789", 1) == std::string::npos);
-      if (!well_formed) throw Error("pick '" + question + "' is '" + k + "', not a key such as o3");
-      a.picks[question] = k;
+  if (j.contains("picks")) a.picks = picks_from(j["picks"], item);
+  return a;
+}
+
+// The observation each question is asked in.
+std::map<std::string, int> asked_in(const Item& item) {
+  std::map<std::string, int> out;
+  for (const json& q : item.page.value("questions", json::array())) out[q["id"].get<std::string>()] = q["observation"].get<int>();
+  return out;
+}
+
+// Picks for questions of observations before `revealed` are given: a later observation may show
+// their answers (a number in a placement option, a renumbered platform), so they cannot change.
+void check_unchanged(const std::map<std::string, std::string>& picks, const AuditStore::Progress& p,
+                     const std::map<std::string, int>& asked, int revealed) {
+  for (const auto& [question, key] : picks) {
+    const auto at = asked.find(question);
+    if (at == asked.end()) continue;
+    if (at->second > revealed) throw Error("question '" + question + "' is asked in an observation not shown yet");
+    const auto given = p.picks.find(question);
+    if (at->second < revealed && (given == p.picks.end() || given->second != key)) {
+      throw Error("question '" + question + "' was answered before the next observation was shown; it stays '" +
+                  (given == p.picks.end() ? std::string() : given->second) + "'");
     }
   }
-  return a;
 }
 
 }  // namespace
 
-AuditServer::AuditServer(const std::filesystem::path& dir)
-    : store_(dir, false), http_(std::make_unique<httplib::Server>()) {
+AuditServer::AuditServer(const std::filesystem::path& dir, std::string rater)
+    : store_(dir, false), rater_(std::move(rater)), http_(std::make_unique<httplib::Server>()) {
+  if (rater_.empty() || rater_.size() > 64 ||
+      rater_.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.") != std::string::npos) {
+    throw Error("mtg audit: --rater must be 1-64 letters, digits, '_', '-' or '.', not '" + rater_ + "'");
+  }
   if (store_.meta().count("format") == 0) {
     throw Error(dir.string() + " holds no finished audit (make it with mtg audit --tasks ... --out " + dir.string() + ")");
   }
@@ -94,7 +129,7 @@ void AuditServer::add_routes() {
     };
   };
   http_->Get("/api/audit", guarded([this](const httplib::Request&, httplib::Response& res) {
-    const auto answers = store_.answers();
+    const auto answers = store_.answers(rater_);
     json items = json::array();
     for (const Item& item : store_.items()) {
       items.push_back({{"index", item.index}, {"task_id", item.task_id}, {"level", item.level},
@@ -105,7 +140,7 @@ void AuditServer::add_routes() {
     json meta = json::object();
     for (const auto& [k, v] : store_.meta()) meta[k] = v;
     send_json(res, {{"meta", meta}, {"items", items}, {"answered", answers.size()}, {"total", items.size()},
-                    {"reasons", reasons}});
+                    {"reasons", reasons}, {"rater", rater_}});
   }));
   auto item_of = [this](const httplib::Request& req, httplib::Response& res) -> std::optional<Item> {
     int index = -1;
@@ -117,35 +152,88 @@ void AuditServer::add_routes() {
     if (!item) send_error(res, 404, "no task " + std::string(req.matches[1]) + " in this audit");
     return item;
   };
-  http_->Get(R"(/api/audit/items/(\d+))", guarded([this, item_of](const httplib::Request& req, httplib::Response& res) {
+  // An item's page as far as this rater has gone: its observations are revealed one at a time,
+  // and only the questions of the revealed ones are asked.
+  auto page_of = [this](const Item& item) {
+    json page = item.page;
+    const auto answers = store_.answers(rater_);
+    const auto answered = answers.find(item.index);
+    const int total = static_cast<int>(page["observations"].size());
+    AuditStore::Progress p = store_.progress(item.index, rater_);
+    if (answered != answers.end()) p.revealed = total - 1;
+    json shown = json::array(), questions = json::array();
+    for (int k = 0; k <= p.revealed && k < total; ++k) shown.push_back(page["observations"][static_cast<std::size_t>(k)]);
+    for (json q : page["questions"]) {
+      const int at = q["observation"].get<int>();
+      if (at > p.revealed) continue;
+      q["locked"] = at < p.revealed || answered != answers.end();
+      questions.push_back(std::move(q));
+    }
+    page["observations"] = shown;
+    page["questions"] = questions;
+    page["revealed"] = p.revealed;
+    page["observations_total"] = total;
+    page["picks"] = answered != answers.end() ? json(answered->second.picks) : json(p.picks);
+    if (answered != answers.end()) {
+      page["answer"] = {{"valid", answered->second.valid},
+                        {"reason", answered->second.reason ? to_string(*answered->second.reason) : ""},
+                        {"note", answered->second.note},
+                        {"picks", answered->second.picks}};
+    }
+    return page;
+  };
+  http_->Get(R"(/api/audit/items/(\d+))", guarded([item_of, page_of](const httplib::Request& req, httplib::Response& res) {
     const auto item = item_of(req, res);
     if (!item) return;
-    json page = item->page;
-    const auto answers = store_.answers();
-    if (const auto it = answers.find(item->index); it != answers.end()) {
-      page["answer"] = {{"valid", it->second.valid},
-                        {"reason", it->second.reason ? to_string(*it->second.reason) : ""},
-                        {"note", it->second.note},
-                        {"picks", it->second.picks}};
-    }
-    send_json(res, page);
+    send_json(res, page_of(*item));
   }));
+  http_->Post(R"(/api/audit/items/(\d+)/reveal)",
+              guarded([this, item_of, page_of](const httplib::Request& req, httplib::Response& res) {
+                const auto item = item_of(req, res);
+                if (!item) return;
+                const json body = json::parse(req.body, nullptr, false);
+                if (body.is_discarded() || !body.is_object()) throw Error("the request is not a JSON object");
+                if (store_.answers(rater_).count(item->index) != 0) throw Error("task " + item->task_id + " is answered");
+                AuditStore::Progress p = store_.progress(item->index, rater_);
+                const int total = static_cast<int>(item->page["observations"].size());
+                const auto picks = body.contains("picks") ? picks_from(body["picks"], *item) : std::map<std::string, std::string>{};
+                check_unchanged(picks, p, asked_in(*item), p.revealed);
+                for (const auto& [question, key] : picks) p.picks[question] = key;
+                p.revealed = std::min(total - 1, p.revealed + 1);
+                store_.put_progress(item->index, rater_, p);
+                send_json(res, page_of(*item));
+              }));
   http_->Post(R"(/api/audit/items/(\d+)/answer)",
               guarded([this, item_of](const httplib::Request& req, httplib::Response& res) {
                 const auto item = item_of(req, res);
                 if (!item) return;
                 const json body = json::parse(req.body, nullptr, false);
                 if (body.is_discarded()) throw Error("the answer is not JSON");
-                store_.put_answer(item->index, answer_from(body, *item));
-                const auto answers = store_.answers();
+                Answer answer = answer_from(body, *item);
+                const auto answers = store_.answers(rater_);
+                if (answers.count(item->index) == 0) {
+                  // Judged once everything is shown; earlier picks stay as they were given.
+                  const AuditStore::Progress p = store_.progress(item->index, rater_);
+                  const int total = static_cast<int>(item->page["observations"].size());
+                  if (p.revealed < total - 1) {
+                    throw Error("show every observation of task " + item->task_id + " before judging it (" +
+                                std::to_string(p.revealed + 1) + " of " + std::to_string(total) + " shown)");
+                  }
+                  check_unchanged(answer.picks, p, asked_in(*item), p.revealed);
+                  for (const auto& [question, key] : p.picks) answer.picks.emplace(question, key);
+                } else {
+                  answer.picks = answers.at(item->index).picks;  // a second save changes the judgement only
+                }
+                store_.put_answer(item->index, rater_, answer);
+                const auto now = store_.answers(rater_);
                 json next = nullptr;
                 for (const Item& other : store_.items()) {
-                  if (answers.count(other.index) == 0) {
+                  if (now.count(other.index) == 0) {
                     next = other.index;
                     break;
                   }
                 }
-                send_json(res, {{"ok", true}, {"answered", answers.size()}, {"next", next}});
+                send_json(res, {{"ok", true}, {"answered", now.size()}, {"next", next}});
               }));
   http_->Get(R"(/api/audit/images/([0-9_]+\.png))", guarded([this](const httplib::Request& req, httplib::Response& res) {
     const std::filesystem::path file = store_.images_dir() / std::string(req.matches[1]);
@@ -156,7 +244,7 @@ void AuditServer::add_routes() {
     res.set_content(bytes.str(), "image/png");
   }));
   http_->Get("/api/audit/report", guarded([this](const httplib::Request&, httplib::Response& res) {
-    send_json(res, make_report(store_.items(), store_.answers()).to_json());
+    send_json(res, make_report(store_.items(), store_.all_answers()).to_json());
   }));
   http_->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (res.body.empty()) send_error(res, res.status, "no such page: " + req.path);

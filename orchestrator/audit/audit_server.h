@@ -20,7 +20,8 @@ namespace mtg::orchestrator::audit {
 
 class AuditServer {
  public:
-  explicit AuditServer(const std::filesystem::path& dir);
+  /// Serves the audit in `dir` to one rater: the page shows and stores that rater's answers.
+  AuditServer(const std::filesystem::path& dir, std::string rater = kDefaultRater);
   ~AuditServer();
   AuditServer(const AuditServer&) = delete;
   AuditServer& operator=(const AuditServer&) = delete;
@@ -38,6 +39,7 @@ class AuditServer {
 
   std::mutex mutex_;  // the store is used by one request at a time
   AuditStore store_;
+  std::string rater_;
   std::unique_ptr<httplib::Server> http_;
   web::PageGuard guard_{"the audit page"};
 };

@@ -46,8 +46,29 @@ AuditStore::AuditStore(const std::filesystem::path& dir, bool create)
     : dir_(dir), db_(dir / "audit.sqlite", create ? store::Database::Mode::kCreate : store::Database::Mode::kReadWrite) {
   db_.exec("CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT)");
   db_.exec("CREATE TABLE IF NOT EXISTS items (idx INTEGER PRIMARY KEY, task_id TEXT, level INTEGER, page TEXT, truth TEXT)");
-  db_.exec("CREATE TABLE IF NOT EXISTS answers (idx INTEGER PRIMARY KEY, valid INTEGER, reason TEXT, note TEXT, "
-           "picks TEXT, seq INTEGER)");
+  db_.exec("CREATE TABLE IF NOT EXISTS answers (idx INTEGER, rater TEXT, valid INTEGER, reason TEXT, note TEXT, "
+           "picks TEXT, seq INTEGER, PRIMARY KEY (idx, rater))");
+  db_.exec("CREATE TABLE IF NOT EXISTS progress (idx INTEGER, rater TEXT, revealed INTEGER, picks TEXT, "
+           "PRIMARY KEY (idx, rater))");
+}
+
+AuditStore::Progress AuditStore::progress(int index, const std::string& rater) {
+  store::Statement q(db_, "SELECT revealed, picks FROM progress WHERE idx = ? AND rater = ?");
+  q.bind(1, static_cast<std::int64_t>(index)).bind(2, rater);
+  Progress p;
+  if (!q.step()) return p;
+  p.revealed = static_cast<int>(q.column_int(0));
+  p.picks = nlohmann::json::parse(q.column_text(1)).get<std::map<std::string, std::string>>();
+  return p;
+}
+
+void AuditStore::put_progress(int index, const std::string& rater, const Progress& p) {
+  store::Statement put(db_, "INSERT OR REPLACE INTO progress (idx, rater, revealed, picks) VALUES (?, ?, ?, ?)");
+  put.bind(1, static_cast<std::int64_t>(index))
+      .bind(2, rater)
+      .bind(3, static_cast<std::int64_t>(p.revealed))
+      .bind(4, nlohmann::json(p.picks).dump())
+      .run();
 }
 
 std::map<std::string, std::string> AuditStore::meta() {
@@ -92,38 +113,46 @@ std::optional<Item> AuditStore::item(int index) {
               nlohmann::json::parse(q.column_text(3)), nlohmann::json::parse(q.column_text(4))};
 }
 
-void AuditStore::put_answer(int index, const Answer& a) {
+void AuditStore::put_answer(int index, const std::string& rater, const Answer& a) {
   store::Transaction t(db_);
   std::int64_t seq = 1;
   {
     store::Statement last(db_, "SELECT COALESCE(MAX(seq), 0) + 1 FROM answers");
     if (last.step()) seq = last.column_int(0);
   }
-  store::Statement put(db_, "INSERT OR REPLACE INTO answers (idx, valid, reason, note, picks, seq) VALUES (?, ?, ?, ?, ?, ?)");
+  store::Statement put(
+      db_, "INSERT OR REPLACE INTO answers (idx, rater, valid, reason, note, picks, seq) VALUES (?, ?, ?, ?, ?, ?, ?)");
   put.bind(1, static_cast<std::int64_t>(index))
-      .bind(2, static_cast<std::int64_t>(a.valid ? 1 : 0))
-      .bind(3, a.reason ? std::string(to_string(*a.reason)) : std::string())
-      .bind(4, a.note)
-      .bind(5, nlohmann::json(a.picks).dump())
-      .bind(6, seq)
+      .bind(2, rater)
+      .bind(3, static_cast<std::int64_t>(a.valid ? 1 : 0))
+      .bind(4, a.reason ? std::string(to_string(*a.reason)) : std::string())
+      .bind(5, a.note)
+      .bind(6, nlohmann::json(a.picks).dump())
+      .bind(7, seq)
       .run();
   t.commit();
 }
 
-std::map<int, Answer> AuditStore::answers() {
-  std::map<int, Answer> out;
-  store::Statement q(db_, "SELECT idx, valid, reason, note, picks, seq FROM answers ORDER BY idx");
+std::map<std::string, std::map<int, Answer>> AuditStore::all_answers() {
+  std::map<std::string, std::map<int, Answer>> out;
+  store::Statement q(db_, "SELECT idx, rater, valid, reason, note, picks, seq FROM answers ORDER BY rater, idx");
   while (q.step()) {
     Answer a;
-    a.valid = q.column_int(1) != 0;
-    const std::string reason = q.column_text(2);
+    a.valid = q.column_int(2) != 0;
+    const std::string reason = q.column_text(3);
     if (!reason.empty()) a.reason = reason_from_string(reason);
-    a.note = q.column_text(3);
-    a.picks = nlohmann::json::parse(q.column_text(4)).get<std::map<std::string, std::string>>();
-    a.seq = q.column_int(5);
-    out[static_cast<int>(q.column_int(0))] = std::move(a);
+    a.note = q.column_text(4);
+    a.picks = nlohmann::json::parse(q.column_text(5)).get<std::map<std::string, std::string>>();
+    a.seq = q.column_int(6);
+    out[q.column_text(1)][static_cast<int>(q.column_int(0))] = std::move(a);
   }
   return out;
+}
+
+std::map<int, Answer> AuditStore::answers(const std::string& rater) {
+  auto all = all_answers();
+  const auto it = all.find(rater);
+  return it == all.end() ? std::map<int, Answer>{} : std::move(it->second);
 }
 
 }  // namespace mtg::orchestrator::audit

@@ -30,11 +30,11 @@ int run_audit(const AuditCommandOptions& o) {
     std::printf("audit of %d tasks in %s (serve it with the same command without --prepare-only)\n", n, o.out.c_str());
     return 0;
   }
-  orchestrator::audit::AuditServer server(o.out);
+  orchestrator::audit::AuditServer server(o.out, o.rater);
   server.bind(o.host, o.port);
-  std::printf("auditing %d tasks at %s ; answers go to %s/audit.sqlite (Ctrl-C stops; the same command "
+  std::printf("auditing %d tasks at %s as %s; answers go to %s/audit.sqlite (Ctrl-C stops; the same command "
               "goes on where you left off; mtg audit report %s prints the table)\n",
-              n, server.url().c_str(), o.out.c_str(), o.out.c_str());
+              n, server.url().c_str(), o.rater.c_str(), o.out.c_str(), o.out.c_str());
   std::fflush(stdout);
   serve_until_stopped(server);
   return 0;
@@ -45,7 +45,7 @@ int run_audit_report(const AuditReportOptions& o) {
     throw Error("mtg audit report: " + o.dir + " holds no audit (no audit.sqlite)");
   }
   orchestrator::audit::AuditStore store(o.dir, false);
-  const auto report = orchestrator::audit::make_report(store.items(), store.answers());
+  const auto report = orchestrator::audit::make_report(store.items(), store.all_answers());
   if (o.json) {
     std::printf("%s\n", report.to_json().dump(1).c_str());
   } else {

@@ -21,6 +21,7 @@ struct AuditCommandOptions {
   std::string host = "127.0.0.1";
   int port = 8790;          // 0 = any free port
   bool prepare_only = false;  // make the folder, do not serve
+  std::string rater = "rater";  // whose answers the page shows and stores (several people, one draw)
 };
 
 struct AuditReportOptions {

@@ -404,6 +404,7 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   audit->add_option("--host", audit_opts->host, "address of the page (default 127.0.0.1)");
   audit->add_option("--port", audit_opts->port, "port of the page (default 8790; 0 = any free port)");
   audit->add_flag("--prepare-only", audit_opts->prepare_only, "make the audit's folder and exit");
+  audit->add_option("--rater", audit_opts->rater, "who answers (default rater): several people judge the same draw");
   auto audit_report_opts = std::make_shared<AuditReportOptions>();
   CLI::App* audit_report = audit->add_subcommand("report", "Validity per level (95 % interval) and identification accuracy");
   audit_report->add_option("dir", audit_report_opts->dir, "the audit's folder")->required();

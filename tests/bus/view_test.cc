@@ -539,18 +539,29 @@ TEST_F(AuditTest, APersonAnswersFromThePageAndTheReportCountsIt) {
     const json page = b->evaluate("fetch('/api/audit/items/" + std::to_string(k) + "').then((r) => r.json())");
     EXPECT_FALSE(page.dump().find("truth") != std::string::npos) << "the page is never told the answers";
     EXPECT_EQ(page["task_id"], sample[k]->id);
-    // Type each number; the first task's first one wrong on purpose.
-    for (const auto& [question, right] : truths[k].items()) {
-      const std::string value = k == 0 && question == truths[0].begin().key() ? "o9" : right.get<std::string>();
-      b->evaluate("document.querySelector('input[data-question=\"" + question + "\"]').value = '" + value + "'");
+    EXPECT_EQ(page["observations"].size(), 1u) << "observations are shown one at a time";
+    // Type each number as its observation is shown; the first task's first one wrong on purpose.
+    // A placement may be met by several keys: the first will do.
+    for (int shown = 0;; ++shown) {
+      ASSERT_LT(shown, 20);
+      for (const auto& [question, right] : truths[k].items()) {
+        std::string value = k == 0 && question == truths[0].begin().key() ? "o9" : right.get<std::string>();
+        value = value.substr(0, value.find(' '));
+        b->evaluate("(() => { const i = document.querySelector('input[data-question=\"" + question +
+                    "\"]'); if (i && !i.disabled) i.value = '" + value + "'; })()");
+      }
+      if (b->evaluate("!!document.getElementById('save')").get<bool>()) break;
+      b->evaluate("document.getElementById('reveal').click()");
+      ASSERT_TRUE(b->wait_for("document.querySelectorAll('section[data-observation]').length === " +
+                              std::to_string(shown + 2), 20000));
     }
     const bool valid = k + 1 < sample.size();  // the last one judged invalid
     b->evaluate(std::string("document.querySelector('input[name=valid][value=") + (valid ? "yes" : "no") + "]').checked = true");
     if (!valid) b->evaluate("document.querySelector('select[name=reason]').value = 'occluded'");
     if (k == 2) b->screenshot(kArtifacts / "audit.png", true);
     b->evaluate("document.getElementById('save').click()");
-    ASSERT_TRUE(b->wait_for("document.getElementById('progress').textContent.startsWith('" + std::to_string(k + 1) +
-                            " of " + n + "')", 10000));
+    ASSERT_TRUE(b->wait_for("document.getElementById('progress').textContent.includes(': " + std::to_string(k + 1) +
+                            " of " + n + " ')", 10000));
   }
   // An answer from another origin (a page of another site open in the same browser) is refused.
   b->navigate("http://localhost:" + std::to_string(port) + "/");
@@ -573,6 +584,11 @@ TEST_F(AuditTest, APersonAnswersFromThePageAndTheReportCountsIt) {
   for (const json& t : truths) picks += static_cast<int>(t.size());
   EXPECT_EQ(r["all"]["picks"], picks);
   EXPECT_EQ(r["all"]["right"], picks - 1);
+  int places = 0;  // "which key puts the item where the task says?" is asked too
+  for (const json& t : truths) {
+    for (const auto& [question, right] : t.items()) places += question.ends_with(".place") ? 1 : 0;
+  }
+  EXPECT_GT(places, 0);
   ASSERT_EQ(r["misses"].size(), 2u);
   EXPECT_NE(r["misses"][0]["cause"].get<std::string>().find("answered o9"), std::string::npos) << r.dump();
   EXPECT_NE(r["misses"][1]["cause"].get<std::string>().find("invalid: occluded"), std::string::npos) << r.dump();

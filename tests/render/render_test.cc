@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +17,7 @@
 #include "core/render/image_codec.h"
 #include "core/render/image_renderer.h"
 #include "core/render/mark_layout.h"
+#include "core/render/target_layout.h"
 #include "core/render/view.h"
 #include "core/render/visibility.h"
 #include "core/util/error.h"
@@ -391,6 +393,40 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
               items, g.navigable.size(), shown, placed, zoomed_views);
   EXPECT_GT(items, 50);
   EXPECT_EQ(placed, shown);
+}
+
+// Free spaces follow the rules of item marks (target_layout.h): on every navigable platform of the
+// shipped apartments, from the side the robot arrives at, every placement target is numbered in
+// one of the view's pictures or a zoom of it, and no layout breaks a rule.
+TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  graph::SceneCache scenes;
+  const std::string data = testing::shipped_dataset()->root.string();
+  for (const char* scene : {"apt_0", "apt_1", "apt_2"}) {
+    const graph::SceneGraph& g = scenes.load(scene, data).graph;
+    const episode::WorldState s = episode::initial_state(g);
+    int targets = 0, numbered = 0, zoomed = 0;
+    for (const graph::PlatformId p : g.navigable) {
+      const int side = g.platforms[p].default_side;
+      const auto regions = render::target_marks(g, s, p, static_cast<graph::Side>(side), 0.03);
+      std::set<int> readable;
+      for (const render::PlatformPicture& picture : render::platform_pictures(g, s, p, side, 640, 480)) {
+        const auto plan = render::plan_target_marks(picture.camera, render::regions_in(g, s, p, side, picture, regions));
+        EXPECT_EQ(plan.problems(), std::vector<std::string>{}) << scene << " " << g.platforms[p].name;
+        zoomed += plan.zooms.empty() ? 0 : 1;
+        for (const render::RegionMark& r : regions) {
+          if (plan.placed(r.number)) readable.insert(r.number);
+        }
+      }
+      targets += static_cast<int>(regions.size());
+      numbered += static_cast<int>(readable.size());
+      for (const render::RegionMark& r : regions) {
+        EXPECT_TRUE(readable.count(r.number)) << scene << " " << g.platforms[p].name << ": free space " << r.number;
+      }
+    }
+    std::printf("[ targets ] %s: %d free spaces and cells on %zu platforms, %d readably numbered; %d pictures zoomed\n",
+                scene, targets, g.navigable.size(), numbered, zoomed);
+  }
 }
 
 TEST(ShippedRender, Apt0OverviewShowsEveryPlatformLabelWithoutOverlapAndFillsTheFrame) {

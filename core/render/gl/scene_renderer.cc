@@ -353,7 +353,25 @@ ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const 
     frame.image = annotate(frame.image, plan.camera, Marks{}, &layout);
   }
   if (with_marks) {
-    if (plan.marks.items.empty()) {
+    if (!plan.marks.regions.empty()) {
+      // Placement targets by the same rules as items: crowded numbers go to zoomed views.
+      const TargetMarksPlan targets = plan_target_marks(plan.camera, plan.marks.regions);
+      for (const TargetZoom& z : targets.zooms) {
+        Frame zoomed = renderer.render(z.camera, d.poses, d.draw);
+        out.triangles += zoomed.triangles;
+        Marks here;
+        here.regions = z.regions;
+        ZoomImage image;
+        image.marked = annotate(zoomed.image, z.camera, here, nullptr, z.frames,
+                                zoom_names(z.frame_zooms, plan.first_zoom), &z.layout);
+        for (const PlacedTarget& t : z.layout.placed) image.numbers.push_back(t.number);
+        image.targets = true;
+        out.zooms.push_back(std::move(image));
+      }
+      out.zoomed_targets = targets.layout.crowded;
+      out.marked = annotate(frame.image, plan.camera, plan.marks, nullptr, targets.frames,
+                            zoom_names(targets.frame_zooms, plan.first_zoom), &targets.layout);
+    } else if (plan.marks.items.empty()) {
       out.marked = annotate(frame.image, plan.camera, plan.marks);
     } else {
       const ItemMarksPlan marks = plan_item_marks(g, geometry, s, plan.camera, plan.marks.items, plan.hidden);

@@ -72,7 +72,8 @@ class SceneRenderer {
 /// A zoomed view of a crowded part of a marked picture (mark_layout.h), marked.
 struct ZoomImage {
   cv::Mat marked;
-  std::vector<int> numbers;  // the item numbers it shows
+  std::vector<int> numbers;  // the item (or placement target) numbers it shows
+  bool targets = false;      // it numbers placement targets, not items
 };
 
 /// The plain image of a planned view and, when `with_marks`, the marked copy (drawn even when
@@ -83,6 +84,7 @@ struct ViewImages {
   cv::Mat marked;  // empty when not asked for
   std::vector<ZoomImage> zooms;
   std::vector<int> zoomed;  // the item numbers the marked copy leaves to its zooms
+  std::vector<int> zoomed_targets;  // the placement targets it leaves to its zooms
   std::int64_t triangles = 0;
 };
 

@@ -23,7 +23,7 @@ async function getJson(url) {
 async function loadSummary() {
   state.summary = await getJson('/api/audit');
   const s = state.summary;
-  document.getElementById('progress').textContent = s.answered + ' of ' + s.total + ' tasks answered';
+  document.getElementById('progress').textContent = s.rater + ': ' + s.answered + ' of ' + s.total + ' tasks answered';
   const list = document.getElementById('tasks');
   list.replaceChildren(...s.items.map(it => el('a', {
     href: '#' + it.index, 'data-index': it.index,
@@ -49,34 +49,53 @@ async function showItem(index) {
   renderForm(item);
 }
 
+// Observations come one at a time: the picks asked in one are given before the next is shown
+// (a later one may show their answers), and the task is judged once all are shown.
 function renderForm(item) {
   const form = document.getElementById('answer');
   const a = item.answer || {};
-  const picks = a.picks || {};
+  const picks = item.picks || {};
+  const all = item.revealed + 1 >= item.observations_total;
   const questions = item.questions.map(q => el('label', {},
     q.ask + ' (seen in observation ' + (q.observation + 1) + ') ',
-    el('input', {class: 'pick', name: q.id, 'data-question': q.id, placeholder: 'o3', value: picks[q.id] || ''}),
-    ' ', el('span', {class: 'muted'}, 'empty: cannot tell')));
+    el('input', Object.assign({class: 'pick', name: q.id, 'data-question': q.id,
+                 placeholder: q.id.endsWith('.place') ? '5' : 'o3', value: picks[q.id] || ''},
+                 q.locked ? {disabled: 'disabled'} : {})),
+    ' ', el('span', {class: 'muted'}, q.locked ? 'given' : 'empty: cannot tell')));
   const reasons = el('select', {name: 'reason'}, ...state.summary.reasons.map(r =>
     el('option', Object.assign({value: r}, a.reason === r ? {selected: 'selected'} : {}), r + ': ' + (REASON_WORDS[r] || r))));
   const radio = (value, text) => el('label', {}, el('input', Object.assign({type: 'radio', name: 'valid', value: value},
     (a.valid === true && value === 'yes') || (a.valid === false && value === 'no') ? {checked: 'checked'} : {})), ' ' + text);
-  form.replaceChildren(
-    el('div', {class: 'muted'}, 'Which number does each object have? Type its key as shown in the images (e.g. o3).'),
-    ...questions,
-    el('div', {}, 'Could a person do this task from what is shown?'),
+  const open = (data) => {
+    const out = {};
+    for (const q of item.questions) if (!q.locked) out[q.id] = (data.get(q.id) || '').trim().toLowerCase();
+    return out;
+  };
+  const judge = all ? [el('div', {}, 'Could a person do this task from what is shown?'),
     radio('yes', 'yes, the task is valid'), radio('no', 'no, because:'), reasons,
     el('label', {}, 'Note: ', el('input', {name: 'note', size: 60, value: a.note || ''})),
-    el('button', {type: 'submit', id: 'save'}, 'Save and go to the next task'), el('span', {id: 'saved'}),
-    el('div', {id: 'formerror', class: 'error'}));
+    el('button', {type: 'submit', id: 'save'}, 'Save and go to the next task')]
+    : [el('button', {type: 'submit', id: 'reveal'}, 'Give these and show observation ' + (item.revealed + 2) + ' of ' +
+                                                    item.observations_total)];
+  form.replaceChildren(
+    el('div', {class: 'muted'}, 'Which number does each object have? Type its key as shown in the images (e.g. o3); ' +
+       'for where the item goes, the key of the free space or part that does what the task says (e.g. 5).'),
+    ...questions, ...judge, el('span', {id: 'saved'}), el('div', {id: 'formerror', class: 'error'}));
   form.onsubmit = async (ev) => {
     ev.preventDefault();
     const data = new FormData(form);
+    if (!all) {
+      const r = await fetch('/api/audit/items/' + item.index + '/reveal',
+        {method: 'POST', headers: {'Content-Type': 'application/json'}, body: JSON.stringify({picks: open(data)})});
+      const body = await r.json();
+      if (!r.ok) { document.getElementById('formerror').textContent = body.error; return; }
+      await showItem(item.index);
+      return;
+    }
     const valid = data.get('valid');
     if (!valid) { document.getElementById('formerror').textContent = 'Say whether the task is valid.'; return; }
-    const body = {valid: valid === 'yes', note: data.get('note') || '', picks: {}};
+    const body = {valid: valid === 'yes', note: data.get('note') || '', picks: open(data)};
     if (valid === 'no') body.reason = data.get('reason');
-    for (const q of item.questions) body.picks[q.id] = (data.get(q.id) || '').trim().toLowerCase();
     const r = await fetch('/api/audit/items/' + item.index + '/answer',
       {method: 'POST', headers: {'Content-Type': 'application/json'}, body: JSON.stringify(body)});
     const answer = await r.json();

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/render/mark_layout.h"
+#include "core/render/target_layout.h"
 
 namespace mtg::render {
 namespace {
@@ -85,6 +86,45 @@ TEST(MarkLayout, AnObjectThatShowsNowhereGetsAGreyMarkAtItsPlace) {
   const auto at = camera().project(items[1].anchor_W);
   ASSERT_TRUE(at.has_value());
   EXPECT_NEAR((layout.placed[1].anchor - *at).norm(), 0.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace mtg::render
+
+namespace mtg::render {
+namespace {
+
+// A region mark whose label point is `at` on the floor plane z = 0.8 (a square around it).
+RegionMark target(int number, const Eigen::Vector3d& at) {
+  RegionMark r;
+  r.number = number;
+  r.label_W = at;
+  r.rings_W = {{at + Eigen::Vector3d(-0.01, -0.01, 0), at + Eigen::Vector3d(0.01, -0.01, 0),
+                at + Eigen::Vector3d(0.01, 0.01, 0), at + Eigen::Vector3d(-0.01, 0.01, 0)}};
+  return r;
+}
+
+// Free spaces follow the item marks' rules (target_layout.h): forty label points packed along a
+// counter leave some numbers to zoomed views; every one ends up numbered, and no layout breaks a
+// rule; two free spaces over one spot (the gap between two objects) are both numbered.
+TEST(TargetLayout, CrowdedFreeSpacesGoToZoomsAndEveryNumberIsPlacedByTheRules) {
+  std::vector<RegionMark> regions;
+  for (int k = 0; k < 40; ++k) regions.push_back(target(k + 1, Eigen::Vector3d(-0.6 + 0.03 * k, (k % 2) * 0.03, 0.8)));
+  regions.push_back(target(41, regions[10].label_W));  // the same spot as number 11
+  const TargetMarksPlan plan = plan_target_marks(camera(), regions);
+  EXPECT_FALSE(plan.layout.crowded.empty()) << "forty numbers 3 cm apart cannot all sit in the picture";
+  EXPECT_FALSE(plan.zooms.empty());
+  EXPECT_EQ(plan.frames.size() + [&] {
+    std::size_t inner = 0;
+    for (const TargetZoom& z : plan.zooms) inner += z.frames.size();
+    return inner;
+  }(), plan.zooms.size());
+  EXPECT_EQ(plan.problems(), std::vector<std::string>{});
+  for (const RegionMark& r : regions) EXPECT_TRUE(plan.placed(r.number)) << "free space " << r.number;
+  // A label point outside the picture is neither placed nor crowded.
+  const TargetLayout off = layout_target_marks(camera(), {target(1, Eigen::Vector3d(40, 0, 0.8))});
+  EXPECT_TRUE(off.placed.empty());
+  EXPECT_TRUE(off.crowded.empty());
 }
 
 }  // namespace

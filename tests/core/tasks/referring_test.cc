@@ -97,6 +97,48 @@ TEST(References, StacksAreNamedAndCrowdsAreDropped) {
   for (const Task& t : r.set.tasks) EXPECT_TRUE(t.item.rfind("pen", 0) != 0) << t.text;
 }
 
+// Look-alikes in two rows (a rack of jars) are counted along their row, and a stack of books from
+// its top or bottom; both read back as JSON and resolve to exactly their object.
+TEST(References, RowsAndStacksNameWhatOrdinalsCannot) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  fx.add_object_config("toy_jar", fx.add_box_mesh("jar", {0.04, 0.04, 0.08}));
+  fx.add_object_config("toy_book", fx.add_box_mesh("book", {0.1, 0.1, 0.1}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       // two rows of two jars, front row and back row 8 cm apart, columns 8 cm apart
+                       testing::FixtureDataset::instance("toy_jar", testing::hab(-0.3, -0.1, 0.75)),
+                       testing::FixtureDataset::instance("toy_jar", testing::hab(-0.22, -0.1, 0.75)),
+                       testing::FixtureDataset::instance("toy_jar", testing::hab(-0.3, -0.02, 0.75)),
+                       testing::FixtureDataset::instance("toy_jar", testing::hab(-0.22, -0.02, 0.75)),
+                       // three books in one stack
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.25, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.25, 0, 0.85)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.25, 0, 0.95)),
+                       testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0))}}});
+  const auto b = testing::build_fixture_scene(fx, "s");
+  const auto& g = b.graph;
+  const episode::WorldState s = episode::initial_state(g);
+  const graph::PlatformId table = episode::furniture_platform_of(g, s, g.find_object("jar_1"));
+  for (const char* name : {"jar_1", "jar_2", "jar_3", "jar_4", "book_5", "book_6", "book_7"}) {
+    const auto r = refer_to(g, s, name);
+    ASSERT_TRUE(r.has_value()) << name;
+    EXPECT_EQ(resolve(g, s, table, *r, Ambiguity::kCategory), (std::vector<graph::ObjectId>{g.find_object(name)}))
+        << name << ": " << r->phrase();
+    EXPECT_EQ(Reference::from_json(r->to_json()).phrase(), r->phrase()) << name;
+    const std::string phrase = r->phrase();
+    if (std::string(name).rfind("jar", 0) == 0) EXPECT_THAT(phrase, HasSubstr(" row")) << name;
+    if (std::string(name).rfind("book", 0) == 0) {
+      EXPECT_THAT(phrase, ::testing::AnyOf(HasSubstr("of the stack"), HasSubstr("on the book"), HasSubstr("under the book")))
+          << name;
+    }
+  }
+  // The middle book is neither on top nor at the bottom: counted down the stack.
+  EXPECT_EQ(refer_to(g, s, "book_6")->phrase(), "the second book from the top of the stack");
+  const nlohmann::json bad_row = {{"relation", "nearest"}, {"noun", "jar"}, {"rank", 1}, {"row", "front"}};
+  EXPECT_THROW(Reference::from_json(bad_row), mtg::Error);
+}
+
 // Level 4 texts name the instances their goals need: "toy box from table_0" alone would match
 // three boxes, so the text carries a reference (and a close-up), or the task is not made.
 TEST(References, LevelFourTextsNameTheObjectsTheirGoalsNeed) {

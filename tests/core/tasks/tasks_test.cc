@@ -358,6 +358,25 @@ TEST(TaskGeneration, StatsCountLevelsTypesAndScenes) {
   EXPECT_GT(stats["levels"]["3"].get<int>(), 0);
   EXPECT_EQ(read_tasks(db).size(), r.set.tasks.size());
   EXPECT_EQ(read_tasks(db, {3}).size(), static_cast<std::size_t>(stats["levels"]["3"].get<int>()));
+  // Breadth beside the counts: the pickable items on navigable platforms, and which the tasks use,
+  // counted again here from the tasks themselves.
+  const nlohmann::json& c = stats["coverage"]["two_tables"];
+  std::set<std::string> pickable, in_1_2, in_2;
+  const episode::WorldState s = episode::initial_state(b.graph);
+  for (const graph::PlatformId p : b.graph.navigable) {
+    for (const graph::ObjectId o : episode::pickable_on(b.graph, s, p)) pickable.insert(b.graph.objects[o].name);
+  }
+  for (const Task& t : r.set.tasks) {
+    if (t.level <= 2) in_1_2.insert(t.item);
+    if (t.level == 2) in_2.insert(t.item);
+  }
+  EXPECT_EQ(c["pickable"], pickable.size());
+  EXPECT_EQ(c["in_levels_1_2"], in_1_2.size());
+  EXPECT_GE(c["in_any_task"].get<std::size_t>(), in_1_2.size());
+  EXPECT_LE(c["seen_with_lookalike_in_level_2"].get<std::size_t>(), in_2.size());
+  EXPECT_EQ(c["not_in_levels_1_2"].size(), pickable.size() - in_1_2.size());
+  EXPECT_GT(c["level_2_top3_share"].get<double>(), 0.0);
+  EXPECT_LE(c["level_2_top3_share"].get<double>(), 1.0);
 }
 
 // A database's chunks hold each task written straight from its fields: the text of its JSON.
