@@ -180,6 +180,7 @@ class GraphBuilder {
   // Geometry in the world, classification, and whatever stands on the floor moved to z = 0.
   void measure_and_classify() {
     g_.scene = scene_.name;
+    g_.noun_covers = options_.noun_covers;
     g_.objects.resize(size());
     geo_.resize(size());
     for (const ObjectId i : object_ids()) geo_[i] = object_geometry(source(i));

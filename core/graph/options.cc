@@ -40,12 +40,14 @@ nlohmann::json GraphOptions::to_json() const {
           {"camera_heights_above", camera_heights_above},
           {"profile", profile_name},
           {"exclude_templates", exclude_templates},
-          {"nouns", nouns_json()}};
+          {"nouns", nouns_json()},
+          {"noun_covers", noun_covers}};
 }
 
 void apply_profile(GraphOptions& options, const std::string& profile) {
   options.exclude_templates.clear();
   options.nouns.clear();
+  options.noun_covers.clear();
   options.profile_name = profile;
   if (profile == "none" || profile.empty()) return;
   nlohmann::json doc;
@@ -78,6 +80,12 @@ void apply_profile(GraphOptions& options, const std::string& profile) {
       }
       if (noun.singular.empty()) entry.fail("a noun must not be empty");
       options.nouns[name] = std::move(noun);
+    }
+  }
+  if (auto covers = root.find("covers")) {
+    for (const std::string& word : covers->keys()) {
+      const JsonField list = covers->at(word);
+      for (std::size_t i = 0; i < list.size(); ++i) options.noun_covers[word].insert(list.at(i).as_string());
     }
   }
 }

@@ -56,6 +56,9 @@ struct GraphOptions {
   // plural where English does not add -s/-es ("pairs of shoes"). Templates without one are
   // called by their dataset class.
   std::map<std::string, Noun> nouns;
+  // Scene profile: words a person uses for several nouns ("cup" for mugs and teacups too): told
+  // the word, a person considers each of them (a look-alike, a member of "every cup").
+  std::map<std::string, std::set<std::string>> noun_covers;
   std::string profile_name = "none";
 
   /// Canonical JSON of every field (for hashing into task sets and for graph.json).

@@ -31,6 +31,12 @@ std::string navigation_key(int label) {
 
 geom::Region Platform::polygon_W() const { return geom::transform(polygon_P, X_WP); }
 
+bool SceneGraph::called(const std::string& word, const std::string& noun) const {
+  if (word == noun) return true;
+  const auto it = noun_covers.find(word);
+  return it != noun_covers.end() && it->second.count(noun) != 0;
+}
+
 ObjectId SceneGraph::find_object(const std::string& name) const {
   for (const ObjectId o : objects.ids()) {
     if (objects[o].name == name) return o;

@@ -12,6 +12,8 @@
 #include <array>
 #include <limits>
 #include <string>
+#include <map>
+#include <set>
 #include <vector>
 
 #include "core/geom/polygon.h"
@@ -110,7 +112,12 @@ struct SceneGraph {
   IdVector<PlatformId, Platform> platforms;
   std::vector<PlatformId> navigable;  // platforms by label: navigable[k-1] has label k
   std::vector<std::string> warnings;
+  /// Words that cover other nouns (GraphOptions::noun_covers), from the profile.
+  std::map<std::string, std::set<std::string>> noun_covers;
 
+  /// Whether a person told `word` considers an object called `noun`: the same noun, or one the
+  /// word covers ("cup" for a mug).
+  bool called(const std::string& word, const std::string& noun) const;
   ObjectId find_object(const std::string& name) const;      // none if absent
   PlatformId find_platform(const std::string& name) const;  // none if absent
   /// Pickable objects on a platform in the agent's o-numbering: each direct child followed by

@@ -145,6 +145,8 @@ ObjectSight ViewSight::of(graph::ObjectId o) const {
 
 double ViewSight::image_pixels(graph::ObjectId o) const { return of(o).visible * pixel_area_; }
 
+double ViewSight::image_pixels_in(std::size_t k, graph::ObjectId o) const { return of(k, o).visible * pixel_area_; }
+
 bool ViewSight::clearly_visible_in(std::size_t k, graph::ObjectId o) const {
   const ObjectSight seen = of(k, o);
   return seen.visible * pixel_area_ >= options_.min_pixels && seen.share() >= options_.min_share;
@@ -403,8 +405,17 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
 
 bool VisibilityOracle::in_view(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
+  // First each picture itself (most marks have their place there); only then the zooms of those
+  // that left the mark crowded (drawn anew: the costly part). The answer does not depend on the order.
+  struct Crowded {
+    const PictureScenery* sc;
+    Deciders d;
+    std::vector<ItemMark> items;
+    std::string key;
+  };
+  std::vector<Crowded> crowded;
   for (const PictureScenery& sc : scenery(platform, side).pictures) {
-    const Deciders d = deciders(s, platform, sc);
+    Deciders d = deciders(s, platform, sc);
     if (std::find(d.items.begin(), d.items.end(), o) != d.items.end()) return true;
   }
   return false;
@@ -517,6 +528,20 @@ std::vector<graph::ObjectId> showing_in(const std::vector<ObjectSight>& sights) 
 
 }  // namespace
 
+IdImage VisibilityOracle::whole_pass(const PictureScenery& sc, const Deciders& d) const {
+  // The numbered objects are all inside the window, and their pixels there are those of a whole
+  // pass: laid out on it, the marks go where the renderer puts them.
+  const std::shared_ptr<const Window> w = window(sc, d);
+  IdImage out(sc.pass_camera.width, sc.pass_camera.height);
+  for (int v = 0; v < w->image.height; ++v) {
+    for (int u = 0; u < w->image.width; ++u) {
+      out.ids[static_cast<std::size_t>(w->image.top + v) * static_cast<std::size_t>(out.width) +
+              static_cast<std::size_t>(w->image.left + u)] = w->image.at(u, v);
+    }
+  }
+  return out;
+}
+
 bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
   const auto index = static_cast<std::int32_t>(o.index());
@@ -533,21 +558,17 @@ bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::Platfo
     }
     return false;
   }
+  // First each picture itself (most marks have their place there); only then the zooms of those
+  // that left the mark crowded (drawn anew: the costly part). The answer does not depend on the order.
+  struct Crowded {
+    const PictureScenery* sc;
+    Deciders d;
+    std::vector<ItemMark> items;
+    std::string key;
+  };
+  std::vector<Crowded> crowded;
   for (const PictureScenery& sc : scenery(platform, side).pictures) {
-    const Deciders d = deciders(s, platform, sc);
-    // The numbered objects are all inside the window, and their pixels there are those of a whole
-    // pass: laid out on it, the marks go where the renderer puts them.
-    auto whole = [&] {
-      const std::shared_ptr<const Window> w = window(sc, d);
-      IdImage out(sc.pass_camera.width, sc.pass_camera.height);
-      for (int v = 0; v < w->image.height; ++v) {
-        for (int u = 0; u < w->image.width; ++u) {
-          out.ids[static_cast<std::size_t>(w->image.top + v) * static_cast<std::size_t>(out.width) +
-                  static_cast<std::size_t>(w->image.left + u)] = w->image.at(u, v);
-        }
-      }
-      return out;
-    };
+    Deciders d = deciders(s, platform, sc);
     std::vector<ItemMark> items = all_items;
     if (sc.picture.part != 0) {
       const std::shared_ptr<const Window> w = window(sc, d);
@@ -561,7 +582,7 @@ bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::Platfo
     // The picture itself first: most marks have their place there, and the zooms (drawn anew)
     // are worked out only for a mark that has not.
     const std::shared_ptr<const MarksInPicture> main = in_picture_.get(key, [&] {
-      const MarkLayout layout = layout_item_marks(whole(), kMarkPassScale, sc.picture.camera, items);
+      const MarkLayout layout = layout_item_marks(whole_pass(sc, d), kMarkPassScale, sc.picture.camera, items);
       auto m = std::make_shared<MarksInPicture>();
       for (const PlacedMark& p : layout.placed) m->placed.push_back(static_cast<std::int32_t>(p.object.index()));
       for (const ItemMark& c : layout.crowded) m->crowded.push_back(static_cast<std::int32_t>(c.object.index()));
@@ -570,9 +591,14 @@ bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::Platfo
       return std::shared_ptr<const MarksInPicture>(std::move(m));
     });
     if (std::binary_search(main->placed.begin(), main->placed.end(), index)) return true;
-    if (!std::binary_search(main->crowded.begin(), main->crowded.end(), index)) continue;
-    const std::shared_ptr<const std::vector<std::int32_t>> readable = with_zooms_.get(key, [&] {
-      return std::make_shared<const std::vector<std::int32_t>>(readable_marks(s, items, sc.picture.camera, whole()));
+    if (std::binary_search(main->crowded.begin(), main->crowded.end(), index)) {
+      crowded.push_back({&sc, std::move(d), std::move(items), std::move(key)});
+    }
+  }
+  for (const Crowded& c : crowded) {
+    const std::shared_ptr<const std::vector<std::int32_t>> readable = with_zooms_.get(c.key, [&] {
+      return std::make_shared<const std::vector<std::int32_t>>(
+          readable_marks(s, c.items, c.sc->picture.camera, whole_pass(*c.sc, c.d)));
     });
     if (std::binary_search(readable->begin(), readable->end(), index)) return true;
   }

@@ -68,6 +68,8 @@ class ViewSight {
   bool clearly_visible_in(std::size_t k, graph::ObjectId o) const;
   /// Image pixels (at the agent's image size) showing the object, in the picture that shows most.
   double image_pixels(graph::ObjectId o) const;
+  /// The same in picture `k`.
+  double image_pixels_in(std::size_t k, graph::ObjectId o) const;
 
   std::size_t pictures() const { return pictures_.size(); }
   /// The camera of picture `k` (the agent's image size), for placing things in the picture.
@@ -137,6 +139,8 @@ class VisibilityOracle {
     std::vector<ObjectSight> silhouettes;
   };
   std::shared_ptr<const Window> window(const PictureScenery& sc, const Deciders& d) const;
+  // The window pasted into a whole pass of the picture (the marks' layouts read whole passes).
+  IdImage whole_pass(const PictureScenery& sc, const Deciders& d) const;
   // A picture's counts (memo of its deciders).
   std::shared_ptr<const std::vector<ObjectSight>> picture_counts(const PictureScenery& sc, const Deciders& d) const;
   // Which numbered objects have their place in the marked picture itself, and which are left

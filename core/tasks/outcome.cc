@@ -99,6 +99,12 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
       const std::string cat = category_key(g.objects[o], rule);
       f.category_of[o] = cat;
       f.by_category[cat].push_back(o);
+      // A word that covers its noun counts it too ("every cup" takes in the mugs).
+      if (rule == Ambiguity::kNoun) {
+        for (const auto& [word, nouns] : g.noun_covers) {
+          if (nouns.count(cat) != 0) f.by_category[word].push_back(o);
+        }
+      }
       const std::string& irregular = g.objects[o].noun_plural;
       if (rule == Ambiguity::kNoun && !irregular.empty()) f.plural_of[cat] = irregular;
     }
@@ -112,7 +118,7 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
 }
 
 // Object-level placeholders are drawn this many times per platform-level binding.
-constexpr std::size_t kSamples = 4;
+constexpr std::size_t kSamples = 5;
 
 struct Move {
   ObjectId object;
@@ -281,13 +287,18 @@ class Instantiator {
   std::vector<ObjectId> of_category_on(const std::string& cat, PlatformId platform) const {
     std::vector<ObjectId> out;
     for (const ObjectId o : f_.items_on.at(platform)) {
-      if (f_.category_of.at(o) == cat) out.push_back(o);
+      if (g_.called(cat, f_.category_of.at(o))) out.push_back(o);
     }
     return out;
   }
   std::vector<std::string> categories_on(PlatformId platform) const {
     std::set<std::string> cats;
-    for (const ObjectId o : f_.items_on.at(platform)) cats.insert(f_.category_of.at(o));
+    for (const ObjectId o : f_.items_on.at(platform)) {
+      cats.insert(f_.category_of.at(o));
+      for (const auto& [word, nouns] : g_.noun_covers) {
+        if (nouns.count(f_.category_of.at(o)) != 0) cats.insert(word);
+      }
+    }
     return {cats.begin(), cats.end()};
   }
   // Navigable platforms other than `except`, in a seeded order.
@@ -488,12 +499,19 @@ class Instantiator {
     for (const PlatformId dst : f_.navigable) {
       Rng rng = rng_for(pname(dst));
       std::map<std::string, std::vector<ObjectId>> cats;
-      for (const ObjectId o : items_not_on({dst})) cats[f_.category_of.at(o)].push_back(o);
+      for (const ObjectId o : items_not_on({dst})) {
+        cats[f_.category_of.at(o)].push_back(o);
+        for (const auto& [word, nouns] : g_.noun_covers) {
+          if (nouns.count(f_.category_of.at(o)) != 0) cats[word].push_back(o);
+        }
+      }
       if (cats.size() < 2) continue;
       std::vector<std::string> names;
       for (const auto& [c, objs] : cats) names.push_back(c);
       for (std::size_t k = 0; k < kSamples; ++k) {
         rng.shuffle(names);
+        // "One cup next to one mug" is no pair a person can tell from any other.
+        if (g_.called(names[0], names[1]) || g_.called(names[1], names[0])) continue;
         const auto& first = cats.at(names[0]);
         const auto& second = cats.at(names[1]);
         const ObjectId a = first[rng.uniform_index(first.size())];

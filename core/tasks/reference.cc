@@ -12,6 +12,13 @@ const char* ordinal(int rank) {
   return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
 }
 
+// "the stack", "the leftmost stack", "the second stack from the left".
+std::string stack_words(int stack) {
+  if (stack <= 0) return "the stack";
+  if (stack == 1) return "the leftmost stack";
+  return std::string("the ") + ordinal(stack) + " stack from the left";
+}
+
 }  // namespace
 
 bool needs_landmark(Relation r) { return r == Relation::kOn || r == Relation::kUnder || r == Relation::kNextTo; }
@@ -59,11 +66,11 @@ std::string Reference::phrase() const {
     case Relation::kNearest: return "the nearest " + noun;
     case Relation::kFarthest: return "the farthest " + noun;
     case Relation::kFromTop:
-      return rank <= 1 ? "the " + noun + " at the top of the stack"
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of the stack";
+      return rank <= 1 ? "the " + noun + " at the top of " + stack_words(stack)
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of " + stack_words(stack);
     case Relation::kFromBottom:
-      return rank <= 1 ? "the " + noun + " at the bottom of the stack"
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of the stack";
+      return rank <= 1 ? "the " + noun + " at the bottom of " + stack_words(stack)
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of " + stack_words(stack);
   }
   return "the " + noun;
 }
@@ -73,6 +80,7 @@ nlohmann::json Reference::to_json() const {
   if (!landmark.empty()) j["landmark"] = landmark;
   if (rank > 0) j["rank"] = rank;
   if (row != Row::kNone) j["row"] = row == Row::kFront ? "front" : "back";
+  if (stack > 0) j["stack"] = stack;
   return j;
 }
 
@@ -90,6 +98,11 @@ Reference Reference::from_json(const nlohmann::json& j) {
   if (ordinal_relation && (r.rank < 1 || r.rank > kMaxRank)) {
     throw Error("reference: 'rank' must be 1.." + std::to_string(kMaxRank));
   }
+  r.stack = j.value("stack", 0);
+  if (r.stack != 0 && (r.relation != Relation::kFromTop && r.relation != Relation::kFromBottom)) {
+    throw Error("reference: only from_top and from_bottom count in a stack");
+  }
+  if (r.stack < 0 || r.stack > kMaxRank) throw Error("reference: 'stack' must be 0.." + std::to_string(kMaxRank));
   const std::string row = j.value("row", "");
   if (!row.empty()) {
     if (row != "front" && row != "back") throw Error("reference: 'row' must be front or back, not '" + row + "'");

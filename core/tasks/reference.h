@@ -25,6 +25,7 @@ struct Reference {
   std::string landmark;  // on, under, next_to: the other object's noun
   int rank = 0;          // from_left, from_right, from_top, from_bottom: 1 = the first; nearest, farthest: 1
   Row row = Row::kNone;  // from_left, from_right: counted in that row only
+  int stack = 0;         // from_top, from_bottom: in the stack-th stack from the left (0: the one stack)
 
   /// "the book", "the book on the box", "the leftmost book", "the second book from the right",
   /// "the leftmost spice jar in the back row"...

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <map>
 #include <memory>
 #include <set>
 
 #include "core/episode/goals.h"
 #include "core/episode/placement.h"
 #include "core/graph/free_space.h"
+#include "core/render/mark_layout.h"
 #include "core/util/error.h"
 
 namespace mtg::tasks {
@@ -17,7 +19,8 @@ namespace {
 using episode::WorldState;
 
 constexpr double kNextTo = 0.05;       // m between footprints: "next to"
-constexpr double kNextToClear = 0.15;  // m: no other candidate this close to any landmark
+constexpr double kNextToClear = 0.25;  // m: no other candidate this close to any landmark (nearer ones
+                                       // look next to it in a picture seen at a slant)
 constexpr double kOrdinalGap = 0.02;   // m between consecutive centres when counting along an axis
                                        // (and 10 image pixels in the picture, VisibilityOptions::min_gap)
 constexpr double kRowGap = 0.03;       // m between two rows of look-alikes, front to back
@@ -41,10 +44,12 @@ constexpr Preferred kPreference[] = {
     {Relation::kFromLeft, 2, Row::kBack},  {Relation::kFromRight, 2, Row::kBack},
     {Relation::kFromLeft, 3, Row::kFront}, {Relation::kFromRight, 3, Row::kFront},
     {Relation::kFromLeft, 3, Row::kBack},  {Relation::kFromRight, 3, Row::kBack},
-    // Look-alikes in one stack (books lying on each other): counted from its top or bottom.
+    // Look-alikes in stacks (books lying on each other): counted from a stack's top or bottom.
     {Relation::kFromTop, 1, Row::kNone},   {Relation::kFromBottom, 1, Row::kNone},
     {Relation::kFromTop, 2, Row::kNone},   {Relation::kFromBottom, 2, Row::kNone},
     {Relation::kFromTop, 3, Row::kNone},   {Relation::kFromBottom, 3, Row::kNone}};
+// Stacks among several, counted from the left (the stack field of a reference).
+constexpr int kMaxStacks = 3;
 
 // One platform as a reader of references sees it in one state: everything on it (at any depth),
 // what each is called, and where each stands as seen from the arrival side.
@@ -75,6 +80,8 @@ class PlatformView {
   std::size_t size() const { return objects_.size(); }
   graph::ObjectId object(std::size_t i) const { return objects_[i]; }
   const std::string& noun(std::size_t i) const { return nouns_[i]; }
+  // Whether a person told `word` considers object k (its noun, or one the word covers).
+  bool called(const std::string& word, std::size_t k) const { return g_.called(word, nouns_[k]); }
   // The index of an object, or -1 when it is not on the platform.
   int index_of(graph::ObjectId object) const {
     const auto it = std::find(objects_.begin(), objects_.end(), object);
@@ -109,7 +116,7 @@ class PlatformView {
   double gap_to(std::size_t i, const std::string& landmark, double limit) const {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < size(); ++k) {
-      if (k != i && nouns_[k] == landmark) best = std::min(best, gap(i, k, limit));
+      if (k != i && called(landmark, k)) best = std::min(best, gap(i, k, limit));
     }
     return best;
   }
@@ -118,7 +125,7 @@ class PlatformView {
   std::vector<std::size_t> resolve(const Reference& r) const {
     std::vector<std::size_t> candidates, out;
     for (std::size_t i = 0; i < size(); ++i) {
-      if (nouns_[i] == r.noun) candidates.push_back(i);
+      if (called(r.noun, i)) candidates.push_back(i);
     }
     switch (r.relation) {
       case Relation::kAlone:
@@ -126,19 +133,19 @@ class PlatformView {
       case Relation::kOn:
         for (const std::size_t c : candidates) {
           const int below = support(c);
-          if (below >= 0 && nouns_[static_cast<std::size_t>(below)] == r.landmark) out.push_back(c);
+          if (below >= 0 && called(r.landmark, static_cast<std::size_t>(below))) out.push_back(c);
         }
         return out;
       case Relation::kUnder:
         for (const std::size_t c : candidates) {
           const auto on = above(c);
-          if (std::any_of(on.begin(), on.end(), [&](std::size_t k) { return nouns_[k] == r.landmark; })) {
+          if (std::any_of(on.begin(), on.end(), [&](std::size_t k) { return called(r.landmark, k); })) {
             out.push_back(c);
           }
         }
         return out;
       case Relation::kNextTo:
-        if (r.landmark == r.noun) return candidates;  // symmetric: never picks one out
+        if (g_.called(r.landmark, r.noun) || g_.called(r.noun, r.landmark)) return candidates;  // never picks one out
         for (const std::size_t c : candidates) {
           if (gap_to(c, r.landmark, kNextToClear) <= kNextToClear) out.push_back(c);
         }
@@ -149,32 +156,65 @@ class PlatformView {
       case Relation::kFromRight: return counted(in_row(candidates, r.row), 6, r.rank);
       case Relation::kNearest: return counted(candidates, 0, 1);
       case Relation::kFarthest: return counted(candidates, 4, 1);
-      case Relation::kFromTop: return stacked(candidates, true, r.rank);
-      case Relation::kFromBottom: return stacked(candidates, false, r.rank);
+      case Relation::kFromTop: return stacked(candidates, true, r.rank, r.stack);
+      case Relation::kFromBottom: return stacked(candidates, false, r.rank, r.stack);
     }
     return out;
   }
 
-  // The object at the bottom of the stack object i stands in (itself when it stands on the
-  // platform).
-  std::size_t stack_base(std::size_t i) const {
-    while (support(i) >= 0) i = static_cast<std::size_t>(support(i));
-    return i;
+  // Whether object `upper` rests, directly or through others, on object `lower`.
+  bool rests_on(std::size_t upper, std::size_t lower) const {
+    for (int k = support(upper); k >= 0; k = support(static_cast<std::size_t>(k))) {
+      if (static_cast<std::size_t>(k) == lower) return true;
+    }
+    return false;
   }
-  // Counting candidates down (or up) their stack: only when every candidate stands in one stack.
-  std::vector<std::size_t> stacked(const std::vector<std::size_t>& candidates, bool from_top, int rank) const {
-    if (candidates.size() < 2 || rank < 1 || rank > static_cast<int>(candidates.size())) return {};
-    const std::size_t base = stack_base(candidates.front());
+  // The candidates' stacks, left to right as seen from the arrival side, each bottom to top: a
+  // stack is a candidate with those resting on it, one on the other (books lying on each other);
+  // a rack of jars standing side by side is no stack. None when a group is no single chain or two
+  // stacks stand too close to tell which is left.
+  std::vector<std::vector<std::size_t>> stacks_of(const std::vector<std::size_t>& candidates) const {
+    std::map<std::size_t, std::vector<std::size_t>> by_base;
     for (const std::size_t c : candidates) {
-      if (stack_base(c) != base) return candidates;  // several stacks: "the top book" names none
+      std::size_t base = c;  // the lowest candidate under it (itself when none)
+      for (int k = support(c); k >= 0; k = support(static_cast<std::size_t>(k))) {
+        if (std::find(candidates.begin(), candidates.end(), static_cast<std::size_t>(k)) != candidates.end()) {
+          base = static_cast<std::size_t>(k);
+        }
+      }
+      by_base[base].push_back(c);
     }
-    std::vector<std::pair<double, std::size_t>> order;
-    for (const std::size_t c : candidates) {
-      const double z = s_.objects[objects_[c]].bottom;
-      order.emplace_back(from_top ? -z : z, c);
+    std::vector<std::pair<double, std::vector<std::size_t>>> stacks;
+    for (auto& [base, members] : by_base) {
+      std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+        return s_.objects[objects_[a]].bottom < s_.objects[objects_[b]].bottom;
+      });
+      for (std::size_t k = 0; k + 1 < members.size(); ++k) {
+        if (!rests_on(members[k + 1], members[k])) return {};
+      }
+      stacks.emplace_back(-along(base, 2), std::move(members));
     }
-    std::sort(order.begin(), order.end());
-    return {order[static_cast<std::size_t>(rank) - 1].second};
+    std::sort(stacks.begin(), stacks.end());
+    std::vector<std::vector<std::size_t>> out;
+    for (std::size_t k = 0; k < stacks.size(); ++k) {
+      if (k > 0 && stacks[k].first - stacks[k - 1].first < kOrdinalGap) return {};
+      out.push_back(std::move(stacks[k].second));
+    }
+    return out;
+  }
+  // Counting candidates down (or up) a stack: the only stack they form (`stack` 0), or the
+  // `stack`-th of several from the left, of at least two candidates.
+  std::vector<std::size_t> stacked(const std::vector<std::size_t>& candidates, bool from_top, int rank,
+                                   int stack) const {
+    if (candidates.size() < 2 || rank < 1) return {};
+    const std::vector<std::vector<std::size_t>> stacks = stacks_of(candidates);
+    if (stacks.empty()) return candidates;  // no telling the stacks apart
+    if ((stack == 0) != (stacks.size() == 1)) return candidates;
+    if (stack > static_cast<int>(stacks.size())) return {};
+    std::vector<std::size_t> chain = stacks[static_cast<std::size_t>(std::max(1, stack)) - 1];
+    if (chain.size() < 2 || rank > static_cast<int>(chain.size())) return {};
+    if (from_top) std::reverse(chain.begin(), chain.end());
+    return {chain[static_cast<std::size_t>(rank) - 1]};
   }
 
   // The candidates of one row when they stand in two rows, front to back, at least kRowGap apart
@@ -224,19 +264,19 @@ class PlatformView {
       }
       case Relation::kUnder: {
         const auto on = above(i);
-        return std::any_of(on.begin(), on.end(), [&](std::size_t k) { return nouns_[k] == r.landmark && visible(k); });
+        return std::any_of(on.begin(), on.end(), [&](std::size_t k) { return called(r.landmark, k) && visible(k); });
       }
       case Relation::kNextTo:
         for (std::size_t k = 0; k < size(); ++k) {
-          if (k != i && nouns_[k] == r.landmark && gap(i, k, kNextTo) <= kNextTo && visible(k)) return true;
+          if (k != i && called(r.landmark, k) && gap(i, k, kNextTo) <= kNextTo && visible(k)) return true;
         }
         return false;
       case Relation::kFromLeft: return counted_in_view(r.noun, 2, r.rank, r.row);
       case Relation::kFromRight: return counted_in_view(r.noun, 6, r.rank, r.row);
       case Relation::kNearest: return counted_in_view(r.noun, 0, 1, Row::kNone);
       case Relation::kFarthest: return counted_in_view(r.noun, 4, 1, Row::kNone);
-      case Relation::kFromTop: return stacked_in_view(r.noun, true, r.rank);
-      case Relation::kFromBottom: return stacked_in_view(r.noun, false, r.rank);
+      case Relation::kFromTop: return stacked_in_view(r.noun, true, r.rank, r.stack);
+      case Relation::kFromBottom: return stacked_in_view(r.noun, false, r.rank, r.stack);
     }
     return false;
   }
@@ -250,7 +290,7 @@ class PlatformView {
       for (const std::size_t k : above(i)) out.insert(nouns_[k]);
     } else if (r == Relation::kNextTo) {
       for (std::size_t k = 0; k < size(); ++k) {
-        if (k != i && nouns_[k] != nouns_[i] && gap(i, k, kNextTo) <= kNextTo) out.insert(nouns_[k]);
+        if (k != i && !called(nouns_[k], i) && !called(nouns_[i], k) && gap(i, k, kNextTo) <= kNextTo) out.insert(nouns_[k]);
       }
     }
     return {out.begin(), out.end()};
@@ -268,7 +308,7 @@ class PlatformView {
   bool counted_in_view(const std::string& noun, int relative_dir, int rank, Row row) const {
     std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < size(); ++i) {
-      if (nouns_[i] == noun) candidates.push_back(i);
+      if (called(noun, i)) candidates.push_back(i);
     }
     const std::array<std::vector<std::size_t>, 2> rows =
         row == Row::kNone ? std::array<std::vector<std::size_t>, 2>{} : rows_of(candidates);
@@ -285,15 +325,21 @@ class PlatformView {
   }
 
   // Counting down (or up) a stack in a picture: the candidates up to the counted one clearly
-  // visible there, each standing at least min_gap pixels above (below) the next.
-  bool stacked_in_view(const std::string& noun, bool from_top, int rank) const {
-    std::vector<std::pair<double, std::size_t>> order;
+  // visible there, each standing at least min_gap pixels above (below) the next; counting several
+  // stacks, their bottoms in the picture's left-to-right order as min_gap apart.
+  bool stacked_in_view(const std::string& noun, bool from_top, int rank, int stack) const {
+    std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < size(); ++i) {
-      if (nouns_[i] != noun) continue;
-      const double z = s_.objects[objects_[i]].bottom;
-      order.emplace_back(from_top ? -z : z, i);
+      if (called(noun, i)) candidates.push_back(i);
     }
-    std::sort(order.begin(), order.end());
+    const std::vector<std::vector<std::size_t>> stacks = stacks_of(candidates);
+    if (stacks.empty()) return false;
+    std::vector<std::size_t> chain = stacks[static_cast<std::size_t>(std::max(1, stack)) - 1];
+    if (from_top) std::reverse(chain.begin(), chain.end());
+    std::vector<std::pair<double, std::size_t>> order;
+    for (const std::size_t i : chain) order.emplace_back(0.0, i);
+    std::vector<std::pair<double, std::size_t>> bases;
+    for (const auto& st : stacks) bases.emplace_back(0.0, st.front());
     for (std::size_t k = 0; k < sight_->pictures(); ++k) {
       bool ok = true;
       std::vector<double> at;  // image y, growing along the count
@@ -306,9 +352,12 @@ class PlatformView {
         if (!px) ok = false;
         if (ok) at.push_back(from_top ? px->y() : -px->y());
       }
+      const double gap = ok ? gap_in(k, order, rank) : 0.0;
       for (std::size_t n = 0; ok && n + 1 < at.size(); ++n) {
-        if (at[n + 1] - at[n] < (static_cast<int>(n) < rank ? min_gap_ : 0.0)) ok = false;
+        if (at[n + 1] - at[n] < (static_cast<int>(n) < rank ? gap : 0.0)) ok = false;
       }
+      // Which stack is which: counted from the left up to the one meant.
+      if (ok && stack > 0) ok = counted_in_picture(bases, k, 2, stack);
       if (ok) return true;
     }
     return false;
@@ -326,7 +375,23 @@ class PlatformView {
         if (r == 1) back_bottom = std::max(back_bottom, px->y());
       }
     }
-    return front_top - back_bottom >= min_gap_;
+    std::vector<std::pair<double, std::size_t>> all;
+    for (const auto& row : rows) {
+      for (const std::size_t i : row) all.emplace_back(0.0, i);
+    }
+    return front_top - back_bottom >= gap_in(picture, all, static_cast<int>(all.size()));
+  }
+
+  // The pixels a person needs between counted neighbours in picture k: min_gap, or half of it
+  // where every one counted (the first rank + 1 of `order`) shows under the size the renderer
+  // zooms at least twice as big (mark_layout.h, kSmallShare): the person counts in the zoom.
+  double gap_in(std::size_t k, const std::vector<std::pair<double, std::size_t>>& order, int rank) const {
+    const render::Camera& camera = sight_->camera(k);
+    const double small = render::kSmallShare * camera.width * camera.height;
+    for (std::size_t n = 0; n < order.size() && static_cast<int>(n) <= rank; ++n) {
+      if (sight_->image_pixels_in(k, objects_[order[n].second]) >= small) return min_gap_;
+    }
+    return min_gap_ / 2.0;
   }
 
   bool counted_in_picture(const std::vector<std::pair<double, std::size_t>>& order, std::size_t picture,
@@ -344,9 +409,10 @@ class PlatformView {
       const double coordinate = sideways ? px->x() : px->y();
       at.push_back(relative_dir == 2 || relative_dir == 4 ? coordinate : -coordinate);
     }
+    const double gap = gap_in(picture, order, rank);
     for (std::size_t k = 0; k + 1 < at.size(); ++k) {
       const double step = at[k + 1] - at[k];
-      if (step < (static_cast<int>(k) < rank ? min_gap_ : 0.0)) return false;
+      if (step < (static_cast<int>(k) < rank ? gap : 0.0)) return false;
     }
     return true;
   }
@@ -355,6 +421,13 @@ class PlatformView {
   // one before it stand at least kOrdinalGap from the next; else the pair too close to tell
   // apart (the reference is ambiguous).
   std::vector<std::size_t> counted(const std::vector<std::size_t>& candidates, int relative_dir, int rank) const {
+    // One of them on another (a book on a book): counting along an axis is unclear there (a
+    // person may count the stack once); the stack relations name those.
+    for (const std::size_t a : candidates) {
+      for (const std::size_t b : candidates) {
+        if (a != b && rests_on(a, b)) return candidates;
+      }
+    }
     std::vector<std::pair<double, std::size_t>> order;
     for (const std::size_t c : candidates) order.emplace_back(-along(c, relative_dir), c);
     std::sort(order.begin(), order.end());
@@ -404,7 +477,7 @@ bool has_lookalike(const graph::SceneGraph& g, const WorldState& s, graph::Objec
   const std::string noun = noun_of(g.objects[object], rule);
   int same = 0;
   for (const graph::ObjectId o : episode::everything_on(g, s, platform)) {
-    same += noun_of(g.objects[o], rule) == noun ? 1 : 0;
+    same += g.called(noun, noun_of(g.objects[o], rule)) ? 1 : 0;
   }
   return same > 1;
 }
@@ -448,6 +521,7 @@ Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>&
     r.relation = relation;
     r.rank = rank;
     r.row = row;
+    r.stack = 0;
     r.landmark.clear();
     if (!needs_landmark(relation)) {
       if (names_it(r)) return found(r);
@@ -455,6 +529,14 @@ Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>&
     }
     for (const std::string& landmark : views.front().landmarks_for(static_cast<std::size_t>(first), relation)) {
       r.landmark = landmark;
+      if (names_it(r)) return found(r);
+    }
+  }
+  // Stacks among several: "the book at the top of the leftmost stack".
+  for (int stack = 1; stack <= kMaxStacks; ++stack) {
+    for (const auto& [relation, rank, row] : kPreference) {
+      if (relation != Relation::kFromTop && relation != Relation::kFromBottom) continue;
+      r = Reference{relation, r.noun, "", rank, Row::kNone, stack};
       if (names_it(r)) return found(r);
     }
   }

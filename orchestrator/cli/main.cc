@@ -76,6 +76,16 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
   commands.push_back({scene_list, [list_opts] { return run_scene_list(*list_opts); }});
   commands.push_back({scene_info, [info_opts] { return run_scene_info(*info_opts); }});
   commands.push_back({scene_graph, [graph_opts] { return run_scene_graph(*graph_opts); }});
+  auto remix_opts = std::make_shared<SceneRemixOptions>();
+  CLI::App* scene_remix = scene->add_subcommand(
+      "remix", "Write a scene with its items put elsewhere (a held-out arrangement), as a dataset folder");
+  scene_remix->add_option("--scene", remix_opts->scene, "scene name, e.g. apt_0")->required();
+  scene_remix->add_option("--data", remix_opts->data_dir, "dataset root (default: search order)");
+  scene_remix->add_option("--profile", remix_opts->profile, "scene profile (default replica_cad)");
+  scene_remix->add_option("--seed", remix_opts->seed, "seed of the arrangement (default 1)");
+  scene_remix->add_option("--name", remix_opts->name, "the new scene's name (default <scene>_remix_<seed>)");
+  scene_remix->add_option("--out", remix_opts->out, "dataset folder to write or add to")->required();
+  commands.push_back({scene_remix, [remix_opts] { return run_scene_remix(*remix_opts); }});
 }
 
 // mtg render | images

@@ -4,10 +4,12 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/episode/remix.h"
 #include "core/graph/build.h"
 #include "core/graph/graph_json.h"
 #include "core/graph/topdown_png.h"
 #include "core/scene/dataset.h"
+#include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/scene/scene_loader.h"
 #include "core/scene/scene_summary.h"
@@ -91,6 +93,60 @@ int run_scene_graph(const SceneGraphOptions& options) {
     graph::write_topdown_png(g, options.png);
     std::printf("wrote         %s\n", options.png.c_str());
   }
+  return 0;
+}
+
+int run_scene_remix(const SceneRemixOptions& o) {
+  namespace fs = std::filesystem;
+  if (o.out.empty()) throw Error("mtg scene remix: --out <dataset folder> is required");
+  const auto dataset = scene::index_dataset(scene::resolve_data_root(o.data_dir));
+  const fs::path root = dataset.root;
+  const std::string name = o.name.empty() ? o.scene + "_remix_" + std::to_string(o.seed) : o.name;
+  const fs::path out(o.out);
+  if (fs::exists(out) && fs::canonical(out) == fs::canonical(root)) {
+    throw Error("mtg scene remix: --out is the dataset itself (" + root.string() + "); give another folder");
+  }
+  const fs::path file = out / "configs" / "scenes" / (name + ".scene_instance.json");
+  if (fs::exists(file)) throw Error("mtg scene remix: " + file.string() + " exists already");
+  scene::MeshCache cache(scene::MeshLoadOptions{.keep_textures = false});
+  const scene::Scene loaded = scene::load_scene(dataset, o.scene, cache, {.jobs = default_jobs()});
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, o.profile);
+  const graph::SceneGraph g = graph::build_scene_graph(loaded, graph_options);
+  const std::map<std::string, Eigen::Vector3d> moved = episode::remix_items(g, o.seed);
+
+  // The scene file with each moved item's translation shifted (the file is Y-up: (x, y, z) in the
+  // world is (x, z, -y) there).
+  nlohmann::json doc = read_json_file(dataset.scene_file(o.scene));
+  nlohmann::json& instances = doc.at("object_instances");
+  for (const scene::ObjectInstance& obj : loaded.objects) {
+    const auto it = moved.find(obj.name);
+    if (it == moved.end() || obj.articulated) continue;
+    nlohmann::json& t = instances.at(static_cast<std::size_t>(obj.file_index)).at("translation");
+    const Eigen::Vector3d d = it->second;
+    t = {t.at(0).get<double>() + d.x(), t.at(1).get<double>() + d.z(), t.at(2).get<double>() - d.y()};
+  }
+  // A dataset folder whose every entry but the scenes links to the original.
+  fs::create_directories(out / "configs" / "scenes");
+  auto link = [](const fs::path& target, const fs::path& at) {
+    if (!fs::exists(fs::symlink_status(at))) fs::create_directory_symlink(target, at);
+  };
+  for (const auto& e : fs::directory_iterator(root)) {
+    const fs::path at = out / e.path().filename();
+    if (e.path().filename() == "configs") continue;
+    if (fs::exists(fs::symlink_status(at))) continue;
+    if (e.is_directory()) {
+      fs::create_directory_symlink(e.path(), at);
+    } else {
+      fs::create_symlink(e.path(), at);
+    }
+  }
+  for (const auto& e : fs::directory_iterator(root / "configs")) {
+    if (e.path().filename() != "scenes" && e.is_directory()) link(e.path(), out / "configs" / e.path().filename());
+  }
+  write_json_file(file, doc);
+  std::printf("wrote %s: %s with %zu objects moved (seed %llu)\nuse it with --data %s --scene %s\n", file.c_str(),
+              o.scene.c_str(), moved.size(), static_cast<unsigned long long>(o.seed), out.c_str(), name.c_str());
   return 0;
 }
 

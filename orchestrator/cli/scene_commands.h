@@ -1,6 +1,7 @@
 #pragma once
 // `mtg scene ...`: list the scenes of a dataset and summarise one.
 
+#include <cstdint>
 #include <string>
 
 namespace mtg::cli {
@@ -24,7 +25,19 @@ struct SceneGraphOptions {
   std::string profile = "replica_cad";
 };
 
+/// `mtg scene remix`: the scene with its items put elsewhere (episode/remix.h), written as a new
+/// scene of a dataset folder that links to the original's files (only the scene file is new).
+struct SceneRemixOptions {
+  std::string scene;
+  std::string data_dir;
+  std::string profile = "replica_cad";
+  std::uint64_t seed = 1;
+  std::string name;  // the new scene's name ("" = <scene>_remix_<seed>)
+  std::string out;   // the dataset folder to write (made, or added to)
+};
+
 int run_scene_list(const SceneListOptions& options);
+int run_scene_remix(const SceneRemixOptions& options);
 int run_scene_graph(const SceneGraphOptions& options);
 int run_scene_info(const SceneInfoOptions& options);
 
