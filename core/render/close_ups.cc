@@ -26,6 +26,9 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
   for (const tasks::Identification& id : lookalikes) {
     const graph::ObjectId object = g.find_object(id.object);
     if (!object.valid() || object == s.held) continue;
+    // An item the agent has moved: the words named it where it stood, and showing it again would
+    // only tell the agent where it put it.
+    if (id.role == "item" && s.objects[object].position != g.objects[object].X_WO.translation()) continue;
     const graph::PlatformId platform = episode::furniture_platform_of(g, s, object);
     if (!platform.valid()) continue;
     const bool at_start = s.steps == 0;

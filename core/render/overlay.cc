@@ -69,10 +69,6 @@ void draw_discs(cv::Mat& image, const std::vector<Disc>& discs, const Style& st)
   }
 }
 
-bool inside(const cv::Mat& image, const Eigen::Vector2d& p) {
-  return p.x() >= 0 && p.y() >= 0 && p.x() < image.cols && p.y() < image.rows;
-}
-
 // Targets: translucent regions in their colour, a white disc with the black key where the layout
 // placed it (target_layout.h); a crowded target is tinted here and numbered in its zoom.
 void draw_regions(cv::Mat& image, const Camera& camera, const std::vector<RegionMark>& regions, const Style& st,

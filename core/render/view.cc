@@ -287,7 +287,9 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
   const episode::ObjectState& o = s.objects[r.object];
   const ObjectExtent e = extent_of(o);
   // The object and a hand's breadth around it, so its neighbours show (faded) for context.
-  const double radius = std::max(0.12, 1.6 * e.radius);
+  // Wide enough for its neighbours to show (faded), so a person sees where it stands among its
+  // look-alikes (the third book of a row), not the object alone.
+  const double radius = std::max(0.25, 3.0 * e.radius);
   const double distance = radius / std::tan(kCloseUpFovy / 2.0);
   // Looking down a little, but under the layer above an interior shelf.
   double elevation = 35.0 * kPi / 180;

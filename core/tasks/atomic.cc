@@ -37,6 +37,8 @@ std::string goal_key(const AtomicGoal& goal) {
   return key;
 }
 
+constexpr double kBetweenMaxGap = 0.4;  // m between two anchors of a "between" goal, at most
+
 // Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
 // with box tests; each is confirmed by the judge's predicate before it becomes a task. With
 // a valid `only_anchor`, only the goals relative to that object, in the same order.
@@ -79,6 +81,11 @@ void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2&
       const bool sep_x = std::max(b.min().x(), e.min().x()) > std::min(b.max().x(), e.max().x());
       const bool sep_y = std::max(b.min().y(), e.min().y()) > std::min(b.max().y(), e.max().y());
       if (!sep_x && !sep_y) continue;
+      // Far apart (two ends of a counter), "between" is a long band a person cannot see: only
+      // anchors within kBetweenMaxGap of each other make one.
+      const double apart = std::max(sep_x ? std::max(b.min().x(), e.min().x()) - std::min(b.max().x(), e.max().x()) : 0.0,
+                                    sep_y ? std::max(b.min().y(), e.min().y()) - std::min(b.max().y(), e.max().y()) : 0.0);
+      if (apart > kBetweenMaxGap) continue;
       const double x0 = std::min(b.max().x(), e.max().x()), x1 = std::max(b.min().x(), e.min().x());
       const double y0 = std::min(b.max().y(), e.max().y()), y1 = std::max(b.min().y(), e.min().y());
       const double ox0 = std::max(b.min().x(), e.min().x()), ox1 = std::min(b.max().x(), e.max().x());

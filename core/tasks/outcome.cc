@@ -118,7 +118,7 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
 }
 
 // Object-level placeholders are drawn this many times per platform-level binding.
-constexpr std::size_t kSamples = 5;
+constexpr std::size_t kSamples = 6;
 
 struct Move {
   ObjectId object;
@@ -325,6 +325,11 @@ class Instantiator {
   bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
             const std::vector<Move>& moves, const std::vector<std::vector<ObjectId>>& selects,
             std::vector<Identification> lookalikes = {}) {
+    // "All the canisters ... put them" said of one canister misleads: plural words need two.
+    const char* plurals[] = {"categories", "categories2"};
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (values.count(plurals[k]) != 0 && k < selects.size() && selects[k].size() < 2) return false;
+    }
     if (!words_match(goal, selects)) {
       dropped_.add("vague", 4);
       return false;

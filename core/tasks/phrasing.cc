@@ -89,7 +89,7 @@ std::string lookalike_hint(const std::vector<Identification>& lookalikes, bool w
     if (i > 0) text += i + 1 == lookalikes.size() ? " and " : ", ";
     text += lookalikes[i].phrase + " (on " + lookalikes[i].platform + ")";
   }
-  text += ". Left, right, nearest, farthest and the front and back rows are as seen from the side where you arrive "
+  text += ". Left, right, nearest, farthest and the near and far rows are as seen from the side where you arrive "
           "at that platform.";
   if (with_images) {
     text += lookalikes.size() == 1 ? " A close-up image shows it, every other object faded."

@@ -52,7 +52,7 @@ std::string Reference::phrase() const {
   if (row != Row::kNone && (relation == Relation::kFromLeft || relation == Relation::kFromRight)) {
     Reference in_row = *this;
     in_row.row = Row::kNone;
-    return in_row.phrase() + (row == Row::kFront ? " in the front row" : " in the back row");
+    return in_row.phrase() + (row == Row::kFront ? " in the near row" : " in the far row");
   }
   switch (relation) {
     case Relation::kAlone: return "the " + noun;
@@ -79,7 +79,7 @@ nlohmann::json Reference::to_json() const {
   nlohmann::json j = {{"relation", tasks::to_string(relation)}, {"noun", noun}};
   if (!landmark.empty()) j["landmark"] = landmark;
   if (rank > 0) j["rank"] = rank;
-  if (row != Row::kNone) j["row"] = row == Row::kFront ? "front" : "back";
+  if (row != Row::kNone) j["row"] = row == Row::kFront ? "near" : "far";
   if (stack > 0) j["stack"] = stack;
   return j;
 }
@@ -105,11 +105,11 @@ Reference Reference::from_json(const nlohmann::json& j) {
   if (r.stack < 0 || r.stack > kMaxRank) throw Error("reference: 'stack' must be 0.." + std::to_string(kMaxRank));
   const std::string row = j.value("row", "");
   if (!row.empty()) {
-    if (row != "front" && row != "back") throw Error("reference: 'row' must be front or back, not '" + row + "'");
+    if (row != "near" && row != "far") throw Error("reference: 'row' must be near or far, not '" + row + "'");
     if (r.relation != Relation::kFromLeft && r.relation != Relation::kFromRight) {
       throw Error("reference: only from_left and from_right count in a row");
     }
-    r.row = row == "front" ? Row::kFront : Row::kBack;
+    r.row = row == "near" ? Row::kFront : Row::kBack;
   }
   return r;
 }

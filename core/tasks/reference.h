@@ -16,7 +16,8 @@ const char* to_string(Relation r);
 bool needs_landmark(Relation r);
 
 /// Look-alikes that stand in two rows, one behind the other (spice jars in a rack): an ordinal may
-/// count in the front (nearer) row or the back row only.
+/// count in the near row or the far row only ("near" and "far", not "front" and "back": front is
+/// the farthest part at placement, the paper's convention).
 enum class Row { kNone, kFront, kBack };
 
 struct Reference {
@@ -28,7 +29,7 @@ struct Reference {
   int stack = 0;         // from_top, from_bottom: in the stack-th stack from the left (0: the one stack)
 
   /// "the book", "the book on the box", "the leftmost book", "the second book from the right",
-  /// "the leftmost spice jar in the back row"...
+  /// "the leftmost spice jar in the far row"...
   std::string phrase() const;
   nlohmann::json to_json() const;
   /// @throws mtg::Error naming the field.

@@ -303,8 +303,8 @@ class PlatformView {
   // still stands where it stands), and each of the first `rank` at least min_gap pixels from the
   // next. Left/right read along the image's width at mid-height; near/far along its height at
   // the bottom (nearer stands lower in the picture).
-  // Counting in a row, the two rows must show as rows too: every candidate of the front row lower
-  // in the picture than every one of the back row, by min_gap pixels.
+  // Counting in a row, the two rows must show as rows too: every candidate of the near row lower
+  // in the picture than every one of the far row, by min_gap pixels.
   bool counted_in_view(const std::string& noun, int relative_dir, int rank, Row row) const {
     std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < size(); ++i) {

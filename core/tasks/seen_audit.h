@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/render/scene_geometry.h"
+#include "core/render/visibility.h"
 #include "core/tasks/task.h"
 
 namespace mtg::tasks {
@@ -25,18 +26,22 @@ class SeenAudit {
   std::vector<std::string> check(const Task& task) const;
 
   /// Distinct views drawn so far (views are remembered by the exact state they show).
-  std::size_t views_drawn() const { return views_.size(); }
+  std::size_t views_drawn() const { return drawn_; }
 
  private:
   struct View;
-  View& view(const episode::WorldState& s, graph::PlatformId platform) const;
-  // The view's marks, laid out on its pass (once, when first asked).
-  void lay_out_marks(View& v, const episode::WorldState& s, graph::PlatformId platform) const;
+  std::shared_ptr<View> view(const episode::WorldState& s, graph::PlatformId platform) const;
+  // Picture k's id pass (drawn when first asked).
+  const render::IdView& ids(View& v, std::size_t k) const;
+  // Whether object o's number has a readable place in one of the view's pictures (laid out, and
+  // checked against the rules into `problems`, when first asked).
+  bool readable(View& v, graph::ObjectId o, std::vector<std::string>& problems) const;
 
   const graph::SceneGraph& g_;
   const render::SceneGeometry& geometry_;
   TaskOptions options_;
   mutable std::map<std::string, std::shared_ptr<View>> views_;
+  mutable std::size_t drawn_ = 0;
 };
 
 }  // namespace mtg::tasks

@@ -110,7 +110,7 @@ void write_reference(JsonWriter& w, const Reference& r) {
   w.key("noun").value(r.noun);
   if (r.rank > 0) w.key("rank").value(r.rank);
   w.key("relation").value(to_string(r.relation));
-  if (r.row != Row::kNone) w.key("row").value(r.row == Row::kFront ? "front" : "back");
+  if (r.row != Row::kNone) w.key("row").value(r.row == Row::kFront ? "near" : "far");
   if (r.stack > 0) w.key("stack").value(r.stack);
   w.end_object();
 }

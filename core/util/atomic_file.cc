@@ -47,7 +47,24 @@ void remove_stale_partials(const fs::path& target) {
 
 }  // namespace
 
+void require_replaceable(const fs::path& target) {
+  // A rename replaces whatever the name holds: as root, `--out /dev/null` would leave a regular
+  // file where the device was and break the machine. Only a regular file (or nothing) is
+  // replaced; a link is followed to what it names.
+  std::error_code ec;
+  const fs::file_status st = fs::status(target, ec);
+  if (ec || !fs::exists(st) || fs::is_regular_file(st)) return;
+  const char* what = fs::is_directory(st)        ? "a folder"
+                     : fs::is_character_file(st) ? "a character device"
+                     : fs::is_block_file(st)     ? "a block device"
+                     : fs::is_fifo(st)           ? "a FIFO"
+                     : fs::is_socket(st)         ? "a socket"
+                                                 : "not a regular file";
+  throw Error(target.string() + ": is " + what + "; give the path of a file to write");
+}
+
 PartialFile::PartialFile(fs::path target, Stale stale) : target_(std::move(target)) {
+  require_replaceable(target_);
   if (stale == Stale::kRemove) remove_stale_partials(target_);
   path_ = target_.string() + ".partial-" + host_name() + "-" + std::to_string(::getpid());
   const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
@@ -66,6 +83,7 @@ PartialFile::~PartialFile() {
 }
 
 void PartialFile::commit() {
+  require_replaceable(target_);  // it may have been made since the writer began
   std::error_code ec;
   fs::rename(path_, target_, ec);
   if (ec) throw Error(target_.string() + ": cannot move the finished file into place (" + ec.message() + ")");

@@ -15,6 +15,10 @@
 
 namespace mtg {
 
+/// Throws mtg::Error naming `target` when it exists and is not a regular file (a device, a FIFO,
+/// a folder): a writer that renames over it would replace it.
+void require_replaceable(const std::filesystem::path& target);
+
 /// Calls `write(stream)` on a binary stream to a partial file, then renames it to `file`.
 /// @throws mtg::Error naming `file` when it cannot be written.
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& write);

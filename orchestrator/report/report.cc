@@ -10,6 +10,7 @@
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
+#include "core/util/text.h"
 #include "orchestrator/report/sankey.h"
 
 namespace mtg::orchestrator {
@@ -55,19 +56,7 @@ struct Usage {
   }
 };
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+std::string escape(const std::string& s) { return escape_markup(s); }
 
 std::string fmt(double v) {
   std::ostringstream o;

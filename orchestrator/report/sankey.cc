@@ -10,6 +10,7 @@
 
 #include "core/episode/outcomes.h"
 #include "core/util/error.h"
+#include "core/util/text.h"
 
 namespace mtg::orchestrator {
 namespace {
@@ -194,16 +195,17 @@ std::string sankey_svg(const nlohmann::json& graph, int width, int height) {
     s << "<path d=\"M" << b.x0 << "," << b.y0 << " C" << xm << "," << b.y0 << " " << xm << "," << b.y1 << " " << b.x1 << ","
       << b.y1 << " L" << b.x1 << "," << b.y1 + b.t << " C" << xm << "," << b.y1 + b.t << " " << xm << "," << b.y0 + b.t
       << " " << b.x0 << "," << b.y0 + b.t << " Z\" fill=\"" << rgb(colour_of(L.nodes[static_cast<size_t>(b.source)]))
-      << "\" fill-opacity=\"0.35\" class=\"flow\" data-source=\"" << L.nodes[static_cast<size_t>(b.source)].id
-      << "\" data-target=\"" << L.nodes[static_cast<size_t>(b.target)].id << "\"><title>" << L.nodes[static_cast<size_t>(b.source)].label << " &#8594; "
-      << L.nodes[static_cast<size_t>(b.target)].label << ": " << b.value << "</title></path>";
+      << "\" fill-opacity=\"0.35\" class=\"flow\" data-source=\"" << escape_markup(L.nodes[static_cast<size_t>(b.source)].id)
+      << "\" data-target=\"" << escape_markup(L.nodes[static_cast<size_t>(b.target)].id) << "\"><title>"
+      << escape_markup(L.nodes[static_cast<size_t>(b.source)].label) << " &#8594; "
+      << escape_markup(L.nodes[static_cast<size_t>(b.target)].label) << ": " << b.value << "</title></path>";
   }
   for (const Node& n : L.nodes) {
     s << "<rect x=\"" << n.x << "\" y=\"" << n.y << "\" width=\"" << L.node_width << "\" height=\"" << n.h
       << "\" fill=\"" << rgb(colour_of(n)) << "\"/>";
     const bool left = n.column == 0;
     s << "<text x=\"" << (left ? n.x - 6 : n.x + L.node_width + 6) << "\" y=\"" << n.y + n.h / 2 + 4
-      << "\" text-anchor=\"" << (left ? "end" : "start") << "\">" << n.label << " (" << n.value << ")</text>";
+      << "\" text-anchor=\"" << (left ? "end" : "start") << "\">" << escape_markup(n.label) << " (" << n.value << ")</text>";
   }
   s << "</svg>";
   return s.str();

@@ -106,7 +106,7 @@ TEST(References, RowsAndStacksNameWhatOrdinalsCannot) {
   fx.add_object_config("toy_book", fx.add_box_mesh("book", {0.1, 0.1, 0.1}));
   fx.add_scene("s", {{"object_instances",
                       {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
-                       // two rows of two jars, front row and back row 8 cm apart, columns 8 cm apart
+                       // two rows of two jars, the near row and the far row 8 cm apart, columns 8 cm apart
                        testing::FixtureDataset::instance("toy_jar", testing::hab(-0.3, -0.1, 0.75)),
                        testing::FixtureDataset::instance("toy_jar", testing::hab(-0.22, -0.1, 0.75)),
                        testing::FixtureDataset::instance("toy_jar", testing::hab(-0.3, -0.02, 0.75)),
@@ -127,7 +127,9 @@ TEST(References, RowsAndStacksNameWhatOrdinalsCannot) {
         << name << ": " << r->phrase();
     EXPECT_EQ(Reference::from_json(r->to_json()).phrase(), r->phrase()) << name;
     const std::string phrase = r->phrase();
-    if (std::string(name).rfind("jar", 0) == 0) EXPECT_THAT(phrase, HasSubstr(" row")) << name;
+    if (std::string(name).rfind("jar", 0) == 0) {
+      EXPECT_THAT(phrase, HasSubstr(" row")) << name;
+    }
     if (std::string(name).rfind("book", 0) == 0) {
       EXPECT_THAT(phrase, ::testing::AnyOf(HasSubstr("of the stack"), HasSubstr("on the book"), HasSubstr("under the book")))
           << name;
@@ -135,7 +137,7 @@ TEST(References, RowsAndStacksNameWhatOrdinalsCannot) {
   }
   // The middle book is neither on top nor at the bottom: counted down the stack.
   EXPECT_EQ(refer_to(g, s, "book_6")->phrase(), "the second book from the top of the stack");
-  const nlohmann::json bad_row = {{"relation", "nearest"}, {"noun", "jar"}, {"rank", 1}, {"row", "front"}};
+  const nlohmann::json bad_row = {{"relation", "nearest"}, {"noun", "jar"}, {"rank", 1}, {"row", "near"}};
   EXPECT_THROW(Reference::from_json(bad_row), mtg::Error);
 }
 
