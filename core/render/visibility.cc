@@ -405,17 +405,8 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
 
 bool VisibilityOracle::in_view(const episode::WorldState& s, graph::PlatformId platform, graph::ObjectId o) const {
   const int side = std::max(0, g_.platforms.at(platform).default_side);
-  // First each picture itself (most marks have their place there); only then the zooms of those
-  // that left the mark crowded (drawn anew: the costly part). The answer does not depend on the order.
-  struct Crowded {
-    const PictureScenery* sc;
-    Deciders d;
-    std::vector<ItemMark> items;
-    std::string key;
-  };
-  std::vector<Crowded> crowded;
   for (const PictureScenery& sc : scenery(platform, side).pictures) {
-    Deciders d = deciders(s, platform, sc);
+    const Deciders d = deciders(s, platform, sc);
     if (std::find(d.items.begin(), d.items.end(), o) != d.items.end()) return true;
   }
   return false;
@@ -570,10 +561,8 @@ bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::Platfo
   for (const PictureScenery& sc : scenery(platform, side).pictures) {
     Deciders d = deciders(s, platform, sc);
     std::vector<ItemMark> items = all_items;
-    if (sc.picture.part != 0) {
-      const std::shared_ptr<const Window> w = window(sc, d);
-      items = numbered_in(g_, s, platform, side, sc.picture, all_items,
-                          showing_in(count_pixels(w->image, w->silhouettes)));
+    if (sc.picture.part != 0) {  // the counts are remembered longer than the window's pixels
+      items = numbered_in(g_, s, platform, side, sc.picture, all_items, showing_in(*picture_counts(sc, d)));
     }
     if (std::none_of(items.begin(), items.end(), [&](const ItemMark& m) { return m.object == o; })) continue;
     // The items' numbers (their order on the platform) decide where their marks go too.
