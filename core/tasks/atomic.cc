@@ -343,10 +343,12 @@ class ItemEnumeration {
     const char* why = nullptr;
     // A direction is asked for only where the agent is offered it in the task's own words: the
     // free space of that side of that object ("front-right of object 3"), not a neighbour's
-    // region that happens to reach there.
-    const bool words_match = goal.type != GoalType::kDirection ||
-                             (t.kind == episode::PlaceTarget::Kind::kObjectRegion && t.anchor == goal.anchor &&
-                              t.relative_dir == goal.direction);
+    // region that happens to reach there. "Next to the plate" likewise: a person picks one of the
+    // plate's own free spaces, not the one of a neighbour that happens to lie close to it.
+    const bool own_space = t.kind == episode::PlaceTarget::Kind::kObjectRegion && t.anchor == goal.anchor;
+    const bool words_match = goal.type == GoalType::kDirection ? own_space && t.relative_dir == goal.direction
+                             : goal.type == GoalType::kAround  ? own_space
+                                                               : true;
     if (d.too_tall) {
       why = "stack";
     } else if (!words_match) {

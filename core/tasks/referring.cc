@@ -414,7 +414,23 @@ class PlatformView {
       const double step = at[k + 1] - at[k];
       if (step < (static_cast<int>(k) < rank ? gap : 0.0)) return false;
     }
+    // Left and right are read side by side: two lamps one behind the other from this side are
+    // "the near lamp" and "the far lamp", not a leftmost and a rightmost, even when their centres
+    // differ by a few pixels. Each counted neighbour stands at most twice as far behind (or in
+    // front of) the next as beside it, seen from the camera.
+    if (sideways) {
+      const Eigen::Isometry3d X_CW = sight_->camera(picture).X_WC.inverse();
+      for (std::size_t k = 0; k + 1 < order.size() && static_cast<int>(k) < rank; ++k) {
+        const Eigen::Vector3d a = X_CW * centre_3d(order[k].second), b = X_CW * centre_3d(order[k + 1].second);
+        if (std::abs(b.z() - a.z()) > 2.0 * std::abs(b.x() - a.x())) return false;  // the camera looks along -z
+      }
+    }
     return true;
+  }
+
+  Eigen::Vector3d centre_3d(std::size_t i) const {
+    const episode::ObjectState& o = s_.objects[objects_[i]];
+    return {centres_W_[i].x(), centres_W_[i].y(), (o.bottom + o.top) / 2.0};
   }
 
   // Counting candidates along a viewer axis from its far end: the rank-th one, when it and every

@@ -179,10 +179,11 @@ std::string AuditReport::to_text() const {
   char line[256];
   auto print = [&](const LevelRow& r, const std::string& name) {
     const auto paper = kPaper.find(r.level);
-    std::snprintf(line, sizeof line, "%-5s  %8d/%-7d  %5d  %6.1f %% (%5.1f-%5.1f %%)  %6s   %d/%d = %.1f %%\n",
-                  name.c_str(), r.answered, r.sampled, r.valid, 100 * r.validity, 100 * r.low, 100 * r.high,
-                  paper == kPaper.end() ? "" : (std::to_string(paper->second).substr(0, 4) + " %").c_str(), r.right,
-                  r.picks, 100 * r.accuracy);
+    char picks[64] = "none asked";  // "0/0 = 0.0 %" would read as all wrong
+    if (r.picks > 0) std::snprintf(picks, sizeof picks, "%d/%d = %.1f %%", r.right, r.picks, 100 * r.accuracy);
+    std::snprintf(line, sizeof line, "%-5s  %8d/%-7d  %5d  %6.1f %% (%5.1f-%5.1f %%)  %6s   %s\n", name.c_str(),
+                  r.answered, r.sampled, r.valid, 100 * r.validity, 100 * r.low, 100 * r.high,
+                  paper == kPaper.end() ? "" : (std::to_string(paper->second).substr(0, 4) + " %").c_str(), picks);
     out += line;
   };
   for (const LevelRow& r : levels) print(r, std::to_string(r.level));
