@@ -37,6 +37,15 @@ int int_param(const httplib::Request& req, const char* name, int fallback) {
   throw Error(std::string("query parameter '") + name + "' is not a number: " + *v);
 }
 
+// The attempt asked for, or -1 (the latest) when none is: a negative one is a mistake of the
+// request, not the latest.
+int attempt_param(const httplib::Request& req) {
+  if (!param(req, "attempt")) return -1;
+  const int attempt = int_param(req, "attempt", -1);
+  if (attempt < 0) throw Error("query parameter 'attempt' must be 0 or more, not " + std::to_string(attempt));
+  return attempt;
+}
+
 // A number matched by \d+ in the route; one too large is a mistake of the request, said so.
 long long path_number(const httplib::Request& req, std::size_t match, const char* what) {
   const std::string text = req.matches[match];
@@ -163,7 +172,7 @@ void ViewServer::add_routes() {
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+))", with_run([](RunView& r, const httplib::Request& req,
                                                                  httplib::Response& res) {
     const bus::EpisodeId id(path_number(req, 2, "episode"));
-    json e = r.episode(id, int_param(req, "attempt", -1));
+    json e = r.episode(id, attempt_param(req));
     if (e.is_null()) return send_error(res, 404, "run " + r.name() + " has no episode " + to_string(id));
     const std::string base = "/api/runs/" + r.name() + "/episodes/" + to_string(id) + "/images/" +
                              std::to_string(e["attempt"].get<int>()) + "/";
@@ -172,7 +181,7 @@ void ViewServer::add_routes() {
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes/(\d+)/truth)", with_run([](RunView& r, const httplib::Request& req,
                                                                        httplib::Response& res) {
-    const json t = r.truth(bus::EpisodeId(path_number(req, 2, "episode")), int_param(req, "attempt", -1));
+    const json t = r.truth(bus::EpisodeId(path_number(req, 2, "episode")), attempt_param(req));
     if (t.is_null()) return send_error(res, 404, "no goal recorded for that episode");
     send_json(res, t);
   }));

@@ -135,6 +135,10 @@ TEST_F(ViewerTest, TheApiAnswersMistakesWithOneLineAndTheRightStatus) {
   EXPECT_EQ(bad[0], 400);
   EXPECT_EQ(bad[1], "query parameter 'level' is not a number: two");
   EXPECT_EQ(status("/api/runs/run/episodes?success=1")[0], 200);
+  // A negative attempt is the request's mistake, not attempt 0 or the latest.
+  const json negative = status("/api/runs/run/episodes/0?attempt=-1");
+  EXPECT_EQ(negative[0], 400);
+  EXPECT_EQ(negative[1], "query parameter 'attempt' must be 0 or more, not -1");
   EXPECT_EQ(status("/api/runs/run/episodes/99999999999999999999999")[1], "episode '99999999999999999999999' is out of range");
   const json missing = status("/api/nothing/here");
   EXPECT_EQ(missing[0], 404);
