@@ -32,6 +32,7 @@
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
 #include "orchestrator/run/page_relay.h"
+#include "orchestrator/run/run_lock.h"
 #include "orchestrator/run/run_namespace.h"
 #include "orchestrator/run/run_plan.h"
 
@@ -344,6 +345,9 @@ int run_run(const RunOptions& o) {
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
   const auto fingerprints = fingerprints_of(plan, tasks);
   if (!plan.remote) check_dataset(plan, fingerprints);
+  // One writer per folder, from here to the end of the run (run_lock.h).
+  const bool playing = plan.agents.size() == 1 && plan.agents.front() == agents::kHumanAgent;
+  const orchestrator::RunLock lock(dir, playing ? "mtg play" : "mtg run");
   SlurmRun slurm;
   const std::string planned_bus = plan.bus_url;
   if (o.given.count("--slurm") && o.url.empty()) slurm.hub = start_run_hub(o, plan, dir);
