@@ -26,11 +26,14 @@ bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, 
 
 }  // namespace
 
+// How a key of the anchor's own free spaces ends: "front-right of object 3" for a direction,
+// " of object 3" (any side) for next to.
 std::string placement_words(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part) {
   const std::vector<graph::ObjectId> numbering = episode::pickable_on(g, s, s.at_platform);
   const auto it = std::find(numbering.begin(), numbering.end(), part.anchor);
   const std::string anchor = it == numbering.end() ? "the " : "object " + std::to_string(it - numbering.begin() + 1);
-  return std::string(graph::direction_name(part.direction)) + " of " + anchor;
+  const std::string side = part.type == episode::GoalType::kDirection ? graph::direction_name(part.direction) : "";
+  return side + " of " + anchor;
 }
 
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
@@ -132,12 +135,19 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
     }
     for (std::size_t i = 0; i < kKeysPerPart; ++i) {
       const std::string& key = task.oracle[kKeysPerPart * k + i];
-      // A direction's key is offered in the task's own words: that side of that object.
-      if (i + 1 == kKeysPerPart && part.type == episode::GoalType::kDirection) {
+      // A direction's key is offered in the task's own words (that side of that object), and a
+      // next-to's as one of that object's own free spaces.
+      const bool worded_goal = part.type == episode::GoalType::kDirection || part.type == episode::GoalType::kAround;
+      if (i + 1 == kKeysPerPart && worded_goal) {
         const std::string wanted = placement_words(g, s, part);
         bool worded = false;
         for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
-          if (option.key == key) worded = option.description.find(wanted) != std::string::npos;
+          // "of object 1" must not pass for "of object 12"; an anchor with no number (the TV box)
+          // is named in words after "of the ".
+          const bool numbered = !wanted.ends_with("the ");
+          if (option.key == key) {
+            worded = numbered ? option.description.ends_with(wanted) : option.description.find(wanted) != std::string::npos;
+          }
         }
         if (!worded) fail(which + "the key '" + key + "' is not offered as '" + wanted + "'");
       }
