@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <csignal>
 
 #include "bus/bus.h"
 #include "bus/header.h"
@@ -22,6 +23,9 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("recorder");
   mtg::process::install_stop_signals();
+  // A file-size limit (`ulimit -f`) is a full disk to the recorder: without this the kernel's
+  // SIGXFSZ kills it mid-event; ignored, write(2) says EFBIG and the recording is cut back whole.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     mtg::bus::Bus bus(url);
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("recorder"));
