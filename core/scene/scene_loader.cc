@@ -15,6 +15,10 @@ namespace mtg::scene {
 namespace fs = std::filesystem;
 namespace {
 
+// Farther than this from the origin, a scene-file position is a mistake (the largest real scenes
+// span tens of metres).
+constexpr double kMaxCoordinate = 10000.0;
+
 // Pose of a scene-file instance: Habitat is Y-up with quaternions [w, x, y, z].
 struct HabitatPose {
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
@@ -26,6 +30,11 @@ HabitatPose read_pose(const JsonField& instance) {
   if (auto t = instance.find("translation")) {
     const auto v = t->as_doubles(3);
     pose.translation = Eigen::Vector3d(v[0], v[1], v[2]);
+    // 1e308 m overflows every later step (meshes, grids, images) far from this file: say it here.
+    if (!pose.translation.allFinite() || pose.translation.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      t->fail("a position more than " + std::to_string(static_cast<int>(kMaxCoordinate)) +
+              " m from the origin (or not finite) is no place in a building");
+    }
   }
   if (auto r = instance.find("rotation")) {
     const auto q = r->as_doubles(4);

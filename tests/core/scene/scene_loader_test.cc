@@ -96,6 +96,20 @@ TEST(LoadScene, BadFieldNamesItsJsonPath) {
   }
 }
 
+TEST(LoadScene, AnAbsurdTranslationNamesItsFileAndField) {
+  FixtureDataset fx;
+  fx.add_object_config("toy_box", fx.add_box_mesh("box", {0.2, 0.1, 0.4}));
+  fx.add_scene("s", {{"object_instances", {FixtureDataset::instance("toy_box", {0, 0, 0}),
+                                           FixtureDataset::instance("toy_box", {1e308, 0, 0})}}});
+  try {
+    load_fixture(fx, "s");
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("s.scene_instance.json: /object_instances/1/translation: "
+                                    "a position more than 10000 m from the origin"));
+  }
+}
+
 TEST(LoadScene, MissingAndBrokenMeshesWarnOnceAndFallBack) {
   FixtureDataset fx;
   nlohmann::json with_collision;
