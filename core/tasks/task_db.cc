@@ -192,6 +192,17 @@ Task task_from_json(const nlohmann::json& j) {
     const std::string id = j["id"].is_string() ? j["id"].get<std::string>() : std::string("?");
     throw Error("task " + id + ": a field has the wrong type (" + e.what() + ")");
   }
+  // A database is input like any other: a step limit of 10^8 or a 4 MB text would make planning
+  // and prompts take gigabytes before anything said why.
+  if (t.level < 1 || t.level > 4) throw Error("task " + t.id + ": level " + std::to_string(t.level) + " is not 1-4");
+  if (t.step_limit < 1 || t.step_limit > kMaxStepLimit) {
+    throw Error("task " + t.id + ": step_limit " + std::to_string(t.step_limit) + " is not in 1.." +
+                std::to_string(kMaxStepLimit));
+  }
+  if (t.text.size() > kMaxTaskText) {
+    throw Error("task " + t.id + ": its text has " + std::to_string(t.text.size()) + " bytes, more than the " +
+                std::to_string(kMaxTaskText) + " a task text may have");
+  }
   t.identify = identifications_from_json(j["identify"]);
   t.placements = oracle_placements_from_json(j["placements"]);
   return t;

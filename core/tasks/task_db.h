@@ -84,7 +84,13 @@ nlohmann::json task_to_json(const Task& task);
 /// Appends task_to_json(task).dump() to `out`, written straight from the task (what a database's
 /// chunks and the JSONL hold).
 void append_task_json(std::string& out, const Task& task);
-/// @throws mtg::Error naming the missing or mistyped field.
+
+/// The most steps a stored task may allow, and the longest text it may have (bytes).
+inline constexpr int kMaxStepLimit = 1000;
+inline constexpr std::size_t kMaxTaskText = 16384;
+
+/// @throws mtg::Error naming the task for a missing or mistyped field, a level other than 1-4, a
+/// step limit beyond kMaxStepLimit or a text longer than kMaxTaskText.
 Task task_from_json(const nlohmann::json& j);
 
 /// Tasks of the database, optionally only some levels, in id order.

@@ -404,6 +404,31 @@ TEST(TaskGeneration, TasksAreWrittenAsTheirJsonPrints) {
   EXPECT_EQ(levels, (std::set<int>{1, 2, 3, 4})) << "every level's fields were compared";
 }
 
+// A stored task is input: limits that would make planning or prompts take gigabytes are refused
+// with one line naming the task.
+TEST(TaskGeneration, AStoredTaskBeyondTheLimitsIsRefusedByName) {
+  Task t;
+  t.id = "s/L1/000007";
+  t.scene = "s";
+  t.level = 1;
+  t.type = "surface";
+  t.text = "Put the cup on the table.";
+  t.goal = {{"atomic", {{"type", "surface"}}}};
+  t.step_limit = 15;
+  EXPECT_EQ(task_from_json(task_to_json(t)).step_limit, 15);
+  Task huge = t;
+  huge.step_limit = 100000000;
+  EXPECT_THAT([&] { task_from_json(task_to_json(huge)); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("task s/L1/000007: step_limit 100000000 is not in 1..1000")));
+  Task wordy = t;
+  wordy.text = std::string(4 << 20, 'a');
+  EXPECT_THAT([&] { task_from_json(task_to_json(wordy)); },
+              ::testing::ThrowsMessage<Error>(HasSubstr("task s/L1/000007: its text has 4194304 bytes")));
+  Task odd = t;
+  odd.level = 9;
+  EXPECT_THROW(task_from_json(task_to_json(odd)), Error);
+}
+
 // The database keeps every field of every task (compressed 64 to a chunk), gives them back in id
 // order, says which task a damaged chunk holds, and the stock sqlite3 shell reads them too.
 TEST(TaskGeneration, TheDatabaseGivesBackEveryTaskAndTheShellReadsItToo) {
