@@ -37,6 +37,14 @@ bool SceneGraph::called(const std::string& word, const std::string& noun) const 
   return it != noun_covers.end() && it->second.count(noun) != 0;
 }
 
+std::vector<std::string> SceneGraph::words_covering(const std::string& noun) const {
+  std::vector<std::string> out;
+  for (const auto& [word, nouns] : noun_covers) {
+    if (nouns.count(noun) != 0) out.push_back(word);
+  }
+  return out;
+}
+
 ObjectId SceneGraph::find_object(const std::string& name) const {
   for (const ObjectId o : objects.ids()) {
     if (objects[o].name == name) return o;

@@ -118,6 +118,8 @@ struct SceneGraph {
   /// Whether a person told `word` considers an object called `noun`: the same noun, or one the
   /// word covers ("cup" for a mug).
   bool called(const std::string& word, const std::string& noun) const;
+  /// The words that cover `noun` (not the noun itself), in the profile's order.
+  std::vector<std::string> words_covering(const std::string& noun) const;
   ObjectId find_object(const std::string& name) const;      // none if absent
   PlatformId find_platform(const std::string& name) const;  // none if absent
   /// Pickable objects on a platform in the agent's o-numbering: each direct child followed by

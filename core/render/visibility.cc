@@ -368,18 +368,20 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
   // The platform's objects in this picture: one wholly outside it (in another part of a long
   // platform) shows nothing here and covers nothing that does, so the picture does not depend on
   // where it stands.
-  std::vector<NdcBox> targets;
-  Eigen::AlignedBox3f all;
+  std::vector<std::pair<graph::ObjectId, NdcBox>> showing;
   for (const graph::ObjectId o : episode::everything_on(g_, s, platform)) {
     if (o == s.held) continue;
-    const NdcBox box = image_box(s, o, sc);
+    NdcBox box = image_box(s, o, sc);
     if (box.box.isEmpty() && !box.anywhere) continue;
-    d.on.push_back(o);
+    showing.emplace_back(o, std::move(box));
   }
-  std::sort(d.on.begin(), d.on.end());
-  for (const graph::ObjectId o : d.on) {
-    targets.push_back(image_box(s, o, sc));
-    all.extend(targets.back().box);
+  std::sort(showing.begin(), showing.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<NdcBox> targets;
+  Eigen::AlignedBox3f all;
+  for (auto& [o, box] : showing) {
+    d.on.push_back(o);
+    all.extend(box.box);
+    targets.push_back(std::move(box));
   }
   if (all.isEmpty()) return d;  // nothing on it to see
   for (const graph::ObjectId o : movable_) {
@@ -506,9 +508,6 @@ std::shared_ptr<const VisibilityOracle::Window> VisibilityOracle::window(const P
   });
 }
 
-namespace {
-
-// The objects with some pixels in a picture.
 std::vector<graph::ObjectId> showing_in(const std::vector<ObjectSight>& sights) {
   std::vector<graph::ObjectId> out;
   for (const ObjectSight& o : sights) {
@@ -516,8 +515,6 @@ std::vector<graph::ObjectId> showing_in(const std::vector<ObjectSight>& sights) 
   }
   return out;
 }
-
-}  // namespace
 
 IdImage VisibilityOracle::whole_pass(const PictureScenery& sc, const Deciders& d) const {
   // The numbered objects are all inside the window, and their pixels there are those of a whole

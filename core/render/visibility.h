@@ -197,4 +197,7 @@ IdView draw_id_view_of(const graph::SceneGraph& g, const SceneGeometry& geometry
 /// Fills in each entry's visible pixels from `image`; `silhouettes` are sorted by object index.
 std::vector<ObjectSight> count_pixels(const IdImage& image, std::vector<ObjectSight> silhouettes);
 
+/// The objects with some pixels in a picture's counts (which items a part's picture numbers).
+std::vector<graph::ObjectId> showing_in(const std::vector<ObjectSight>& sights);
+
 }  // namespace mtg::render

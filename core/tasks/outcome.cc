@@ -101,9 +101,7 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
       f.by_category[cat].push_back(o);
       // A word that covers its noun counts it too ("every cup" takes in the mugs).
       if (rule == Ambiguity::kNoun) {
-        for (const auto& [word, nouns] : g.noun_covers) {
-          if (nouns.count(cat) != 0) f.by_category[word].push_back(o);
-        }
+        for (const std::string& word : g.words_covering(cat)) f.by_category[word].push_back(o);
       }
       const std::string& irregular = g.objects[o].noun_plural;
       if (rule == Ambiguity::kNoun && !irregular.empty()) f.plural_of[cat] = irregular;
@@ -295,9 +293,7 @@ class Instantiator {
     std::set<std::string> cats;
     for (const ObjectId o : f_.items_on.at(platform)) {
       cats.insert(f_.category_of.at(o));
-      for (const auto& [word, nouns] : g_.noun_covers) {
-        if (nouns.count(f_.category_of.at(o)) != 0) cats.insert(word);
-      }
+      for (const std::string& word : g_.words_covering(f_.category_of.at(o))) cats.insert(word);
     }
     return {cats.begin(), cats.end()};
   }
@@ -506,9 +502,7 @@ class Instantiator {
       std::map<std::string, std::vector<ObjectId>> cats;
       for (const ObjectId o : items_not_on({dst})) {
         cats[f_.category_of.at(o)].push_back(o);
-        for (const auto& [word, nouns] : g_.noun_covers) {
-          if (nouns.count(f_.category_of.at(o)) != 0) cats[word].push_back(o);
-        }
+        for (const std::string& word : g_.words_covering(f_.category_of.at(o))) cats[word].push_back(o);
       }
       if (cats.size() < 2) continue;
       std::vector<std::string> names;

@@ -346,9 +346,7 @@ class PlatformView {
       for (std::size_t n = 0; n < order.size() && ok; ++n) {
         const std::size_t i = order[n].second;
         if (static_cast<int>(n) < rank && !sight_->clearly_visible_in(k, objects_[i])) ok = false;
-        const episode::ObjectState& o = s_.objects[objects_[i]];
-        const auto px =
-            sight_->camera(k).project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), (o.bottom + o.top) / 2.0));
+        const auto px = sight_->camera(k).project(centre_3d(i));
         if (!px) ok = false;
         if (ok) at.push_back(from_top ? px->y() : -px->y());
       }
@@ -402,9 +400,10 @@ class PlatformView {
     for (std::size_t n = 0; n < order.size(); ++n) {
       const std::size_t i = order[n].second;
       if (static_cast<int>(n) < rank && !sight_->clearly_visible_in(picture, objects_[i])) return false;
-      const episode::ObjectState& o = s_.objects[objects_[i]];
-      const double z = sideways ? (o.bottom + o.top) / 2.0 : o.bottom;
-      const auto px = sight_->camera(picture).project(Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), z));
+      // Sideways at mid-height; near/far at the foot (nearer stands lower in the picture).
+      const Eigen::Vector3d p =
+          sideways ? centre_3d(i) : Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), s_.objects[objects_[i]].bottom);
+      const auto px = sight_->camera(picture).project(p);
       if (!px) return false;
       const double coordinate = sideways ? px->x() : px->y();
       at.push_back(relative_dir == 2 || relative_dir == 4 ? coordinate : -coordinate);
@@ -428,6 +427,7 @@ class PlatformView {
     return true;
   }
 
+  // Candidate i's footprint centre at mid-height, in the world.
   Eigen::Vector3d centre_3d(std::size_t i) const {
     const episode::ObjectState& o = s_.objects[objects_[i]];
     return {centres_W_[i].x(), centres_W_[i].y(), (o.bottom + o.top) / 2.0};

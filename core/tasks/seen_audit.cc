@@ -87,12 +87,8 @@ bool SeenAudit::readable(View& v, graph::ObjectId o, std::vector<std::string>& p
   const std::vector<render::ItemMark> all_items = render::item_marks(g_, v.state, v.platform);
   for (std::size_t k = 0; k < v.pictures.size(); ++k) {
     if (!v.readable[k]) {
-      std::vector<graph::ObjectId> showing;
-      for (const render::ObjectSight& x : v.sight->objects(k)) {
-        if (x.visible > 0) showing.push_back(graph::ObjectId::of_index(static_cast<std::size_t>(x.object)));
-      }
-      const std::vector<render::ItemMark> items =
-          render::numbered_in(g_, v.state, v.platform, v.side, v.pictures[k], all_items, showing);
+      const std::vector<render::ItemMark> items = render::numbered_in(g_, v.state, v.platform, v.side, v.pictures[k],
+                                                                      all_items, render::showing_in(v.sight->objects(k)));
       const render::ItemMarksPlan marks =
           render::plan_item_marks(g_, geometry_, v.state, v.pictures[k].camera, items, {}, ids(v, k).image);
       std::vector<graph::ObjectId>& placed = v.readable[k].emplace();
@@ -143,7 +139,8 @@ std::vector<std::string> SeenAudit::check(const Task& task) const {
         for (const graph::ObjectId o : *list) {
           const graph::PlatformId platform = episode::furniture_platform_of(g_, initial, o);
           if (!platform.valid()) continue;
-          View& v = *view(initial, platform);
+          const std::shared_ptr<View> held = view(initial, platform);  // a later view() may forget it
+          View& v = *held;
           if (!clearly(v, o)) fail(g_.objects[o].name + " is not clearly visible where it stands");
           if (!readable(v, o)) fail(g_.objects[o].name + " has no readable number where it stands");
         }

@@ -24,10 +24,8 @@ bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, 
   return found.size() == 1 && found.front() == object;
 }
 
-}  // namespace
-
 // How a key of the anchor's own free spaces ends: "front-right of object 3" for a direction,
-// " of object 3" (any side) for next to.
+// " of object 3" (any side) for next to; "... of the " for an anchor without a number.
 std::string placement_words(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part) {
   const std::vector<graph::ObjectId> numbering = episode::pickable_on(g, s, s.at_platform);
   const auto it = std::find(numbering.begin(), numbering.end(), part.anchor);
@@ -35,6 +33,8 @@ std::string placement_words(const graph::SceneGraph& g, const episode::WorldStat
   const std::string side = part.type == episode::GoalType::kDirection ? graph::direction_name(part.direction) : "";
   return side + " of " + anchor;
 }
+
+}  // namespace
 
 PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
   PlayResult r;
@@ -140,14 +140,14 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
       const bool worded_goal = part.type == episode::GoalType::kDirection || part.type == episode::GoalType::kAround;
       if (i + 1 == kKeysPerPart && worded_goal) {
         const std::string wanted = placement_words(g, s, part);
+        // "of object 1" must not pass for "of object 12"; an anchor with no number (the TV box)
+        // is named in words after "of the ".
+        const bool numbered = !wanted.ends_with("the ");
         bool worded = false;
         for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
-          // "of object 1" must not pass for "of object 12"; an anchor with no number (the TV box)
-          // is named in words after "of the ".
-          const bool numbered = !wanted.ends_with("the ");
-          if (option.key == key) {
-            worded = numbered ? option.description.ends_with(wanted) : option.description.find(wanted) != std::string::npos;
-          }
+          if (option.key != key) continue;
+          worded = numbered ? option.description.ends_with(wanted) : option.description.find(wanted) != std::string::npos;
+          break;
         }
         if (!worded) fail(which + "the key '" + key + "' is not offered as '" + wanted + "'");
       }

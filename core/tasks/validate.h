@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "core/episode/goals.h"
 #include "core/graph/scene_graph.h"
 #include "core/tasks/task.h"
 
@@ -31,12 +30,9 @@ PlayResult play_task(const graph::SceneGraph& g, const Task& task, const TaskOpt
 episode::WorldState start_of_part(const graph::SceneGraph& g, const Task& task, const TaskOptions& options, int part,
                                   bool holding);
 
-/// The words the action space offers a direction goal's key in, placing in `s`: "front-right of
-/// object 3" (the anchor's number on the platform), "front-right of the " for an anchor without one.
-std::string placement_words(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part);
-
 /// Every broken promise of the task, one line each (empty when it keeps them all). A direction's
-/// key must be offered in the task's own words (placement_words).
+/// key must be offered in the task's own words ("front-right of object 3"), a next-to's as one of
+/// its anchor's own free spaces.
 std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task, const TaskOptions& options);
 
 }  // namespace mtg::tasks

@@ -56,8 +56,6 @@ struct Usage {
   }
 };
 
-std::string escape(const std::string& s) { return escape_markup(s); }
-
 std::string fmt(double v) {
   std::ostringstream o;
   o.precision(1);
@@ -131,11 +129,12 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
 
 std::string report_html(const nlohmann::json& r) {
   std::ostringstream h;
-  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>ManiTaskGen-LCM report " << escape(r["run"])
+  const std::string run = escape_markup(r["run"].get<std::string>());
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>ManiTaskGen-LCM report " << run
     << "</title><style>body{font-family:sans-serif;margin:24px;color:#222}table{border-collapse:collapse;margin:12px 0}"
        "th,td{border:1px solid #bbb;padding:4px 10px;text-align:right}th{background:#eee}td:first-child,th:first-child"
        "{text-align:left}h2{margin-top:28px}.note{color:#666;font-size:90%}</style></head><body>";
-  h << "<h1>Run " << escape(r["run"]) << "</h1>";
+  h << "<h1>Run " << run << "</h1>";
   h << "<p>" << r["episodes"].get<std::int64_t>() << " episodes, " << r["scored"].get<std::int64_t>() << " scored"
     << (r["errors"].get<std::int64_t>() ? ", " + std::to_string(r["errors"].get<std::int64_t>()) + " given up (infrastructure)" : "")
     << ". SR " << fmt(r["sr"].get<double>()) << " %, IP " << fmt(r["ip"].get<double>()) << ".</p>";
@@ -148,7 +147,7 @@ std::string report_html(const nlohmann::json& r) {
   for (std::size_t i = 0; i <= levels.size(); ++i) h << "<th>IP</th><th>SR (%)</th>";
   h << "</tr>";
   for (const auto& [agent, a] : r["by_agent"].items()) {
-    h << "<tr><td>" << escape(agent) << "</td>";
+    h << "<tr><td>" << escape_markup(agent) << "</td>";
     for (const auto& l : levels) {
       if (a.contains("by_level") && a["by_level"].contains(l)) {
         h << "<td>" << fmt(a["by_level"][l]["ip"].get<double>()) << "</td><td>" << fmt(a["by_level"][l]["sr"].get<double>())
@@ -167,17 +166,17 @@ std::string report_html(const nlohmann::json& r) {
   std::stable_sort(causes.begin(), causes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   for (const auto& [cause, n] : causes) {
     const auto c = episode::cause_from_string(cause);
-    h << "<tr><td>" << escape(cause) << "</td><td style=\"text-align:left\">" << escape(c ? episode::explain(*c) : "")
-      << "</td><td>" << n << "</td></tr>";
+    h << "<tr><td>" << escape_markup(cause) << "</td><td style=\"text-align:left\">"
+      << escape_markup(c ? episode::explain(*c) : "") << "</td><td>" << n << "</td></tr>";
   }
   h << "</table>";
   // Failures per agent: one column per cause, in the order above.
   if (!causes.empty()) {
     h << "<table><tr><th>agent</th>";
-    for (const auto& [cause, n] : causes) h << "<th>" << escape(cause) << "</th>";
+    for (const auto& [cause, n] : causes) h << "<th>" << escape_markup(cause) << "</th>";
     h << "</tr>";
     for (const auto& [agent, a] : r["by_agent"].items()) {
-      h << "<tr><td>" << escape(agent) << "</td>";
+      h << "<tr><td>" << escape_markup(agent) << "</td>";
       for (const auto& [cause, n] : causes) {
         h << "<td>" << (a.contains("causes") && a["causes"].contains(cause) ? a["causes"][cause].get<std::int64_t>() : 0)
           << "</td>";
@@ -204,10 +203,10 @@ std::string report_html(const nlohmann::json& r) {
     for (const auto& [agent, u] : r["usage"].items()) {
       std::string versions;
       for (const auto& v : u["prompt_versions"]) versions += (versions.empty() ? "" : ", ") + v.get<std::string>();
-      h << "<tr><td>" << escape(agent) << "</td><td>" << u["calls"] << "</td><td>" << u["cache_hits"] << "</td><td>"
+      h << "<tr><td>" << escape_markup(agent) << "</td><td>" << u["calls"] << "</td><td>" << u["cache_hits"] << "</td><td>"
         << u["input_tokens"] << "</td><td>" << u["output_tokens"] << "</td><td>" << u["images"] << "</td><td>"
         << u["cost_usd"] << "</td><td>" << u["spent_usd"] << "</td><td>" << u["mean_latency_ms"] << "</td><td>"
-        << escape(versions) << "</td></tr>";
+        << escape_markup(versions) << "</td></tr>";
     }
     h << "</table><p class=note>List price: what the answers used would cost at the price table's rates (the "
          "same on a cached rerun). Spent: what this run paid (answers from the response cache cost nothing).</p>";
