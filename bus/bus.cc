@@ -31,6 +31,8 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
   if (const auto udpm = parse_udpm(url_)) {
     udpm_port_ = udpm->port;
     sockets_before_ = udp_sockets_on_port(udpm_port_);
+    // ttl=0: every message of this bus is looped back on this host; nothing else is let in.
+    channels_ = ChannelFilter(loopback_group_of(url_));
   }
 }
 
@@ -61,6 +63,12 @@ void Bus::filter_channels(const std::string& subscription) {
     }
     if (opened.size() != 1) {  // e.g. another bus of this process opened one too: leave both alone
       udpm_port_ = 0;
+      if (channels_.host_only()) {
+        log::warn("LCM on " + url_ + ": its receive socket was not told apart from another (" +
+                  std::to_string(opened.size()) + " candidates), so datagrams sent to this port from another " +
+                  "machine reach this process; give each bus of a process a port of its own");
+        return;
+      }
       log::debug("LCM receive socket on " + url_ + " not told apart (" + std::to_string(opened.size()) +
                  " candidates): every message wakes this process");
       return;
@@ -76,7 +84,7 @@ void Bus::filter_channels(const std::string& subscription) {
   try {
     if (const auto program = channels_.program()) {
       attach_socket_filter(receive_socket_.fd, *program);
-      filtered_ = true;
+      filtered_ = !channels_.everything();
     } else {
       detach_socket_filter(receive_socket_.fd);
       filtered_ = false;

@@ -1,6 +1,8 @@
 #include "bus/channel_filter.h"
 
+#include <arpa/inet.h>
 #include <dirent.h>
+#include <net/if.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -10,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "bus/url.h"
 #include "core/util/error.h"
 
 namespace mtg::bus {
@@ -23,6 +26,7 @@ constexpr std::uint32_t kUdpHeader = 8;             // a UDP socket's filter see
 constexpr std::uint32_t kChannelAt = kUdpHeader + 8;
 constexpr std::uint32_t kAccept = 0xffffffff;       // keep the whole datagram
 constexpr std::uint32_t kDrop = 0;
+constexpr std::int32_t kIpDestinationAt = 16;  // in the IPv4 header (SKF_NET_OFF: from its start)
 
 sock_filter stmt(std::uint16_t code, std::uint32_t k) { return BPF_STMT(code, k); }
 sock_filter jump(std::uint16_t code, std::uint32_t k, std::uint8_t jt, std::uint8_t jf) {
@@ -75,8 +79,23 @@ std::optional<unsigned long> inode_if_bound(int fd, int port) {
 
 }  // namespace
 
-std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels) {
+std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels,
+                                                const std::optional<LoopbackGroup>& only, bool everything) {
   std::vector<sock_filter> p;
+  if (only) {
+    // The packet type cannot tell them apart: looped-back multicast and unicast to 127.0.0.1 both
+    // arrive as PACKET_HOST on lo. The interface and the destination address can.
+    p.push_back(stmt(BPF_LD | BPF_W | BPF_ABS, static_cast<std::uint32_t>(SKF_AD_OFF + SKF_AD_IFINDEX)));
+    p.push_back(jump(BPF_JMP | BPF_JEQ | BPF_K, static_cast<std::uint32_t>(only->loopback_ifindex), 1, 0));
+    p.push_back(stmt(BPF_RET | BPF_K, kDrop));
+    p.push_back(stmt(BPF_LD | BPF_W | BPF_ABS, static_cast<std::uint32_t>(SKF_NET_OFF + kIpDestinationAt)));
+    p.push_back(jump(BPF_JMP | BPF_JEQ | BPF_K, only->group, 1, 0));
+    p.push_back(stmt(BPF_RET | BPF_K, kDrop));
+  }
+  if (everything) {
+    p.push_back(stmt(BPF_RET | BPF_K, kAccept));
+    return p;
+  }
   p.push_back(stmt(BPF_LD | BPF_W | BPF_ABS, kUdpHeader));  // the magic
   p.push_back(jump(BPF_JMP | BPF_JEQ | BPF_K, kShortMagic, 1, 0));
   p.push_back(stmt(BPF_RET | BPF_K, kAccept));  // a fragment, or not LCM
@@ -143,8 +162,17 @@ bool ChannelFilter::add(const std::string& subscription) {
 }
 
 std::optional<std::vector<sock_filter>> ChannelFilter::program() const {
-  if (everything_) return std::nullopt;
-  return channel_filter_program(channels_);
+  if (everything_ && !only_) return std::nullopt;
+  return channel_filter_program(channels_, only_, everything_);
+}
+
+std::optional<LoopbackGroup> loopback_group_of(const std::string& url) {
+  const auto udpm = parse_udpm(url);
+  if (!udpm || udpm->ttl != 0) return std::nullopt;
+  in_addr group{};
+  const unsigned lo = ::if_nametoindex("lo");
+  if (::inet_pton(AF_INET, udpm->group.c_str(), &group) != 1 || lo == 0) return std::nullopt;
+  return LoopbackGroup{ntohl(group.s_addr), static_cast<int>(lo)};
 }
 
 }  // namespace mtg::bus

@@ -11,18 +11,36 @@
 
 #include <linux/filter.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace mtg::bus {
 
-/// The program for a UDP socket (the UDP header at offset 0): accepts an unfragmented LCM
-/// message whose channel is one of `channels`, every fragment of a fragmented message (only the
-/// first names its channel) and any other datagram of 4 bytes or more (liblcm judges it); drops
-/// the rest. The kernel counts what it drops as receive errors of the socket (`sk_drops`) and of
-/// UDP (`InErrors`): on a filtered bus those counters no longer mean lost messages.
-std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels);
+/// The only datagrams a bus of this host alone (ttl=0) takes, whatever their channel: those to
+/// its group that arrive on the loopback interface, as this host's own multicast does. liblcm
+/// binds its receive socket to 0.0.0.0:<port>, so without this a unicast datagram from another
+/// machine to that port was delivered like a message of the bus (issue 45: a forged shutdown
+/// stopped a worker's judge), and so was a datagram multicast to another group the host joined
+/// on its network interface (the shared bus's) with the host bus's port.
+struct LoopbackGroup {
+  std::uint32_t group = 0;   // the IPv4 group, host byte order
+  int loopback_ifindex = 0;  // the loopback interface of this network namespace
+};
+/// The loopback group of a ttl=0 udpm `url` in this network namespace; nullopt for another URL.
+std::optional<LoopbackGroup> loopback_group_of(const std::string& url);
+
+/// The program for a UDP socket (the UDP header at offset 0): with `only`, drops every datagram
+/// but those of that loopback group, then accepts an unfragmented LCM message whose channel is one of `channels`, every
+/// fragment of a fragmented message (only the first names its channel) and any other datagram
+/// of 4 bytes or more (liblcm judges it); drops the rest. With `everything`, every admitted
+/// datagram is accepted. The kernel counts what it drops as receive errors of the socket
+/// (`sk_drops`) and of UDP (`InErrors`): on a filtered bus those counters no longer mean lost
+/// messages.
+std::vector<sock_filter> channel_filter_program(const std::vector<std::string>& channels,
+                                                const std::optional<LoopbackGroup>& only = std::nullopt,
+                                                bool everything = false);
 
 /// Whether an LCM subscription string names exactly one channel (LCM reads it as a regex).
 bool is_literal_channel(const std::string& subscription);
@@ -44,15 +62,22 @@ std::vector<OpenSocket> udp_sockets_on_port(int port);
 bool is_open_socket(const OpenSocket& socket, int port);
 
 /// The subscriptions of one bus and the filter they make: literal channels are let through,
-/// and one pattern (the recorder's ".*") lets everything through.
+/// and one pattern (the recorder's ".*") lets everything through; a bus of this host alone
+/// keeps its loopback rule whatever is subscribed.
 class ChannelFilter {
  public:
+  explicit ChannelFilter(std::optional<LoopbackGroup> only = std::nullopt) : only_(only) {}
+  /// Whether only this host's own multicast is let in.
+  bool host_only() const { return only_.has_value(); }
+  /// Whether a subscription lets every channel through.
+  bool everything() const { return everything_; }
   /// Notes a subscription; true when the set of channels let through changed.
   bool add(const std::string& subscription);
   /// The program to attach, or nullopt when everything must pass.
   std::optional<std::vector<sock_filter>> program() const;
 
  private:
+  std::optional<LoopbackGroup> only_;
   std::vector<std::string> channels_;
   bool everything_ = false;
 };

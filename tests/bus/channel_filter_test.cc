@@ -185,5 +185,67 @@ TEST(ChannelFilter, ARecorderPatternBusGetsEveryChannel) {
   EXPECT_EQ(got, 2);
 }
 
+// A ttl=0 bus is this host's alone: liblcm's socket is bound to 0.0.0.0:<port>, so a unicast
+// datagram to the port (as one from another machine arrives) reached it before. Now the kernel
+// drops it, for a bus filtering channels and for a recorder's ".*" bus, while the bus's own
+// multicast still arrives. (The same from a real other host: MultiHostTest.DatagramsSprayed...)
+TEST(ChannelFilter, AHostBusDropsUnicastToItsPortAndKeepsItsMulticast) {
+  const int port = parse_udpm(kDefaultUrl)->port;
+  Bus publisher(kDefaultUrl);
+  Bus channels(kDefaultUrl);
+  int by_channel = 0;
+  channels.subscribe<mtg::heartbeat_t>("T_WANTED", [&](const std::string&, const mtg::heartbeat_t&) { ++by_channel; });
+  Bus everything(kDefaultUrl);
+  int all = 0;
+  everything.subscribe_raw(".*", [&](const std::string& channel, std::span<const std::uint8_t>, std::int64_t) {
+    if (channel == "T_WANTED") ++all;
+  });
+  const std::vector<OpenSocket> sockets = udp_sockets_on_port(port);
+  ASSERT_EQ(sockets.size(), 2u);
+  std::vector<std::uint32_t> drops_before;
+  for (const OpenSocket& s : sockets) drops_before.push_back(kernel_drops(s.fd));
+
+  mtg::heartbeat_t beat{};
+  beat.header.schema_version = kSchemaVersion;
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(beat.getEncodedSize()));
+  beat.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  const std::string forged = short_message("T_WANTED", std::string(bytes.begin(), bytes.end()));
+  const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<std::uint16_t>(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_EQ(::sendto(tx, forged.data(), forged.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
+              static_cast<ssize_t>(forged.size()));
+  }
+  ::close(tx);
+  publisher.publish("T_WANTED", beat);
+  channels.handle_until([&] { return by_channel >= 1; }, 5000);
+  everything.handle_until([&] { return all >= 1; }, 5000);
+  channels.handle_once(200);
+  everything.handle_once(200);
+  EXPECT_EQ(by_channel, 1) << "only the bus's own multicast arrives";
+  EXPECT_EQ(all, 1) << "only the bus's own multicast arrives";
+  // Unicast goes to one socket of those bound to the port: five drops between the two.
+  std::uint32_t dropped = 0;
+  for (std::size_t i = 0; i < sockets.size(); ++i) dropped += kernel_drops(sockets[i].fd) - drops_before[i];
+  EXPECT_EQ(dropped, 5u);
+}
+
+TEST(ChannelFilter, OnlyAHostBusProgramAsksWhereADatagramCameFrom) {
+  ChannelFilter any;
+  any.add(".*");
+  EXPECT_EQ(any.program(), std::nullopt) << "a pattern on a bus between hosts: no filter at all";
+  EXPECT_EQ(loopback_group_of("udpm://239.255.76.67:7667?ttl=1"), std::nullopt);
+  const auto group = loopback_group_of(kDefaultUrl);
+  ASSERT_TRUE(group.has_value());
+  EXPECT_EQ(group->group, 0xefff4c43u);  // 239.255.76.67
+  ChannelFilter host(group);
+  EXPECT_TRUE(host.add(".*"));
+  ASSERT_TRUE(host.program().has_value()) << "a host bus keeps its loopback rule under a pattern";
+  EXPECT_EQ(host.program()->size(), 7u);  // interface, destination (load, compare, drop each), accept
+}
+
 }  // namespace
 }  // namespace mtg::bus

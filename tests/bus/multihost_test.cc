@@ -2,14 +2,19 @@
 // pairs to a bridge (scripts/netns-hosts), each running `mtg worker`; the coordinator
 // (`mtg run --remote`) runs in this test's own namespace. The hosts are made and removed here.
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 
 #include "bus/authenticator.h"
 #include "bus/bus.h"
+#include "bus/header.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/observation_t.hpp"
+#include "mtg/run_control_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/run/run_plan.h"
 #include "tests/bus/multihost_fixture.h"
@@ -290,6 +295,81 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
   std::set<std::string> used;
   for (const auto& r : rows) used.insert(r.worker);
   EXPECT_EQ(used.size(), 2u) << "both fresh workers served the next run";
+}
+
+// An attacker on the hosts' network (the bridge, without the bus key) reads the run id off the
+// shared bus and sprays a shutdown and a forged success of every episode at every UDP port of a
+// worker while it runs. A worker's host bus is a ttl=0 group, but liblcm binds 0.0.0.0:<port>:
+// before, the datagrams reached its judge, which stopped as told. Now every process of the host
+// bus takes only datagrams this host looped back: the verdicts are the one-host run's.
+TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing) {
+  ASSERT_EQ(mtg(run_args("one", 12, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  make_hosts(1);
+  start_worker(0);
+
+  bus::Bus tap(kSharedUrl);  // no key: it reads the announcements as they are
+  std::string run_id;
+  std::set<std::int64_t> granted;
+  tap.subscribe_raw(bus::kRunInfo, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::run_info_t m{};
+    if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) run_id = m.header.run_id;
+  });
+  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::lease_t m{};
+    if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) granted.insert(m.header.episode_id);
+  });
+  // One LCM datagram (liblcm's small-message form) to every port of host 0.
+  const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(tx, 0);
+  long sent = 0;
+  auto spray = [&](const std::string& channel, const auto& msg) {
+    std::vector<std::uint8_t> packet = {'L', 'C', '0', '2', 0, 0, 0, 1};
+    packet.insert(packet.end(), channel.begin(), channel.end());
+    packet.push_back(0);
+    const std::size_t at = packet.size();
+    packet.resize(at + static_cast<std::size_t>(msg.getEncodedSize()));
+    msg.encode(packet.data() + at, 0, msg.getEncodedSize());
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    ::inet_pton(AF_INET, "10.77.0.1", &to.sin_addr);
+    for (int port = 1; port < 65536; ++port) {
+      to.sin_port = htons(static_cast<std::uint16_t>(port));
+      if (::sendto(tx, packet.data(), packet.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) > 0) ++sent;
+    }
+  };
+  testing::ChildProcess run(run_args("sprayed", 12, 4, 1), log());
+  while (run.running()) {
+    tap.handle_once(50);
+    if (run_id.empty()) continue;
+    mtg::run_control_t stop{};
+    stop.header.run_id = run_id;
+    stop.header.sender = "forger:0";
+    stop.header.schema_version = bus::kSchemaVersion;
+    stop.command = "shutdown";
+    spray(bus::kControl, stop);
+    for (const std::int64_t id : granted) {
+      mtg::episode_result_t fake{};
+      fake.header = stop.header;
+      fake.header.episode_id = id;
+      fake.success = true;
+      fake.ip = 100.0;
+      fake.stage = "done";
+      spray(bus::kEpisodeResult, fake);
+    }
+  }
+  ::close(tx);
+  ASSERT_EQ(run.wait(1000), 0) << log_text();
+  EXPECT_GT(sent, 65000) << "the spray went out";
+  const auto rows = results("sprayed");
+  EXPECT_EQ(rows.size(), planned("sprayed"));
+  EXPECT_EQ(fingerprints(rows), single);
+  for (const auto& r : rows) EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+  for (const auto& entry : fs::recursive_directory_iterator(fx_.root() / "worker0")) {
+    if (entry.path().extension() != ".log") continue;
+    EXPECT_EQ(testing_multihost::read_text(entry.path()).find("forger"), std::string::npos)
+        << entry.path() << " heard the forger:\n" << testing_multihost::read_text(entry.path());
+  }
 }
 
 // A worker whose dataset lacks a file the task set was made from stays out of the run, says why,
