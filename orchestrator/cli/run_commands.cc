@@ -423,10 +423,14 @@ int run_report(const ReportOptions& o) {
     std::cout << report.dump() << '\n';
     return 0;
   }
-  std::printf("%s: %lld episodes scored (%lld errors), SR %.1f %%, IP %.1f\n", dir.c_str(),
-              static_cast<long long>(report["scored"].get<std::int64_t>()),
-              static_cast<long long>(report["errors"].get<std::int64_t>()), report["sr"].get<double>(),
+  std::printf("%s: %lld episodes scored, SR %.1f %%, IP %.1f\n", dir.c_str(),
+              static_cast<long long>(report["scored"].get<std::int64_t>()), report["sr"].get<double>(),
               report["ip"].get<double>());
+  if (const auto given_up = report["errors"].get<std::int64_t>(); given_up > 0) {
+    std::printf("  %lld episode(s) given up by the infrastructure, outside SR and IP: the same `mtg run` "
+                "again on this folder runs them again\n",
+                static_cast<long long>(given_up));
+  }
   // Table 3 of the paper: per agent, SR and IP of each level, then overall.
   std::printf("  %-14s", "agent");
   for (const auto& [level, l] : report["by_level"].items()) std::printf("   L%s SR    IP", level.c_str());

@@ -1,6 +1,8 @@
 #pragma once
-// results.sqlite of a run: one row per episode, written once (the first final result wins),
-// so resuming, retries and duplicated result messages can never count an episode twice.
+// results.sqlite of a run: one row per episode, its verdict written once (the first final result
+// wins), so resuming, retries and duplicated result messages can never count an episode twice.
+// A row of an episode the infrastructure gave up on (status "error", no verdict) is replaced by
+// a later attempt's: a resume runs such episodes again.
 // Schema in docs/runtime.md.
 
 #include <cstdint>
@@ -43,7 +45,8 @@ class ResultsDb {
   explicit ResultsDb(const std::filesystem::path& file);
   /// Checkpoints and leaves the file in rollback-journal mode (no -wal/-shm files behind).
   ~ResultsDb();
-  /// Inserts unless the episode already has a row; returns whether it did.
+  /// Inserts unless the episode already has a row with a verdict (one given up is replaced);
+  /// returns whether it wrote.
   bool insert(const EpisodeRow& row);
   std::vector<EpisodeRow> rows() const;
   const std::filesystem::path& file() const { return file_; }

@@ -40,11 +40,20 @@ class Engine final : public LaunchSink {
     const auto started = Clock::now();
     RunSummary summary;
     summary.planned = static_cast<std::int64_t>(plan_.episodes.size());
-    // One read of what earlier invocations finished: what to skip, and the counts so far.
+    // One read of what earlier invocations finished: what to skip, and the counts so far. An
+    // episode the infrastructure gave up on has no verdict: it runs again (its row is replaced).
     std::set<bus::EpisodeId> finished;
+    std::int64_t given_up_before = 0;
     for (const auto& row : results_.rows()) {
+      if (row.status != "scored") {
+        ++given_up_before;
+        continue;
+      }
       finished.insert(row.episode_id);
       count(row);
+    }
+    if (given_up_before > 0) {
+      log::info(std::to_string(given_up_before) + " episode(s) given up by the infrastructure before run again");
     }
     summary.already_done = static_cast<std::int64_t>(finished.size());
     for (const auto& e : plan_.episodes) {

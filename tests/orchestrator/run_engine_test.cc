@@ -153,5 +153,43 @@ TEST(RunEngine, AnAgentThatStopsTakesItsWaitingRetriesWithIt) {
   EXPECT_EQ(summary.stopped_agents.count("oracle"), 1u);
 }
 
+// Episodes the infrastructure gave up on are stored without a verdict (status "error"); the next
+// invocation on the folder runs them again and their rows take the verdicts. Scored ones stay.
+TEST(RunEngine, AResumeRunsAgainTheEpisodesGivenUpAndKeepsTheScoredOnes) {
+  Fixture f(3);
+  f.plan.max_attempts = 1;
+  ScriptedLauncher failing([](ScriptedLauncher& l, LaunchSink& sink) {
+    if (l.in_flight.empty()) return;
+    const auto key = *l.in_flight.begin();
+    if (key.first == 1) {
+      l.finish(key, sink);
+    } else {
+      l.lose(key, sink);
+    }
+  });
+  failing.capacity = 1;
+  const RunSummary first = f.run(failing);
+  EXPECT_EQ(first.errors, 2);
+  std::map<std::int64_t, std::string> status;
+  for (const auto& row : read_results(f.fx.root() / "results.sqlite")) status[row.episode_id.value()] = row.status;
+  EXPECT_EQ(status, (std::map<std::int64_t, std::string>{{0, "error"}, {1, "scored"}, {2, "error"}}));
+
+  ScriptedLauncher working([](ScriptedLauncher& l, LaunchSink& sink) {
+    if (!l.in_flight.empty()) l.finish(*l.in_flight.begin(), sink);
+  });
+  const RunSummary resumed = f.run(working);
+  EXPECT_EQ(resumed.already_done, 1);
+  EXPECT_EQ(resumed.completed, 2);
+  const std::vector<std::pair<std::int64_t, int>> order = {{0, 0}, {2, 0}};
+  EXPECT_EQ(working.launched, order) << "only the episodes given up ran again";
+  const auto rows = read_results(f.fx.root() / "results.sqlite");
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& row : rows) EXPECT_EQ(row.status, "scored") << "episode " << row.episode_id;
+
+  ScriptedLauncher idle([](ScriptedLauncher&, LaunchSink&) {});
+  EXPECT_EQ(f.run(idle).already_done, 3);
+  EXPECT_TRUE(idle.launched.empty()) << "a scored episode never runs again";
+}
+
 }  // namespace
 }  // namespace mtg::orchestrator
