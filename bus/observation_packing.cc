@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/util/error.h"
+#include "core/util/hash.h"
 #include "mtg/action_list_t.hpp"
 
 namespace mtg::bus {
@@ -125,7 +126,14 @@ std::vector<int16_t> runs_of(const std::vector<int>& places) {
 std::vector<mtg::action_option_t> resolve(const std::vector<int16_t>& runs, const std::vector<mtg::action_option_t>& table,
                                           const std::string& what) {
   if (runs.size() % 2 != 0) throw Error(what + " are not pairs");
+  std::size_t total = 0;
+  for (std::size_t i = 1; i < runs.size(); i += 2) total += static_cast<std::size_t>(std::max<int16_t>(runs[i], 0));
+  if (total > ObservationLimits::kActions) {
+    throw Error(what + " offer " + std::to_string(total) + " options (at most " +
+                std::to_string(ObservationLimits::kActions) + ")");
+  }
   std::vector<mtg::action_option_t> out;
+  out.reserve(total);
   for (std::size_t i = 0; i < runs.size(); i += 2) {
     const int first = runs[i], count = runs[i + 1];
     if (first < 0 || count < 0 || static_cast<std::size_t>(first) + static_cast<std::size_t>(count) > table.size()) {
@@ -237,7 +245,16 @@ namespace {
 
 std::string apply_text_ops(const mtg::observation_t& obs, const std::string& base) {
   if (obs.text_ops.size() % 2 != 0) throw Error(step_name(obs) + ": its text is not in pairs");
+  std::size_t total = 0;
+  for (std::size_t i = 1; i < obs.text_ops.size(); i += 2) {
+    total += static_cast<std::size_t>(std::max<int16_t>(obs.text_ops[i], 0));
+  }
+  if (total > ObservationLimits::kTextBytes) {
+    throw Error(step_name(obs) + ": its text would be " + std::to_string(total) + " bytes (at most " +
+                std::to_string(ObservationLimits::kTextBytes) + ")");
+  }
   std::string text;
+  text.reserve(total);
   std::size_t literal = 0;
   for (std::size_t i = 0; i < obs.text_ops.size(); i += 2) {
     const int at = obs.text_ops[i], n = obs.text_ops[i + 1];
@@ -257,7 +274,42 @@ std::string apply_text_ops(const mtg::observation_t& obs, const std::string& bas
 
 }  // namespace
 
+namespace {
+
+void check_limits(const mtg::observation_t& obs) {
+  auto over = [&](const std::string& what, std::size_t n, std::size_t limit) {
+    if (n > limit) {
+      throw Error(step_name(obs) + ": " + what + " " + std::to_string(n) + " (at most " + std::to_string(limit) + ")");
+    }
+  };
+  over("its task text is bytes", obs.task_text.size(), ObservationLimits::kTextBytes);
+  over("its situation text is bytes", obs.text.size(), ObservationLimits::kTextBytes);
+  over("its feedback is bytes", obs.hint.size(), ObservationLimits::kTextBytes);
+  over("its options number", obs.actions.size(), ObservationLimits::kActions);
+  over("its images number", obs.images.size(), ObservationLimits::kImages);
+  for (std::size_t i = 0; i < obs.images.size(); ++i) {
+    const mtg::image_t& img = obs.images[i];
+    const std::string name = "image " + std::to_string(i) + " (" + img.role + ")";
+    over(name + " is bytes", img.data.size(), ObservationLimits::kImageBytes);
+    if (img.nbytes > 0 && (img.width <= 0 || img.height <= 0 || img.width > ObservationLimits::kImageSide ||
+                           img.height > ObservationLimits::kImageSide)) {
+      throw Error(step_name(obs) + ": " + name + " claims " + std::to_string(img.width) + "x" +
+                  std::to_string(img.height) + " pixels (1 to " + std::to_string(ObservationLimits::kImageSide) +
+                  " a side)");
+    }
+    // The hash names the bytes everywhere after (references, the viewer's image URLs): bytes
+    // that are not the hash's would be shown, or referred to, as another image.
+    if (img.nbytes > 0 && img.content_hash != to_hex(fnv1a64(img.data))) {
+      throw Error(step_name(obs) + ": " + name + " is not the image its content hash " + img.content_hash +
+                  " names");
+    }
+  }
+}
+
+}  // namespace
+
 mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& codec) {
+  check_limits(obs);
   if (obs.packed) {
     auto read = steps_.find(obs.step);
     if (read == steps_.end()) {
@@ -290,8 +342,18 @@ mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& 
         if (fresh.decode(bytes.data(), 0, static_cast<int>(bytes.size())) != static_cast<int>(bytes.size())) {
           throw Error(step_name(obs) + ": its compressed actions do not decode");
         }
+        if (options_.size() + fresh.actions.size() > ObservationLimits::kOptionsTable) {
+          throw Error(step_name(obs) + ": the attempt's options would number " +
+                      std::to_string(options_.size() + fresh.actions.size()) + " (at most " +
+                      std::to_string(ObservationLimits::kOptionsTable) + ")");
+        }
         std::move(fresh.actions.begin(), fresh.actions.end(), std::back_inserter(options_));
       } else {
+        if (options_.size() + obs.actions.size() > ObservationLimits::kOptionsTable) {
+          throw Error(step_name(obs) + ": the attempt's options would number " +
+                      std::to_string(options_.size() + obs.actions.size()) + " (at most " +
+                      std::to_string(ObservationLimits::kOptionsTable) + ")");
+        }
         std::move(obs.actions.begin(), obs.actions.end(), std::back_inserter(options_));
       }
       w.runs = std::move(obs.runs);
@@ -317,7 +379,14 @@ mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& 
   for (std::size_t i = 0; i < obs.images.size(); ++i) {
     mtg::image_t& img = obs.images[i];
     if (img.nbytes > 0) {
-      images_.emplace(img.content_hash, img.data);
+      if (images_.count(img.content_hash) == 0) {
+        image_bytes_ += img.data.size();
+        if (image_bytes_ > ObservationLimits::kAttemptImageBytes) {
+          throw Error(step_name(obs) + ": the attempt's images would hold " + std::to_string(image_bytes_) +
+                      " bytes (at most " + std::to_string(ObservationLimits::kAttemptImageBytes) + ")");
+        }
+        images_.emplace(img.content_hash, img.data);
+      }
       continue;
     }
     const auto earlier = images_.find(img.content_hash);

@@ -35,6 +35,20 @@
 
 namespace mtg::bus {
 
+/// What one observation may hold once whole, checked before anything of that size is made: a
+/// packed observation of a few kilobytes could otherwise ask for gigabytes (runs of 32,767
+/// options each, text copies of 32,767 bytes each, step after step). Real ones hold tens of
+/// options, a few hundred bytes of text and a handful of images; the limits are far above that.
+struct ObservationLimits {
+  static constexpr std::size_t kActions = 16384;            // options offered at one step
+  static constexpr std::size_t kTextBytes = 1u << 20;       // each of task text, situation text, hint
+  static constexpr std::size_t kImages = 64;                // images of one observation
+  static constexpr std::size_t kImageBytes = 32u << 20;     // one encoded image
+  static constexpr int kImageSide = 16384;                  // pixels, width or height
+  static constexpr std::size_t kOptionsTable = 65536;       // options an attempt offered in all
+  static constexpr std::size_t kAttemptImageBytes = 512u << 20;  // images an attempt's reader keeps
+};
+
 /// zstd contexts for the first step's list of options; one per thread that uses it.
 class WordsCodec {
  public:
@@ -77,8 +91,9 @@ class ObservationReader {
   /// `obs` with its words unpacked and every image by reference filled in from the earlier one.
   /// A second copy of a step read before reads as the first. An observation that is already
   /// whole (packed = false) passes as it is.
-  /// @throws mtg::Error naming the step and what is missing or damaged (a lost or unrecorded
-  /// observation); the attempt's later observations cannot be read either.
+  /// @throws mtg::Error naming the step and what is missing, damaged, over ObservationLimits or
+  /// inconsistent (an image whose bytes are not its content hash's) -- a lost or unrecorded
+  /// observation, or a forged one; the attempt's later observations cannot be read either.
   mtg::observation_t whole(mtg::observation_t obs, WordsCodec& codec);
 
  private:
@@ -90,6 +105,7 @@ class ObservationReader {
   std::map<int, Words> steps_;                          // by step: for the next step, and a second copy
   int last_step_ = -1;                                  // the step read last
   std::map<std::string, std::vector<uint8_t>> images_;  // by content hash: the bytes
+  std::size_t image_bytes_ = 0;                         // held in images_
 };
 
 /// Readers of a recording, where many attempts interleave: each observation made whole with its

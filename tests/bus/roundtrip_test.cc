@@ -17,6 +17,7 @@
 #include "bus/truth_seal.h"
 #include "bus/url.h"
 #include "core/util/error.h"
+#include "core/util/hash.h"
 #include "mtg/agent_action_t.hpp"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
@@ -528,6 +529,89 @@ TEST(ObservationPacking, AReaderGetsEveryObservationAsItWasMadeAndARepeatedStepI
   EXPECT_THROW(outside.whole(wild, codec), Error);
 }
 
+// A packed observation of a few kilobytes asked for gigabytes: runs of 32,767 options each, and
+// text copies of 32,767 bytes each. Now what it would make is counted first and refused with a
+// line naming the step; so is an image whose bytes are not its content hash's.
+TEST(ObservationPacking, AnObservationThatWouldGrowPastItsLimitsIsRefusedBeforeItGrows) {
+  WordsCodec codec;
+  WordsPacker packer;
+  std::vector<mtg::observation_t> sent;
+  for (int step = 0; step < 2; ++step) {
+    mtg::observation_t o = step_observation(step, false);
+    packer.pack(o, codec);
+    sent.push_back(through_the_bus(o));
+  }
+  auto refused = [&](mtg::observation_t second, const std::string& why) {
+    ObservationReader reader;
+    reader.whole(sent[0], codec);
+    try {
+      reader.whole(std::move(second), codec);
+      ADD_FAILURE() << "read: " << why;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("step 1"), std::string::npos) << e.what();
+    }
+  };
+  mtg::observation_t runs = sent[1];
+  runs.runs.clear();
+  for (int i = 0; i < 700; ++i) runs.runs.insert(runs.runs.end(), {0, 32767});
+  runs.n_runs = static_cast<int32_t>(runs.runs.size());
+  refused(runs, "offer 22936900 options (at most 16384)");
+  mtg::observation_t text = sent[1];
+  text.text_ops.clear();
+  text.text.clear();
+  for (int i = 0; i < 700; ++i) text.text_ops.insert(text.text_ops.end(), {0, 32767});
+  text.n_text_ops = static_cast<int32_t>(text.text_ops.size());
+  refused(text, "its text would be 22936900 bytes (at most 1048576)");
+
+  ObservationReader reader;
+  mtg::observation_t forged = step_observation(0, false);
+  mtg::image_t im = sample_image(100);
+  im.content_hash = to_hex(fnv1a64(im.data));
+  im.data[50] ^= 1;  // the bytes changed, the name did not
+  forged.images = {im};
+  forged.n_images = 1;
+  try {
+    reader.whole(forged, codec);
+    ADD_FAILURE() << "an image that is not its hash's was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is not the image its content hash"), std::string::npos) << e.what();
+  }
+}
+
+// lcm-gen's decoders sized an array from its count before reading it: an image_t of 50 bytes
+// claiming 2^31-1 bytes of data took 2 GB, a negative count or a string length of 0 threw
+// through liblcm (abort). lcmtypes/bound_decoders.cmake makes them refuse such counts first.
+TEST(BoundedDecoders, CountsBeyondTheMessageAreRefusedBeforeAnythingIsAllocated) {
+  mtg::image_t im{};
+  im.role = "view";
+  im.encoding = "png";
+  im.content_hash = "0";
+  auto bytes = encode(im);  // ends with nbytes = 0 (no data)
+  auto with_count = [&](std::int32_t n) {
+    auto b = bytes;
+    const auto u = static_cast<std::uint32_t>(n);
+    for (int i = 0; i < 4; ++i) b[b.size() - 4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(u >> (24 - 8 * i));
+    return b;
+  };
+  for (const std::int32_t n : {std::int32_t{2147483647}, std::int32_t{-1}, std::int32_t{1}}) {
+    const auto b = with_count(n);
+    mtg::image_t back{};
+    EXPECT_EQ(back.decode(b.data(), 0, static_cast<int>(b.size())), -1) << "count " << n;
+    EXPECT_LT(back.data.capacity(), 2u) << "count " << n << " allocated before it was checked";
+  }
+  // The role's length (right after the 8-byte type hash): 0 and -5 are no strings.
+  for (const std::int32_t n : {0, -5}) {
+    auto b = bytes;
+    const auto u = static_cast<std::uint32_t>(n);
+    for (int i = 0; i < 4; ++i) b[8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(u >> (24 - 8 * i));
+    mtg::image_t back{};
+    EXPECT_EQ(back.decode(b.data(), 0, static_cast<int>(b.size())), -1) << "string length " << n;
+  }
+  mtg::image_t whole{};
+  EXPECT_EQ(whole.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+}
+
 TEST(ObservationPacking, AnImageSentEarlierInTheAttemptGoesByReferenceAndComesBackWhole) {
   WordsCodec codec;
   SentImages sent;
@@ -536,7 +620,7 @@ TEST(ObservationPacking, AnImageSentEarlierInTheAttemptGoesByReferenceAndComesBa
     mtg::observation_t o = step_observation(step, false);
     for (int n : sizes) {
       mtg::image_t im = sample_image(n);
-      im.content_hash = "hash" + std::to_string(n);
+      im.content_hash = to_hex(fnv1a64(im.data));
       o.images.push_back(im);
     }
     o.n_images = static_cast<int32_t>(o.images.size());
@@ -575,7 +659,8 @@ TEST(ObservationPacking, AnImageSentEarlierInTheAttemptGoesByReferenceAndComesBa
     fresh.whole(o1, codec);
     ADD_FAILURE() << "resolved an image never carried";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("refers to image hash200"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("refers to image " + to_hex(fnv1a64(sample_image(200).data))), std::string::npos)
+        << e.what();
   }
   // The attempt's last observation forgets it.
   mtg::observation_t last = with_images(2, {});
