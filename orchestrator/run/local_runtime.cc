@@ -67,6 +67,7 @@ void LocalRuntime::subscribe() {
   });
   bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
     ready_pids_.insert(m.pid);
+    last_beat_[m.pid] = Clock::now();
   });
   // Liveness for the episode time-out: one state update per step suffices, and every stream
   // subscribed to costs this process a wake-up per message.
@@ -230,6 +231,7 @@ void LocalRuntime::drop(bus::EpisodeId episode_id, int attempt) {
 
 void LocalRuntime::poll(int timeout_ms, LaunchSink& sink) {
   sink_ = &sink;
+  kill_hung();
   handle_deaths(sink);
   if (bus_.handle_once(timeout_ms)) {
     while (bus_.handle_once(0)) {
@@ -268,6 +270,28 @@ void LocalRuntime::check_timeouts(LaunchSink& sink) {
   }
   for (const auto id : stuck) {
     fail(id, "no message for " + std::to_string(static_cast<int>(config_.episode_timeout_s)) + " s", sink);
+  }
+}
+
+// Services beat every second, but a beat waits for the work in hand (a model's reply, a large
+// scene's first frame): silence counts as a hang only past most of the episode time-out, so the
+// attempts it holds are retried on its successor before they time out against it.
+double LocalRuntime::hang_after_s() const { return std::max(3.0, 0.8 * config_.episode_timeout_s); }
+
+void LocalRuntime::kill_hung() {
+  std::vector<std::string> watched = names_;
+  if (recorder_beats()) watched.push_back("recorder");
+  const auto now = Clock::now();
+  for (const std::string& name : watched) {
+    const pid_t pid = supervisor_.pid(name);
+    const auto beat = last_beat_.find(static_cast<int>(pid));
+    if (pid <= 0 || beat == last_beat_.end()) continue;  // not started, or not ready yet (wait_ready's)
+    const double silent = std::chrono::duration<double>(now - beat->second).count();
+    if (silent <= hang_after_s()) continue;
+    log::warn(name + " (pid " + std::to_string(pid) + ") sent no heartbeat for " +
+              std::to_string(static_cast<int>(silent)) + " s: it hangs; killed, to be restarted");
+    ::kill(pid, SIGKILL);
+    last_beat_.erase(beat);
   }
 }
 

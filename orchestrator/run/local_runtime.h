@@ -8,6 +8,9 @@
 //     restarted first; a recorder that died before acknowledging an attempt's result means the
 //     attempt may be missing from the recording, so it runs again);
 //   - a stopped agent when a model agent reports a fatal error (authentication, quota, billing).
+// A process that stops sending heartbeats (stopped, deadlocked, swapped out) for most of an
+// episode time-out is killed, and so restarted as a dead one is: its attempts run again on a
+// live one instead of timing out against it until they are given up.
 // `mtg run` uses it directly; `mtg worker` uses one per run it joins.
 
 #include <chrono>
@@ -95,6 +98,9 @@ class LocalRuntime final : public Launcher {
   void wait_ready(const std::vector<std::string>& names, double timeout_s);
   void handle_deaths(LaunchSink& sink);
   void check_timeouts(LaunchSink& sink);
+  /// Kills the processes silent for longer than hang_after_s() (handle_deaths restarts them).
+  void kill_hung();
+  double hang_after_s() const;
   void fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink);
   /// Hands the flight's result to the sink and forgets the flight.
   void finish(std::map<bus::EpisodeId, Flight>::iterator flight);
@@ -113,6 +119,7 @@ class LocalRuntime final : public Launcher {
   std::string play_token_;                           // the play page's token ("" on loopback)
   int first_attempt_ = 0;                            // of this invocation (RuntimeConfig::attempts_per_invocation)
   std::set<int> ready_pids_;
+  std::map<int, std::chrono::steady_clock::time_point> last_beat_;  // by pid
   std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()
   bool open_ = false;

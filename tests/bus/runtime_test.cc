@@ -316,6 +316,32 @@ TEST_F(RuntimeTest, AnInterruptedRunSaysSoAndResumes) {
   }
 }
 
+// A judge stopped with SIGSTOP (hung: alive, silent) once the run is under way. Before, nobody
+// noticed: its attempts timed out three times and were given up, lost for good. Now its missing
+// heartbeats get it killed within the episode time-out and restarted, and every episode is
+// scored as in a run nobody disturbed.
+TEST_F(RuntimeTest, AHungServiceIsKilledAndRestartedAndNoEpisodeIsLost) {
+  ASSERT_EQ(mtg(run_args("calm", {"oracle"}, 12, 2)), 0) << log_text();
+  std::map<std::int64_t, std::string> calm;
+  for (const auto& r : results("calm")) calm[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
+  testing::ChildProcess run(run_args("hung", {"oracle"}, 12, 2), log());
+  ASSERT_TRUE(wait_for_results("hung", 2, 60000)) << log_text();
+  const pid_t judge = testing::descendant_pid(run.pid(), "mtg_judge");
+  ASSERT_GT(judge, 0) << "no mtg_judge under the run";
+  ASSERT_EQ(::kill(judge, SIGSTOP), 0);
+  ASSERT_EQ(run.wait(120000), 0) << log_text();
+  std::map<std::int64_t, std::string> hung;
+  for (const auto& r : results("hung")) {
+    EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+    hung[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
+  }
+  EXPECT_EQ(hung.size(), planned("hung"));
+  // Attempt numbers differ where an attempt was retried; the verdicts do not.
+  EXPECT_EQ(hung, calm);
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("judge (pid " + std::to_string(judge) + ") sent no heartbeat"));
+  ::kill(judge, SIGKILL);  // had it survived, it is not left behind stopped
+}
+
 // Kills one service (found in the run's process tree) once the run is under way.
 class KillServiceTest : public RuntimeTest, public ::testing::WithParamInterface<std::string> {};
 
