@@ -5,7 +5,9 @@
 # bytes, and a negative count threw std::length_error through liblcm's C frames (abort). A
 # string's length of 0 or less was taken as size_t(-1). Every element takes at least one byte on
 # the wire and a string at least its NUL, so a count above the bytes left, or below 0, is refused
-# (decode returns -1, as for any other malformed message) before anything is allocated.
+# (decode returns -1, as for any other malformed message) before anything is allocated. A string
+# must also end in its NUL and hold no other: the encoder writes strlen() bytes, so a string read
+# with a NUL inside would be written back shorter than getEncodedSize() says.
 #
 # Run as: cmake -DDIR=<folder of generated .hpp> -P bound_decoders.cmake
 file(GLOB headers "${DIR}/*.hpp")
@@ -19,7 +21,7 @@ foreach(header ${headers})
     text "${text}")
   string(REGEX REPLACE
     "if\\(__([A-Za-z_0-9]+)_len__ > maxlen - pos\\) return -1;"
-    "if(__\\1_len__ < 1 || __\\1_len__ > maxlen - pos) return -1;  // bound_decoders.cmake"
+    "if(__\\1_len__ < 1 || __\\1_len__ > maxlen - pos || memchr(((const char*)buf) + offset + pos, 0, __\\1_len__ - 1) != nullptr || ((const char*)buf)[offset + pos + __\\1_len__ - 1] != 0) return -1;  // bound_decoders.cmake"
     text "${text}")
   # Every resize and every string must have been bounded: a change in lcm-gen's output fails
   # the build here rather than leaving a decoder unbounded.
