@@ -101,6 +101,14 @@ bool Bus::SchemaGate::admit_header(const mtg::header_t& header, const std::strin
   return false;
 }
 
+void Bus::publish_failed(const std::string& channel) const {
+  if (tcp_) {
+    throw Error("lost the LCM hub at " + url_ + " (it stopped, or the network to it failed) while publishing on " +
+                channel + "; start it again (`mtg hub`) and run the same command to resume");
+  }
+  throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
+}
+
 void Bus::rethrow_pending() {
   if (!pending_) return;
   std::exception_ptr e = std::exchange(pending_, nullptr);
@@ -135,6 +143,12 @@ bool Bus::handle_once(int timeout_ms) {
   rethrow_pending();
   // A signal (SIGINT, SIGTERM: the caller's stop request) interrupts the wait: nothing handled.
   if (rc < 0 && errno == EINTR) return false;
+  if (rc < 0 && tcp_) {
+    // liblcm closes its socket when the hub goes and fails to reconnect; its errno is then that
+    // of the closed descriptor ("Bad file descriptor"), which names nothing the user can fix.
+    throw Error("lost the LCM hub at " + url_ + " (it stopped, or the network to it failed); start it again "
+                "(`mtg hub`) and run the same command to resume");
+  }
   if (rc < 0) throw Error("LCM handle failed on " + url_ + ": " + std::strerror(errno));
   return rc > 0;
 }

@@ -68,9 +68,7 @@ class Bus {
       publish_raw(channel, bytes);
       return;
     }
-    if (lcm_->publish(channel, &msg) != 0) {
-      throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
-    }
+    if (lcm_->publish(channel, &msg) != 0) publish_failed(channel);
   }
 
   /// Publishes already encoded bytes (forwarding a message between buses unchanged; signed on an
@@ -81,9 +79,7 @@ class Bus {
       signed_bytes = auth_->sign(channel, data);
       data = signed_bytes;
     }
-    if (lcm_->publish(channel, data.data(), static_cast<unsigned int>(data.size())) != 0) {
-      throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
-    }
+    if (lcm_->publish(channel, data.data(), static_cast<unsigned int>(data.size())) != 0) publish_failed(channel);
   }
 
   /// Calls `handler(channel, msg)` for every message on channels matching `channel_regex`.
@@ -207,6 +203,8 @@ class Bus {
   };
 
   void rethrow_pending();
+  /// @throws mtg::Error naming the channel, or the lost hub on a tcpq bus.
+  [[noreturn]] void publish_failed(const std::string& channel) const;
 
   std::string url_;
   bool is_log_ = false;

@@ -7,21 +7,23 @@
 # the wire and a string at least its NUL, so a count above the bytes left, or below 0, is refused
 # (decode returns -1, as for any other malformed message) before anything is allocated. A string
 # must also end in its NUL and hold no other: the encoder writes strlen() bytes, so a string read
-# with a NUL inside would be written back shorter than getEncodedSize() says.
+# with a NUL inside would be written back shorter than getEncodedSize() says. (scripts/fuzz found
+# the first version of this file missing the strings of string arrays, `__elem_len`: an
+# episode_truth_t whose oracle step had length 0 threw through the decoder.)
 #
 # Run as: cmake -DDIR=<folder of generated .hpp> -P bound_decoders.cmake
 file(GLOB headers "${DIR}/*.hpp")
 foreach(header ${headers})
   file(READ "${header}" text)
   string(REGEX MATCHALL "\\.resize\\(" resizes "${text}")
-  string(REGEX MATCHALL "_len__ > maxlen - pos\\) return -1" strings "${text}")
+  string(REGEX MATCHALL "_len_* > maxlen - pos\\) return -1" strings "${text}")
   string(REGEX REPLACE
     "this->([A-Za-z_0-9]+)\\.resize\\(this->([A-Za-z_0-9]+)\\);"
     "if(this->\\2 < 0 || this->\\2 > maxlen - pos) return -1;  // bound_decoders.cmake\n        this->\\1.resize(this->\\2);"
     text "${text}")
   string(REGEX REPLACE
-    "if\\(__([A-Za-z_0-9]+)_len__ > maxlen - pos\\) return -1;"
-    "if(__\\1_len__ < 1 || __\\1_len__ > maxlen - pos || memchr(((const char*)buf) + offset + pos, 0, __\\1_len__ - 1) != nullptr || ((const char*)buf)[offset + pos + __\\1_len__ - 1] != 0) return -1;  // bound_decoders.cmake"
+    "if\\((__[A-Za-z_0-9]+) > maxlen - pos\\) return -1;"
+    "if(\\1 < 1 || \\1 > maxlen - pos || memchr(((const char*)buf) + offset + pos, 0, \\1 - 1) != nullptr || ((const char*)buf)[offset + pos + \\1 - 1] != 0) return -1;  // bound_decoders.cmake"
     text "${text}")
   # Every resize and every string must have been bounded: a change in lcm-gen's output fails
   # the build here rather than leaving a decoder unbounded.

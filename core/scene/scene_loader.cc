@@ -180,8 +180,8 @@ void load_rigid_objects(const Dataset& ds, const JsonField& list, MeshLoader& me
 
     const auto cfg_it = ds.object_configs.find(tmpl);
     if (cfg_it == ds.object_configs.end()) {
-      scene.warnings.push_back("object " + obj.name + ": no object config for template '" + tmpl +
-                               "', skipped");
+      scene.warnings.push_back(inst.where() + ": object " + obj.name + ": no object config for template '" + tmpl +
+                               "' in the dataset, skipped");
       continue;
     }
     const fs::path cfg_file = cfg_it->second;
@@ -263,8 +263,8 @@ void load_articulated_objects(const Dataset& ds, const JsonField& list, MeshLoad
 
     const auto urdf_it = ds.urdfs.find(tmpl);
     if (urdf_it == ds.urdfs.end()) {
-      scene.warnings.push_back("articulated object " + obj.name + ": no URDF for template '" +
-                               tmpl + "', skipped");
+      scene.warnings.push_back(inst.where() + ": articulated object " + obj.name + ": no URDF for template '" +
+                               tmpl + "' in the dataset, skipped");
       continue;
     }
     UrdfModel model;

@@ -411,7 +411,10 @@ class Instantiator {
   }
 
   void consolidate() {
-    for (const auto& [cat, objs] : f_.by_category) {
+    for (const auto& entry : f_.by_category) {
+      // Named, not a structured binding: clang before 16 (scripts/fuzz's) cannot capture those.
+      const auto& cat = entry.first;
+      const auto& objs = entry.second;
       if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
       Rng rng = rng_for(cat);
       try_targets(rng, {}, [&](PlatformId dst) {

@@ -203,8 +203,13 @@ Task task_from_json(const nlohmann::json& j) {
     throw Error("task " + t.id + ": its text has " + std::to_string(t.text.size()) + " bytes, more than the " +
                 std::to_string(kMaxTaskText) + " a task text may have");
   }
-  t.identify = identifications_from_json(j["identify"]);
-  t.placements = oracle_placements_from_json(j["placements"]);
+  try {
+    t.identify = identifications_from_json(j["identify"]);
+    t.placements = oracle_placements_from_json(j["placements"]);
+  } catch (const nlohmann::json::exception& e) {
+    // Found by scripts/fuzz: a look-alike record with a field of the wrong type ended the program.
+    throw Error("task " + t.id + ": its identify or placements records are malformed (" + e.what() + ")");
+  }
   return t;
 }
 

@@ -41,6 +41,10 @@ nlohmann::json read_json_file(const std::filesystem::path& file) {
       what = "syntax error" + what.substr(pos + 14);
     }
     throw Error(file.string() + ": invalid JSON at " + line_column(text, e.byte) + ": " + what);
+  } catch (const nlohmann::json::exception& e) {
+    // A number too large for a double ("out_of_range.406"), found by scripts/fuzz: not a
+    // parse_error, so it went past the catch above and ended the program.
+    throw Error(file.string() + ": invalid JSON: " + e.what());
   }
 }
 

@@ -40,6 +40,8 @@ class JsonField {
 
   /// "file: /json/pointer: what".
   [[noreturn]] void fail(const std::string& what) const;
+  /// "file: /json/pointer", for a warning about this value.
+  std::string where() const { return file_ + ": " + (pointer_.empty() ? "/" : pointer_); }
 
  private:
   const nlohmann::json* value_;

@@ -473,7 +473,10 @@ int run_replay(const ReplayOptions& o) {
   plan.agents = {spec};
   for (auto& e : plan.episodes) e.agent = spec;
   plan.parallel = std::max(1, o.parallel);
-  if (!o.url.empty()) plan.bus_url = bus::normalize_url(o.url);
+  // A multi-host run replays on this machine: its workers and shared bus are not needed to
+  // re-drive services from its (merged) recording.
+  plan.remote = false;
+  plan.bus_url = o.url.empty() ? bus::default_url() : bus::normalize_url(o.url);
   orchestrator::save_plan(plan, dir);
   const auto tasks = load_tasks(plan.tasks_db);
   const auto summary = orchestrator::run_plan(plan, dir, tasks);

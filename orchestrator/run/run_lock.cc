@@ -51,4 +51,12 @@ RunLock::~RunLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock; the file stays, naming the last holder
 }
 
+bool run_in_progress(const std::filesystem::path& dir) {
+  const int fd = ::open((dir / ".lock").c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);  // a shared lock taken here goes with it
+  return held;
+}
+
 }  // namespace mtg::orchestrator

@@ -23,4 +23,8 @@ class RunLock {
   int fd_ = -1;
 };
 
+/// Whether a run (or play) holds `dir`'s lock now: a reader's question (the viewer's), which
+/// neither makes nor takes the lock. False for a folder without a lock file.
+bool run_in_progress(const std::filesystem::path& dir);
+
 }  // namespace mtg::orchestrator

@@ -54,8 +54,13 @@ std::size_t RecordingIndex::refresh() {
       ++added;
     });
     file.indexed_to = static_cast<long>(read.end);
+    torn_tails_.erase(i);
     for (const bus::RecordingDamage& d : read.damage) {
-      if (!d.at_end) damage_.push_back(bus::describe(d));
+      if (d.at_end) {
+        torn_tails_[i] = bus::describe(d);
+      } else {
+        damage_.push_back(bus::describe(d));
+      }
     }
   }
   size_ += added;
@@ -93,9 +98,13 @@ std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_
   return out;
 }
 
-std::vector<std::string> RecordingIndex::damage() const {
+std::vector<std::string> RecordingIndex::damage(bool finished) const {
   const std::lock_guard lock(mutex_);
-  return damage_;
+  std::vector<std::string> all = damage_;
+  if (finished) {
+    for (const auto& [file, line] : torn_tails_) all.push_back(line);
+  }
+  return all;
 }
 
 std::size_t RecordingIndex::size() const {

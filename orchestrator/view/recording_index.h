@@ -30,8 +30,10 @@ class RecordingIndex {
   std::size_t refresh();
   /// The episode's messages of the channels the viewer reads, in recording order.
   std::vector<RecordedMessage> messages_of(bus::EpisodeId episode_id) const;
-  /// One line per damaged stretch found inside the recordings so far (bus::describe).
-  std::vector<std::string> damage() const;
+  /// One line per damaged stretch found inside the recordings so far (bus::describe). With
+  /// `finished` (no run writes the folder any more), a torn last event counts too: a live
+  /// recorder may still be writing it, a finished one never will.
+  std::vector<std::string> damage(bool finished) const;
   /// Messages indexed so far (all episodes).
   std::size_t size() const;
 
@@ -51,6 +53,7 @@ class RecordingIndex {
   std::map<bus::EpisodeId, std::vector<std::uint64_t>> places_;
   std::size_t size_ = 0;
   std::vector<std::string> damage_;
+  std::map<std::size_t, std::string> torn_tails_;  // by file: its torn last event, as read last
 };
 
 /// Whether the viewer keeps messages of this channel (episode streams, starts, truths, results,

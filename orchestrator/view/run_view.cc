@@ -12,6 +12,7 @@
 #include "core/util/log.h"
 #include "orchestrator/report/paper_table3.h"
 #include "orchestrator/report/report.h"
+#include "orchestrator/run/run_lock.h"
 
 namespace mtg::orchestrator::view {
 
@@ -101,7 +102,7 @@ json RunView::summary() {
   s["planned"] = planned_;
   s["finished"] = finished;
   s["live"] = finished < planned_;
-  s["damage"] = index_.damage();
+  s["damage"] = index_.damage(!run_in_progress(dir_));
   return s;
 }
 
@@ -112,7 +113,7 @@ json RunView::overview() {
     const std::lock_guard lock(rows_mutex_);
     if (overview_rows_ == all) {
       json o = overview_;
-      o["damage"] = index_.damage();  // found by the indexer meanwhile
+      o["damage"] = index_.damage(!run_in_progress(dir_));  // found by the indexer meanwhile
       return o;
     }
   }
@@ -206,6 +207,19 @@ json RunView::episode(bus::EpisodeId id, int attempt) {
   json out = episode_trace(id, messages, attempt);
   out["row"] = row;
   out["run"] = name_;
+  // A stored episode the recording shows nothing of: say why rather than show zero steps.
+  if (out["steps"].empty() && !row.is_null()) {
+    const bool given_up = row["status"] != "scored";
+    out["missing"] = std::string(given_up ? "The infrastructure gave this episode up (" + row["detail"].get<std::string>() +
+                                                "). "
+                                          : "") +
+                     "The recording holds no step of attempt " + out["attempt"].dump() + " (" +
+                     (messages.empty() ? "no message of this episode at all" : "only other attempts' messages") +
+                     "): " +
+                     (index_.damage(!run_in_progress(dir_)).empty()
+                          ? "the recording of its invocation may be missing from the folder."
+                          : "they were lost where the recording is damaged; see the run's overview.");
+  }
   return out;
 }
 

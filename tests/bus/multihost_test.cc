@@ -49,6 +49,12 @@ TEST_F(MultiHostTest, TwoAndThreeHostsGiveTheResultsOfOneHostAndTheRecordingReju
     EXPECT_NE(log_text().find(std::to_string(rows.size()) + " identical, 0 differ"), std::string::npos) << log_text();
     workers_.clear();  // next round: fresh workers
   }
+  // The multi-host run replays on this machine alone, with no worker left (before, `mtg replay`
+  // waited for workers on the shared bus).
+  testing::ChildProcess replay({testing::bin("mtg"), "replay", (fx_.root() / "hosts3").string()}, log());
+  EXPECT_EQ(replay.wait(60000), 0) << log_text();
+  const std::string rows = std::to_string(results("hosts3").size());
+  EXPECT_NE(log_text().find(rows + " / " + rows + " judge results identical"), std::string::npos) << log_text();
 }
 
 // The shared bus is authenticated: results, lease revocations and a shutdown forged during a run

@@ -14,7 +14,9 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bus/channels.h"
+#include "bus/header.h"
 #include "core/tasks/audit_plan.h"
+#include "core/store/sqlite.h"
 #include "core/tasks/task_db.h"
 #include "tests/support/browser.h"
 #include "tests/support/run_fixture.h"
@@ -209,6 +211,99 @@ TEST_F(ViewerTest, ADamagedRecordingIsReadPastItsDamageAndTheOverviewSaysWhere) 
   }
   EXPECT_GE(same, static_cast<int>(rows.size()) - 1);
   b->screenshot(kArtifacts / "damaged-recording.png");
+}
+
+// A finished run whose recording was cut off inside its last episode (a disk that filled, a copy
+// cut short): the overview names the torn tail (before, a torn tail was taken for a live
+// recorder's event in the writing, always, and nothing was said), and the episode whose messages
+// were all lost says so instead of showing zero steps.
+TEST_F(ViewerTest, ARecordingCutOffAtItsEndAndALostEpisodeAreExplained) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle"}, 2, 1)), 0) << log_text();
+  const auto rows = results("run");
+  ASSERT_GE(rows.size(), 3u);
+  const bus::EpisodeId last = rows.back().episode_id;  // one in flight at a time: the last recorded
+  const fs::path log_file = fx_.root() / "run" / "bus-0.lcmlog";
+  long first_of_last = -1;
+  {
+    lcm::LogFile in(log_file.string(), "r");
+    long at = 0;
+    for (const lcm::LogEvent* ev = in.readNextEvent(); ev != nullptr && first_of_last < 0; ev = in.readNextEvent()) {
+      const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev->data), static_cast<std::size_t>(ev->datalen)});
+      if (header && bus::episode_of(*header) == last) first_of_last = at;
+      at = std::ftell(in.getFilePtr());
+    }
+  }
+  ASSERT_GT(first_of_last, 0);
+  fs::resize_file(log_file, static_cast<std::uintmax_t>(first_of_last + 10));  // inside its first event
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  auto b = browser();
+  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  b->navigate(base + "#/run/run");
+  ASSERT_TRUE(b->wait_for("document.getElementById('damage') !== null", 20000));
+  const std::string said = b->evaluate("document.getElementById('damage').textContent").get<std::string>();
+  EXPECT_NE(said.find("bus-0.lcmlog: its last 10 bytes at byte " + std::to_string(first_of_last)), std::string::npos)
+      << said;
+  b->navigate(base + "#/run/run/episode/" + to_string(last));
+  ASSERT_TRUE(b->wait_for("document.getElementById('missing') !== null", 20000));
+  const std::string missing = b->evaluate("document.getElementById('missing').textContent").get<std::string>();
+  EXPECT_NE(missing.find("The recording holds no step of attempt 0 (no message of this episode at all): they were "
+                         "lost where the recording is damaged"),
+            std::string::npos)
+      << missing;
+  // What the results hold of it stands in for what the recording lost: its task and verdict.
+  const std::string verdict = b->evaluate("document.getElementById('verdict').textContent").get<std::string>();
+  EXPECT_NE(verdict.find("the recording lacks the judge's message"), std::string::npos) << verdict;
+  const std::string header = b->evaluate("document.querySelector('.muted').textContent").get<std::string>();
+  EXPECT_NE(header.find(rows.back().task_id), std::string::npos) << header;
+  EXPECT_EQ(header.find("undefined"), std::string::npos) << header;
+  b->screenshot(kArtifacts / "lost-episode.png");
+}
+
+// A run folder someone handed over, with markup in every text field of its results (agent,
+// scene, task type, stage, cause, detail, worker, prompt version): no script runs, and no element
+// is made from it, in report.html, in any page of `mtg view`, or in the exported site.
+TEST_F(ViewerTest, MarkupInEveryTextFieldOfARunFolderRunsNowhere) {
+  ASSERT_EQ(mtg(run_args("run", {"oracle", "random"}, 1, 2)), 0) << log_text();
+  const std::string payload = "<img src=x onerror=\"window.__pwned=1\"><script>window.__pwned=2</script>";
+  {
+    store::Database db(fx_.root() / "run" / "results.sqlite", store::Database::Mode::kReadWrite);
+    store::Statement q(db, "UPDATE episodes SET agent = agent || ?1, scene = scene || ?1, task_type = task_type || ?1, "
+                           "stage = ?1 || stage, cause = cause || ?1, detail = ?1, worker = ?1, prompt_version = ?1");
+    q.bind(1, payload);
+    q.run();
+  }
+  ASSERT_EQ(mtg({testing::bin("mtg"), "report", (fx_.root() / "run").string()}), 0) << log_text();
+  const fs::path site = fx_.root() / "site";
+  ASSERT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", site.string()}), 0)
+      << log_text();
+  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
+                             (fx_.root() / "view.log").string());
+  const int port = port_in_log(fx_.root() / "view.log", 10000);
+  ASSERT_GT(port, 0);
+  const std::string served = "http://127.0.0.1:" + std::to_string(port) + "/";
+  const std::string exported = "file://" + (site / "index.html").string();
+  const auto episode = to_string(results("run").front().episode_id);
+  auto b = browser();
+  int pages = 0;
+  for (const std::string& page :
+       {"file://" + (fx_.root() / "run" / "report.html").string(), served + "#/", served + "#/run/run",
+        served + "#/run/run/episodes", served + "#/run/run/episode/" + episode, exported + "#/",
+        exported + "#/run/run", exported + "#/run/run/episodes", exported + "#/run/run/episode/" + episode}) {
+    b->navigate(page);
+    ASSERT_TRUE(b->wait_for("document.readyState === 'complete' && document.body.innerText.length > 40", 20000))
+        << page;
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));  // what the page fetches, drawn
+    const std::string text = b->evaluate("document.body.innerText").get<std::string>();
+    EXPECT_NE(text.find("<img src=x"), std::string::npos) << page << " does not show the field as text:\n" << text;
+    EXPECT_TRUE(b->evaluate("window.__pwned === undefined").get<bool>()) << page << " ran the field's script";
+    EXPECT_EQ(b->evaluate("document.querySelectorAll('img[src=\"x\"]').length").get<int>(), 0)
+        << page << " made elements of the field";
+    ++pages;
+  }
+  EXPECT_EQ(pages, 9);
 }
 
 // The episode list as a researcher uses it: sorted by a column, searched by a part of a task id

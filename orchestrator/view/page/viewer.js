@@ -271,6 +271,18 @@ async function showEpisodes(run, params) {
 // ---- one episode ----
 function verdictBanner(e) {
   const v = e.result;
+  const r = e.row;
+  if (!v && r && r.attempt === e.attempt) {
+    // The results hold the verdict the recording lacks (lost where it is damaged).
+    if (r.status !== 'scored') {
+      return el('div', {class: 'banner fail', id: 'verdict'}, el('b', {}, 'Given up'), ' by the infrastructure: ' + r.detail);
+    }
+    return el('div', {class: 'banner ' + (r.success ? 'ok' : 'fail'), id: 'verdict'},
+      el('b', {}, r.success ? 'Success' : 'Failure'), ' · IP ' + fmt(r.ip) + ' · ' + r.steps + ' step(s), ' +
+      r.invalid_actions + ' invalid (from the results; the recording lacks the judge\'s message). ',
+      r.success ? '' : el('span', {}, 'Cause: ', el('b', {}, r.cause), ' — ' + r.cause_text + '. '),
+      'Furthest stage: ' + r.stage + ' (' + r.stage_text + ').');
+  }
   if (!v) return el('div', {class: 'banner', id: 'verdict'}, 'No verdict recorded for this attempt (yet).');
   return el('div', {class: 'banner ' + (v.success ? 'ok' : 'fail'), id: 'verdict'},
     el('b', {}, v.success ? 'Success' : 'Failure'), ' · IP ' + fmt(v.ip) + ' · ' + v.steps + ' step(s), ' +
@@ -326,7 +338,8 @@ function stepBlock(s) {
 }
 
 function episodeHeader(e) {
-  const t = e.task || {};
+  const t = e.task || (e.row ? {level: e.row.level, scene: e.row.scene, task_id: e.row.task_id,
+    task_type: e.row.task_type} : {});
   return el('div', {},
     el('h2', {}, 'Episode ' + e.episode_id + ' · ' + (e.agent || (e.row && e.row.agent) || '')),
     el('div', {class: 'muted'}, 'Level ' + t.level + ' · ' + t.scene + ' · ' + t.task_id + ' · ' + t.task_type +
@@ -370,6 +383,7 @@ async function showEpisode(run, id, params) {
     if (ev.key === 'ArrowRight' && around.next !== null) location.hash = to(around.next);
   };
   show(episodeHeader(e), nav, attempts, el('div', {}, truthButton), truthBox, compare,
+    e.missing ? el('p', {id: 'missing', class: 'warn'}, e.missing) : null,
     ...e.steps.map(stepBlock),
     e.errors.length ? el('div', {}, el('h2', {}, 'Errors reported during the episode'),
       ...e.errors.map((x) => el('div', {class: 'error'}, x.severity + ' from ' + x.source + ': ' + x.message))) : null);

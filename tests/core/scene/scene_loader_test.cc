@@ -145,7 +145,9 @@ TEST(LoadScene, UnknownTemplateAndBrokenUrdfAreSkippedWithAWarning) {
   const Scene scene = load_fixture(fx, "s");
   EXPECT_TRUE(scene.objects.empty());
   ASSERT_EQ(scene.warnings.size(), 2u);
-  EXPECT_THAT(scene.warnings[0], HasSubstr("no object config for template 'nobody'"));
+  // Named by file and place in it, so a typo in a template name is found where it was made.
+  EXPECT_THAT(scene.warnings[0], HasSubstr("s.scene_instance.json: /object_instances/0: object nobody_0: "
+                                           "no object config for template 'nobody'"));
   EXPECT_THAT(scene.warnings[1], HasSubstr("bad.urdf: URDF does not parse, skipped"));
 }
 
