@@ -256,7 +256,7 @@ TEST_F(ViewerTest, ARecordingCutOffAtItsEndAndALostEpisodeAreExplained) {
   // What the results hold of it stands in for what the recording lost: its task and verdict.
   const std::string verdict = b->evaluate("document.getElementById('verdict').textContent").get<std::string>();
   EXPECT_NE(verdict.find("the recording lacks the judge's message"), std::string::npos) << verdict;
-  const std::string header = b->evaluate("document.querySelector('.muted').textContent").get<std::string>();
+  const std::string header = b->evaluate("document.getElementById('task-line').textContent").get<std::string>();
   EXPECT_NE(header.find(rows.back().task_id), std::string::npos) << header;
   EXPECT_EQ(header.find("undefined"), std::string::npos) << header;
   b->screenshot(kArtifacts / "lost-episode.png");

@@ -342,7 +342,7 @@ function episodeHeader(e) {
     task_type: e.row.task_type} : {});
   return el('div', {},
     el('h2', {}, 'Episode ' + e.episode_id + ' · ' + (e.agent || (e.row && e.row.agent) || '')),
-    el('div', {class: 'muted'}, 'Level ' + t.level + ' · ' + t.scene + ' · ' + t.task_id + ' · ' + t.task_type +
+    el('div', {class: 'muted', id: 'task-line'}, 'Level ' + t.level + ' · ' + t.scene + ' · ' + t.task_id + ' · ' + t.task_type +
       ' · attempt ' + e.attempt + (e.attempts.length > 1 ? ' of ' + e.attempts.length : '')),
     el('pre', {class: 'task-text'}, t.text || ''),
     verdictBanner(e));
