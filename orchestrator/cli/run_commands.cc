@@ -384,6 +384,15 @@ int run_run(const RunOptions& o) {
                  static_cast<long long>(summary.not_run));
     return 1;
   }
+  if (summary.errors > 0) {
+    // Not a success: a task whose goal does not resolve, a service that cannot start, a lost
+    // host gave them up; the run's scores leave them out. A resume runs them again.
+    std::fprintf(stderr,
+                 "%lld episode(s) given up by the infrastructure, outside SR and IP (why: `mtg report %s`, "
+                 "%s/logs); fix the cause and run the same command again to run them\n",
+                 static_cast<long long>(summary.errors), dir.c_str(), dir.c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -426,7 +426,9 @@ TEST_F(RuntimeTest, AnEpisodeThatCannotRunIsGivenUpNeverHangs) {
   set.tasks = {t};
   tasks_db_ = (fx_.root() / "bad_tasks.sqlite").string();
   tasks::write_task_db(tasks_db_, {set}, {}, tasks::TaskOptions{});
-  ASSERT_EQ(mtg(run_args("nowhere", {"oracle"}, 0, 1), 60000), 0) << log_text();
+  // Exit 1, saying so: a run with an episode given up is not a success (before: exit 0).
+  ASSERT_EQ(mtg(run_args("nowhere", {"oracle"}, 0, 1), 60000), 1) << log_text();
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("1 episode(s) given up by the infrastructure, outside SR and IP"));
   const auto rows = results("nowhere");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].status, "error");
