@@ -39,6 +39,22 @@ class BrowserTest : public testing::RunFixture {
   std::unique_ptr<testing::HeadlessBrowser> browser() {
     return std::make_unique<testing::HeadlessBrowser>(fx_.root() / "chromium-profile");
   }
+  // `mtg view` of these run folders (under the fixture's root) on a free port, kept in `server`;
+  // the viewer's URL, or "" when it did not start.
+  std::string serve(const std::vector<std::string>& runs, std::unique_ptr<testing::ChildProcess>& server) {
+    std::vector<std::string> argv = {testing::bin("mtg"), "view"};
+    for (const auto& run : runs) argv.push_back((fx_.root() / run).string());
+    argv.insert(argv.end(), {"--port", "0"});
+    server = std::make_unique<testing::ChildProcess>(argv, (fx_.root() / "view.log").string());
+    const int port = port_in_log(fx_.root() / "view.log", 10000);
+    return port > 0 ? "http://127.0.0.1:" + std::to_string(port) + "/" : "";
+  }
+  // The overview's damage box of run "run", once shown.
+  static std::string damage_box(testing::HeadlessBrowser& b, const std::string& base) {
+    b.navigate(base + "#/run/run");
+    if (!b.wait_for("document.getElementById('damage') !== null", 20000)) return "";
+    return b.evaluate("document.getElementById('damage').textContent").get<std::string>();
+  }
 };
 
 using ViewerTest = BrowserTest;
@@ -182,16 +198,11 @@ TEST_F(ViewerTest, ADamagedRecordingIsReadPastItsDamageAndTheOverviewSaysWhere) 
     f.seekp(answer_at);
     f.write("XXXX", 4);
   }
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(),
-                              (fx_.root() / "whole").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run", "whole"}, view);
+  ASSERT_FALSE(base.empty());
   auto b = browser();
-  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
-  b->navigate(base + "#/run/run");
-  ASSERT_TRUE(b->wait_for("document.getElementById('damage') !== null", 20000));
-  const std::string said = b->evaluate("document.getElementById('damage').textContent").get<std::string>();
+  const std::string said = damage_box(*b, base);
   EXPECT_NE(said.find("The recording is damaged: bus-0.lcmlog: "), std::string::npos) << said;
   EXPECT_NE(said.find("unreadable bytes at byte "), std::string::npos) << said;
   const json o = b->evaluate("fetch('/api/runs/run').then((r) => r.json())");
@@ -235,15 +246,11 @@ TEST_F(ViewerTest, ARecordingCutOffAtItsEndAndALostEpisodeAreExplained) {
   }
   ASSERT_GT(first_of_last, 0);
   fs::resize_file(log_file, static_cast<std::uintmax_t>(first_of_last + 10));  // inside its first event
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run"}, view);
+  ASSERT_FALSE(base.empty());
   auto b = browser();
-  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
-  b->navigate(base + "#/run/run");
-  ASSERT_TRUE(b->wait_for("document.getElementById('damage') !== null", 20000));
-  const std::string said = b->evaluate("document.getElementById('damage').textContent").get<std::string>();
+  const std::string said = damage_box(*b, base);
   EXPECT_NE(said.find("bus-0.lcmlog: its last 10 bytes at byte " + std::to_string(first_of_last)), std::string::npos)
       << said;
   b->navigate(base + "#/run/run/episode/" + to_string(last));
@@ -279,11 +286,9 @@ TEST_F(ViewerTest, MarkupInEveryTextFieldOfARunFolderRunsNowhere) {
   const fs::path site = fx_.root() / "site";
   ASSERT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", site.string()}), 0)
       << log_text();
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
-  const std::string served = "http://127.0.0.1:" + std::to_string(port) + "/";
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string served = serve({"run"}, view);
+  ASSERT_FALSE(served.empty());
   const std::string exported = "file://" + (site / "index.html").string();
   const auto episode = to_string(results("run").front().episode_id);
   auto b = browser();
