@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -314,6 +315,28 @@ TEST_F(RuntimeTest, AnInterruptedRunSaysSoAndResumes) {
     ASSERT_EQ(mtg(run_args(out, {"oracle", "random"}, 0, 2)), 0) << log_text();
     EXPECT_EQ(results(out).size(), planned(out));
   }
+}
+
+// `--out /dev/null` as root replaced the device with a regular file. Here the real thing, in a
+// private mount namespace (a tmpfs over /dev with its own null device), so nothing outside can
+// be harmed: `mtg report --html /dev/null` and `mtg scene graph --out /dev/null` are refused with
+// one line naming the path, and /dev/null is still the character device afterwards.
+TEST_F(RuntimeTest, OutputsNamedDevNullLeaveTheDeviceAlone) {
+  if (::geteuid() != 0) GTEST_SKIP() << "a private mount namespace with its own /dev needs root; CI runs as root";
+  ASSERT_EQ(mtg(run_args("run", {"oracle"}, 1, 1)), 0) << log_text();
+  const std::string inner =
+      "mount -t tmpfs tmpfs /dev && mknod -m 666 /dev/null c 1 3 || exit 97; "
+      "\"$0\" report \"$1\" --html /dev/null; echo report=$?; "
+      "\"$0\" scene graph --data \"$2\" --scene two_tables --profile none --out /dev/null; echo graph=$?; "
+      "test -c /dev/null && echo null-is-a-device";
+  const int rc = mtg({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", inner, testing::bin("mtg"),
+                      (fx_.root() / "run").string(), fx_.root().string()});
+  ASSERT_NE(rc, 97) << "no private /dev: " << log_text();
+  const std::string said = log_text();
+  EXPECT_THAT(said, ::testing::HasSubstr("report=1"));
+  EXPECT_THAT(said, ::testing::HasSubstr("graph=1"));
+  EXPECT_THAT(said, ::testing::HasSubstr("/dev/null: is a character device; give the path of a file to write"));
+  EXPECT_THAT(said, ::testing::HasSubstr("null-is-a-device"));
 }
 
 // A judge stopped with SIGSTOP (hung: alive, silent) once the run is under way. Before, nobody
