@@ -331,7 +331,7 @@ TEST_F(RuntimeTest, OutputsNamedDevNullLeaveTheDeviceAlone) {
       "test -c /dev/null && echo null-is-a-device";
   const int rc = mtg({"/usr/bin/unshare", "-m", "--propagation", "private", "/bin/sh", "-c", inner, testing::bin("mtg"),
                       (fx_.root() / "run").string(), fx_.root().string()});
-  ASSERT_NE(rc, 97) << "no private /dev: " << log_text();
+  if (rc == 97) GTEST_SKIP() << "no tmpfs over /dev in a private mount namespace here: " << log_text();
   const std::string said = log_text();
   EXPECT_THAT(said, ::testing::HasSubstr("report=1"));
   EXPECT_THAT(said, ::testing::HasSubstr("graph=1"));
