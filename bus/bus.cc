@@ -101,11 +101,13 @@ bool Bus::SchemaGate::admit_header(const mtg::header_t& header, const std::strin
   return false;
 }
 
+std::string Bus::hub_lost(const std::string& doing) const {
+  return "lost the LCM hub at " + url_ + " (it stopped, or the network to it failed)" + doing +
+         "; start it again (`mtg hub`) and run the same command to resume";
+}
+
 void Bus::publish_failed(const std::string& channel) const {
-  if (tcp_) {
-    throw Error("lost the LCM hub at " + url_ + " (it stopped, or the network to it failed) while publishing on " +
-                channel + "; start it again (`mtg hub`) and run the same command to resume");
-  }
+  if (tcp_) throw Error(hub_lost(" while publishing on " + channel));
   throw Error("LCM publish failed on channel " + channel + " (" + url_ + ")");
 }
 
@@ -146,8 +148,7 @@ bool Bus::handle_once(int timeout_ms) {
   if (rc < 0 && tcp_) {
     // liblcm closes its socket when the hub goes and fails to reconnect; its errno is then that
     // of the closed descriptor ("Bad file descriptor"), which names nothing the user can fix.
-    throw Error("lost the LCM hub at " + url_ + " (it stopped, or the network to it failed); start it again "
-                "(`mtg hub`) and run the same command to resume");
+    throw Error(hub_lost(""));
   }
   if (rc < 0) throw Error("LCM handle failed on " + url_ + ": " + std::strerror(errno));
   return rc > 0;

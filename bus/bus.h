@@ -205,6 +205,8 @@ class Bus {
   void rethrow_pending();
   /// @throws mtg::Error naming the channel, or the lost hub on a tcpq bus.
   [[noreturn]] void publish_failed(const std::string& channel) const;
+  /// The line for a tcpq bus whose hub went away, `doing` what ("" or " while ...").
+  std::string hub_lost(const std::string& doing) const;
 
   std::string url_;
   bool is_log_ = false;

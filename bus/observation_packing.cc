@@ -272,10 +272,6 @@ std::string apply_text_ops(const mtg::observation_t& obs, const std::string& bas
   return text;
 }
 
-}  // namespace
-
-namespace {
-
 void check_limits(const mtg::observation_t& obs) {
   auto over = [&](const std::string& what, std::size_t n, std::size_t limit) {
     if (n > limit) {
@@ -329,6 +325,7 @@ mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& 
       w.text = apply_text_ops(obs, before != nullptr ? before->text : std::string());
       w.hint = std::move(obs.hint);
       // What is new joins the table; the runs refer to it.
+      mtg::action_list_t fresh{};
       if (obs.n_zactions > 0) {
         std::string bytes;
         try {
@@ -338,24 +335,18 @@ mtg::observation_t ObservationReader::whole(mtg::observation_t obs, WordsCodec& 
         } catch (const Error& e) {
           throw Error(step_name(obs) + ": " + e.what());
         }
-        mtg::action_list_t fresh{};
         if (fresh.decode(bytes.data(), 0, static_cast<int>(bytes.size())) != static_cast<int>(bytes.size())) {
           throw Error(step_name(obs) + ": its compressed actions do not decode");
         }
-        if (options_.size() + fresh.actions.size() > ObservationLimits::kOptionsTable) {
-          throw Error(step_name(obs) + ": the attempt's options would number " +
-                      std::to_string(options_.size() + fresh.actions.size()) + " (at most " +
-                      std::to_string(ObservationLimits::kOptionsTable) + ")");
-        }
-        std::move(fresh.actions.begin(), fresh.actions.end(), std::back_inserter(options_));
       } else {
-        if (options_.size() + obs.actions.size() > ObservationLimits::kOptionsTable) {
-          throw Error(step_name(obs) + ": the attempt's options would number " +
-                      std::to_string(options_.size() + obs.actions.size()) + " (at most " +
-                      std::to_string(ObservationLimits::kOptionsTable) + ")");
-        }
-        std::move(obs.actions.begin(), obs.actions.end(), std::back_inserter(options_));
+        fresh.actions = std::move(obs.actions);
       }
+      if (options_.size() + fresh.actions.size() > ObservationLimits::kOptionsTable) {
+        throw Error(step_name(obs) + ": the attempt's options would number " +
+                    std::to_string(options_.size() + fresh.actions.size()) + " (at most " +
+                    std::to_string(ObservationLimits::kOptionsTable) + ")");
+      }
+      std::move(fresh.actions.begin(), fresh.actions.end(), std::back_inserter(options_));
       w.runs = std::move(obs.runs);
       last_step_ = obs.step;
       read = steps_.emplace(obs.step, std::move(w)).first;  // earlier steps stay for a late second copy

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <thread>
 
 #include "agents/builtin/policies.h"
@@ -66,7 +67,6 @@ void LocalRuntime::subscribe() {
     if (it->second.result) finish(it);
   });
   bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
-    ready_pids_.insert(m.pid);
     last_beat_[m.pid] = Clock::now();
   });
   // Liveness for the episode time-out: one state update per step suffices, and every stream
@@ -193,7 +193,7 @@ void LocalRuntime::wait_ready(const std::vector<std::string>& names, double time
   std::map<std::string, int> deaths;
   while (Clock::now() < deadline) {
     bool all = true;
-    for (const auto& n : names) all = all && ready_pids_.count(supervisor_.pid(n)) != 0;
+    for (const auto& n : names) all = all && last_beat_.count(supervisor_.pid(n)) != 0;
     if (all) return;
     bus_.handle_once(50);
     for (const auto& died : supervisor_.poll()) {
@@ -205,7 +205,7 @@ void LocalRuntime::wait_ready(const std::vector<std::string>& names, double time
   }
   std::string missing;
   for (const auto& n : names) {
-    if (ready_pids_.count(supervisor_.pid(n)) == 0) missing += " " + n;
+    if (last_beat_.count(supervisor_.pid(n)) == 0) missing += " " + n;
   }
   throw Error("processes not ready after " + std::to_string(static_cast<int>(timeout_s)) + " s:" + missing +
               " (their logs are in " + (dir_ / "logs").string() + ")");
@@ -279,20 +279,20 @@ void LocalRuntime::check_timeouts(LaunchSink& sink) {
 double LocalRuntime::hang_after_s() const { return std::max(3.0, 0.8 * config_.episode_timeout_s); }
 
 void LocalRuntime::kill_hung() {
-  std::vector<std::string> watched = names_;
-  if (recorder_beats()) watched.push_back("recorder");
   const auto now = Clock::now();
-  for (const std::string& name : watched) {
+  auto check = [&](const std::string& name) {
     const pid_t pid = supervisor_.pid(name);
     const auto beat = last_beat_.find(static_cast<int>(pid));
-    if (pid <= 0 || beat == last_beat_.end()) continue;  // not started, or not ready yet (wait_ready's)
+    if (pid <= 0 || beat == last_beat_.end()) return;  // not started, or not ready yet (wait_ready's)
     const double silent = std::chrono::duration<double>(now - beat->second).count();
-    if (silent <= hang_after_s()) continue;
+    if (silent <= hang_after_s()) return;
     log::warn(name + " (pid " + std::to_string(pid) + ") sent no heartbeat for " +
               std::to_string(static_cast<int>(silent)) + " s: it hangs; killed, to be restarted");
     ::kill(pid, SIGKILL);
     last_beat_.erase(beat);
-  }
+  };
+  for (const std::string& name : names_) check(name);
+  if (recorder_beats()) check("recorder");
 }
 
 void LocalRuntime::handle_deaths(LaunchSink& sink) {

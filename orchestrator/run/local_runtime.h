@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <map>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -118,8 +117,8 @@ class LocalRuntime final : public Launcher {
   std::map<std::string, std::string> agent_process_; // agent spec -> process name
   std::string play_token_;                           // the play page's token ("" on loopback)
   int first_attempt_ = 0;                            // of this invocation (RuntimeConfig::attempts_per_invocation)
-  std::set<int> ready_pids_;
-  std::map<int, std::chrono::steady_clock::time_point> last_beat_;  // by pid
+  // The last heartbeat of each process by pid: one heard is ready (wait_ready), one silent too long hangs.
+  std::map<int, std::chrono::steady_clock::time_point> last_beat_;
   std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()
   bool open_ = false;

@@ -3,7 +3,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
-#include <cstring>
 #include <set>
 
 #include "core/util/error.h"
@@ -108,17 +107,10 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   add_missing_columns(*db_);
   // A verdict is written once; a row of an episode given up (status "error") gives way to a
   // later attempt's row, so a resume that runs it again stores what it gave.
-  std::string replace_error;
-  for (const char* c = kColumns; *c != '\0';) {
-    const char* end = std::strchr(c, ',');
-    const std::string column(c, end == nullptr ? std::strlen(c) : static_cast<std::size_t>(end - c));
-    if (column != "episode_id") replace_error += (replace_error.empty() ? "" : ", ") + column + " = excluded." + column;
-    c = end == nullptr ? c + column.size() : end + 2;
-  }
   insert_ = std::make_unique<store::Statement>(
-      *db_, std::string("INSERT INTO episodes (") + kColumns +
-                ") VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?) ON CONFLICT(episode_id) DO UPDATE SET " +
-                replace_error + " WHERE episodes.status = 'error'");
+      *db_, std::string("INSERT OR REPLACE INTO episodes (") + kColumns +
+                ") SELECT ?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,? WHERE NOT EXISTS "
+                "(SELECT 1 FROM episodes WHERE episode_id = ?1 AND status <> 'error')");
 }
 
 ResultsDb::~ResultsDb() {
