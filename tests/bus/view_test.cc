@@ -349,8 +349,10 @@ TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   std::string upper = words;
   for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   b->evaluate("location.hash = '#/run/run/episodes?sort=episode&q=' + encodeURIComponent(" + json(upper).dump() + ")");
-  ASSERT_TRUE(b->wait_for(rows_js + ".length > 0 && " + rows_js + ".every((r) => r.children[5].textContent."
-                          "toLowerCase().includes(" + json(words).dump() + ".toLowerCase()))", 10000))
+  // The id search's rows are that same task's: only the page drawn for this hash tells the searches apart.
+  ASSERT_TRUE(b->wait_for("window.mtgShown === location.hash && " + rows_js + ".length > 0 && " + rows_js +
+                          ".every((r) => r.children[5].textContent.toLowerCase().includes(" + json(words).dump() +
+                          ".toLowerCase()))", 10000))
       << b->evaluate("document.getElementById('count').textContent").dump();
 
   // The failure section for one agent: its own Sankey and causes, and its clicks keep the agent.
@@ -395,6 +397,19 @@ TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   EXPECT_TRUE(b->wait_for("[...document.querySelectorAll('.key-meaning')].some((m) => m.textContent.startsWith(' — '))",
                           5000));
   b->screenshot(kArtifacts / "episode-steps.png");
+
+  // A page left before its answers came never replaces the page the reader went to: the list's
+  // answers are held back 1.5 s, and the overview asked for after it stays drawn once they arrive.
+  b->evaluate("(() => { const f = window.fetch; window.fetch = (u, o) => new Promise((r) => setTimeout(r, "
+              "String(u).includes('/episodes?') ? 1500 : 0)).then(() => f(u, o)); })()");
+  b->evaluate("location.hash = '#/run/run/episodes?sort=steps'");
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  b->evaluate("location.hash = '#/run/run?agent=oracle'");
+  ASSERT_TRUE(b->wait_for("window.mtgShown === '#/run/run?agent=oracle'", 10000));
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  EXPECT_EQ(b->evaluate("window.mtgShown").get<std::string>(), "#/run/run?agent=oracle");
+  EXPECT_EQ(b->evaluate("document.querySelectorAll('tr.episode-row').length").get<int>(), 0);
+  EXPECT_EQ(b->evaluate("document.getElementById('failure-agent').value").get<std::string>(), "oracle");
 }
 
 // `mtg view --host 0.0.0.0`: reachable from other machines, so only a browser that opened the

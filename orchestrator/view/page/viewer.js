@@ -9,20 +9,38 @@
 const main = document.getElementById('main');
 let refreshTimer = null;
 
-// Replaces the page's content (skipping absent parts) and notes when it was drawn: tests and the
-// first-paint figure read window.mtgRendered.
+// Only the newest route may draw. A page left while its answers were still coming (a second hash
+// change during a slow list) would otherwise replace the page the reader went to when they came.
+let routeSeq = 0;
+class StaleRoute extends Error {}
+
+// Replaces the page's content (skipping absent parts) and notes when it was drawn and which hash it
+// shows: tests and the first-paint figure read window.mtgRendered and window.mtgShown.
 function show(...parts) {
   main.replaceChildren(...parts.filter((p) => p !== null && p !== undefined));
   window.mtgRendered = performance.now();
+  window.mtgShown = location.hash;
 }
 
-async function api(path) {
+async function fetchApi(path) {
   // An exported site (mtg export) answers from its data files: static_api.js.
   if (window.mtgStaticApi) return window.mtgStaticApi(path);
   const res = await fetch(path);
   const body = res.headers.get('Content-Type').startsWith('application/json') ? await res.json() : await res.text();
   if (!res.ok) throw new Error(body.error || res.statusText);
   return body;
+}
+
+// An answer that arrives after the reader moved on ends the route that asked for it.
+async function api(path) {
+  const seq = routeSeq;
+  const body = await fetchApi(path);
+  if (seq !== routeSeq) throw new StaleRoute(path);
+  return body;
+}
+
+function unlessStale(err) {
+  if (!(err instanceof StaleRoute)) throw err;
 }
 
 const fmt = (v) => (v === null || v === undefined ? '–' : (Math.round(v * 10) / 10).toString());
@@ -152,7 +170,7 @@ async function showOverview(run, params) {
   parts.push(el('h2', {}, 'Failure causes' + (chosen ? ' of ' + chosen : '')),
     Object.keys(failures.causes).length ? causes : el('p', {}, 'No failures.'));
   show(...parts);
-  fillCauseWords(run);
+  fillCauseWords(run).catch(unlessStale);
   const svg = await api('/api/runs/' + enc(run) + '/sankey.svg' + (chosen ? '?agent=' + enc(chosen) : ''));
   sankey.innerHTML = svg;
   window.mtgSankey = performance.now();
@@ -426,6 +444,7 @@ async function showCompare(params) {
 }
 
 async function route() {
+  ++routeSeq;
   clearTimeout(refreshTimer);
   episodeKeys = null;
   const hash = location.hash.slice(1) || '/';
@@ -440,6 +459,7 @@ async function route() {
     else if (parts[0] === 'run' && parts[2] === 'episode') await showEpisode(parts[1], parts[3], params);
     else show(el('p', {}, 'Nothing here: ' + hash));
   } catch (err) {
+    if (err instanceof StaleRoute) return;
     show(el('p', {class: 'error'}, 'Error: ' + err.message));
   }
 }
