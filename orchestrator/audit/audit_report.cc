@@ -5,12 +5,16 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/stats/intervals.h"
+
 namespace mtg::orchestrator::audit {
 namespace {
 
 void finish(LevelRow& r) {
   r.validity = r.answered > 0 ? static_cast<double>(r.valid) / r.answered : 0.0;
-  std::tie(r.low, r.high) = wilson_interval(r.valid, r.answered);
+  const stats::Interval ci = stats::wilson_interval(r.valid, r.answered);
+  r.low = ci.low;
+  r.high = ci.high;
   r.accuracy = r.picks > 0 ? static_cast<double>(r.right) / r.picks : 0.0;
 }
 
@@ -31,14 +35,6 @@ bool right_pick(const std::string& pick, const std::string& truth) {
     if (key == pick) return true;
   }
   return false;
-}
-
-std::pair<double, double> wilson_interval(int k, int n) {
-  if (n <= 0) return {0.0, 0.0};
-  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2 = z * z;
-  const double centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
-  const double half = z * std::sqrt(p * (1.0 - p) / n + z2 / (4.0 * n * n)) / (1.0 + z2 / n);
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
 AuditReport make_report(const std::vector<Item>& items, const std::map<std::string, std::map<int, Answer>>& by_rater) {

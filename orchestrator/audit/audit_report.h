@@ -53,9 +53,6 @@ struct AuditReport {
 /// Whether `pick` is one of the space-separated keys of `truth`.
 bool right_pick(const std::string& pick, const std::string& truth);
 
-/// 95 % Wilson score interval of k successes in n trials ({0, 0} for n = 0).
-std::pair<double, double> wilson_interval(int k, int n);
-
 /// One rater's report.
 AuditReport make_report(const std::vector<Item>& items, const std::map<int, Answer>& answers);
 /// Every rater's answers counted together, with pairwise agreement (percent, Cohen's kappa).

@@ -282,6 +282,15 @@ void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
   report->add_option("run", report_opts->run, "run folder")->required();
   report->add_option("--html", report_opts->html, "write the HTML report here");
   report->add_flag("--json", report_opts->json, "print one JSON object");
+  auto compare_opts = std::make_shared<CompareOptions>();
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Paired comparison on the same tasks: the agents of a run, or an agent in two runs (B against A)");
+  compare->add_option("run_a", compare_opts->run_a, "run folder (A, the baseline)")->required();
+  compare->add_option("run_b", compare_opts->run_b, "second run folder (B); without it, the agents of A are compared");
+  compare->add_option("--agent", compare_opts->agent, "compare this agent only");
+  compare->add_option("--baseline", compare_opts->baseline, "one run: the agent the others are compared with (default: its first)");
+  compare->add_flag("--json", compare_opts->json, "print one JSON object");
+  commands.push_back({compare, [compare_opts] { return run_compare(*compare_opts); }});
   auto replay_opts = std::make_shared<ReplayOptions>();
   CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
   replay->add_option("run", replay_opts->run, "run folder")->required();

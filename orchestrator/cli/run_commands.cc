@@ -27,6 +27,7 @@
 #include "core/util/log.h"
 #include "orchestrator/remote/slurm_workers.h"
 #include "orchestrator/remote/tcp_hub.h"
+#include "orchestrator/report/compare.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
 #include "orchestrator/run/results_db.h"
@@ -432,29 +433,38 @@ int run_report(const ReportOptions& o) {
     std::cout << report.dump() << '\n';
     return 0;
   }
-  std::printf("%s: %lld episodes scored, SR %.1f %%, IP %.1f\n", dir.c_str(),
-              static_cast<long long>(report["scored"].get<std::int64_t>()), report["sr"].get<double>(),
-              report["ip"].get<double>());
+  std::printf("%s: %lld episodes scored, SR %s %%, IP %s (95 %% intervals)\n", dir.c_str(),
+              static_cast<long long>(report["scored"].get<std::int64_t>()),
+              orchestrator::with_interval(report, "sr").c_str(), orchestrator::with_interval(report, "ip").c_str());
   if (const auto given_up = report["errors"].get<std::int64_t>(); given_up > 0) {
     std::printf("  %lld episode(s) given up by the infrastructure, outside SR and IP: the same `mtg run` "
                 "again on this folder runs them again\n",
                 static_cast<long long>(given_up));
   }
-  // Table 3 of the paper: per agent, SR and IP of each level, then overall.
-  std::printf("  %-14s", "agent");
-  for (const auto& [level, l] : report["by_level"].items()) std::printf("   L%s SR    IP", level.c_str());
-  std::printf("  |  all SR    IP\n");
+  // Table 3 of the paper, one line per agent and level, then the paper's average and all levels.
+  const std::string avg = orchestrator::paper_average_label(report);
+  // Padded by characters, not bytes: "Avg (L1–3)" holds a three-byte dash.
+  auto padded = [](const std::string& s, std::size_t width) {
+    const auto chars = static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
+    return s + std::string(width > chars ? width - chars : 0, ' ');
+  };
+  std::printf("  %s%s%8s  %s%s\n", padded("agent", 15).c_str(), padded("levels", 12).c_str(), "episodes",
+              padded("SR % [95 % CI]", 23).c_str(), "IP [95 % CI]");
+  auto line = [&padded](const std::string& agent, const std::string& levels, const nlohmann::json& f) {
+    std::printf("  %s%s%8lld  %s%s\n", padded(agent, 15).c_str(), padded(levels, 12).c_str(),
+                static_cast<long long>(f.value("episodes", std::int64_t{0})),
+                padded(orchestrator::with_interval(f, "sr"), 23).c_str(), orchestrator::with_interval(f, "ip").c_str());
+  };
   for (const auto& [agent, a] : report["by_agent"].items()) {
-    std::printf("  %-14s", agent.c_str());
-    for (const auto& [level, l] : report["by_level"].items()) {
-      if (a["by_level"].contains(level)) {
-        const auto& al = a["by_level"][level];
-        std::printf("  %6.1f %5.1f", al["sr"].get<double>(), al["ip"].get<double>());
-      } else {
-        std::printf("  %6s %5s", "-", "-");
-      }
+    for (const auto& [level, al] : a["by_level"].items()) line(agent, "L" + level, al);
+    if (!avg.empty() && !a["paper_avg"].is_null()) {
+      nlohmann::json f = a["paper_avg"];
+      std::int64_t n = 0;
+      for (const auto& l : f["levels"]) n += a["by_level"][l.get<std::string>()]["episodes"].get<std::int64_t>();
+      f["episodes"] = n;
+      line(agent, avg, f);
     }
-    std::printf("  |  %6.1f %5.1f\n", a["sr"].get<double>(), a["ip"].get<double>());
+    line(agent, "all", a);
   }
   if (!report["causes"].empty()) {
     std::printf("  failure causes:");
@@ -467,6 +477,61 @@ int run_report(const ReportOptions& o) {
     std::printf("  wrote %s, report.png, report.json\n", (o.html.empty() ? (dir / "report.html").string() : o.html).c_str());
   } else if (!o.html.empty()) {
     std::printf("  wrote %s\n", o.html.c_str());
+  }
+  return 0;
+}
+
+int run_compare(const CompareOptions& o) {
+  auto results_of = [](const std::string& run) {
+    const fs::path dir(run);
+    if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
+    return orchestrator::read_results(dir / "results.sqlite");
+  };
+  auto agents_of = [](const std::vector<orchestrator::EpisodeRow>& rows) {
+    std::vector<std::string> agents;  // in the order they first ran: the run's own order
+    for (const auto& r : rows) {
+      if (std::find(agents.begin(), agents.end(), r.agent) == agents.end()) agents.push_back(r.agent);
+    }
+    return agents;
+  };
+  auto name_of = [](const std::string& run) { return fs::path(run).lexically_normal().filename().string(); };
+  std::vector<orchestrator::CompareSide> baselines, candidates;
+  const auto rows_a = results_of(o.run_a);
+  const auto agents_a = agents_of(rows_a);
+  auto has = [](const std::vector<std::string>& agents, const std::string& a) {
+    return std::find(agents.begin(), agents.end(), a) != agents.end();
+  };
+  if (!o.run_b.empty()) {
+    if (!o.baseline.empty()) throw Error("--baseline chooses an agent of one run; with two runs, name the agent with --agent");
+    const auto rows_b = results_of(o.run_b);
+    const auto agents_b = agents_of(rows_b);
+    for (const std::string& agent : agents_a) {
+      if (!has(agents_b, agent) || (!o.agent.empty() && agent != o.agent)) continue;
+      baselines.push_back({name_of(o.run_a), agent, rows_a});
+      candidates.push_back({name_of(o.run_b), agent, rows_b});
+    }
+    if (baselines.empty()) {
+      throw Error(o.agent.empty() ? "no agent ran in both " + o.run_a + " and " + o.run_b
+                                  : "--agent " + o.agent + ": not an agent of both runs");
+    }
+  } else {
+    if (agents_a.size() < 2) throw Error(o.run_a + ": one agent only; give a second run to compare with");
+    const std::string baseline = o.baseline.empty() ? agents_a.front() : o.baseline;
+    if (!has(agents_a, baseline)) throw Error("--baseline " + baseline + ": not an agent of " + o.run_a);
+    if (!o.agent.empty() && (!has(agents_a, o.agent) || o.agent == baseline)) {
+      throw Error("--agent " + o.agent + ": not an agent of " + o.run_a + " other than the baseline " + baseline);
+    }
+    for (const std::string& agent : agents_a) {
+      if (agent == baseline || (!o.agent.empty() && agent != o.agent)) continue;
+      baselines.push_back({name_of(o.run_a), baseline, rows_a});
+      candidates.push_back({name_of(o.run_a), agent, rows_a});
+    }
+  }
+  const nlohmann::json comparison = orchestrator::compare_sides(baselines, candidates);
+  if (o.json) {
+    std::cout << comparison.dump() << '\n';
+  } else {
+    std::cout << orchestrator::compare_text(comparison);
   }
   return 0;
 }

@@ -55,6 +55,14 @@ struct ReportOptions {
   bool json = false;
 };
 
+struct CompareOptions {
+  std::string run_a;     // the baseline run
+  std::string run_b;     // "" = compare the agents of run_a with one of them
+  std::string agent;     // "" = every agent (both runs) or every agent but the baseline (one run)
+  std::string baseline;  // one run: the baseline agent ("" = the run's first agent)
+  bool json = false;
+};
+
 struct ReplayOptions {
   std::string run;
   std::string out;   // "" = <run>/replay
@@ -64,6 +72,7 @@ struct ReplayOptions {
 
 int run_run(const RunOptions& options);
 int run_report(const ReportOptions& options);
+int run_compare(const CompareOptions& options);
 int run_replay(const ReplayOptions& options);
 int run_rejudge(const std::string& run);
 

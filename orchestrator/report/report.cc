@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <set>
 #include <sstream>
 
 #include "core/episode/outcomes.h"
+#include "core/stats/intervals.h"
+#include "core/util/hash.h"
+#include "core/util/rng.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
@@ -16,21 +20,64 @@
 namespace mtg::orchestrator {
 namespace {
 
+// Fixed: intervals are part of the report's bytes (docs/statistics.md).
+constexpr std::uint64_t kReportSeed = 0x6d74672d63693935ull;  // "mtg-ci95"
+constexpr int kPaperLevels = 3;  // the paper's Table 3 averages Levels 1-3
+
+double round1(double v) { return std::round(v * 10.0) / 10.0; }
+
+// Bootstrap intervals are seeded by what they describe ("agent/level"), so a report is the same
+// bytes every time it is made, and one group's interval does not move when another group grows.
+std::uint64_t interval_seed(std::string_view group) { return derive_seed(kReportSeed, fnv1a64(group)); }
+
+nlohmann::json interval_json(const stats::Interval& ci) { return nlohmann::json::array({round1(ci.low), round1(ci.high)}); }
+nlohmann::json percent_interval_json(const stats::Interval& ci) { return interval_json({100.0 * ci.low, 100.0 * ci.high}); }
+
 struct Acc {
   std::int64_t episodes = 0, successes = 0;
-  double ip = 0.0;
+  std::vector<double> ips;          // per scored episode, in episode order
   void add(const EpisodeRow& r) {
     ++episodes;
     successes += r.success ? 1 : 0;
-    ip += r.ip;
+    ips.push_back(r.ip);
   }
-  nlohmann::json json() const {
-    auto round1 = [](double v) { return std::round(v * 10.0) / 10.0; };
+  double sr() const { return episodes ? 100.0 * static_cast<double>(successes) / static_cast<double>(episodes) : 0.0; }
+  double ip() const {
+    return episodes ? std::accumulate(ips.begin(), ips.end(), 0.0) / static_cast<double>(episodes) : 0.0;
+  }
+  nlohmann::json json(std::string_view group) const {
     return {{"episodes", episodes},
-            {"sr", episodes ? round1(100.0 * static_cast<double>(successes) / static_cast<double>(episodes)) : 0.0},
-            {"ip", episodes ? round1(ip / static_cast<double>(episodes)) : 0.0}};
+            {"sr", round1(sr())},
+            {"sr_ci", percent_interval_json(stats::wilson_interval(successes, episodes))},
+            {"ip", round1(ip())},
+            {"ip_ci", interval_json(stats::bootstrap_mean_interval(ips, interval_seed(group)))}};
   }
 };
+
+// The paper's "Avg": the mean of the per-level figures over Levels 1-3 (those the run has), not
+// the pooled rate, so a level with more episodes weighs no more. SR's interval is Wilson's at the
+// average's effective size; IP's resamples each level on its own.
+nlohmann::json paper_average(const std::map<std::string, Acc>& by_level, const std::string& agent) {
+  std::vector<std::string> levels;
+  std::vector<std::vector<double>> ips;
+  std::vector<stats::Tally> successes;
+  double sr = 0.0, ip = 0.0;
+  for (const auto& [level, acc] : by_level) {
+    if (std::stoi(level) > kPaperLevels) continue;
+    levels.push_back(level);
+    ips.push_back(acc.ips);
+    successes.push_back({acc.successes, acc.episodes});
+    sr += acc.sr();
+    ip += acc.ip();
+  }
+  if (levels.empty()) return nullptr;
+  const double n = static_cast<double>(levels.size());
+  return {{"levels", levels},
+          {"sr", round1(sr / n)},
+          {"sr_ci", percent_interval_json(stats::stratified_wilson_interval(successes))},
+          {"ip", round1(ip / n)},
+          {"ip_ci", interval_json(stats::bootstrap_mean_of_means_interval(ips, interval_seed(agent + "/avg/ip")))}};
+}
 
 // What a model agent's calls cost, over every episode of the run (spending happens whether or
 // not the episode was scored).
@@ -64,6 +111,33 @@ std::string fmt(double v) {
 }
 
 }  // namespace
+
+std::string with_interval(const nlohmann::json& figures, const std::string& key) {
+  std::string out = fmt(figures[key].get<double>());
+  if (figures.contains(key + "_ci")) {
+    const auto& ci = figures[key + "_ci"];
+    out += " [" + fmt(ci[0].get<double>()) + ", " + fmt(ci[1].get<double>()) + "]";
+  }
+  return out;
+}
+
+std::string with_interval_html(const nlohmann::json& figures, const std::string& key) {
+  std::string out = fmt(figures[key].get<double>());
+  if (figures.contains(key + "_ci")) {
+    const auto& ci = figures[key + "_ci"];
+    out += "<br><small class=ci>" + fmt(ci[0].get<double>()) + "&ndash;" + fmt(ci[1].get<double>()) + "</small>";
+  }
+  return out;
+}
+
+std::string paper_average_label(const nlohmann::json& report) {
+  std::vector<std::string> levels;
+  for (const auto& [l, v] : report["by_level"].items()) {
+    if (std::stoi(l) <= kPaperLevels) levels.push_back(l);
+  }
+  if (levels.empty()) return "";
+  return levels.size() == 1 ? "Avg (L" + levels.front() + ")" : "Avg (L" + levels.front() + "–" + levels.back() + ")";
+}
 
 nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::string& run_id) {
   Acc all;
@@ -102,15 +176,15 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   j["episodes"] = static_cast<std::int64_t>(rows.size());
   j["scored"] = all.episodes;
   j["errors"] = errors;
-  const nlohmann::json totals = all.json();
-  j["sr"] = totals["sr"];
-  j["ip"] = totals["ip"];
+  const nlohmann::json totals = all.json("*");
+  for (const char* key : {"sr", "sr_ci", "ip", "ip_ci"}) j[key] = totals[key];
   j["by_level"] = nlohmann::json::object();
-  for (const auto& [l, acc] : by_level) j["by_level"][l] = acc.json();
+  for (const auto& [l, acc] : by_level) j["by_level"][l] = acc.json("*/" + l);
   j["by_agent"] = nlohmann::json::object();
   for (const auto& [agent, acc] : by_agent) {
-    nlohmann::json a = acc.json();
-    for (const auto& [l, la] : by_agent_level[agent]) a["by_level"][l] = la.json();
+    nlohmann::json a = acc.json(agent);
+    for (const auto& [l, la] : by_agent_level[agent]) a["by_level"][l] = la.json(agent + "/" + l);
+    a["paper_avg"] = paper_average(by_agent_level[agent], agent);
     a["causes"] = causes_by_agent[agent];
     j["by_agent"][agent] = a;
   }
@@ -133,33 +207,48 @@ std::string report_html(const nlohmann::json& r) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>ManiTaskGen-LCM report " << run
     << "</title><style>body{font-family:sans-serif;margin:24px;color:#222}table{border-collapse:collapse;margin:12px 0}"
        "th,td{border:1px solid #bbb;padding:4px 10px;text-align:right}th{background:#eee}td:first-child,th:first-child"
-       "{text-align:left}h2{margin-top:28px}.note{color:#666;font-size:90%}</style></head><body>";
+       "{text-align:left}h2{margin-top:28px}.note{color:#666;font-size:90%}.ci{color:#777}</style></head><body>";
   h << "<h1>Run " << run << "</h1>";
   h << "<p>" << r["episodes"].get<std::int64_t>() << " episodes, " << r["scored"].get<std::int64_t>() << " scored"
     << (r["errors"].get<std::int64_t>() ? ", " + std::to_string(r["errors"].get<std::int64_t>()) + " given up (infrastructure)" : "")
-    << ". SR " << fmt(r["sr"].get<double>()) << " %, IP " << fmt(r["ip"].get<double>()) << ".</p>";
-  // Table 3: rows = agents, columns = levels (IP, SR).
+    << ". SR " << with_interval_html(r, "sr") << " %, IP " << with_interval_html(r, "ip") << ".</p>";
+  // Table 3: rows = agents, columns = levels (IP, SR), the paper's average over Levels 1-3 and
+  // the pooled figure; each with its 95 % interval beneath.
   std::vector<std::string> levels;
   for (const auto& [l, v] : r["by_level"].items()) levels.push_back(l);
+  const std::string avg = paper_average_label(r);
   h << "<h2>Results by level</h2><table><tr><th rowspan=2>agent</th>";
   for (const auto& l : levels) h << "<th colspan=2>Level " << l << "</th>";
-  h << "<th colspan=2>Avg</th></tr><tr>";
-  for (std::size_t i = 0; i <= levels.size(); ++i) h << "<th>IP</th><th>SR (%)</th>";
+  if (!avg.empty()) h << "<th colspan=2>" << avg << "</th>";
+  h << "<th colspan=2>All levels</th><th rowspan=2>episodes</th></tr><tr>";
+  for (std::size_t i = 0; i < levels.size() + (avg.empty() ? 1 : 2); ++i) h << "<th>IP</th><th>SR (%)</th>";
   h << "</tr>";
+  auto cells = [&h](const nlohmann::json& f) {
+    h << "<td>" << with_interval_html(f, "ip") << "</td><td>" << with_interval_html(f, "sr") << "</td>";
+  };
   for (const auto& [agent, a] : r["by_agent"].items()) {
     h << "<tr><td>" << escape_markup(agent) << "</td>";
     for (const auto& l : levels) {
       if (a.contains("by_level") && a["by_level"].contains(l)) {
-        h << "<td>" << fmt(a["by_level"][l]["ip"].get<double>()) << "</td><td>" << fmt(a["by_level"][l]["sr"].get<double>())
-          << "</td>";
+        cells(a["by_level"][l]);
       } else {
         h << "<td></td><td></td>";
       }
     }
-    h << "<td>" << fmt(a["ip"].get<double>()) << "</td><td>" << fmt(a["sr"].get<double>()) << "</td></tr>";
+    if (!avg.empty()) {
+      if (a.contains("paper_avg") && !a["paper_avg"].is_null()) {
+        cells(a["paper_avg"]);
+      } else {
+        h << "<td></td><td></td>";
+      }
+    }
+    cells(a);
+    h << "<td>" << a["episodes"] << "</td></tr>";
   }
   h << "</table><p class=note>IP: intermediate points (25 per milestone: source reached, item picked, "
-       "destination reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.</p>";
+       "destination reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate. Beneath each "
+       "figure its 95 % interval: Wilson's for SR, a seeded bootstrap of episodes for IP; "
+    << avg << " is the mean of the levels' figures, as in the paper's Table 3 (docs/statistics.md).</p>";
   h << "<h2>Failure taxonomy</h2><table><tr><th>cause</th><th style=\"text-align:left\">meaning</th><th>episodes</th></tr>";
   std::vector<std::pair<std::string, std::int64_t>> causes;
   for (const auto& [cause, n] : r["causes"].items()) causes.emplace_back(cause, n.get<std::int64_t>());

@@ -12,13 +12,22 @@
 
 namespace mtg::orchestrator {
 
-/// Keys: episodes, scored, errors, sr, ip (percent / points, over scored episodes), by_level
-/// ({"1": {episodes, sr, ip}, ...}), by_agent ({agent: {episodes, sr, ip, by_level}}), causes,
+/// Keys: episodes, scored, errors, sr, ip (percent / points, over scored episodes), sr_ci and
+/// ip_ci (95 % intervals: Wilson; seeded bootstrap), by_level ({"1": {episodes, sr, sr_ci, ip,
+/// ip_ci}, ...}), by_agent ({agent: {episodes, sr, sr_ci, ip, ip_ci, by_level, paper_avg: {levels,
+/// sr, sr_ci, ip, ip_ci} or null without Levels 1-3}}), causes,
 /// stages, tokens, cost_usd, sankey ({nodes: [{id, label, column, value}], links: [{source,
 /// target, value}]}). No wall-clock figures: the same results give the same JSON.
 nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::string& run_id);
 
 std::string report_html(const nlohmann::json& report);
+
+/// "50.0 [40.2, 59.8]": figures[key] with figures[key + "_ci"] when present.
+std::string with_interval(const nlohmann::json& figures, const std::string& key);
+/// The same for a table cell: the interval on a second, smaller line.
+std::string with_interval_html(const nlohmann::json& figures, const std::string& key);
+/// "Avg (L1–3)", or over the paper's levels the run has ("Avg (L1–2)"); "" with none of them.
+std::string paper_average_label(const nlohmann::json& report);
 /// @throws mtg::Error if the file cannot be written.
 void write_report_png(const nlohmann::json& report, const std::filesystem::path& file);
 

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <set>
@@ -69,8 +70,33 @@ TEST_F(RuntimeTest, EveryEpisodeOnceOracleAlwaysSucceedsReportHasTheContract) {
   EXPECT_EQ(levels, (std::set<std::string>{"2", "3"}));
   for (const std::string& level : levels) {
     ASSERT_TRUE(report["by_level"].contains(level)) << level << " in " << report.dump();
-    for (const char* key : {"episodes", "sr", "ip"}) EXPECT_TRUE(report["by_level"][level].contains(key));
+    for (const char* key : {"episodes", "sr", "ip", "sr_ci", "ip_ci"}) EXPECT_TRUE(report["by_level"][level].contains(key));
   }
+  // mtg compare: random against oracle (the first agent), checked against a computation from the
+  // results themselves: the discordant pairs and the binomial tail summed here term by term.
+  const std::string cmp = (fx_.root() / "compare.json").string();
+  ASSERT_EQ(std::system((testing::bin("mtg") + " compare " + (fx_.root() / "run").string() + " --json > " + cmp).c_str()), 0);
+  std::ifstream cin(cmp);
+  const nlohmann::json comparison = nlohmann::json::parse(cin);
+  ASSERT_EQ(comparison["comparisons"].size(), 1u);
+  const auto& all = comparison["comparisons"][0]["levels"]["all"];
+  std::map<std::string, std::pair<bool, bool>> by_task;  // oracle, random
+  for (const auto& r : rows) (r.agent == "oracle" ? by_task[r.task_id].first : by_task[r.task_id].second) = r.success;
+  int only_oracle = 0, only_random = 0;
+  for (const auto& [task, s] : by_task) {
+    only_oracle += s.first && !s.second;
+    only_random += !s.first && s.second;
+  }
+  EXPECT_EQ(all["pairs"].get<std::size_t>(), by_task.size());
+  EXPECT_EQ(all["only_a"].get<int>(), only_oracle);
+  EXPECT_EQ(all["only_b"].get<int>(), only_random);
+  const int n = only_oracle + only_random;
+  long double term = std::pow(0.5L, n), tail = 0.0L;  // C(n, 0) / 2^n, then C(n, i) / 2^n
+  for (int i = 0; i <= std::min(only_oracle, only_random); ++i) {
+    tail += term;
+    term = term * (n - i) / (i + 1);
+  }
+  EXPECT_NEAR(all["sr_p"].get<double>(), n == 0 ? 1.0 : std::min(1.0L, 2.0L * tail), 1e-12);
 }
 
 TEST_F(RuntimeTest, SameSeedSameResultsAndReplayAndRejudgeReproduceThem) {

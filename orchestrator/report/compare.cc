@@ -1,0 +1,232 @@
+#include "orchestrator/report/compare.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "core/stats/paired.h"
+#include "core/util/error.h"
+#include "core/util/hash.h"
+#include "core/util/rng.h"
+
+namespace mtg::orchestrator {
+namespace {
+
+constexpr double kAlpha = 0.05;
+constexpr std::uint64_t kCompareSeed = 0x6d74672d70616972ull;  // "mtg-pair": intervals are part of the output
+constexpr std::size_t kFlipsListed = 200;                       // per kind; the counts are always whole
+
+struct Pair {
+  const EpisodeRow* a;
+  const EpisodeRow* b;
+};
+
+// (task, repeat) -> episode: the k-th scored episode of a task on one side is repeat k.
+std::map<std::pair<std::string, int>, const EpisodeRow*> by_task_and_repeat(const std::vector<EpisodeRow>& rows,
+                                                                           const std::string& agent) {
+  std::map<std::pair<std::string, int>, const EpisodeRow*> out;
+  std::map<std::string, int> seen;
+  for (const EpisodeRow& r : rows) {  // rows come in episode order
+    if (r.status != "scored" || r.agent != agent) continue;
+    out[{r.task_id, seen[r.task_id]++}] = &r;
+  }
+  return out;
+}
+
+double round1(double v) { return std::round(v * 10.0) / 10.0; }
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(round1(v)) : nlohmann::json(nullptr); }
+
+nlohmann::json level_json(const std::vector<Pair>& pairs, const std::string& seed_key) {
+  std::vector<double> sa, sb, ia, ib;
+  std::int64_t only_a = 0, only_b = 0;
+  for (const Pair& p : pairs) {
+    sa.push_back(p.a->success ? 100.0 : 0.0);
+    sb.push_back(p.b->success ? 100.0 : 0.0);
+    ia.push_back(p.a->ip);
+    ib.push_back(p.b->ip);
+    only_a += p.a->success && !p.b->success;
+    only_b += !p.a->success && p.b->success;
+  }
+  const std::uint64_t seed = derive_seed(kCompareSeed, fnv1a64(seed_key));
+  const stats::PairedDifference sr = stats::paired_difference(sa, sb, derive_seed(seed, 1));
+  const stats::PairedDifference ip = stats::paired_difference(ia, ib, derive_seed(seed, 2));
+  auto mean = [](const std::vector<double>& v) {
+    double s = 0.0;
+    for (const double x : v) s += x;
+    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+  };
+  // A spread of zero (every pair alike) gives no detectable-difference figure, not "0 points".
+  auto detectable = [](const stats::PairedDifference& d) { return d.detectable > 0.0 ? d.detectable : NAN; };
+  return {{"pairs", static_cast<std::int64_t>(pairs.size())},
+          {"sr_a", round1(mean(sa))},
+          {"sr_b", round1(mean(sb))},
+          {"sr_diff", round1(sr.mean)},
+          {"sr_diff_ci", {round1(sr.interval.low), round1(sr.interval.high)}},
+          {"only_a", only_a},
+          {"only_b", only_b},
+          {"sr_p", stats::mcnemar_exact_p(only_a, only_b)},
+          {"sr_detectable", number_or_null(detectable(sr))},
+          {"ip_a", round1(mean(ia))},
+          {"ip_b", round1(mean(ib))},
+          {"ip_diff", round1(ip.mean)},
+          {"ip_diff_ci", {round1(ip.interval.low), round1(ip.interval.high)}},
+          {"ip_p", ip.p},
+          {"ip_detectable", number_or_null(detectable(ip))}};
+}
+
+nlohmann::json flip_json(const Pair& p) {
+  return {{"task", p.a->task_id}, {"level", p.a->level}, {"episode_a", p.a->episode_id.value()},
+          {"episode_b", p.b->episode_id.value()}};
+}
+
+nlohmann::json compare_one(const CompareSide& a, const CompareSide& b) {
+  const auto left = by_task_and_repeat(a.rows, a.agent), right = by_task_and_repeat(b.rows, b.agent);
+  std::map<std::string, std::vector<Pair>> by_level;
+  std::vector<Pair> all;
+  nlohmann::json regressions = nlohmann::json::array(), improvements = nlohmann::json::array();
+  std::int64_t n_regressions = 0, n_improvements = 0;
+  for (const auto& [key, ra] : left) {
+    const auto it = right.find(key);
+    if (it == right.end()) continue;
+    const Pair p{ra, it->second};
+    all.push_back(p);
+    by_level[std::to_string(ra->level)].push_back(p);
+    if (ra->success != p.b->success) {
+      auto& list = ra->success ? regressions : improvements;
+      (ra->success ? n_regressions : n_improvements) += 1;
+      if (list.size() < kFlipsListed) list.push_back(flip_json(p));
+    }
+  }
+  const std::string label = a.run + "/" + a.agent + " vs " + b.run + "/" + b.agent;
+  if (all.empty()) {
+    throw Error(label + ": no task ran on both sides (" + std::to_string(left.size()) + " and " +
+                std::to_string(right.size()) + " scored episodes); pairs need the same task ids");
+  }
+  nlohmann::json c;
+  c["a"] = {{"run", a.run}, {"agent", a.agent}};
+  c["b"] = {{"run", b.run}, {"agent", b.agent}};
+  c["pairs"] = static_cast<std::int64_t>(all.size());
+  c["unpaired_a"] = static_cast<std::int64_t>(left.size() - all.size());
+  c["unpaired_b"] = static_cast<std::int64_t>(right.size() - all.size());
+  for (const auto& [level, pairs] : by_level) c["levels"][level] = level_json(pairs, label + "/" + level);
+  c["levels"]["all"] = level_json(all, label + "/all");
+  c["regressions"] = regressions;
+  c["improvements"] = improvements;
+  c["regression_count"] = n_regressions;
+  c["improvement_count"] = n_improvements;
+  return c;
+}
+
+// Holm within each family: one level and one measure, across the comparisons made.
+void adjust_by_holm(nlohmann::json& comparisons) {
+  std::map<std::string, std::vector<nlohmann::json*>> families;
+  for (auto& c : comparisons) {
+    for (auto& [level, l] : c["levels"].items()) families[level].push_back(&l);
+  }
+  for (auto& [level, members] : families) {
+    for (const std::string measure : {"sr", "ip"}) {
+      std::vector<double> p;
+      for (const auto* m : members) p.push_back((*m)[measure + "_p"].get<double>());
+      const std::vector<double> adjusted = stats::holm_adjusted(p);
+      for (std::size_t i = 0; i < members.size(); ++i) (*members[i])[measure + "_p_holm"] = adjusted[i];
+    }
+  }
+}
+
+std::string p_text(double p) {
+  char buf[32];
+  if (p < 0.001) {
+    std::snprintf(buf, sizeof buf, "%.1e", p);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3f", p);
+  }
+  return buf;
+}
+
+std::string signed1(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.1f", v);
+  return buf;
+}
+
+std::string ci_text(const nlohmann::json& ci) {
+  return "[" + signed1(ci[0].get<double>()) + ", " + signed1(ci[1].get<double>()) + "]";
+}
+
+std::string verdict(const nlohmann::json& l, const std::string& measure, const std::string& unit, double alpha) {
+  const double p = l[measure + "_p_holm"].get<double>();
+  const double diff = l[measure + "_diff"].get<double>();
+  std::string out = measure == "sr" ? "SR: " : "IP: ";
+  if (p < alpha) {
+    out += std::string(diff < 0 ? "B is lower" : "B is higher") + " by " + signed1(diff).substr(1) + unit +
+           ", significant (p " + p_text(p) + " after Holm)";
+  } else {
+    out += "not significant (p " + p_text(p) + " after Holm): these pairs cannot tell A and B apart";
+    const auto& d = l[measure + "_detectable"];
+    if (!d.is_null()) out += "; a difference of about " + signed1(d.get<double>()).substr(1) + unit + " would show (80 % power)";
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const std::vector<CompareSide>& candidates) {
+  MTG_DEMAND(baselines.size() == candidates.size(), "compare_sides needs a baseline for each candidate");
+  nlohmann::json out;
+  out["alpha"] = kAlpha;
+  out["comparisons"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < baselines.size(); ++i) out["comparisons"].push_back(compare_one(baselines[i], candidates[i]));
+  adjust_by_holm(out["comparisons"]);
+  return out;
+}
+
+std::string compare_text(const nlohmann::json& comparison) {
+  std::ostringstream o;
+  const double alpha = comparison["alpha"].get<double>();
+  const std::size_t family = comparison["comparisons"].size();
+  for (const auto& c : comparison["comparisons"]) {
+    o << "B " << c["b"]["run"].get<std::string>() << "/" << c["b"]["agent"].get<std::string>() << " against A "
+      << c["a"]["run"].get<std::string>() << "/" << c["a"]["agent"].get<std::string>() << ": " << c["pairs"]
+      << " paired episodes";
+    if (c["unpaired_a"].get<std::int64_t>() + c["unpaired_b"].get<std::int64_t>() > 0) {
+      o << " (" << c["unpaired_a"] << " of A and " << c["unpaired_b"] << " of B without a partner, left out)";
+    }
+    o << "; differences are B - A, 95 % intervals, p after Holm over " << family << " comparison"
+      << (family == 1 ? "" : "s") << "\n";
+    char line[512];
+    std::snprintf(line, sizeof line, "  %-6s %6s %7s %7s  %-24s %8s   %6s %6s  %-24s %8s\n", "level", "pairs", "SR A",
+                  "SR B", "SR B-A [95 % CI]", "McNemar", "IP A", "IP B", "IP B-A [95 % CI]", "perm.");
+    o << line;
+    for (const auto& [level, l] : c["levels"].items()) {
+      std::snprintf(line, sizeof line, "  %-6s %6lld %7.1f %7.1f  %-24s %8s   %6.1f %6.1f  %-24s %8s\n",
+                    level == "all" ? "all" : ("L" + level).c_str(), static_cast<long long>(l["pairs"].get<std::int64_t>()),
+                    l["sr_a"].get<double>(), l["sr_b"].get<double>(),
+                    (signed1(l["sr_diff"].get<double>()) + " " + ci_text(l["sr_diff_ci"])).c_str(),
+                    p_text(l["sr_p_holm"].get<double>()).c_str(), l["ip_a"].get<double>(), l["ip_b"].get<double>(),
+                    (signed1(l["ip_diff"].get<double>()) + " " + ci_text(l["ip_diff_ci"])).c_str(),
+                    p_text(l["ip_p_holm"].get<double>()).c_str());
+      o << line;
+    }
+    const auto& all = c["levels"]["all"];
+    o << "  " << verdict(all, "sr", " points", alpha) << "\n  " << verdict(all, "ip", " points", alpha) << "\n";
+    for (const auto& [kind, key, count] : {std::tuple{"regressions (A succeeded, B failed)", "regressions", "regression_count"},
+                                          std::tuple{"improvements (B succeeded, A failed)", "improvements", "improvement_count"}}) {
+      o << "  " << c[count] << " " << kind;
+      std::size_t shown = 0;
+      for (const auto& f : c[key]) {
+        if (shown++ == 10) {
+          o << " ...";
+          break;
+        }
+        o << (shown == 1 ? ": " : ", ") << f["task"].get<std::string>() << " (episodes " << f["episode_a"] << " / "
+          << f["episode_b"] << ")";
+      }
+      o << "\n";
+    }
+  }
+  return o.str();
+}
+
+}  // namespace mtg::orchestrator

@@ -1,0 +1,35 @@
+#pragma once
+// Paired comparison of two agents of a run, or of one agent in two runs, on the tasks both ran
+// (docs/statistics.md): per level and over all levels, the difference in SR and IP with 95 %
+// intervals, an exact McNemar test on success, a sign-flip permutation test on IP, Holm's
+// correction across the agents compared, the smallest difference the run could detect, and the
+// tasks whose outcome flipped.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "orchestrator/run/results_db.h"
+
+namespace mtg::orchestrator {
+
+/// One side of a comparison: the scored episodes of `agent` in `run`.
+struct CompareSide {
+  std::string run;
+  std::string agent;
+  std::vector<EpisodeRow> rows;
+};
+
+/// Compares each `candidates[i]` with `baselines[i]` (B with A: differences are B - A). Episodes
+/// pair when they ran the same task and are the same repeat (the k-th episode of that task on each
+/// side, by episode id). Rows not scored are left out. Keys: comparisons[{a, b, pairs, unpaired_a,
+/// unpaired_b, levels: {"1"..., "all": {pairs, sr_a, sr_b, sr_diff, sr_diff_ci, only_a, only_b,
+/// sr_p, sr_p_holm, sr_detectable, ip_a, ip_b, ip_diff, ip_diff_ci, ip_p, ip_p_holm, ip_detectable}},
+/// regressions, improvements: [{task, level, episode_a, episode_b}]}], alpha.
+/// @throws mtg::Error when the sides differ in number or a pair of sides shares no task.
+nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const std::vector<CompareSide>& candidates);
+
+/// The comparison as text: a table per comparison and a plain verdict ("not significant").
+std::string compare_text(const nlohmann::json& comparison);
+
+}  // namespace mtg::orchestrator
