@@ -128,6 +128,8 @@ Verdict EpisodeJudge::verdict() const {
     v.cause = Cause::kFormatError;
   } else if (step_limit && invalid_run_ >= 3) {
     v.cause = Cause::kInvalidActionLoop;
+  } else if (ended_by_agent && steps_ <= 1 && !goal_met) {
+    v.cause = Cause::kEarlyEnd;  // its first action was the end: it never tried, whatever the task
   } else if (goal_met) {
     v.cause = Cause::kNoCallEnd;  // the goal held but the agent never called call_end
   } else if (goal_.is_outcome) {

@@ -69,11 +69,12 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
               dir.filename().c_str(), static_cast<long long>(s.planned), static_cast<long long>(s.completed),
               static_cast<long long>(s.already_done), static_cast<long long>(s.errors),
               static_cast<long long>(s.retries), s.restarts, s.seconds);
-  std::printf("  SR %.1f %%  IP %.1f  over %lld scored episodes\n", report["sr"].get<double>(),
-              report["ip"].get<double>(), static_cast<long long>(report["scored"].get<std::int64_t>()));
+  std::printf("  SR %s %%  IP %s  over %lld scored episodes (95 %% intervals)\n",
+              orchestrator::with_interval(report, "sr").c_str(), orchestrator::with_interval(report, "ip").c_str(),
+              static_cast<long long>(report["scored"].get<std::int64_t>()));
   for (const auto& [agent, a] : report["by_agent"].items()) {
-    std::printf("  %-12s SR %5.1f %%  IP %5.1f  (%lld episodes)\n", agent.c_str(), a["sr"].get<double>(),
-                a["ip"].get<double>(), static_cast<long long>(a["episodes"].get<std::int64_t>()));
+    std::printf("  %-12s SR %s %%  IP %s  (%lld episodes)\n", agent.c_str(), orchestrator::with_interval(a, "sr").c_str(),
+                orchestrator::with_interval(a, "ip").c_str(), static_cast<long long>(a["episodes"].get<std::int64_t>()));
   }
   if (report.contains("usage")) {
     for (const auto& [agent, u] : report["usage"].items()) {

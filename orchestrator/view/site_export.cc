@@ -62,7 +62,14 @@ class SiteWriter {
 
 void require_empty(const fs::path& out) {
   std::error_code ec;
-  if (!fs::exists(out, ec)) return;
+  if (!fs::exists(out, ec)) {
+    // Only the site's own folder is made: a typo in its parent must not build a tree elsewhere.
+    fs::path site = fs::absolute(out).lexically_normal();
+    if (!site.has_filename()) site = site.parent_path();  // "site/"
+    const fs::path parent = site.parent_path();
+    if (!fs::is_directory(parent, ec)) throw Error(out.string() + ": its folder " + parent.string() + " does not exist");
+    return;
+  }
   if (!fs::is_directory(out, ec)) throw Error(out.string() + " is a file: name a new or empty folder to export into");
   if (!fs::is_empty(out, ec)) throw Error(out.string() + " is not empty: name a new or empty folder to export into");
 }

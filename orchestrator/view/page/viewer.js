@@ -43,6 +43,7 @@ function unlessStale(err) {
   if (!(err instanceof StaleRoute)) throw err;
 }
 
+const ciText = (ci) => (ci ? '[' + fmt(ci[0]) + ', ' + fmt(ci[1]) + ']' : '');
 const fmt = (v) => (v === null || v === undefined ? '–' : (Math.round(v * 10) / 10).toString());
 const enc = encodeURIComponent;
 
@@ -70,39 +71,44 @@ async function showRuns() {
 // ---- overview ----
 function levelsOf(report) { return Object.keys(report.by_level).sort(); }
 
-// The paper's Table 3 averages Levels 1–3 as the mean of the three levels' figures: so does the
-// Avg column here, for every row; Level 4 (not in the paper's table) stands apart, after it.
-function meanOfLevels(byLevel, levels, key) {
-  const values = levels.map((l) => (byLevel || {})[l]).filter((v) => v && v[key] !== null && v[key] !== undefined)
-    .map((v) => v[key]);
-  return values.length ? values.reduce((a, b) => a + b, 0) / values.length : null;
+// The paper's Table 3 averages Levels 1–3 as the mean of the levels' figures: so does the Avg
+// column here (the report's paper_avg, with its interval); Level 4, not in the paper's table,
+// stands apart after it.
+// A figure with its 95 % interval beneath (report keys x and x_ci).
+function withCi(f, key) {
+  const ci = f[key + '_ci'];
+  return ci ? [fmt(f[key]), el('br'), el('small', {class: 'ci'}, fmt(ci[0]) + '–' + fmt(ci[1]))] : [fmt(f[key])];
 }
 
 function table3(o) {
   const report = o.report;
   const levels = levelsOf(report);
   const paperLevels = levels.filter((l) => Number(l) <= 3), apart = levels.filter((l) => Number(l) > 3);
-  const groups = [...paperLevels.map((l) => 'Level ' + l), 'Avg (L1–3)', ...apart.map((l) => 'Level ' + l)];
+  // The paper's Avg is over Levels 1–3; a run without some of them averages those it has, and says so.
+  const avgLabel = paperLevels.length === 0 ? null :
+    'Avg (L' + paperLevels[0] + (paperLevels.length > 1 ? '–' + paperLevels[paperLevels.length - 1] : '') + ')';
+  const groups = [...paperLevels.map((l) => 'Level ' + l), ...(avgLabel ? [avgLabel] : []), ...apart.map((l) => 'Level ' + l)];
   const head1 = el('tr', {}, el('th', {class: 'l', rowspan: 2}, 'agent'),
     ...groups.map((g) => el('th', {colspan: 2, class: g.startsWith('Avg') ? 'avg' : ''}, g)), el('th', {rowspan: 2}, 'episodes'));
   const head2 = el('tr', {}, ...groups.flatMap(() => [el('th', {}, 'IP'), el('th', {}, 'SR (%)')]));
   const t = el('table', {class: 'results'}, head1, head2);
-  const cellsOf = (byLevel, ls) => ls.flatMap((l) => {
-    const v = (byLevel || {})[l];
-    return v ? [el('td', {}, fmt(v.ip)), el('td', {}, fmt(v.sr))] : [el('td', {}), el('td', {})];
-  });
+  const cells = (f, cls) => (f ? [el('td', {class: cls}, ...withCi(f, 'ip')), el('td', {class: cls}, ...withCi(f, 'sr'))]
+    : [el('td', {class: cls}), el('td', {class: cls})]);
+  const cellsOf = (byLevel, ls) => ls.flatMap((l) => cells((byLevel || {})[l], ''));
   for (const [agent, a] of Object.entries(report.by_agent)) {
-    const avg = [el('td', {class: 'avg'}, fmt(meanOfLevels(a.by_level, paperLevels, 'ip'))),
-      el('td', {class: 'avg'}, fmt(meanOfLevels(a.by_level, paperLevels, 'sr')))];
     t.append(el('tr', {class: 'clickable agent-row', onclick: () => go(o.name, {agent})},
-      el('td', {class: 'l'}, agent), ...cellsOf(a.by_level, paperLevels), ...avg, ...cellsOf(a.by_level, apart),
-      el('td', {}, a.episodes)));
+      el('td', {class: 'l'}, agent), ...cellsOf(a.by_level, paperLevels), ...(avgLabel ? cells(a.paper_avg, 'avg') : []),
+      ...cellsOf(a.by_level, apart), el('td', {}, a.episodes)));
   }
   t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * groups.length + 2},
-    'The paper’s Table 3, for reference (Levels 1–3; Avg is the mean of its three levels, as above):')));
+    'Beneath each figure its 95 % interval (Wilson for SR, a seeded bootstrap for IP). The paper’s Table 3, ' +
+    'for reference (' + (avgLabel || 'Avg') + ' over the same levels as above):')));
   for (const p of o.paper) {
+    // Over the same levels as the run's average, so the column compares like with like.
+    const mean = (key) => paperLevels.reduce((sum, l) => sum + ((p.by_level || {})[l] || {})[key], 0) / paperLevels.length;
+    const paperAvg = paperLevels.length === 3 ? {ip: p.ip, sr: p.sr} : {ip: mean('ip'), sr: mean('sr')};
     t.append(el('tr', {class: 'paper'}, el('td', {class: 'l'}, p.agent), ...cellsOf(p.by_level, paperLevels),
-      el('td', {class: 'avg'}, fmt(p.ip)), el('td', {class: 'avg'}, fmt(p.sr)), ...cellsOf({}, apart), el('td', {})));
+      ...(avgLabel ? cells(paperAvg, 'avg') : []), ...cellsOf({}, apart), el('td', {})));
   }
   return t;
 }
@@ -137,7 +143,7 @@ async function showOverview(run, params) {
   const parts = [];
   parts.push(el('p', {id: 'summary'}, o.finished + ' of ' + o.planned + ' episodes finished' +
     (o.live ? ' (running: this page refreshes as results arrive)' : '') + '. ' + r.scored + ' scored' +
-    (r.errors ? ', ' + r.errors + ' given up (infrastructure)' : '') + '. SR ' + fmt(r.sr) + ' %, IP ' + fmt(r.ip) + '. ',
+    (r.errors ? ', ' + r.errors + ' given up (infrastructure)' : '') + '. SR ' + fmt(r.sr) + ' % ' + ciText(r.sr_ci) + ', IP ' + fmt(r.ip) + ' ' + ciText(r.ip_ci) + '. ',
     link('#/run/' + enc(run) + '/episodes', 'All episodes →')));
   if (o.damage && o.damage.length) {
     parts.push(el('p', {id: 'damage', class: 'warn'}, 'The recording is damaged: ' + o.damage.join('; ') +
@@ -156,7 +162,8 @@ async function showOverview(run, params) {
     pick.value = chosen;
     pick.addEventListener('change', () => { location.hash = '#/run/' + enc(run) + (pick.value ? '?agent=' + enc(pick.value) : ''); });
     parts.push(el('p', {id: 'failure-of'}, 'Failures of ', pick,
-      chosen ? ' (' + failures.scored + ' scored episodes, SR ' + fmt(failures.sr) + ' %, IP ' + fmt(failures.ip) + ')' : ''));
+      chosen ? ' (' + failures.scored + ' scored episodes, SR ' + fmt(failures.sr) + ' % ' + ciText(failures.sr_ci) +
+        ', IP ' + fmt(failures.ip) + ' ' + ciText(failures.ip_ci) + ')' : ''));
   }
   const sankey = el('div', {id: 'sankey'}, 'Loading the Sankey…');
   parts.push(el('h2', {}, 'Failure Sankey' + (chosen ? ' of ' + chosen : '') +
@@ -337,7 +344,8 @@ function requestBlock(req, a) {
 function stepBlock(s) {
   const a = s.action;
   const r = s.reply;
-  const model = a && a.provider !== 'builtin';
+  // Built-in agents, a person at the play desk and a replayed answer call no model: no tokens, no cost.
+  const model = a && !['builtin', 'human', 'replay'].includes(a.provider);
   return el('div', {class: 'step', 'data-step': s.step},
     el('h3', {}, s.done ? 'Final state (step ' + s.step + ')' : 'Step ' + (s.step + 1)),
     s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key}) : el('div', {class: 'muted'}, 'no observation recorded'),

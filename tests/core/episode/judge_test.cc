@@ -111,6 +111,14 @@ TEST_F(JudgeTest, NeverReachingTheSourceIsNavigation) {
   EXPECT_DOUBLE_EQ(v.ip, 0.0);
 }
 
+TEST_F(JudgeTest, EndingBeforeDoingAnythingIsAnEarlyEndNotNavigation) {
+  const Verdict v = play({"0"});
+  EXPECT_FALSE(v.success);
+  EXPECT_EQ(v.steps, 1);
+  EXPECT_EQ(v.stage, Stage::kStart);
+  EXPECT_EQ(v.cause, Cause::kEarlyEnd);
+}
+
 TEST_F(JudgeTest, UnreadableRepliesAreFormatErrorsAndLoopsOfInvalidKeysAreNamed) {
   const Verdict format = play(std::vector<std::string>(15, "<garbage>"));
   EXPECT_EQ(format.cause, Cause::kFormatError);
