@@ -447,7 +447,7 @@ int run_report(const ReportOptions& o) {
   // Padded by characters, not bytes: "Avg (L1–3)" holds a three-byte dash.
   auto padded = [](const std::string& s, std::size_t width) {
     const auto chars = static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
-    return s + std::string(width > chars ? width - chars : 0, ' ');
+    return s + std::string(width > chars ? width - chars : 1, ' ');  // a long name still gets its space
   };
   std::printf("  %s%s%8s  %s%s\n", padded("agent", 15).c_str(), padded("levels", 12).c_str(), "episodes",
               padded("SR % [95 % CI]", 23).c_str(), "IP [95 % CI]");

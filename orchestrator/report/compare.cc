@@ -16,6 +16,7 @@ namespace {
 constexpr double kAlpha = 0.05;
 constexpr std::uint64_t kCompareSeed = 0x6d74672d70616972ull;  // "mtg-pair": intervals are part of the output
 constexpr std::size_t kFlipsListed = 200;                       // per kind; the counts are always whole
+constexpr std::size_t kFlipsPrinted = 10;                       // in the text
 
 struct Pair {
   const EpisodeRow* a;
@@ -213,17 +214,15 @@ std::string compare_text(const nlohmann::json& comparison) {
     o << "  " << verdict(all, "sr", " points", alpha) << "\n  " << verdict(all, "ip", " points", alpha) << "\n";
     for (const auto& [kind, key, count] : {std::tuple{"regressions (A succeeded, B failed)", "regressions", "regression_count"},
                                           std::tuple{"improvements (B succeeded, A failed)", "improvements", "improvement_count"}}) {
-      o << "  " << c[count] << " " << kind;
+      o << "  " << c[count] << " " << kind << (c[count].get<std::int64_t>() > 0 ? ":" : "") << "\n";
       std::size_t shown = 0;
       for (const auto& f : c[key]) {
-        if (shown++ == 10) {
-          o << " ...";
+        if (shown++ == kFlipsPrinted) {
+          o << "    ... (--json lists up to 200 of each)\n";
           break;
         }
-        o << (shown == 1 ? ": " : ", ") << f["task"].get<std::string>() << " (episodes " << f["episode_a"] << " / "
-          << f["episode_b"] << ")";
+        o << "    " << f["task"].get<std::string>() << "  episodes " << f["episode_a"] << " / " << f["episode_b"] << "\n";
       }
-      o << "\n";
     }
   }
   return o.str();
