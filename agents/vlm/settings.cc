@@ -116,4 +116,20 @@ std::string VlmSettings::resolved_cache_file() const {
   return (fs::path(home != nullptr ? home : ".") / ".cache" / "mtg" / "vlm-cache.sqlite").string();
 }
 
+nlohmann::json VlmSettings::provenance_json() const {
+  return {{"temperature", temperature},
+          {"max_output_tokens", max_output_tokens},
+          {"seed", seed},
+          {"image_roles", image_roles},
+          {"image_detail", image_detail},
+          {"image_max_side", image_max_side},
+          {"history_steps", history_steps},
+          {"history_images", history_images},
+          {"prompts_dir", prompts_dir.empty() ? "shipped" : prompts_dir},
+          {"prices_file", prices_file.empty() ? "shipped" : prices_file},
+          {"base_url", base_url.empty() ? "provider default" : base_url},
+          {"cache_only", cache_only},
+          {"no_cache", no_cache}};
+}
+
 }  // namespace mtg::vlm

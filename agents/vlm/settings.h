@@ -3,6 +3,7 @@
 // its rate limits, cache and files. Read from a JSON file (every field optional; unknown fields
 // are errors, so a typo never silently falls back to a default), then command-line overrides.
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ struct VlmSettings {
 
   /// @throws mtg::Error naming the file and field.
   static VlmSettings from_json_file(const std::string& file);
+  /// What a run's answers depend on (generation, what is sent, prompts, prices, endpoint), for
+  /// its provenance; transport and rate settings and the key file's path are left out.
+  nlohmann::json provenance_json() const;
   /// Fails on impossible values. @throws mtg::Error naming the field.
   void validate() const;
   std::string resolved_cache_file() const;

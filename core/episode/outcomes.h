@@ -42,6 +42,10 @@ std::optional<EndReason> end_reason_from_string(std::string_view name);
 std::optional<Stage> stage_from_string(std::string_view name);
 std::optional<Cause> cause_from_string(std::string_view name);
 
+/// Causes the run tries again rather than scoring: a lost message or a failing model API is
+/// never the agent's failure (the run engine and the play desk both ask this).
+constexpr bool is_retried(Cause c) { return c == Cause::kTransportError || c == Cause::kProviderError; }
+
 inline constexpr Stage kStagesInOrder[] = {Stage::kStart, Stage::kSource, Stage::kPicked,
                                            Stage::kDestination, Stage::kPlaced, Stage::kDone};
 

@@ -1,5 +1,6 @@
 #include "core/render/image_codec.h"
 
+#include <algorithm>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/render/png_writer.h"
@@ -36,6 +37,27 @@ std::vector<std::vector<std::uint8_t>> encode_images(const std::vector<const cv:
   std::vector<std::vector<std::uint8_t>> out(images.size());
   parallel_for(images.size(), jobs, [&](std::size_t i) { out[i] = encode_image(*images[i], encoding); });
   return out;
+}
+
+std::vector<std::uint8_t> without_color_profile(const std::vector<std::uint8_t>& png) {
+  static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (png.size() < 8 || !std::equal(kSignature, kSignature + 8, png.begin())) return png;
+  std::vector<std::uint8_t> out(png.begin(), png.begin() + 8);
+  out.reserve(png.size());
+  std::size_t at = 8;
+  while (at + 12 <= png.size()) {  // length (4), type (4), data, CRC (4)
+    const std::size_t length = (std::size_t{png[at]} << 24) | (std::size_t{png[at + 1]} << 16) |
+                               (std::size_t{png[at + 2]} << 8) | std::size_t{png[at + 3]};
+    if (length > png.size() - at - 12) return png;  // torn: leave it to the decoder to judge
+    const std::string type(png.begin() + static_cast<std::ptrdiff_t>(at + 4), png.begin() + static_cast<std::ptrdiff_t>(at + 8));
+    const std::size_t end = at + 12 + length;
+    if (type != "iCCP") {
+      out.insert(out.end(), png.begin() + static_cast<std::ptrdiff_t>(at), png.begin() + static_cast<std::ptrdiff_t>(end));
+    }
+    at = end;
+    if (type == "IEND") break;
+  }
+  return at == png.size() ? out : png;
 }
 
 }  // namespace mtg::render

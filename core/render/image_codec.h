@@ -20,4 +20,9 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& 
 std::vector<std::vector<std::uint8_t>> encode_images(const std::vector<const cv::Mat*>& images,
                                                      const std::string& encoding, int jobs);
 
+/// The PNG without its embedded colour profile (the iCCP chunk), the same pixels; anything that is
+/// not a well-formed PNG comes back as it was. The dataset's textures carry profiles libpng
+/// rejects with a warning on stderr for every texture decoded, and OpenCV applies no profile.
+std::vector<std::uint8_t> without_color_profile(const std::vector<std::uint8_t>& png);
+
 }  // namespace mtg::render

@@ -452,6 +452,10 @@ std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const
   }
 }
 
+std::optional<std::string> read_task_set_meta(const fs::path& file, const std::string& key) {
+  return meta_value(file, key);
+}
+
 nlohmann::json read_generator_config(const fs::path& file) {
   return nlohmann::json::parse(meta_value(file, "config_json").value_or("{}"), nullptr, false);
 }

@@ -105,6 +105,10 @@ void for_each_task(const std::filesystem::path& file, const std::set<int>& level
 /// @throws mtg::Error if the file is not a task database.
 std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const std::filesystem::path& file);
 
+/// One entry of the task set's meta table ("config_hash", "format", ...), or nullopt.
+/// @throws mtg::Error if the file is not a task database.
+std::optional<std::string> read_task_set_meta(const std::filesystem::path& file, const std::string& key);
+
 /// The generator options the task set was made with (TaskOptions::to_json(), the config_json
 /// meta entry); a JSON discarded value when that entry does not parse.
 /// @throws mtg::Error if the file is not a task database.

@@ -46,7 +46,7 @@ render::ViewSpec spec_of(const graph::SceneGraph& g, const render::ViewRequest& 
 
 }  // namespace
 
-int build_audit(const AuditOptions& o, std::ostream& progress) {
+int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
   if (o.tasks.empty()) throw Error("mtg audit: --tasks <task database> is required");
   if (o.out.empty()) throw Error("mtg audit: --out <folder> is required");
   if (o.per_level < 1) throw Error("mtg audit: --per-level must be at least 1");
@@ -140,9 +140,15 @@ int build_audit(const AuditOptions& o, std::ostream& progress) {
                  {"observations", observations}, {"questions", questions}};
     item.truth = truth;
     store.add_item(item);
-    progress << "\raudit: " << (i + 1) << "/" << sample.size() << " tasks prepared" << std::flush;
+    // A terminal redraws one line; a log gets a line per tenth, not one line of carriage returns.
+    const std::size_t n = sample.size();
+    if (redraw) {
+      progress << "\raudit: " << (i + 1) << "/" << n << " tasks prepared" << std::flush;
+    } else if ((i + 1) * 10 / n != i * 10 / n || i + 1 == n) {
+      progress << "audit: " << (i + 1) << "/" << n << " tasks prepared\n" << std::flush;
+    }
   }
-  progress << "\n";
+  if (redraw) progress << "\n";
   store.set_meta(meta);
   return static_cast<int>(sample.size());
 }

@@ -25,6 +25,7 @@ struct AuditOptions {
 };
 
 /// Returns the number of tasks the audit holds. @throws mtg::Error naming the file or option.
-int build_audit(const AuditOptions& options, std::ostream& progress);
+/// `redraw`: progress redraws one line (a terminal), else a line per tenth of the tasks (a log).
+int build_audit(const AuditOptions& options, std::ostream& progress, bool redraw);
 
 }  // namespace mtg::orchestrator::audit

@@ -34,6 +34,9 @@ namespace {
 struct Command {
   CLI::App* app;
   std::function<int()> run;
+  // Commands whose own output is the point (an image, an audit page): the library's progress
+  // notes ("loaded scene", "renderer: ...") stay off the terminal unless --log-level asks.
+  bool quiet_by_default = false;
 };
 using Commands = std::vector<Command>;
 
@@ -121,8 +124,8 @@ void add_render_commands(CLI::App& app, Commands& commands) {
   images->add_option("run", images_opts->run, "run folder")->required();
   images->add_option("--out", images_opts->out, "folder for the image files")->required();
   images->add_option("--episode", images_opts->episode, "only this episode id");
-  commands.push_back({render, [render_opts] { return run_render(*render_opts); }});
-  commands.push_back({images, [images_opts] { return run_images(*images_opts); }});
+  commands.push_back({render, [render_opts] { return run_render(*render_opts); }, true});
+  commands.push_back({images, [images_opts] { return run_images(*images_opts); }, true});
 }
 
 // mtg tasks [stats DB]
@@ -242,6 +245,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
                           if (opt->count() > 0) run_opts->given.insert(opt->get_name());
                         }
                         if (run_opts->given.count("--slurm")) run_opts->remote = true;
+                        for (char** a = argv; *a != nullptr; ++a) run_opts->command_line.emplace_back(*a);
                         // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
                         if (run_opts->url.empty() && !run_opts->remote) {
                           if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
@@ -451,7 +455,8 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
                           throw mtg::Error("mtg audit: --tasks <task database> and --out <folder> are required");
                         }
                         return run_audit(*audit_opts);
-                      }});
+                      },
+                      true});
 }
 
 }  // namespace
@@ -487,10 +492,13 @@ int main(int argc, char** argv) {
   }
 
   try {
-    mtg::log::set_level(mtg::log::parse_level(log_level));
+    const bool level_given = app.get_option("--log-level")->count() > 0;
     for (const mtg::cli::Command& c : commands) {
-      if (c.app->parsed()) return c.run();
+      if (!c.app->parsed()) continue;
+      mtg::log::set_level(mtg::log::parse_level(c.quiet_by_default && !level_given ? "warn" : log_level));
+      return c.run();
     }
+    mtg::log::set_level(mtg::log::parse_level(log_level));
   } catch (const mtg::Error& e) {
     std::cerr << mtg::cli::where(app, e.what()) << '\n';
     return 1;

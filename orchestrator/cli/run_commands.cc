@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -19,6 +20,8 @@
 #include "bus/url.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
+#include "core/util/build_info.h"
+#include "core/util/host_name.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/atomic_file.h"
@@ -28,6 +31,7 @@
 #include "orchestrator/remote/slurm_workers.h"
 #include "orchestrator/remote/tcp_hub.h"
 #include "orchestrator/report/compare.h"
+#include "orchestrator/run/provenance.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
 #include "orchestrator/run/results_db.h"
@@ -78,14 +82,19 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
   }
   if (report.contains("usage")) {
     for (const auto& [agent, u] : report["usage"].items()) {
-      std::printf("  %-12s %lld calls (%lld from the cache), %lld+%lld tokens, %lld images, $%.4f list price, "
-                  "$%.4f spent\n",
-                  agent.c_str(), static_cast<long long>(u["calls"].get<std::int64_t>()),
+      char spent[96];
+      if (u.value("price_known", true)) {
+        std::snprintf(spent, sizeof spent, "$%.4f list price, $%.4f spent", u["cost_usd"].get<double>(),
+                      u["spent_usd"].get<double>());
+      } else {  // an endpoint of one's own: the table's figure is a guess, nothing is spent
+        std::snprintf(spent, sizeof spent, "$%.4f at list price (a guess for this endpoint)", u["cost_usd"].get<double>());
+      }
+      std::printf("  %-12s %lld calls (%lld from the cache), %lld+%lld tokens, %lld images, %s\n", agent.c_str(),
+                  static_cast<long long>(u["calls"].get<std::int64_t>()),
                   static_cast<long long>(u["cache_hits"].get<std::int64_t>()),
                   static_cast<long long>(u["input_tokens"].get<std::int64_t>()),
                   static_cast<long long>(u["output_tokens"].get<std::int64_t>()),
-                  static_cast<long long>(u["images"].get<std::int64_t>()), u["cost_usd"].get<double>(),
-                  u["spent_usd"].get<double>());
+                  static_cast<long long>(u["images"].get<std::int64_t>()), spent);
     }
   }
   std::printf("  results     %s\n", (dir / "results.sqlite").c_str());
@@ -347,6 +356,13 @@ int run_run(const RunOptions& o) {
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
   const auto fingerprints = fingerprints_of(plan, tasks);
   if (!plan.remote) check_dataset(plan, fingerprints);
+  if (!resuming) {
+    const bool model_agent = std::any_of(plan.agents.begin(), plan.agents.end(),
+                                         [](const std::string& a) { return vlm::is_model_spec(a); });
+    plan.provenance = orchestrator::make_provenance(
+        {o.command_line, plan.tasks_db, fingerprints,
+         model_agent ? o.vlm.resolve().provenance_json() : nlohmann::json(nullptr)});
+  }
   // One writer per folder, from here to the end of the run (run_lock.h).
   const bool playing = plan.agents.size() == 1 && plan.agents.front() == agents::kHumanAgent;
   const orchestrator::RunLock lock(dir, playing ? "mtg play" : "mtg run");
@@ -359,6 +375,11 @@ int run_run(const RunOptions& o) {
     orchestrator::save_plan(plan, dir);
   }
   write_bus_file(dir, plan);
+  // Each invocation on the folder leaves a start and an end line (provenance.h).
+  const std::string started = orchestrator::utc_now();
+  orchestrator::append_session(dir, {{"event", "start"}, {"at", started}, {"host", host_name()},
+                                     {"mtg_version", mtg_version()}, {"git_revision", mtg_git_revision()},
+                                     {"command", o.command_line}, {"resumed", resuming}});
   orchestrator::EngineOptions engine;
   engine.dataset_json = scene::to_json(fingerprints).dump();
   engine.progress = !o.no_progress;
@@ -375,6 +396,10 @@ int run_run(const RunOptions& o) {
   slurm.workers.reset();  // cancel what is left of the array
   slurm.hub.reset();
   const nlohmann::json report = orchestrator::write_reports(dir);
+  orchestrator::append_session(
+      dir, {{"event", "end"}, {"at", orchestrator::utc_now()}, {"started", started}, {"host", host_name()},
+            {"episodes_done", summary.completed}, {"given_up", summary.errors},
+            {"ended", summary.interrupted ? "interrupted" : (!summary.stopped_agents.empty() ? "agent stopped" : "finished")}});
   print_summary(summary, dir, report);
   if (summary.interrupted) {
     std::printf("interrupted: run the same command again to resume\n");
@@ -400,6 +425,12 @@ int run_run(const RunOptions& o) {
 
 namespace {
 
+// A run's report from its results and its people's marks (exclusions leave the figures).
+nlohmann::json report_of(const fs::path& dir) {
+  const auto marks = orchestrator::current_marks(orchestrator::read_marks(dir));
+  return orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string(), &marks);
+}
+
 // The report of a run whose folder may be read-only (someone else's, a shared archive): what
 // cannot be written is said in one line, and the report is printed all the same.
 // A read-only run folder (someone else's run) still gets its report printed, and written to
@@ -409,8 +440,7 @@ nlohmann::json write_reports_if_possible(const fs::path& dir, const std::string&
   try {
     return orchestrator::write_reports(dir, html);
   } catch (const std::exception& e) {
-    const nlohmann::json report =
-        orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string());
+    const nlohmann::json report = report_of(dir);
     if (html.empty()) {
       std::fprintf(stderr, "mtg report: the report files cannot be written (%s); printing it only\n", e.what());
       return report;
@@ -428,8 +458,7 @@ int run_report(const ReportOptions& o) {
   if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
   // --json only reads; otherwise the files are written where the folder allows it.
   const nlohmann::json report =
-      o.json ? orchestrator::make_report(orchestrator::read_results(dir / "results.sqlite"), dir.filename().string())
-             : write_reports_if_possible(dir, o.html);
+      o.json ? report_of(dir) : write_reports_if_possible(dir, o.html);
   if (o.json) {
     std::cout << report.dump() << '\n';
     return 0;
@@ -441,6 +470,10 @@ int run_report(const ReportOptions& o) {
     std::printf("  %lld episode(s) given up by the infrastructure, outside SR and IP: the same `mtg run` "
                 "again on this folder runs them again\n",
                 static_cast<long long>(given_up));
+  }
+  if (report.contains("excluded") && !report["excluded"].empty()) {
+    std::printf("  %zu episode(s) excluded by a person (marks.sqlite), outside every figure below\n",
+                report["excluded"].size());
   }
   // Table 3 of the paper, one line per agent and level, then the paper's average and all levels.
   const std::string avg = orchestrator::paper_average_label(report);
@@ -467,6 +500,9 @@ int run_report(const ReportOptions& o) {
     }
     line(agent, "all", a);
   }
+  for (const auto& [agent, a] : report["by_agent"].items()) {
+    if (a.contains("repeats")) std::printf("  repeats of %s\n", orchestrator::repeats_text(agent, a["repeats"]).c_str());
+  }
   if (!report["causes"].empty()) {
     std::printf("  failure causes:");
     for (const auto& [cause, n] : report["causes"].items()) {
@@ -483,52 +519,17 @@ int run_report(const ReportOptions& o) {
 }
 
 int run_compare(const CompareOptions& o) {
-  auto results_of = [](const std::string& run) {
+  auto load = [](const std::string& run) {
     const fs::path dir(run);
     if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
-    return orchestrator::read_results(dir / "results.sqlite");
+    fs::path named = fs::absolute(dir).lexically_normal();
+    if (!named.has_filename()) named = named.parent_path();  // "runs/a/"
+    return orchestrator::RunRows{named.filename().string(), orchestrator::read_results(dir / "results.sqlite")};
   };
-  auto agents_of = [](const std::vector<orchestrator::EpisodeRow>& rows) {
-    std::vector<std::string> agents;  // in the order they first ran: the run's own order
-    for (const auto& r : rows) {
-      if (std::find(agents.begin(), agents.end(), r.agent) == agents.end()) agents.push_back(r.agent);
-    }
-    return agents;
-  };
-  auto name_of = [](const std::string& run) { return fs::path(run).lexically_normal().filename().string(); };
-  std::vector<orchestrator::CompareSide> baselines, candidates;
-  const auto rows_a = results_of(o.run_a);
-  const auto agents_a = agents_of(rows_a);
-  auto has = [](const std::vector<std::string>& agents, const std::string& a) {
-    return std::find(agents.begin(), agents.end(), a) != agents.end();
-  };
-  if (!o.run_b.empty()) {
-    if (!o.baseline.empty()) throw Error("--baseline chooses an agent of one run; with two runs, name the agent with --agent");
-    const auto rows_b = results_of(o.run_b);
-    const auto agents_b = agents_of(rows_b);
-    for (const std::string& agent : agents_a) {
-      if (!has(agents_b, agent) || (!o.agent.empty() && agent != o.agent)) continue;
-      baselines.push_back({name_of(o.run_a), agent, rows_a});
-      candidates.push_back({name_of(o.run_b), agent, rows_b});
-    }
-    if (baselines.empty()) {
-      throw Error(o.agent.empty() ? "no agent ran in both " + o.run_a + " and " + o.run_b
-                                  : "--agent " + o.agent + ": not an agent of both runs");
-    }
-  } else {
-    if (agents_a.size() < 2) throw Error(o.run_a + ": one agent only; give a second run to compare with");
-    const std::string baseline = o.baseline.empty() ? agents_a.front() : o.baseline;
-    if (!has(agents_a, baseline)) throw Error("--baseline " + baseline + ": not an agent of " + o.run_a);
-    if (!o.agent.empty() && (!has(agents_a, o.agent) || o.agent == baseline)) {
-      throw Error("--agent " + o.agent + ": not an agent of " + o.run_a + " other than the baseline " + baseline);
-    }
-    for (const std::string& agent : agents_a) {
-      if (agent == baseline || (!o.agent.empty() && agent != o.agent)) continue;
-      baselines.push_back({name_of(o.run_a), baseline, rows_a});
-      candidates.push_back({name_of(o.run_a), agent, rows_a});
-    }
-  }
-  const nlohmann::json comparison = orchestrator::compare_sides(baselines, candidates);
+  const orchestrator::RunRows a = load(o.run_a);
+  std::optional<orchestrator::RunRows> b;
+  if (!o.run_b.empty()) b = load(o.run_b);
+  const nlohmann::json comparison = orchestrator::compare_runs(a, b ? &*b : nullptr, o.agent, o.baseline);
   if (o.json) {
     std::cout << comparison.dump() << '\n';
   } else {

@@ -47,6 +47,7 @@ struct RunOptions {
   std::string play_host = "127.0.0.1";  // the human agent's play page (mtg play)
   int play_port = 8780;
   std::set<std::string> given;       // the options given on the command line ("--levels", ...)
+  std::vector<std::string> command_line;  // argv, for the run's provenance
 };
 
 struct ReportOptions {

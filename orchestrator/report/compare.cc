@@ -1,5 +1,6 @@
 #include "orchestrator/report/compare.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -181,6 +182,47 @@ nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const st
   for (std::size_t i = 0; i < baselines.size(); ++i) out["comparisons"].push_back(compare_one(baselines[i], candidates[i]));
   adjust_by_holm(out["comparisons"]);
   return out;
+}
+
+nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::string& agent, const std::string& baseline) {
+  auto agents_of = [](const std::vector<EpisodeRow>& rows) {
+    std::vector<std::string> agents;  // in the order they first ran: the run's own order
+    for (const auto& r : rows) {
+      if (std::find(agents.begin(), agents.end(), r.agent) == agents.end()) agents.push_back(r.agent);
+    }
+    return agents;
+  };
+  auto has = [](const std::vector<std::string>& agents, const std::string& x) {
+    return std::find(agents.begin(), agents.end(), x) != agents.end();
+  };
+  const auto agents_a = agents_of(a.rows);
+  std::vector<CompareSide> baselines, candidates;
+  if (b != nullptr) {
+    if (!baseline.empty()) throw Error("a baseline agent chooses within one run; with two runs, name the agent to compare");
+    const auto agents_b = agents_of(b->rows);
+    for (const std::string& x : agents_a) {
+      if (!has(agents_b, x) || (!agent.empty() && x != agent)) continue;
+      baselines.push_back({a.name, x, a.rows});
+      candidates.push_back({b->name, x, b->rows});
+    }
+    if (baselines.empty()) {
+      throw Error(agent.empty() ? "no agent ran in both " + a.name + " and " + b->name
+                                : "agent " + agent + ": not an agent of both " + a.name + " and " + b->name);
+    }
+  } else {
+    if (agents_a.size() < 2) throw Error(a.name + ": one agent only; give a second run to compare with");
+    const std::string base = baseline.empty() ? agents_a.front() : baseline;
+    if (!has(agents_a, base)) throw Error("baseline " + base + ": not an agent of " + a.name);
+    if (!agent.empty() && (!has(agents_a, agent) || agent == base)) {
+      throw Error("agent " + agent + ": not an agent of " + a.name + " other than the baseline " + base);
+    }
+    for (const std::string& x : agents_a) {
+      if (x == base || (!agent.empty() && x != agent)) continue;
+      baselines.push_back({a.name, base, a.rows});
+      candidates.push_back({a.name, x, a.rows});
+    }
+  }
+  return compare_sides(baselines, candidates);
 }
 
 std::string compare_text(const nlohmann::json& comparison) {

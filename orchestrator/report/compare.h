@@ -29,6 +29,18 @@ struct CompareSide {
 /// @throws mtg::Error when the sides differ in number or a pair of sides shares no task.
 nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const std::vector<CompareSide>& candidates);
 
+/// A run's results for a comparison: its name and rows.
+struct RunRows {
+  std::string name;
+  std::vector<EpisodeRow> rows;
+};
+
+/// What `mtg compare` and the viewer compare. With `b`: every agent of both runs (or `agent`
+/// only), B against A. Without: every agent of `a` (or `agent`) against `baseline` (default: the
+/// run's first agent, by episode order). @throws mtg::Error naming what does not fit (an agent
+/// not in the run, --baseline with two runs, a run of one agent, nothing in common).
+nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::string& agent, const std::string& baseline);
+
 /// The comparison as text: a table per comparison and a plain verdict ("not significant").
 std::string compare_text(const nlohmann::json& comparison);
 

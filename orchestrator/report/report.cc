@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -9,6 +10,7 @@
 
 #include "core/episode/outcomes.h"
 #include "core/stats/intervals.h"
+#include "core/stats/repeats.h"
 #include "core/util/hash.h"
 #include "core/util/rng.h"
 #include "core/util/atomic_file.h"
@@ -79,10 +81,43 @@ nlohmann::json paper_average(const std::map<std::string, Acc>& by_level, const s
           {"ip_ci", interval_json(stats::bootstrap_mean_of_means_interval(ips, interval_seed(agent + "/avg/ip")))}};
 }
 
+// Per agent, when some task ran more than once (--repeat): pass@k and pass^k for k = 1 up to the
+// fewest episodes any of its tasks has (so every task counts in every k), and how many tasks
+// succeeded c times of n. Null without repeats.
+nlohmann::json repeats_json(const std::map<std::string, std::pair<int, int>>& runs_and_successes) {
+  int fewest = std::numeric_limits<int>::max(), most = 0;
+  for (const auto& [task, nc] : runs_and_successes) {
+    fewest = std::min(fewest, nc.first);
+    most = std::max(most, nc.first);
+  }
+  if (most < 2) return nullptr;
+  nlohmann::json at = nlohmann::json::array(), hat = nlohmann::json::array();
+  for (int k = 1; k <= fewest; ++k) {
+    double sum_at = 0.0, sum_hat = 0.0;
+    for (const auto& [task, nc] : runs_and_successes) {
+      sum_at += stats::pass_at_k(nc.first, nc.second, k);
+      sum_hat += stats::pass_hat_k(nc.first, nc.second, k);
+    }
+    const auto tasks = static_cast<double>(runs_and_successes.size());
+    at.push_back(round1(100.0 * sum_at / tasks));
+    hat.push_back(round1(100.0 * sum_hat / tasks));
+  }
+  std::map<std::string, std::int64_t> k_of_n;  // "2/3" -> tasks
+  for (const auto& [task, nc] : runs_and_successes) k_of_n[std::to_string(nc.second) + "/" + std::to_string(nc.first)] += 1;
+  return {{"tasks", static_cast<std::int64_t>(runs_and_successes.size())},
+          {"episodes_per_task", {fewest, most}},
+          {"pass_at_k", at},
+          {"pass_hat_k", hat},
+          {"k_of_n", k_of_n}};
+}
+
 // What a model agent's calls cost, over every episode of the run (spending happens whether or
 // not the episode was scored).
 struct Usage {
   episode::EpisodeUsage total;
+  // An endpoint of one's own (openai-compatible:<url>:<model>) has no price of its own: the
+  // table's figure for it is a guess, not money spent.
+  bool price_known = true;
   std::set<std::string> prompt_versions;  // every version used, not only the last
   void add(const EpisodeRow& r) {
     total.add(r.usage);
@@ -98,6 +133,7 @@ struct Usage {
             {"images", total.images_sent},
             {"cost_usd", round6(total.cost_usd)},
             {"spent_usd", round6(total.spent_usd)},
+            {"price_known", price_known},
             {"mean_latency_ms", calls ? std::round(total.latency_ms / static_cast<double>(calls)) : 0.0},
             {"prompt_versions", prompt_versions}};
   }
@@ -130,6 +166,28 @@ std::string with_interval_html(const nlohmann::json& figures, const std::string&
   return out;
 }
 
+std::string repeats_text(const std::string& agent, const nlohmann::json& rep) {
+  std::ostringstream o;
+  const auto& n = rep["episodes_per_task"];
+  o << agent << ": " << rep["tasks"] << " tasks, " << n[0] << (n[0] == n[1] ? "" : "–" + n[1].dump()) << " episodes each;";
+  const std::size_t k_max = rep["pass_at_k"].size();
+  for (std::size_t k = 1; k <= k_max; ++k) o << " pass@" << k << " " << fmt(rep["pass_at_k"][k - 1].get<double>());
+  o << "; pass^" << k_max << " " << fmt(rep["pass_hat_k"][k_max - 1].get<double>()) << " (every try right); tasks by successes:";
+  for (const auto& [kn, tasks] : rep["k_of_n"].items()) o << " " << kn << " " << tasks;
+  return o.str();
+}
+
+std::string repeats_html(const nlohmann::json& report) {
+  std::string h;
+  for (const auto& [agent, a] : report["by_agent"].items()) {
+    if (a.contains("repeats")) h += "<li>" + escape_markup(repeats_text(agent, a["repeats"])) + "</li>";
+  }
+  if (h.empty()) return h;
+  return "<h2>Repeats</h2><ul>" + h +
+         "</ul><p class=note>pass@k: the share of tasks an agent gets right at least once in k tries; pass^k: "
+         "right in all k. Both estimated from every try of a task (docs/statistics.md).</p>";
+}
+
 std::string paper_average_label(const nlohmann::json& report) {
   std::vector<std::string> levels;
   for (const auto& [l, v] : report["by_level"].items()) {
@@ -139,7 +197,11 @@ std::string paper_average_label(const nlohmann::json& report) {
   return levels.size() == 1 ? "Avg (L" + levels.front() + ")" : "Avg (L" + levels.front() + "–" + levels.back() + ")";
 }
 
-nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::string& run_id) {
+nlohmann::json make_report(const std::vector<EpisodeRow>& all_rows, const std::string& run_id,
+                           const std::map<bus::EpisodeId, EpisodeMarks>* marks) {
+  const bool marked = marks != nullptr && !marks->empty();
+  const std::vector<EpisodeRow> kept = marked ? without_excluded(all_rows, *marks) : std::vector<EpisodeRow>{};
+  const std::vector<EpisodeRow>& rows = marked ? kept : all_rows;
   Acc all;
   std::map<std::string, Acc> by_level;
   std::map<std::string, Acc> by_agent;
@@ -150,8 +212,12 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   double cost = 0.0;
   std::vector<SankeyFlow> flows;
   std::map<std::string, Usage> usage;
+  std::map<std::string, std::map<std::string, std::pair<int, int>>> per_task;  // agent -> task -> (n, c)
   for (const EpisodeRow& r : rows) {
-    if (r.usage.model_calls > 0) usage[r.agent].add(r);
+    if (r.usage.model_calls > 0) {
+      usage[r.agent].add(r);
+      usage[r.agent].price_known = r.agent.rfind("openai-compatible:", 0) != 0;
+    }
     if (r.status != "scored") {
       ++errors;
       continue;
@@ -161,6 +227,9 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
     by_level[level].add(r);
     by_agent[r.agent].add(r);
     by_agent_level[r.agent][level].add(r);
+    auto& [runs, successes] = per_task[r.agent][r.task_id];
+    runs += 1;
+    successes += r.success ? 1 : 0;
     stages[r.stage] += 1;
     if (!r.success) {
       causes[r.cause] += 1;
@@ -185,6 +254,7 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
     nlohmann::json a = acc.json(agent);
     for (const auto& [l, la] : by_agent_level[agent]) a["by_level"][l] = la.json(agent + "/" + l);
     a["paper_avg"] = paper_average(by_agent_level[agent], agent);
+    if (nlohmann::json rep = repeats_json(per_task[agent]); !rep.is_null()) a["repeats"] = std::move(rep);
     a["causes"] = causes_by_agent[agent];
     j["by_agent"][agent] = a;
   }
@@ -193,6 +263,16 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& rows, const std::strin
   j["tokens"] = {{"input", in_tokens}, {"output", out_tokens}};
   j["cost_usd"] = std::round(cost * 1e6) / 1e6;
   j["sankey"] = sankey_graph(flows);
+  if (marked) {
+    nlohmann::json excluded = nlohmann::json::array(), by_episode = nlohmann::json::object();
+    for (const auto& [id, m] : *marks) {
+      if (m.excluded) excluded.push_back({{"episode", id.value()}, {"reason", m.exclusion_reason}});
+      by_episode[std::to_string(id.value())] = {
+          {"flagged", m.flagged}, {"tags", m.tags}, {"excluded", m.excluded}, {"reason", m.exclusion_reason}};
+    }
+    j["excluded"] = excluded;
+    j["marks"] = by_episode;
+  }
   // Only runs with model agents have a usage section, so built-in runs keep byte-identical reports.
   if (!usage.empty()) {
     j["usage"] = nlohmann::json::object();
@@ -212,6 +292,13 @@ std::string report_html(const nlohmann::json& r) {
   h << "<p>" << r["episodes"].get<std::int64_t>() << " episodes, " << r["scored"].get<std::int64_t>() << " scored"
     << (r["errors"].get<std::int64_t>() ? ", " + std::to_string(r["errors"].get<std::int64_t>()) + " given up (infrastructure)" : "")
     << ". SR " << with_interval_html(r, "sr") << " %, IP " << with_interval_html(r, "ip") << ".</p>";
+  if (r.contains("excluded") && !r["excluded"].empty()) {
+    h << "<p class=note>" << r["excluded"].size() << " episode(s) excluded by a person, outside every figure:";
+    for (const auto& e : r["excluded"]) {
+      h << " " << e["episode"] << " (" << escape_markup(e["reason"].get<std::string>()) << ")";
+    }
+    h << ". Marks are kept in marks.sqlite with who made them; the results are unchanged.</p>";
+  }
   // Table 3: rows = agents, columns = levels (IP, SR), the paper's average over Levels 1-3 and
   // the pooled figure; each with its 95 % interval beneath.
   std::vector<std::string> levels;
@@ -249,6 +336,7 @@ std::string report_html(const nlohmann::json& r) {
        "destination reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate. Beneath each "
        "figure its 95 % interval: Wilson's for SR, a seeded bootstrap of episodes for IP; "
     << avg << " is the mean of the levels' figures, as in the paper's Table 3 (docs/statistics.md).</p>";
+  h << repeats_html(r);
   h << "<h2>Failure taxonomy</h2><table><tr><th>cause</th><th style=\"text-align:left\">meaning</th><th>episodes</th></tr>";
   std::vector<std::pair<std::string, std::int64_t>> causes;
   for (const auto& [cause, n] : r["causes"].items()) causes.emplace_back(cause, n.get<std::int64_t>());
@@ -294,11 +382,14 @@ std::string report_html(const nlohmann::json& r) {
       for (const auto& v : u["prompt_versions"]) versions += (versions.empty() ? "" : ", ") + v.get<std::string>();
       h << "<tr><td>" << escape_markup(agent) << "</td><td>" << u["calls"] << "</td><td>" << u["cache_hits"] << "</td><td>"
         << u["input_tokens"] << "</td><td>" << u["output_tokens"] << "</td><td>" << u["images"] << "</td><td>"
-        << u["cost_usd"] << "</td><td>" << u["spent_usd"] << "</td><td>" << u["mean_latency_ms"] << "</td><td>"
+        << u["cost_usd"] << (u.value("price_known", true) ? "" : " (a guess)") << "</td><td>"
+        << (u.value("price_known", true) ? u["spent_usd"].dump() : "&ndash;") << "</td><td>" << u["mean_latency_ms"] << "</td><td>"
         << escape_markup(versions) << "</td></tr>";
     }
     h << "</table><p class=note>List price: what the answers used would cost at the price table's rates (the "
-         "same on a cached rerun). Spent: what this run paid (answers from the response cache cost nothing).</p>";
+         "same on a cached rerun). Spent: what this run paid (answers from the response cache cost nothing); "
+         "an endpoint of your own has no price, so its list price is the table's guess and nothing is "
+         "counted as spent.</p>";
   }
   // Built-in agents call no model: a line of zero tokens and $0 would only look like a missing figure.
   if (r.contains("usage")) {
@@ -317,7 +408,8 @@ void write_report_png(const nlohmann::json& report, const std::filesystem::path&
 
 nlohmann::json write_reports(const std::filesystem::path& run_dir, const std::string& html) {
   const auto rows = read_results(run_dir / "results.sqlite");
-  const nlohmann::json report = make_report(rows, run_dir.filename().string());
+  const auto marks = current_marks(read_marks(run_dir));
+  const nlohmann::json report = make_report(rows, run_dir.filename().string(), &marks);
   write_json_file(run_dir / "report.json", report);
   const std::filesystem::path html_file = html.empty() ? run_dir / "report.html" : std::filesystem::path(html);
   write_file_atomically(html_file, [&](std::ostream& out) { out << report_html(report); });

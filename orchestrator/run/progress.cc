@@ -47,6 +47,8 @@ void Progress::draw(bool final) {
   if (!enabled_ || total_ == 0) return;
   const int percent = static_cast<int>(100 * done_ / total_);
   if (!tty_ && !final && percent / 10 == last_percent_ / 10) return;  // logs: a line per 10 %
+  if (!tty_ && done_ == last_drawn_) return;  // the final line of a log already written at 100 %
+  last_drawn_ = done_;
   last_percent_ = percent;
   constexpr int kWidth = 30;
   const int filled = static_cast<int>(kWidth * done_ / total_);

@@ -31,6 +31,7 @@ class Progress {
   std::int64_t retries_ = 0;
   bool enabled_, tty_;
   int last_percent_ = -1;
+  std::int64_t last_drawn_ = -1;  // episodes done at the last line written (logs: never the same twice)
   std::chrono::steady_clock::time_point started_;
 };
 

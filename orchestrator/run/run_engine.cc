@@ -110,7 +110,7 @@ class Engine final : public LaunchSink {
       retry(bus::episode_of(m.header), "result with unknown stage '" + m.stage + "' or cause '" + m.cause + "'");
       return;
     }
-    if (cause == episode::Cause::kTransportError || cause == episode::Cause::kProviderError) {
+    if (episode::is_retried(*cause)) {
       retry(bus::episode_of(m.header), m.detail,
             cause == episode::Cause::kProviderError ? episode::Cause::kProviderError : episode::Cause::kInfrastructure);
       return;

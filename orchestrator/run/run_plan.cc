@@ -15,30 +15,32 @@ namespace mtg::orchestrator {
 nlohmann::json RunPlan::to_json() const {
   nlohmann::json eps = nlohmann::json::array();
   for (const auto& e : episodes) eps.push_back({{"id", e.id.value()}, {"task", e.task_id}, {"agent", e.agent}, {"seed", e.seed}});
-  return {{"format", "mtg-run-plan/1"},
-          {"run_id", run_id},
-          {"tasks_db", tasks_db},
-          {"agents", agents},
-          {"scenes", scenes},
-          {"levels", levels},
-          {"limit", limit},
-          {"repeat", repeat},
-          {"seed", seed},
-          {"parallel", parallel},
-          {"step_limit", step_limit},
-          {"render", render},
-          {"object_names", object_names},
-          {"image_width", image_width},
-          {"image_height", image_height},
-          {"image_encoding", image_encoding},
-          {"max_attempts", max_attempts},
-          {"episode_timeout_s", episode_timeout_s},
-          {"data_dir", data_dir},
-          {"profile", profile},
-          {"bus_url", bus_url},
-          {"remote", remote},
-          {"allow_data_mismatch", allow_data_mismatch},
-          {"episodes", eps}};
+  nlohmann::json j = {{"format", "mtg-run-plan/1"},
+                     {"run_id", run_id},
+                     {"tasks_db", tasks_db},
+                     {"agents", agents},
+                     {"scenes", scenes},
+                     {"levels", levels},
+                     {"limit", limit},
+                     {"repeat", repeat},
+                     {"seed", seed},
+                     {"parallel", parallel},
+                     {"step_limit", step_limit},
+                     {"render", render},
+                     {"object_names", object_names},
+                     {"image_width", image_width},
+                     {"image_height", image_height},
+                     {"image_encoding", image_encoding},
+                     {"max_attempts", max_attempts},
+                     {"episode_timeout_s", episode_timeout_s},
+                     {"data_dir", data_dir},
+                     {"profile", profile},
+                     {"bus_url", bus_url},
+                     {"remote", remote},
+                     {"allow_data_mismatch", allow_data_mismatch},
+                     {"episodes", eps}};
+  if (!provenance.is_null()) j["provenance"] = provenance;
+  return j;
 }
 
 RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
@@ -67,6 +69,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.bus_url = j.at("bus_url").get<std::string>();
     p.remote = j.value("remote", false);  // absent in plans written before multi-host runs
     p.allow_data_mismatch = j.value("allow_data_mismatch", false);
+    if (j.contains("provenance")) p.provenance = j.at("provenance");  // absent in plans written before provenance
     for (const auto& e : j.at("episodes")) {
       p.episodes.push_back({bus::EpisodeId(e.at("id").get<std::int64_t>()), e.at("task").get<std::string>(),
                             e.at("agent").get<std::string>(), e.at("seed").get<std::uint64_t>()});

@@ -49,6 +49,8 @@ struct RunPlan {
   /// Run even where the dataset differs from the one the task set was made from.
   bool allow_data_mismatch = false;
   std::vector<PlannedEpisode> episodes;
+  /// What made the run (provenance.h), written when it was planned; null in plans from before.
+  nlohmann::json provenance;
 
   nlohmann::json to_json() const;
   /// @throws mtg::Error naming the field.

@@ -76,7 +76,7 @@ const std::vector<std::string>& sort_fields() {
 }
 
 std::vector<std::size_t> select_episodes(const std::vector<EpisodeRow>& rows, const TaskTexts& texts,
-                                         const EpisodeQuery& query) {
+                                         const EpisodeQuery& query, const SaidSearch& said) {
   const Compare compare = compare_by(query.sort, texts);
   const std::string needle = query.text ? lower(*query.text) : "";
   std::vector<std::size_t> out;
@@ -84,7 +84,7 @@ std::vector<std::size_t> select_episodes(const std::vector<EpisodeRow>& rows, co
     const EpisodeRow& r = rows[i];
     if (!query.filter.matches(r)) continue;
     if (!needle.empty() && lower(r.task_id).find(needle) == std::string::npos &&
-        lower(text_of(texts, r.task_id)).find(needle) == std::string::npos) {
+        lower(text_of(texts, r.task_id)).find(needle) == std::string::npos && !(said && said(r.episode_id, needle))) {
       continue;
     }
     out.push_back(i);

@@ -1,9 +1,10 @@
 #pragma once
 // Which episodes of a run the list shows, and in what order: the filters of the Sankey and the
-// list's form, a free-text search over task ids and texts, and a sort by any column
+// list's form, a free-text search over task ids, texts and replies, and a sort by any column
 // (docs/view.md, "JSON API"). Pure functions over the results rows.
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -24,10 +25,14 @@ struct EpisodeFilter {
 /// Task id -> task text (from the run's task database; empty when it cannot be read).
 using TaskTexts = std::map<std::string, std::string>;
 
+/// Whether the agent's replies or keys in an episode contain a (lower-case) needle: answered from
+/// the recording's index (RecordingIndex::said_contains).
+using SaidSearch = std::function<bool(bus::EpisodeId, const std::string& needle)>;
+
 struct EpisodeQuery {
   EpisodeFilter filter;
-  /// Case-insensitive; an episode matches when its task id or task text contains it, so a part
-  /// of an id finds it.
+  /// Case-insensitive; an episode matches when its task id, its task text or (with a SaidSearch)
+  /// what its agent replied contains it, so a part of an id finds it.
   std::optional<std::string> text;
   std::string sort = "episode";  // one of sort_fields()
   bool descending = false;
@@ -40,6 +45,6 @@ const std::vector<std::string>& sort_fields();
 /// Positions in `rows` of the episodes `query` selects, in its order (ties by episode id).
 /// @throws mtg::Error naming the field when `query.sort` is not one of sort_fields().
 std::vector<std::size_t> select_episodes(const std::vector<EpisodeRow>& rows, const TaskTexts& texts,
-                                         const EpisodeQuery& query);
+                                         const EpisodeQuery& query, const SaidSearch& said = {});
 
 }  // namespace mtg::orchestrator::view

@@ -3,10 +3,12 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <span>
 
 #include "bus/channels.h"
+#include "mtg/agent_action_t.hpp"
 #include "bus/header.h"
 #include "bus/recording.h"
 #include "core/util/error.h"
@@ -52,6 +54,15 @@ std::size_t RecordingIndex::refresh() {
       if (!header || !bus::episode_of(*header).valid()) return;
       places_[bus::episode_of(*header)].push_back(place(i, static_cast<long>(offset)));
       ++added;
+      if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
+        mtg::agent_action_t action;
+        if (action.decode(ev.data, 0, ev.datalen) < 0) return;  // damage is the reader's to name
+        std::string& said = said_[bus::episode_of(*header)];
+        if (said.size() >= kSaidPerEpisode) return;
+        std::string line = action.parsed_key + " " + action.raw_reply + " " + action.error + "\n";
+        std::transform(line.begin(), line.end(), line.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        said.append(line, 0, kSaidPerEpisode - said.size());
+      }
     });
     file.indexed_to = static_cast<long>(read.end);
     torn_tails_.erase(i);
@@ -96,6 +107,18 @@ std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_
     out.push_back({ev->channel, std::vector<std::uint8_t>(bytes, bytes + ev->datalen)});
   }
   return out;
+}
+
+bool RecordingIndex::said_contains(bus::EpisodeId episode_id, const std::string& needle) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = said_.find(episode_id);
+  return it != said_.end() && it->second.find(needle) != std::string::npos;
+}
+
+std::string RecordingIndex::said_of(bus::EpisodeId episode_id) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = said_.find(episode_id);
+  return it == said_.end() ? std::string() : it->second;
 }
 
 std::vector<std::string> RecordingIndex::damage(bool finished) const {

@@ -36,6 +36,15 @@ class RecordingIndex {
   std::vector<std::string> damage(bool finished) const;
   /// Messages indexed so far (all episodes).
   std::size_t size() const;
+  /// Whether the episode's agent replied or answered with text containing `needle` (lower case):
+  /// its keys, full replies and provider errors, the first kSaidPerEpisode bytes of them.
+  bool said_contains(bus::EpisodeId episode_id, const std::string& needle) const;
+  /// The text said_contains searches ("" when the episode has none).
+  std::string said_of(bus::EpisodeId episode_id) const;
+
+  /// What is kept per episode for said_contains: a model's 15 replies fit; a run of 10,000
+  /// episodes holds at most 640 MB only if every reply is long (built-in agents: a few bytes).
+  static constexpr std::size_t kSaidPerEpisode = 64 * 1024;
 
  private:
   struct File {
@@ -51,6 +60,7 @@ class RecordingIndex {
   mutable std::mutex mutex_;
   std::vector<File> files_;
   std::map<bus::EpisodeId, std::vector<std::uint64_t>> places_;
+  std::map<bus::EpisodeId, std::string> said_;  // lower case, one line per answer
   std::size_t size_ = 0;
   std::vector<std::string> damage_;
   std::map<std::size_t, std::string> torn_tails_;  // by file: its torn last event, as read last

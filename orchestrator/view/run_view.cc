@@ -12,6 +12,7 @@
 #include "core/util/log.h"
 #include "orchestrator/report/paper_table3.h"
 #include "orchestrator/report/report.h"
+#include "orchestrator/run/provenance.h"
 #include "orchestrator/run/run_lock.h"
 
 namespace mtg::orchestrator::view {
@@ -45,6 +46,39 @@ json row_json(const EpisodeRow& r) {
           {"detail", r.detail}};
 }
 
+namespace {
+
+// With repeats (`--repeat`), the task × agent grid: each cell is [successes, scored episodes] of
+// one agent on one task. Null when no task ran more than once for an agent: the list says it all.
+json repeats_grid(const std::vector<EpisodeRow>& rows) {
+  std::map<std::string, std::pair<int, std::map<std::string, std::pair<int, int>>>> tasks;  // task -> level, agent -> (c, n)
+  std::set<std::string> agents;
+  bool repeated = false;
+  for (const EpisodeRow& r : rows) {
+    if (r.status != "scored") continue;
+    auto& [level, cells] = tasks[r.task_id];
+    level = r.level;
+    auto& [c, n] = cells[r.agent];
+    c += r.success ? 1 : 0;
+    ++n;
+    repeated = repeated || n > 1;
+    agents.insert(r.agent);
+  }
+  if (!repeated) return nullptr;
+  json out = {{"agents", agents}, {"rows", json::array()}};
+  for (const auto& [task, entry] : tasks) {
+    json cells = json::array();
+    for (const std::string& agent : agents) {
+      const auto it = entry.second.find(agent);
+      cells.push_back(it == entry.second.end() ? json(nullptr) : json::array({it->second.first, it->second.second}));
+    }
+    out["rows"].push_back({{"task", task}, {"level", entry.first}, {"cells", cells}});
+  }
+  return out;
+}
+
+}  // namespace
+
 RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(std::move(dir)), index_(dir_) {
   const fs::path plan_file = dir_ / "plan.json";
   std::ifstream in(plan_file);
@@ -56,7 +90,20 @@ RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(
   plan_summary_ = {{"run_id", plan.value("run_id", "")},
                    {"agents", plan.value("agents", json::array())},
                    {"levels", plan.value("levels", json::array())},
-                   {"render", plan.value("render", false)}};
+                   {"render", plan.value("render", false)},
+                   // What made the run (orchestrator/run/provenance.h): null for runs from before it.
+                   {"provenance", plan.value("provenance", json())},
+                   {"settings", {{"tasks_db", tasks_db_},
+                                 {"scenes", plan.value("scenes", json::array())},
+                                 {"limit", plan.value("limit", 0)},
+                                 {"repeat", plan.value("repeat", 1)},
+                                 {"seed", plan.value("seed", std::uint64_t{0})},
+                                 {"step_limit", plan.value("step_limit", 0)},
+                                 {"image_size", std::to_string(plan.value("image_width", 0)) + "x" +
+                                                    std::to_string(plan.value("image_height", 0))},
+                                 {"object_names", plan.value("object_names", false)},
+                                 {"parallel", plan.value("parallel", 0)},
+                                 {"remote", plan.value("remote", false)}}}};
   indexer_ = std::thread([this] {
     while (!stop_) {
       try {
@@ -103,33 +150,80 @@ json RunView::summary() {
   s["finished"] = finished;
   s["live"] = finished < planned_;
   s["damage"] = index_.damage(!run_in_progress(dir_));
+  s["sessions"] = read_sessions(dir_);
   return s;
+}
+
+namespace {
+
+// Changes when marks.sqlite does (this viewer's marks or another's): size and time of the file.
+std::string marks_stamp(const fs::path& dir) {
+  std::error_code ec;
+  const fs::path file = dir / "marks.sqlite";
+  const auto size = fs::file_size(file, ec);
+  if (ec) return "";
+  const auto time = fs::last_write_time(file, ec);
+  return std::to_string(size) + "@" + std::to_string(time.time_since_epoch().count());
+}
+
+}  // namespace
+
+json RunView::marks(bus::EpisodeId episode) const {
+  const std::vector<MarkEntry> trail = read_marks(dir_);
+  json by_episode = json::object(), entries = json::array();
+  for (const auto& [id, m] : current_marks(trail)) {
+    if (episode.valid() && id != episode) continue;
+    by_episode[std::to_string(id.value())] = {
+        {"flagged", m.flagged}, {"tags", m.tags}, {"excluded", m.excluded}, {"reason", m.exclusion_reason}};
+  }
+  for (const MarkEntry& e : trail) {
+    if (episode.valid() && e.episode != episode) continue;
+    entries.push_back({{"episode", e.episode.value()}, {"action", to_string(e.action)}, {"tag", e.tag},
+                       {"reason", e.reason}, {"who", e.who}, {"at", e.at}});
+  }
+  return {{"marks", by_episode}, {"trail", entries}};
+}
+
+void RunView::add_mark(const MarkEntry& entry) {
+  const Rows all = rows();
+  if (std::none_of(all->begin(), all->end(), [&](const EpisodeRow& r) { return r.episode_id == entry.episode; })) {
+    throw Error("run " + name_ + " has no episode " + to_string(entry.episode));
+  }
+  orchestrator::add_mark(dir_, entry);
 }
 
 json RunView::overview() {
   const Rows all = rows();
+  const std::string stamp = marks_stamp(dir_);
   {
-    // The report is recomputed only when the results changed (a live page asks every 2 s).
+    // The report is recomputed only when the results or the marks changed (a live page asks
+    // every 2 s).
     const std::lock_guard lock(rows_mutex_);
-    if (overview_rows_ == all) {
+    if (overview_rows_ == all && overview_marks_ == stamp) {
       json o = overview_;
       o["damage"] = index_.damage(!run_in_progress(dir_));  // found by the indexer meanwhile
       return o;
     }
   }
   json o = summary();
-  o["report"] = make_report(*all, plan_summary_["run_id"].get<std::string>());
+  const auto marked = current_marks(read_marks(dir_));
+  o["report"] = make_report(*all, plan_summary_["run_id"].get<std::string>(), &marked);
   o["paper"] = paper_table3();
   std::set<std::string> prompt_versions;
+  std::set<std::string> workers;  // the hosts that ran episodes of a multi-host run
   bool model_agents = false;
   for (const EpisodeRow& r : *all) {
     if (!r.usage.prompt_version.empty()) prompt_versions.insert(r.usage.prompt_version);
+    if (!r.worker.empty()) workers.insert(r.worker);
     model_agents = model_agents || r.usage.model_calls > 0;
   }
   o["prompt_versions"] = prompt_versions;
+  o["workers"] = workers;
+  o["grid"] = repeats_grid(without_excluded(*all, marked));
   o["model_agents"] = model_agents;
   const std::lock_guard lock(rows_mutex_);
   overview_rows_ = all;
+  overview_marks_ = stamp;
   overview_ = o;
   return o;
 }
@@ -141,7 +235,8 @@ json RunView::agent_report(const std::string& agent) {
     if (r.agent == agent) mine.push_back(r);
   }
   if (mine.empty()) return nullptr;
-  return make_report(mine, plan_summary_["run_id"].get<std::string>());
+  const auto marked = current_marks(read_marks(dir_));
+  return make_report(mine, plan_summary_["run_id"].get<std::string>(), &marked);
 }
 
 const TaskTexts& RunView::task_texts() {
@@ -160,14 +255,19 @@ const TaskTexts& RunView::task_texts() {
 
 json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit) {
   const Rows all = rows();
+  const auto marked = current_marks(read_marks(dir_));
   const TaskTexts& texts = task_texts();
-  const std::vector<std::size_t> selected = select_episodes(*all, texts, query);
+  if (query.text) index_.refresh();  // replies are searched: the recording read to its end first
+  const std::vector<std::size_t> selected = select_episodes(*all, texts, query, said_search());
   json list = json::array();
   for (std::size_t k = offset; k < selected.size() && list.size() < limit; ++k) {
     const EpisodeRow& r = (*all)[selected[k]];
     json row = row_json(r);
     const auto text = texts.find(r.task_id);
     row["task_text"] = text == texts.end() ? "" : text->second;
+    if (const auto m = marked.find(r.episode_id); m != marked.end()) {
+      row["marks"] = {{"flagged", m->second.flagged}, {"tags", m->second.tags}, {"excluded", m->second.excluded}};
+    }
     list.push_back(std::move(row));
   }
   return {{"total", selected.size()}, {"offset", offset}, {"rows", list}};
@@ -175,7 +275,8 @@ json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_
 
 json RunView::neighbours(const EpisodeQuery& query, bus::EpisodeId id) {
   const Rows all = rows();
-  const std::vector<std::size_t> selected = select_episodes(*all, task_texts(), query);
+  if (query.text) index_.refresh();
+  const std::vector<std::size_t> selected = select_episodes(*all, task_texts(), query, said_search());
   const auto at = std::find_if(selected.begin(), selected.end(), [&](std::size_t i) { return (*all)[i].episode_id == id; });
   if (at == selected.end()) return {{"position", nullptr}, {"total", selected.size()}, {"previous", nullptr}, {"next", nullptr}};
   const auto k = static_cast<std::size_t>(at - selected.begin());

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "orchestrator/run/marks.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/view/episode_trace.h"
 #include "orchestrator/view/episode_query.h"
@@ -40,6 +41,13 @@ class RunView {
   /// make_report over one agent's episodes (the failure section of the overview restricted to
   /// it); null when the run has no episode of that agent.
   nlohmann::json agent_report(const std::string& agent);
+  /// People's marks (orchestrator/run/marks.h): {"marks": {"<id>": {flagged, tags, excluded,
+  /// reason}}, "trail": [{episode, action, tag, reason, who, at}]}, the trail of one episode only
+  /// when `episode` is valid.
+  nlohmann::json marks(bus::EpisodeId episode = {}) const;
+  /// Stores a person's change. @throws mtg::Error naming the field, or the file when the run's
+  /// folder cannot be written.
+  void add_mark(const MarkEntry& entry);
   /// {total, offset, rows[...]} of the episodes `query` selects, in its order; each row with
   /// its task's text.
   nlohmann::json episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit);
@@ -52,6 +60,8 @@ class RunView {
   std::optional<RecordedImage> image(bus::EpisodeId id, int attempt, int step, int index);
   /// Every recorded image of the attempt (observation_images).
   std::map<std::pair<int, int>, RecordedImage> images(bus::EpisodeId id, int attempt);
+  /// What the episode's agent replied, lower case, as the search reads it (RecordingIndex).
+  std::string said_of(bus::EpisodeId id) const { return index_.said_of(id); }
   /// Every results row (episode order).
   std::vector<EpisodeRow> all_rows() { return *rows(); }
 
@@ -61,6 +71,10 @@ class RunView {
   std::vector<RecordedMessage> messages_of(bus::EpisodeId id);
   // Read once, on first use: the task set does not change under a run.
   const TaskTexts& task_texts();
+  /// The list's search over what agents replied, from the recording's index.
+  SaidSearch said_search() const {
+    return [this](bus::EpisodeId id, const std::string& needle) { return index_.said_contains(id, needle); };
+  }
 
   std::string name_;
   std::filesystem::path dir_;
@@ -75,6 +89,7 @@ class RunView {
   std::string rows_stamp_;  // sizes and times of the database files last read
   Rows rows_ = std::make_shared<const std::vector<EpisodeRow>>();
   Rows overview_rows_;  // the rows overview_ was made from
+  std::string overview_marks_;  // and the marks file's stamp (marks_stamp)
   nlohmann::json overview_;
 
   RecordingIndex index_;

@@ -1,6 +1,7 @@
 #include "orchestrator/view/site_export.h"
 
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <set>
@@ -9,6 +10,7 @@
 #include "agents/vlm/encoding.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "orchestrator/report/compare.h"
 #include "orchestrator/report/sankey.h"
 #include "orchestrator/view/run_view.h"
 #include "orchestrator/view/viewer_assets.h"
@@ -123,6 +125,39 @@ ExportStats export_site(const std::vector<fs::path>& runs, const fs::path& out,
 
 namespace {
 
+// The comparisons the overview offers (each agent of a run as the baseline; each run against each
+// other one), computed now: data/comparisons.js maps the query ("a=R&baseline=X", "a=R&b=S") to
+// its file. A pair that cannot be compared (no common task or agent) is left out.
+void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunView>>& views,
+                       const std::vector<std::vector<EpisodeRow>>& rows) {
+  json keys = json::object();
+  auto put = [&](const std::string& key, const std::function<json()>& compare) {
+    try {
+      const json value = compare();
+      const std::string file = "data/compare-" + std::to_string(keys.size()) + ".js";
+      site.data(file, value);
+      keys[key] = file;
+    } catch (const Error&) {
+    }
+  };
+  std::vector<RunRows> runs;
+  for (std::size_t r = 0; r < views.size(); ++r) runs.push_back({views[r]->name(), rows[r]});
+  for (const RunRows& a : runs) {
+    std::set<std::string> agents;
+    for (const EpisodeRow& row : a.rows) agents.insert(row.agent);
+    if (agents.size() < 2) continue;
+    for (const std::string& base : agents) {
+      put("a=" + a.name + "&baseline=" + base, [&] { return compare_runs(a, nullptr, "", base); });
+    }
+  }
+  for (const RunRows& a : runs) {
+    for (const RunRows& b : runs) {
+      if (&a != &b) put("a=" + a.name + "&b=" + b.name, [&] { return compare_runs(a, &b, "", ""); });
+    }
+  }
+  site.data("data/comparisons.js", keys);
+}
+
 ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
                        const std::function<void(std::size_t, std::size_t)>& progress) {
   std::vector<std::unique_ptr<RunView>> views;
@@ -171,15 +206,24 @@ ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
       site.data(dir + "report-" + std::to_string(a) + ".js", report);
       site.data(dir + "sankey-" + std::to_string(a) + ".js", sankey_svg(report["sankey"], kSankeyWidth, kSankeyHeight));
     }
-    site.data(dir + "rows.js", view.episodes(EpisodeQuery{}, 0, std::numeric_limits<std::size_t>::max())["rows"]);
     for (const EpisodeRow& row : rows[r]) {
       site.data(dir + "episodes/" + to_string(row.episode_id) + ".js", episode_file(view, site, row));
       ++site.stats.episodes;
       if (progress) progress(++done, total);
     }
+    // After the episodes: each was read, so the recording is indexed and what agents said is
+    // there for the page's search, as the server searches it.
+    json list = view.episodes(EpisodeQuery{}, 0, std::numeric_limits<std::size_t>::max())["rows"];
+    for (json& row : list) {
+      std::string said = view.said_of(bus::EpisodeId(row["episode_id"].get<std::int64_t>()));
+      if (!said.empty()) row["said"] = std::move(said);
+    }
+    site.data(dir + "rows.js", list);
+    site.data(dir + "marks.js", view.marks());  // shown, not changed: a site has no server to keep them
     ++site.stats.runs;
   }
   site.data("data/runs.js", index);
+  write_comparisons(site, views, rows);
   return site.stats;
 }
 

@@ -7,9 +7,12 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 
 #include "orchestrator/view/viewer_assets.h"
 #include "core/util/error.h"
+#include "orchestrator/report/compare.h"
+#include "orchestrator/run/provenance.h"
 #include "orchestrator/report/sankey.h"
 
 namespace mtg::orchestrator::view {
@@ -131,6 +134,21 @@ void ViewServer::add_routes() {
     for (const auto& r : runs_) list.push_back(r->summary());
     send_json(res, list);
   }));
+  // A paired comparison (mtg compare): ?a=<run>[&b=<run>][&agent=A][&baseline=B].
+  http_->Get("/api/compare", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    auto rows_of = [this](const std::string& name) {
+      RunView* r = run(name);
+      if (r == nullptr) throw Error("no run named '" + name + "'");
+      return RunRows{r->name(), r->all_rows()};
+    };
+    const auto a = param(req, "a");
+    if (!a) throw Error("query parameter 'a' (the baseline run) is required");
+    const RunRows first = rows_of(*a);
+    std::optional<RunRows> second;
+    if (const auto b = param(req, "b")) second = rows_of(*b);
+    send_json(res, compare_runs(first, second ? &*second : nullptr, param(req, "agent").value_or(""),
+                                param(req, "baseline").value_or("")));
+  }));
   // Every other route names a run first; an unknown one is a 404 with its name.
   auto with_run = [this](std::function<void(RunView&, const httplib::Request&, httplib::Response&)> fn) {
     return guarded([this, fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {
@@ -157,6 +175,27 @@ void ViewServer::add_routes() {
   http_->Get(R"(/api/runs/([^/]+)/report)", with_run([report_for](RunView& r, const httplib::Request& req,
                                                                    httplib::Response& res) {
     send_json(res, report_for(r, req));
+  }));
+  // People's marks: read them (?episode=ID for one episode's trail), or add one (JSON body
+  // {episode, action, tag, reason, who}); the guard lets only this page's own requests write.
+  http_->Get(R"(/api/runs/([^/]+)/marks)", with_run([](RunView& r, const httplib::Request& req, httplib::Response& res) {
+    const auto episode = param(req, "episode");
+    send_json(res, r.marks(episode ? bus::EpisodeId(int_param(req, "episode", -1)) : bus::EpisodeId()));
+  }));
+  http_->Post(R"(/api/runs/([^/]+)/marks)", with_run([](RunView& r, const httplib::Request& req, httplib::Response& res) {
+    const json body = json::parse(req.body, nullptr, false);
+    if (body.is_discarded() || !body.is_object()) throw Error("a mark is a JSON object");
+    auto text = [&body](const char* key) -> std::string {
+      if (!body.contains(key)) return "";
+      if (!body[key].is_string()) throw Error(std::string("mark: '") + key + "' must be text");
+      return body[key].get<std::string>();
+    };
+    if (!body.contains("episode") || !body["episode"].is_number_integer()) throw Error("mark: 'episode' must be an episode id");
+    const auto action = mark_action_from_string(text("action"));
+    if (!action) throw Error("mark: 'action' must be one of flag, unflag, tag, untag, exclude, include");
+    r.add_mark({bus::EpisodeId(body["episode"].get<std::int64_t>()), *action, text("tag"), text("reason"), text("who"),
+                utc_now()});
+    send_json(res, r.marks(bus::EpisodeId(body["episode"].get<std::int64_t>())));
   }));
   http_->Get(R"(/api/runs/([^/]+)/episodes)", with_run([](RunView& r, const httplib::Request& req,
                                                            httplib::Response& res) {

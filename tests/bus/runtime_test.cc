@@ -28,6 +28,7 @@
 #include "orchestrator/run/results_db.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
+#include "orchestrator/run/provenance.h"
 #include "tests/support/process.h"
 #include "tests/support/run_fixture.h"
 #include "tests/support/shipped_data.h"
@@ -72,6 +73,22 @@ TEST_F(RuntimeTest, EveryEpisodeOnceOracleAlwaysSucceedsReportHasTheContract) {
     ASSERT_TRUE(report["by_level"].contains(level)) << level << " in " << report.dump();
     for (const char* key : {"episodes", "sr", "ip", "sr_ci", "ip_ci"}) EXPECT_TRUE(report["by_level"][level].contains(key));
   }
+  // What made the run: plan.json's provenance, and one start and one end line in sessions.jsonl.
+  std::ifstream plan_in(fx_.root() / "run" / "plan.json");
+  const nlohmann::json provenance = nlohmann::json::parse(plan_in).at("provenance");
+  EXPECT_FALSE(provenance["mtg_version"].get<std::string>().empty());
+  EXPECT_FALSE(provenance["git_revision"].get<std::string>().empty());
+  EXPECT_EQ(provenance["command"][1], "run") << provenance.dump();
+  EXPECT_NE(provenance["task_set"]["config_hash"], "unknown") << provenance.dump();
+  EXPECT_FALSE(provenance["dataset"].empty()) << provenance.dump();
+  EXPECT_TRUE(provenance["model_settings"].is_null()) << "built-in agents call no model";
+  const nlohmann::json sessions = orchestrator::read_sessions(fx_.root() / "run");
+  ASSERT_EQ(sessions.size(), 2u) << sessions.dump();
+  EXPECT_EQ(sessions[0]["event"], "start");
+  EXPECT_EQ(sessions[0]["resumed"], false);
+  EXPECT_EQ(sessions[1]["event"], "end");
+  EXPECT_EQ(sessions[1]["ended"], "finished");
+  EXPECT_EQ(sessions[1]["episodes_done"].get<std::size_t>(), rows.size());
   // mtg compare: random against oracle (the first agent), checked against a computation from the
   // results themselves: the discordant pairs and the binomial tail summed here term by term.
   const std::string cmp = (fx_.root() / "compare.json").string();
@@ -131,6 +148,22 @@ TEST_F(RuntimeTest, KillingTheOrchestratorAndRunningAgainResumesWithoutRunningAn
   for (const auto& [id, fp] : first) EXPECT_EQ(all.at(id), fp) << id;  // finished ones untouched
   for (const auto& r : after) EXPECT_TRUE(r.success) << r.task_id;
   EXPECT_TRUE(fs::exists(fx_.root() / "resume" / "bus-1.lcmlog"));  // a second recording
+  // The killed invocation left its start (and, when its orchestrator outlived the kill long
+  // enough to stop, an end saying "interrupted"); the resumed one its start, marked as a resume,
+  // and its end.
+  const nlohmann::json sessions = orchestrator::read_sessions(fx_.root() / "resume");
+  ASSERT_GE(sessions.size(), 3u) << sessions.dump(1);
+  EXPECT_EQ(sessions.front()["event"], "start");
+  EXPECT_EQ(sessions.front()["resumed"], false);
+  const nlohmann::json& resumed = sessions[sessions.size() - 2];
+  EXPECT_EQ(resumed["event"], "start");
+  EXPECT_EQ(resumed["resumed"], true);
+  if (sessions.size() == 4) {
+    EXPECT_EQ(sessions[1]["ended"], "interrupted") << sessions.dump(1);
+  }
+  EXPECT_EQ(sessions.back()["event"], "end");
+  EXPECT_EQ(sessions.back()["ended"], "finished");
+  EXPECT_EQ(sessions.back()["episodes_done"].get<std::size_t>(), planned("resume") - before.size());
 }
 
 // `mtg run` runs its orchestrator in a network namespace of its own, as a child process. Killed

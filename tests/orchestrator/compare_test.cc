@@ -126,5 +126,39 @@ TEST(ReportIntervals, EveryRateHasItsIntervalAndTheAverageIsOverTheLevelsRun) {
   EXPECT_NE(report_html(r).find("43.6&ndash;97.0"), std::string::npos);
 }
 
+TEST(ReportRepeats, PassAtKAndPassHatKPerAgentOnlyWhereTasksRepeat) {
+  // t1: 2 of 3; t2: 0 of 3. pass@1 = (2/3 + 0)/2, pass@2 = (1 + 0)/2, pass^2 = (1/3 + 0)/2.
+  std::vector<EpisodeRow> rows;
+  std::uint32_t id = 0;
+  for (int r = 0; r < 3; ++r) {
+    rows.push_back(row(id++, "t1", "X", 1, r < 2, 0.0));
+    rows.push_back(row(id++, "t2", "X", 1, false, 0.0));
+    if (r == 0) rows.push_back(row(id++, "t1", "once", 1, true, 0.0));
+  }
+  const nlohmann::json r = make_report(rows, "run");
+  const auto& rep = r["by_agent"]["X"]["repeats"];
+  EXPECT_EQ(rep["tasks"], 2);
+  EXPECT_EQ(rep["episodes_per_task"], nlohmann::json::parse("[3, 3]"));
+  EXPECT_EQ(rep["pass_at_k"], nlohmann::json::parse("[33.3, 50.0, 50.0]"));
+  EXPECT_EQ(rep["pass_hat_k"], nlohmann::json::parse("[33.3, 16.7, 0.0]"));
+  EXPECT_EQ(rep["k_of_n"], nlohmann::json::parse(R"({"0/3": 1, "2/3": 1})"));
+  EXPECT_FALSE(r["by_agent"]["once"].contains("repeats")) << "one episode per task: nothing to say";
+  EXPECT_NE(repeats_html(r).find("pass@2 50.0"), std::string::npos) << repeats_html(r);
+}
+
+TEST(ReportUsage, AnEndpointOfOnesOwnHasAGuessedPriceAndSpendsNothing) {
+  std::vector<EpisodeRow> rows{row(0, "t", "openai:gpt-4o", 1, true, 0), row(1, "t", "openai-compatible:http://h:1/v1:m", 1, true, 0)};
+  for (auto& r : rows) {
+    r.usage.model_calls = 2;
+    r.usage.cost_usd = 0.5;
+    r.usage.spent_usd = 0.5;
+  }
+  const nlohmann::json r = make_report(rows, "run");
+  EXPECT_EQ(r["usage"]["openai:gpt-4o"]["price_known"], true);
+  EXPECT_EQ(r["usage"]["openai-compatible:http://h:1/v1:m"]["price_known"], false);
+  const std::string html = report_html(r);
+  EXPECT_NE(html.find("0.5 (a guess)</td><td>&ndash;</td>"), std::string::npos) << html;
+}
+
 }  // namespace
 }  // namespace mtg::orchestrator

@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
       {"episode list (100 rows)", base + "#/run/" + fs::path(run).filename().string() + "/episodes", "mtgRendered"},
       {"list sorted by IP, searched", base + "#/run/" + fs::path(run).filename().string() +
                                           "/episodes?q=L2&sort=ip&order=desc", "mtgRendered"},
-      {"episode page", episode_url, "mtgRendered"}};
+      {"episode page", episode_url, "mtgRendered"},
+      {"comparison (agents paired)", base + "#/comparison?a=" + fs::path(run).filename().string(), "mtgRendered"}};
   std::printf("  mtg view listening after %.0f ms\n", listen_ms);
   std::printf("  episode page, first load after start (waits for the index): %.0f ms\n", cold_episode);
   for (const Page& p : pages) {

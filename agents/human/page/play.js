@@ -23,7 +23,7 @@ function show(desk) {
   const s = desk.score;
   document.getElementById('progress').textContent = desk.episodes_done + ' episode(s) finished' +
     (s && s.scored > 0 ? ' · ' + s.successes + ' of ' + s.scored + ' succeeded (SR ' + s.sr.toFixed(0) +
-      ' %, mean IP ' + s.ip.toFixed(0) + ')' : '');
+      ' %, 95 % interval ' + s.sr_ci[0].toFixed(0) + '–' + s.sr_ci[1].toFixed(0) + ' %; mean IP ' + s.ip.toFixed(0) + ')' : '');
   const v = desk.last_verdict;
   verdict.textContent = v ? verdictLine(v) : '';
   verdict.className = v ? (v.success ? 'success' : 'failure') : '';

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "core/render/image_codec.h"
 #include "core/render/mark_layout.h"
 #include "core/render/overlay.h"
 #include "core/render/visibility.h"
@@ -86,9 +87,8 @@ unsigned link_program() {
 
 // Decodes an embedded texture (PNG/JPEG bytes) to RGBA, no larger than max_size on either edge.
 cv::Mat decode_texture(const scene::Texture& t, int max_size) {
-  cv::Mat bgr = cv::imdecode(cv::Mat(1, static_cast<int>(t.encoded.size()), CV_8UC1,
-                                     const_cast<std::uint8_t*>(t.encoded.data())),
-                             cv::IMREAD_COLOR);
+  std::vector<std::uint8_t> bytes = without_color_profile(t.encoded);  // no libpng warning per texture
+  cv::Mat bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data()), cv::IMREAD_COLOR);
   if (bgr.empty()) return bgr;
   const int edge = std::max(bgr.cols, bgr.rows);
   if (edge > max_size) {

@@ -35,7 +35,8 @@
     return Number(v);
   }
 
-  // episode_query.cc: filters, the case-insensitive search over task ids and texts, a stable
+  // episode_query.cc: filters, the case-insensitive search over task ids, texts and what the
+  // agents said (each row's "said", written by the export), a stable
   // sort with ties in episode order.
   function select(rows, q) {
     const text = (q.get('q') || '').toLowerCase();
@@ -54,7 +55,8 @@
         const wanted = cause === 'success' ? '' : cause;
         if (r.cause !== wanted || (cause === 'success') !== r.success) return false;
       }
-      return !text || r.task_id.toLowerCase().includes(text) || (r.task_text || '').toLowerCase().includes(text);
+      return !text || r.task_id.toLowerCase().includes(text) || (r.task_text || '').toLowerCase().includes(text) ||
+        (r.said || '').includes(text);
     });
     const key = KEY[sort];
     return out.sort((a, b) => {
@@ -68,6 +70,12 @@
     const url = new URL(path, 'http://export.invalid');
     const parts = url.pathname.split('/').filter(Boolean).map(decodeURIComponent);  // api, runs, <run>, ...
     const q = url.searchParams;
+    if (parts[1] === 'compare') {  // computed by the export for the choices the overview offers
+      const files = await load('data/comparisons.js');
+      const key = ['a', 'b', 'agent', 'baseline'].filter((k) => q.get(k)).map((k) => k + '=' + q.get(k)).join('&');
+      if (!files[key]) throw new Error('this comparison is not in the export (mtg view compares any two): ' + key);
+      return load(files[key]);
+    }
     const runs = await load('data/runs.js');
     if (parts.length === 2) return runs.map((r) => r.summary);
     const run = runs.find((r) => r.summary.name === parts[2]);
@@ -83,13 +91,22 @@
       const i = q.get('agent') ? run.agents.indexOf(q.get('agent')) : -1;
       return load(dir + (i < 0 ? 'sankey.js' : 'sankey-' + i + '.js'));
     }
+    if (parts[3] === 'marks') {
+      const all = await load(dir + 'marks.js');
+      const episode = q.get('episode');
+      if (episode === null) return all;
+      return {marks: all.marks[episode] ? {[episode]: all.marks[episode]} : {},
+        trail: all.trail.filter((e) => String(e.episode) === episode)};
+    }
     if (parts[3] !== 'episodes') throw new Error('not in this export: ' + path);
     const rows = await load(dir + 'rows.js');
     if (parts.length === 4) {
       const selected = select(rows, q);
       const offset = number(q, 'offset') || 0;
       const limit = number(q, 'limit') === null ? 100 : number(q, 'limit');
-      return {total: selected.length, offset, rows: selected.slice(offset, offset + limit)};
+      // The rows as the server sends them: "said" is for the search only.
+      const page = selected.slice(offset, offset + limit).map(({said, ...row}) => row);
+      return {total: selected.length, offset, rows: page};
     }
     const id = Number(parts[4]);
     if (parts[5] === 'neighbours') {

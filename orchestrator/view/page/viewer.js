@@ -2,8 +2,9 @@
 //   #/                                runs
 //   #/run/<run>                       overview: Table 3, paper rows, Sankey (click a flow), causes
 //   #/run/<run>/episodes?<filters>    episode list
-//   #/run/<run>/episode/<id>[?attempt=k]  every step of one episode
+//   #/run/<run>/episode/<id>[/step/<k>][?attempt=k]  every step of one episode (scrolled to step k)
 //   #/compare?a=<run>/<id>&b=<run>/<id>   two episodes side by side
+//   #/comparison?a=<run>[&b=<run>][&baseline=<agent>]  paired comparison (mtg compare)
 'use strict';
 
 const main = document.getElementById('main');
@@ -18,6 +19,7 @@ class StaleRoute extends Error {}
 // shows: tests and the first-paint figure read window.mtgRendered and window.mtgShown.
 function show(...parts) {
   main.replaceChildren(...parts.filter((p) => p !== null && p !== undefined));
+  for (const f of main.querySelectorAll('input, select, textarea')) f.dataset.shown = f.value;
   window.mtgRendered = performance.now();
   window.mtgShown = location.hash;
 }
@@ -145,6 +147,12 @@ async function showOverview(run, params) {
     (o.live ? ' (running: this page refreshes as results arrive)' : '') + '. ' + r.scored + ' scored' +
     (r.errors ? ', ' + r.errors + ' given up (infrastructure)' : '') + '. SR ' + fmt(r.sr) + ' % ' + ciText(r.sr_ci) + ', IP ' + fmt(r.ip) + ' ' + ciText(r.ip_ci) + '. ',
     link('#/run/' + enc(run) + '/episodes', 'All episodes →')));
+  if (r.excluded && r.excluded.length) {
+    parts.push(el('p', {id: 'excluded', class: 'warn'}, r.excluded.length + ' episode(s) excluded by a person, outside ' +
+      'every figure below (their results are unchanged; include one again from its page): ',
+      ...r.excluded.flatMap((x, i) => [i ? ', ' : '', link('#/run/' + enc(run) + '/episode/' + x.episode, String(x.episode)),
+        ' (' + x.reason + ')'])));
+  }
   if (o.damage && o.damage.length) {
     parts.push(el('p', {id: 'damage', class: 'warn'}, 'The recording is damaged: ' + o.damage.join('; ') +
       '. Episodes whose messages lay there show less than happened; their results stand.'));
@@ -153,9 +161,13 @@ async function showOverview(run, params) {
     parts.push(el('p', {id: 'usage'}, 'Tokens: ' + r.tokens.input + ' in, ' + r.tokens.output + ' out; cost $' +
       r.cost_usd.toFixed(4) + '. Prompt version: ' + (o.prompt_versions.join(', ') || '–') + '.'));
   }
+  parts.push(provenancePanel(o));
   parts.push(el('h2', {}, 'Results by level (click an agent for its episodes)'), table3(o),
     el('p', {class: 'note'}, 'IP: intermediate points (25 per milestone: source reached, item picked, destination ' +
       'reached, placed as asked; Level 3 averages its sub-tasks). SR: success rate.'));
+  parts.push(comparePicker(o, agents));
+  const repeats = repeatsSection(o);
+  if (repeats) parts.push(...repeats);
   if (agents.length > 1) {
     const pick = el('select', {id: 'failure-agent'}, el('option', {value: ''}, 'all agents'),
       ...agents.map((a) => el('option', {value: a}, a)));
@@ -187,6 +199,133 @@ async function showOverview(run, params) {
   scheduleRefresh(o.live);
 }
 
+// "Compare against": another agent of this run as the baseline, or another run served.
+function comparePicker(o, agents) {
+  const pick = el('select', {id: 'baseline'}, el('option', {value: ''}, 'choose a baseline…'),
+    ...(agents.length > 1 ? agents.map((a) => el('option', {value: 'agent:' + a}, 'agent ' + a + ' of this run')) : []));
+  api('/api/runs').then((runs) => {
+    for (const r of runs) if (r.name !== o.name) pick.append(el('option', {value: 'run:' + r.name}, 'run ' + r.name));
+  }).catch(() => {});
+  pick.addEventListener('change', () => {
+    const [kind, name] = [pick.value.slice(0, pick.value.indexOf(':')), pick.value.slice(pick.value.indexOf(':') + 1)];
+    if (kind === 'agent') location.hash = '#/comparison?a=' + enc(o.name) + '&baseline=' + enc(name);
+    if (kind === 'run') location.hash = '#/comparison?a=' + enc(name) + '&b=' + enc(o.name);
+  });
+  return el('p', {id: 'compare-with'}, 'Paired comparison on the same tasks, against ', pick);
+}
+
+const pText = (p) => (p < 0.001 ? p.toExponential(1) : p.toFixed(3));
+const signed = (v) => (v > 0 ? '+' : '') + fmt(v);
+
+async function showComparison(params) {
+  const q = new URLSearchParams();
+  for (const k of ['a', 'b', 'agent', 'baseline']) if (params.get(k)) q.set(k, params.get(k));
+  const c = await api('/api/compare?' + q);
+  crumbs(link('#/', 'runs'), link('#/run/' + enc(params.get('a')), params.get('a')), 'comparison');
+  const parts = [el('p', {class: 'note'}, 'Differences are B − A on the episodes both ran (the same task and repeat), ' +
+    'with 95 % intervals; p-values (exact McNemar for SR, sign-flip permutation for IP) after Holm over ' +
+    c.comparisons.length + ' comparison' + (c.comparisons.length === 1 ? '' : 's') + ' (docs/statistics.md).')];
+  for (const x of c.comparisons) {
+    const head = el('tr', {}, ...['level', 'pairs', 'SR A', 'SR B', 'SR B−A [95 % CI]', 'McNemar p', 'IP A', 'IP B',
+      'IP B−A [95 % CI]', 'permutation p'].map((h) => el('th', {}, h)));
+    const t = el('table', {class: 'comparison'}, head);
+    for (const [level, l] of Object.entries(x.levels)) {
+      t.append(el('tr', {class: level === 'all' ? 'all' : ''}, el('td', {class: 'l'}, level === 'all' ? 'all' : 'L' + level),
+        el('td', {}, l.pairs), el('td', {}, fmt(l.sr_a)), el('td', {}, fmt(l.sr_b)),
+        el('td', {}, signed(l.sr_diff) + ' [' + signed(l.sr_diff_ci[0]) + ', ' + signed(l.sr_diff_ci[1]) + ']'),
+        el('td', {class: l.sr_p_holm < c.alpha ? 'ok' : 'muted'}, pText(l.sr_p_holm)),
+        el('td', {}, fmt(l.ip_a)), el('td', {}, fmt(l.ip_b)),
+        el('td', {}, signed(l.ip_diff) + ' [' + signed(l.ip_diff_ci[0]) + ', ' + signed(l.ip_diff_ci[1]) + ']'),
+        el('td', {class: l.ip_p_holm < c.alpha ? 'ok' : 'muted'}, pText(l.ip_p_holm))));
+    }
+    const all = x.levels.all;
+    const verdict = (m, name) => {
+      const p = all[m + '_p_holm'], d = all[m + '_diff'];
+      if (p < c.alpha) return name + ': B is ' + (d < 0 ? 'lower' : 'higher') + ' by ' + fmt(Math.abs(d)) + ' points, significant (p ' + pText(p) + ').';
+      const det = all[m + '_detectable'];
+      return name + ': not significant (p ' + pText(p) + '): these pairs cannot tell A and B apart' +
+        (det !== null ? '; a difference of about ' + fmt(det) + ' points would show (80 % power).' : '.');
+    };
+    const flips = (list, count, label) => el('details', {class: 'flips'}, el('summary', {}, count + ' ' + label),
+      ...list.map((f) => el('div', {}, el('a', {class: 'flip', href: '#/compare?a=' + enc(x.a.run + '/' + f.episode_a) + '&b=' +
+        enc(x.b.run + '/' + f.episode_b)}, f.task + ' (L' + f.level + '): episodes ' + f.episode_a + ' / ' + f.episode_b))),
+      count > list.length ? el('div', {class: 'muted'}, '… the first ' + list.length + ' shown') : null);
+    parts.push(el('h2', {}, 'B ' + x.b.run + ' / ' + x.b.agent + ' against A ' + x.a.run + ' / ' + x.a.agent),
+      el('p', {}, x.pairs + ' paired episodes' + (x.unpaired_a + x.unpaired_b ? ' (' + x.unpaired_a + ' of A and ' +
+        x.unpaired_b + ' of B without a partner, left out)' : '') + '.'),
+      t, el('p', {class: 'verdict-line'}, verdict('sr', 'SR')), el('p', {class: 'verdict-line'}, verdict('ip', 'IP')),
+      flips(x.regressions, x.regression_count, 'regressions (A succeeded, B failed): click one for both side by side'),
+      flips(x.improvements, x.improvement_count, 'improvements (B succeeded, A failed)'));
+  }
+  show(...parts);
+}
+
+// With repeats: pass@k and pass^k per agent, then the task × agent grid of k-of-n (folded; a cell
+// opens that agent's episodes of that task). Null without repeats.
+function repeatsSection(o) {
+  const grid = o.grid;
+  if (!grid) return null;
+  const withRepeats = Object.entries(o.report.by_agent).filter(([, a]) => a.repeats);
+  const k = Math.max(...withRepeats.map(([, a]) => a.repeats.pass_at_k.length));
+  const summary = el('table', {class: 'repeats'}, el('tr', {}, el('th', {class: 'l'}, 'agent'), el('th', {}, 'tasks'),
+    el('th', {}, 'tries each'), ...Array.from({length: k}, (_, i) => el('th', {}, 'pass@' + (i + 1))),
+    el('th', {}, 'pass^' + k), el('th', {class: 'l'}, 'tasks by successes')));
+  for (const [agent, a] of withRepeats) {
+    const r = a.repeats, n = r.episodes_per_task;
+    summary.append(el('tr', {}, el('td', {class: 'l'}, agent), el('td', {}, r.tasks),
+      el('td', {}, n[0] === n[1] ? n[0] : n[0] + '–' + n[1]),
+      ...Array.from({length: k}, (_, i) => el('td', {}, fmt(r.pass_at_k[i]))),
+      el('td', {}, fmt(r.pass_hat_k[k - 1])),
+      el('td', {class: 'l'}, Object.entries(r.k_of_n).map(([kn, t]) => kn + ': ' + t).join(' · '))));
+  }
+  const table = el('table', {class: 'grid'}, el('tr', {}, el('th', {class: 'l'}, 'task'), el('th', {}, 'level'),
+    ...grid.agents.map((a) => el('th', {}, a))));
+  for (const row of grid.rows) {
+    table.append(el('tr', {}, el('td', {class: 'l'}, row.task), el('td', {}, row.level),
+      ...row.cells.map((cell, i) => (cell ? el('td', {class: 'clickable k-of-n', 'data-share': cell[0] / cell[1],
+        onclick: () => go(o.name, {task: row.task, agent: grid.agents[i]})}, cell[0] + ' of ' + cell[1]) : el('td', {})))));
+  }
+  return [el('h2', {}, 'Repeats'), summary,
+    el('p', {class: 'note'}, 'pass@k: the share of tasks an agent gets right at least once in k tries; pass^k: right in ' +
+      'all k (both estimated from every try of a task).'),
+    el('details', {id: 'grid'}, el('summary', {}, 'Tasks × agents: successes of tries (' + grid.rows.length +
+      ' tasks; click a cell for its episodes)'), table)];
+}
+
+// What made the run (plan.json's provenance, sessions.jsonl, the plan's settings): folded, since a
+// reader wants it when citing or reproducing a figure, not at every look.
+function provenancePanel(o) {
+  const p = o.provenance, st = o.settings || {};
+  const rows = [];
+  const row = (label, ...value) => rows.push(el('tr', {}, el('th', {class: 'l'}, label), el('td', {class: 'l'}, ...value)));
+  if (p) {
+    row('mtg', p.mtg_version + ' (revision ' + p.git_revision + ')');
+    row('command', el('code', {}, (p.command || []).join(' ')));
+    row('planned', p.planned_at + ' on ' + p.host);
+  } else {
+    row('mtg', 'unknown: this run was planned before runs recorded what made them');
+  }
+  for (const s of o.sessions || []) {
+    if (s.event === 'start') {
+      row(s.resumed ? 'resumed' : 'started', s.at + ' on ' + s.host + ' (mtg ' + s.mtg_version + ', ' + s.git_revision + ')');
+    } else if (s.event === 'end') {
+      row('ended', s.at + ' on ' + s.host + ': ' + s.ended + ', ' + s.episodes_done + ' episodes finished' +
+        (s.given_up ? ', ' + s.given_up + ' given up' : ''));
+    }
+  }
+  if ((o.workers || []).length) row('workers', o.workers.join(', '));
+  row('task set', st.tasks_db || '–', p ? ' (config hash ' + p.task_set.config_hash + ')' : '');
+  if (p) row('dataset', Object.entries(p.dataset || {}).map(([scene, digest]) => scene + ' ' + digest).join(', ') || '–');
+  row('seed', String(st.seed) + ' · repeat ' + st.repeat + ' · limit ' + (st.limit || 'all') + ' per scene and level · ' +
+    'step limit ' + st.step_limit + ' · images ' + (o.render ? st.image_size : 'none') + ' · scenes ' +
+    ((st.scenes || []).join(', ') || 'all'));
+  if (o.prompt_versions && o.prompt_versions.length) row('prompt version', o.prompt_versions.join(', '));
+  if (p && p.model_settings) row('model settings', el('code', {}, JSON.stringify(p.model_settings)));
+  return el('details', {id: 'provenance'}, el('summary', {}, 'How this run was made' +
+    (p ? ': mtg ' + p.mtg_version + ' ' + p.git_revision + ', planned ' + p.planned_at : '')),
+    el('table', {class: 'provenance'}, ...rows));
+}
+
 async function fillCauseWords(run) {
   for (const cell of document.querySelectorAll('.cause-text')) {
     const cause = cell.dataset.cause;
@@ -198,10 +337,18 @@ async function fillCauseWords(run) {
   }
 }
 
+// A live run's page is redrawn every 2 s, but never under a reader's hands: while a field has focus
+// or holds what they typed or chose and have not applied, the redraw waits.
+function readerIsEditing() {
+  const active = document.activeElement;
+  if (active && main.contains(active) && ['INPUT', 'SELECT', 'TEXTAREA'].includes(active.tagName)) return true;
+  return [...main.querySelectorAll('input, select, textarea')].some((f) => f.value !== f.dataset.shown);
+}
+
 function scheduleRefresh(live) {
   clearTimeout(refreshTimer);
   document.getElementById('live').textContent = live ? 'live' : '';
-  if (live) refreshTimer = setTimeout(route, 2000);
+  if (live) refreshTimer = setTimeout(() => (readerIsEditing() ? scheduleRefresh(true) : route()), 2000);
 }
 
 // ---- episode list ----
@@ -240,7 +387,7 @@ async function showEpisodes(run, params) {
       input = el('select', {name: f}, el('option', {value: ''}, 'any'),
         ...choices[f].map((v) => el('option', {value: v}, f === 'success' ? (v === '1' ? 'yes' : 'no') : v)));
     } else {
-      input = el('input', {name: f, size: f === 'q' ? 24 : 14, placeholder: f === 'q' ? 'task id or words' : ''});
+      input = el('input', {name: f, size: f === 'q' ? 24 : 14, placeholder: f === 'q' ? 'task id, words or replies' : ''});
     }
     input.value = params.get(f) || '';
     if (f === 'task' && !params.get('task')) continue;  // only shown when a link set it
@@ -278,7 +425,7 @@ async function showEpisodes(run, params) {
       el('td', {class: 'l'}, e.scene), el('td', {class: 'l'}, e.task_id),
       el('td', {class: 'l task-text', title: e.task_text}, e.task_text),
       el('td', {class: 'l ' + (e.status !== 'scored' ? 'muted' : e.success ? 'ok' : 'fail')},
-        e.status !== 'scored' ? 'error' : e.success ? 'success' : 'failure'),
+        e.status !== 'scored' ? 'error' : e.success ? 'success' : 'failure', markBadges(e.marks)),
       el('td', {}, fmt(e.ip)), el('td', {class: 'l'}, e.stage), el('td', {class: 'l', title: e.cause_text}, e.cause),
       el('td', {}, e.steps)));
   }
@@ -378,7 +525,87 @@ function episodeHeader(e) {
 let episodeKeys = null;
 document.addEventListener('keydown', (ev) => { if (episodeKeys) episodeKeys(ev); });
 
-async function showEpisode(run, id, params) {
+// The strip of steps atop an episode: one thumbnail (its first image) or number per step; a click,
+// or the keys ↓ ↑ (j k), moves to a step and makes the address that step's link without redrawing.
+// Steps are linked by the number the page shows (…/step/8 is "Step 8").
+function stepStrip(e, stepHash) {
+  const strip = el('div', {class: 'step-strip', id: 'step-strip'});
+  const blocks = () => [...document.querySelectorAll('#main .step')];
+  let current = -1;
+  const goTo = (i) => {
+    const all = blocks();
+    if (i < 0 || i >= all.length) return;
+    current = i;
+    all[i].scrollIntoView({block: 'start'});
+    for (const [k, cell] of [...strip.children].entries()) cell.classList.toggle('current', k === i);
+    history.replaceState(null, '', stepHash(Number(all[i].dataset.step) + 1));
+  };
+  e.steps.forEach((s, i) => {
+    const img = s.observation && s.observation.images && s.observation.images[0];
+    strip.append(el('a', {class: 'step-thumb', href: stepHash(s.step + 1), title: 'step ' + (s.step + 1),
+      onclick: (ev) => { ev.preventDefault(); goTo(i); }},
+    img ? el('img', {src: img.url, loading: 'lazy', alt: 'step ' + (s.step + 1)}) : el('span', {}, String(s.step + 1))));
+  });
+  return {strip, goTo, next: () => goTo(current + 1), previous: () => goTo(Math.max(0, current - 1)),
+    index: (step) => e.steps.findIndex((s) => s.step + 1 === step)};
+}
+
+// The episode as one JSON file (what the page shows), for a bug report or a notebook.
+function episodeDownload(run, e) {
+  const blob = new Blob([JSON.stringify(e, null, 1)], {type: 'application/json'});
+  return el('a', {id: 'episode-json', href: URL.createObjectURL(blob), download: run + '-episode-' + e.episode_id +
+    '-attempt-' + e.attempt + '.json'}, 'Download this episode (JSON)');
+}
+
+// A list row's marks, after its verdict: ⚑ flagged, #tags, and "excluded" (outside the figures).
+function markBadges(m) {
+  if (!m) return null;
+  const words = [m.flagged ? '⚑' : '', ...m.tags.map((t) => '#' + t), m.excluded ? 'excluded' : ''].filter(Boolean);
+  return words.length ? el('span', {class: 'mark-badge'}, ' ' + words.join(' ')) : null;
+}
+
+// An episode's marks now, their trail (who, when, what, why), and, where a server keeps them, a
+// form to add one; an exported site shows them only.
+async function marksBox(run, id, box) {
+  const m = await api('/api/runs/' + enc(run) + '/marks?episode=' + id);
+  const now = m.marks[String(id)] || {flagged: false, tags: [], excluded: false, reason: ''};
+  const state = el('div', {id: 'marks-now'}, now.flagged ? '⚑ flagged' : 'not flagged',
+    ' · tags: ' + (now.tags.join(', ') || 'none') + ' · ',
+    now.excluded ? el('b', {}, 'excluded from the statistics: ' + now.reason) : 'counted in the statistics');
+  const trail = el('details', {id: 'marks-trail'}, el('summary', {}, 'Who marked it (' + m.trail.length + ')'),
+    ...m.trail.map((e) => el('div', {class: 'muted'}, e.at + ' · ' + e.who + ': ' + e.action + (e.tag ? ' ' + e.tag : '') +
+      (e.reason ? ' — ' + e.reason : ''))));
+  if (window.mtgStaticApi) {
+    box.replaceChildren(el('h3', {}, 'Marks'), state, trail);
+    return;
+  }
+  const who = el('input', {name: 'who', size: 12, placeholder: 'your name'});
+  who.value = localStorage.getItem('mtg-who') || '';
+  const action = el('select', {name: 'action'}, ...['flag', 'unflag', 'tag', 'untag', 'exclude', 'include'].map((a) =>
+    el('option', {value: a}, a)));
+  const tag = el('input', {name: 'tag', size: 10, placeholder: 'tag'});
+  const reason = el('input', {name: 'reason', size: 36, placeholder: 'why (required to exclude or include)'});
+  const message = el('span', {id: 'mark-message'});
+  const form = el('form', {id: 'mark-form'}, who, ' ', action, ' ', tag, ' ', reason, ' ', el('button', {}, 'Save'), ' ', message);
+  form.addEventListener('submit', async (ev) => {
+    ev.preventDefault();
+    message.textContent = '';
+    localStorage.setItem('mtg-who', who.value);
+    const res = await fetch('/api/runs/' + enc(run) + '/marks', {method: 'POST', headers: {'Content-Type': 'application/json'},
+      body: JSON.stringify({episode: Number(id), action: action.value, tag: tag.value, reason: reason.value, who: who.value})});
+    const body = await res.json();
+    if (!res.ok) {
+      message.textContent = body.error;
+      message.className = 'fail';
+      return;
+    }
+    marksBox(run, id, box).catch(unlessStale);
+  });
+  box.replaceChildren(el('h3', {}, 'Marks'), state, form, trail);
+  for (const f of box.querySelectorAll('input, select')) f.dataset.shown = f.value;
+}
+
+async function showEpisode(run, id, params, step) {
   const attempt = params.get('attempt');
   const e = await api('/api/runs/' + enc(run) + '/episodes/' + id + (attempt ? '?attempt=' + attempt : ''));
   const back = listQuery(params).toString();
@@ -402,18 +629,26 @@ async function showEpisode(run, id, params) {
     around.previous !== null ? link(to(around.previous), '← previous') : el('span', {class: 'muted'}, '← previous'),
     ' ', el('span', {class: 'muted'}, around.position !== null ? (around.position + 1) + ' of ' + around.total : ''),
     ' ', around.next !== null ? link(to(around.next), 'next →') : el('span', {class: 'muted'}, 'next →'),
-    el('span', {class: 'muted'}, '  (keys: ← →)'));
+    el('span', {class: 'muted'}, '  (keys: ← → episodes, ↓ ↑ or j k steps)'));
+  const query = location.hash.includes('?') ? location.hash.slice(location.hash.indexOf('?')) : '';
+  const steps = stepStrip(e, (k) => '#/run/' + enc(run) + '/episode/' + id + '/step/' + k + query);
   episodeKeys = (ev) => {
     if (ev.target.closest && ev.target.closest('input, textarea, select')) return;
     if (ev.key === 'ArrowLeft' && around.previous !== null) location.hash = to(around.previous);
     if (ev.key === 'ArrowRight' && around.next !== null) location.hash = to(around.next);
+    if (ev.key === 'ArrowDown' || ev.key === 'j') { ev.preventDefault(); steps.next(); }
+    if (ev.key === 'ArrowUp' || ev.key === 'k') { ev.preventDefault(); steps.previous(); }
   };
-  show(episodeHeader(e), nav, attempts, el('div', {}, truthButton), truthBox, compare,
+  const marks = el('div', {id: 'marks'});
+  show(episodeHeader(e), nav, attempts, el('div', {}, truthButton, ' ', episodeDownload(run, e)), truthBox, compare, marks,
     e.missing ? el('p', {id: 'missing', class: 'warn'}, e.missing) : null,
+    steps.strip,
     ...e.steps.map(stepBlock),
     e.errors.length ? el('div', {}, el('h2', {}, 'Errors reported during the episode'),
       ...e.errors.map((x) => el('div', {class: 'error'}, x.severity + ' from ' + x.source + ': ' + x.message))) : null);
-  if (e.task) listOthers(run, id, e.task.task_id, compare);
+  if (step !== null && steps.index(step) >= 0) steps.goTo(steps.index(step));
+  if (e.task) listOthers(run, id, e.task.task_id, compare).catch(unlessStale);
+  marksBox(run, id, marks).catch(unlessStale);
 }
 
 // Other episodes of the same task, in every run served: links to compare side by side.
@@ -462,9 +697,12 @@ async function route() {
   try {
     if (parts.length === 0) await showRuns();
     else if (parts[0] === 'compare') await showCompare(params);
+    else if (parts[0] === 'comparison') await showComparison(params);
     else if (parts[0] === 'run' && parts.length === 2) await showOverview(parts[1], params);
     else if (parts[0] === 'run' && parts[2] === 'episodes') await showEpisodes(parts[1], params);
-    else if (parts[0] === 'run' && parts[2] === 'episode') await showEpisode(parts[1], parts[3], params);
+    else if (parts[0] === 'run' && parts[2] === 'episode') {
+      await showEpisode(parts[1], parts[3], params, parts[4] === 'step' ? Number(parts[5]) : null);
+    }
     else show(el('p', {}, 'Nothing here: ' + hash));
   } catch (err) {
     if (err instanceof StaleRoute) return;

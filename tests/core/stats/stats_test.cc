@@ -7,6 +7,7 @@
 
 #include "core/stats/intervals.h"
 #include "core/stats/paired.h"
+#include "core/stats/repeats.h"
 
 namespace mtg::stats {
 namespace {
@@ -120,6 +121,19 @@ TEST(PairedDifference, ManyPairsUseSeededMonteCarlo) {
   EXPECT_GT(d.p, 0.0) << "a Monte Carlo p is never 0";
   EXPECT_GT(d.interval.low, 15.0);
   EXPECT_LT(d.interval.high, 35.0);
+}
+
+TEST(Repeats, PassAtKAndPassHatKFromAllTheTries) {
+  // 2 successes in 5: pass@1 = 2/5; pass@2 = 1 - C(3,2)/C(5,2) = 1 - 3/10; pass^2 = C(2,2)/C(5,2) = 1/10.
+  EXPECT_DOUBLE_EQ(pass_at_k(5, 2, 1), 0.4);
+  EXPECT_DOUBLE_EQ(pass_at_k(5, 2, 2), 0.7);
+  EXPECT_DOUBLE_EQ(pass_hat_k(5, 2, 1), 0.4);
+  EXPECT_NEAR(pass_hat_k(5, 2, 2), 0.1, 1e-15);
+  EXPECT_DOUBLE_EQ(pass_hat_k(5, 2, 3), 0.0);  // three successes out of two: never
+  EXPECT_DOUBLE_EQ(pass_at_k(5, 2, 4), 1.0);   // four tries among five always include a success
+  EXPECT_DOUBLE_EQ(pass_at_k(3, 0, 3), 0.0);
+  EXPECT_DOUBLE_EQ(pass_hat_k(3, 3, 3), 1.0);
+  EXPECT_GT(pass_at_k(400, 1, 200), 0.49);     // large n: no overflow
 }
 
 }  // namespace
