@@ -524,7 +524,9 @@ int run_compare(const CompareOptions& o) {
     if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
     fs::path named = fs::absolute(dir).lexically_normal();
     if (!named.has_filename()) named = named.parent_path();  // "runs/a/"
-    return orchestrator::RunRows{named.filename().string(), orchestrator::read_results(dir / "results.sqlite")};
+    std::string task_set;
+    if (fs::exists(dir / "plan.json")) task_set = orchestrator::task_set_identity(orchestrator::load_plan(dir).provenance);
+    return orchestrator::RunRows{named.filename().string(), orchestrator::read_results(dir / "results.sqlite"), task_set};
   };
   const orchestrator::RunRows a = load(o.run_a);
   std::optional<orchestrator::RunRows> b;

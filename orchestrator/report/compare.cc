@@ -222,12 +222,18 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
       candidates.push_back({a.name, x, a.rows});
     }
   }
-  return compare_sides(baselines, candidates);
+  nlohmann::json out = compare_sides(baselines, candidates);
+  if (b != nullptr && !a.task_set.empty() && !b->task_set.empty() && a.task_set != b->task_set) {
+    out["warning"] = a.name + " and " + b->name + " ran different task sets (" + a.task_set + "; " + b->task_set +
+                     "): a task id may name another task in each";
+  }
+  return out;
 }
 
 std::string compare_text(const nlohmann::json& comparison) {
   std::ostringstream o;
   const double alpha = comparison["alpha"].get<double>();
+  if (comparison.contains("warning")) o << "warning: " << comparison["warning"].get<std::string>() << "\n";
   const std::size_t family = comparison["comparisons"].size();
   for (const auto& c : comparison["comparisons"]) {
     o << "B " << c["b"]["run"].get<std::string>() << "/" << c["b"]["agent"].get<std::string>() << " against A "

@@ -33,12 +33,16 @@ nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const st
 struct RunRows {
   std::string name;
   std::vector<EpisodeRow> rows;
+  /// What the run's task ids mean: its task set's file and config hash (plan.json's provenance),
+  /// "" when unknown. Two runs on different task sets pair by id all the same, with a warning.
+  std::string task_set;
 };
 
 /// What `mtg compare` and the viewer compare. With `b`: every agent of both runs (or `agent`
 /// only), B against A. Without: every agent of `a` (or `agent`) against `baseline` (default: the
 /// run's first agent, by episode order). @throws mtg::Error naming what does not fit (an agent
-/// not in the run, --baseline with two runs, a run of one agent, nothing in common).
+/// not in the run, --baseline with two runs, a run of one agent, nothing in common). Runs on
+/// different task sets get "warning".
 nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::string& agent, const std::string& baseline);
 
 /// The comparison as text: a table per comparison and a plain verdict ("not significant").

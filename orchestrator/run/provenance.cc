@@ -40,6 +40,12 @@ nlohmann::json make_provenance(const ProvenanceInputs& in) {
   return p;
 }
 
+std::string task_set_identity(const nlohmann::json& p) {
+  if (!p.is_object() || !p.contains("task_set")) return "";
+  const auto& t = p["task_set"];
+  return t.value("file", std::string("?")) + " (config " + t.value("config_hash", std::string("?")) + ")";
+}
+
 void append_session(const fs::path& run_dir, const nlohmann::json& entry) {
   std::ofstream out(run_dir / "sessions.jsonl", std::ios::app);
   out << entry.dump() << '\n';

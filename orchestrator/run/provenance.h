@@ -27,6 +27,10 @@ struct ProvenanceInputs {
 
 nlohmann::json make_provenance(const ProvenanceInputs& inputs);
 
+/// "<file> (config <hash>)" from a plan's provenance: what its task ids mean; "" for a plan
+/// from before provenance.
+std::string task_set_identity(const nlohmann::json& provenance);
+
 /// Now, as "2026-11-28T10:58:03Z".
 std::string utc_now();
 

@@ -256,6 +256,8 @@ const TaskTexts& RunView::task_texts() {
 json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit) {
   const Rows all = rows();
   const auto marked = current_marks(read_marks(dir_));
+  const std::int64_t per_repeat =
+      static_cast<std::int64_t>(planned_) / std::max(1, plan_summary_["settings"].value("repeat", 1));
   const TaskTexts& texts = task_texts();
   if (query.text) index_.refresh();  // replies are searched: the recording read to its end first
   const std::vector<std::size_t> selected = select_episodes(*all, texts, query, said_search());
@@ -265,6 +267,8 @@ json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_
     json row = row_json(r);
     const auto text = texts.find(r.task_id);
     row["task_text"] = text == texts.end() ? "" : text->second;
+    // Episodes are laid out repeat by repeat (run_plan.h): the k-th block of tasks x agents.
+    row["repeat"] = per_repeat > 0 ? r.episode_id.value() / per_repeat : 0;
     if (const auto m = marked.find(r.episode_id); m != marked.end()) {
       row["marks"] = {{"flagged", m->second.flagged}, {"tags", m->second.tags}, {"excluded", m->second.excluded}};
     }

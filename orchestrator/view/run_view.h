@@ -14,7 +14,9 @@
 #include <thread>
 #include <vector>
 
+#include "orchestrator/report/compare.h"
 #include "orchestrator/run/marks.h"
+#include "orchestrator/run/provenance.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/view/episode_trace.h"
 #include "orchestrator/view/episode_query.h"
@@ -62,6 +64,8 @@ class RunView {
   std::map<std::pair<int, int>, RecordedImage> images(bus::EpisodeId id, int attempt);
   /// What the episode's agent replied, lower case, as the search reads it (RecordingIndex).
   std::string said_of(bus::EpisodeId id) const { return index_.said_of(id); }
+  /// For a comparison: the run's name, rows and task set (provenance.h, task_set_identity).
+  RunRows compare_rows() { return {name_, *rows(), task_set_identity(plan_summary_["provenance"])}; }
   /// Every results row (episode order).
   std::vector<EpisodeRow> all_rows() { return *rows(); }
 

@@ -128,8 +128,7 @@ namespace {
 // The comparisons the overview offers (each agent of a run as the baseline; each run against each
 // other one), computed now: data/comparisons.js maps the query ("a=R&baseline=X", "a=R&b=S") to
 // its file. A pair that cannot be compared (no common task or agent) is left out.
-void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunView>>& views,
-                       const std::vector<std::vector<EpisodeRow>>& rows) {
+void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunView>>& views) {
   json keys = json::object();
   auto put = [&](const std::string& key, const std::function<json()>& compare) {
     try {
@@ -141,7 +140,7 @@ void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunVi
     }
   };
   std::vector<RunRows> runs;
-  for (std::size_t r = 0; r < views.size(); ++r) runs.push_back({views[r]->name(), rows[r]});
+  for (std::size_t r = 0; r < views.size(); ++r) runs.push_back(views[r]->compare_rows());
   for (const RunRows& a : runs) {
     std::set<std::string> agents;
     for (const EpisodeRow& row : a.rows) agents.insert(row.agent);
@@ -223,7 +222,7 @@ ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
     ++site.stats.runs;
   }
   site.data("data/runs.js", index);
-  write_comparisons(site, views, rows);
+  write_comparisons(site, views);
   return site.stats;
 }
 

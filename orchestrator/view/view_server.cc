@@ -139,7 +139,7 @@ void ViewServer::add_routes() {
     auto rows_of = [this](const std::string& name) {
       RunView* r = run(name);
       if (r == nullptr) throw Error("no run named '" + name + "'");
-      return RunRows{r->name(), r->all_rows()};
+      return r->compare_rows();
     };
     const auto a = param(req, "a");
     if (!a) throw Error("query parameter 'a' (the baseline run) is required");

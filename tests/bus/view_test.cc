@@ -597,6 +597,11 @@ TEST_F(ViewerTest, RepeatsShowPassAtKAndAGridOfTasksByAgents) {
   ASSERT_TRUE(b->wait_for("window.mtgShown === location.hash && location.hash.includes('agent=random') && "
                           "document.querySelectorAll('tr.episode-row').length === 3", 10000))
       << b->evaluate("location.hash").dump();
+  // Each try knows which repeat it is.
+  const json tries = b->evaluate("fetch('/api/runs/run/episodes?' + location.hash.split('?')[1]).then((r) => r.json())");
+  EXPECT_EQ(tries["rows"][0]["repeat"], 0);
+  EXPECT_EQ(tries["rows"][1]["repeat"], 1);
+  EXPECT_EQ(tries["rows"][2]["repeat"], 2);
 
   // The plan holds one episode more than finished, so the page is live and redraws every 2 s;
   // what a reader types in the search box outlives the redraws until they apply it.

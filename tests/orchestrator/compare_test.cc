@@ -93,6 +93,20 @@ TEST(Compare, HolmAdjustsAcrossTheAgentsCompared) {
   EXPECT_DOUBLE_EQ(same_as_a["sr_p_holm"].get<double>(), 1.0);
 }
 
+TEST(Compare, RunsOnDifferentTaskSetsPairWithAWarning) {
+  const auto rows = twelve_tasks();
+  const RunRows a{"one", rows, "/t/a.sqlite (config 1)"}, b{"two", rows, "/t/b.sqlite (config 2)"};
+  const nlohmann::json c = compare_runs(a, &b, "A", "");
+  ASSERT_TRUE(c.contains("warning"));
+  EXPECT_NE(c["warning"].get<std::string>().find("ran different task sets"), std::string::npos);
+  EXPECT_NE(compare_text(c).find("warning: one and two ran different task sets"), std::string::npos);
+  const RunRows same{"two", rows, a.task_set};
+  EXPECT_FALSE(compare_runs(a, &same, "A", "").contains("warning"));
+  EXPECT_THROW(compare_runs(a, &b, "nobody", ""), Error);
+  EXPECT_THROW(compare_runs(a, &b, "", "A"), Error) << "a baseline agent is for one run";
+  EXPECT_EQ(compare_runs(a, nullptr, "", "")["comparisons"][0]["a"]["agent"], "A") << "the run's first agent";
+}
+
 TEST(Compare, SidesWithoutACommonTaskAreRefusedByName) {
   const std::vector<EpisodeRow> a{row(0, "t", "X", 1, true, 0)}, b{row(1, "u", "X", 1, true, 0)};
   try {

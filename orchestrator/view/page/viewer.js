@@ -222,7 +222,7 @@ async function showComparison(params) {
   for (const k of ['a', 'b', 'agent', 'baseline']) if (params.get(k)) q.set(k, params.get(k));
   const c = await api('/api/compare?' + q);
   crumbs(link('#/', 'runs'), link('#/run/' + enc(params.get('a')), params.get('a')), 'comparison');
-  const parts = [el('p', {class: 'note'}, 'Differences are B − A on the episodes both ran (the same task and repeat), ' +
+  const parts = [c.warning ? el('p', {class: 'warn', id: 'compare-warning'}, c.warning) : null, el('p', {class: 'note'}, 'Differences are B − A on the episodes both ran (the same task and repeat), ' +
     'with 95 % intervals; p-values (exact McNemar for SR, sign-flip permutation for IP) after Holm over ' +
     c.comparisons.length + ' comparison' + (c.comparisons.length === 1 ? '' : 's') + ' (docs/statistics.md).')];
   for (const x of c.comparisons) {
