@@ -491,12 +491,12 @@ int run_report(const ReportOptions& o) {
   };
   for (const auto& [agent, a] : report["by_agent"].items()) {
     for (const auto& [level, al] : a["by_level"].items()) line(agent, "L" + level, al);
-    if (!avg.empty() && !a["paper_avg"].is_null()) {
+    if (!a["paper_avg"].is_null()) {  // over this agent's own levels (a run may lack one of them)
       nlohmann::json f = a["paper_avg"];
       std::int64_t n = 0;
       for (const auto& l : f["levels"]) n += a["by_level"][l.get<std::string>()]["episodes"].get<std::int64_t>();
       f["episodes"] = n;
-      line(agent, avg, f);
+      line(agent, orchestrator::average_label(f["levels"]), f);
     }
     line(agent, "all", a);
   }
@@ -520,13 +520,9 @@ int run_report(const ReportOptions& o) {
 
 int run_compare(const CompareOptions& o) {
   auto load = [](const std::string& run) {
-    const fs::path dir(run);
-    if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
-    fs::path named = fs::absolute(dir).lexically_normal();
+    fs::path named = fs::absolute(run).lexically_normal();
     if (!named.has_filename()) named = named.parent_path();  // "runs/a/"
-    std::string task_set;
-    if (fs::exists(dir / "plan.json")) task_set = orchestrator::task_set_identity(orchestrator::load_plan(dir).provenance);
-    return orchestrator::RunRows{named.filename().string(), orchestrator::read_results(dir / "results.sqlite"), task_set};
+    return orchestrator::load_run_rows(run, named.filename().string());
   };
   const orchestrator::RunRows a = load(o.run_a);
   std::optional<orchestrator::RunRows> b;
@@ -555,6 +551,11 @@ int run_replay(const ReplayOptions& o) {
   // re-drive services from its (merged) recording.
   plan.remote = false;
   plan.bus_url = o.url.empty() ? bus::default_url() : bus::normalize_url(o.url);
+  // What made the replay, beside what made the run it replays (kept: its task set and settings).
+  if (plan.provenance.is_object()) {
+    plan.provenance["replay"] = {{"mtg_version", mtg_version()}, {"git_revision", mtg_git_revision()},
+                                 {"host", host_name()}, {"at", orchestrator::utc_now()}, {"of", src.string()}};
+  }
   orchestrator::save_plan(plan, dir);
   const auto tasks = load_tasks(plan.tasks_db);
   const auto summary = orchestrator::run_plan(plan, dir, tasks);

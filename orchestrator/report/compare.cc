@@ -10,6 +10,9 @@
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/rng.h"
+#include "orchestrator/run/marks.h"
+#include "orchestrator/run/provenance.h"
+#include "orchestrator/run/run_plan.h"
 
 namespace mtg::orchestrator {
 namespace {
@@ -24,14 +27,17 @@ struct Pair {
   const EpisodeRow* b;
 };
 
-// (task, repeat) -> episode: the k-th scored episode of a task on one side is repeat k.
-std::map<std::pair<std::string, int>, const EpisodeRow*> by_task_and_repeat(const std::vector<EpisodeRow>& rows,
-                                                                           const std::string& agent) {
-  std::map<std::pair<std::string, int>, const EpisodeRow*> out;
-  std::map<std::string, int> seen;
-  for (const EpisodeRow& r : rows) {  // rows come in episode order
-    if (r.status != "scored" || r.agent != agent) continue;
-    out[{r.task_id, seen[r.task_id]++}] = &r;
+// (task, repeat) -> scored episode. The repeat comes from the plan's layout when known, so an
+// episode given up or never run does not shift the later tries of its task; else the k-th row of
+// a task (scored or not) is repeat k.
+std::map<std::pair<std::string, std::int64_t>, const EpisodeRow*> by_task_and_repeat(const CompareSide& side) {
+  std::map<std::pair<std::string, std::int64_t>, const EpisodeRow*> out;
+  std::map<std::string, std::int64_t> seen;
+  for (const EpisodeRow& r : side.rows) {  // rows come in episode order
+    if (r.agent != side.agent) continue;
+    const std::int64_t counted = seen[r.task_id]++;
+    if (r.status != "scored") continue;
+    out[{r.task_id, side.per_repeat > 0 ? r.episode_id.value() / side.per_repeat : counted}] = &r;
   }
   return out;
 }
@@ -84,7 +90,7 @@ nlohmann::json flip_json(const Pair& p) {
 }
 
 nlohmann::json compare_one(const CompareSide& a, const CompareSide& b) {
-  const auto left = by_task_and_repeat(a.rows, a.agent), right = by_task_and_repeat(b.rows, b.agent);
+  const auto left = by_task_and_repeat(a), right = by_task_and_repeat(b);
   std::map<std::string, std::vector<Pair>> by_level;
   std::vector<Pair> all;
   nlohmann::json regressions = nlohmann::json::array(), improvements = nlohmann::json::array();
@@ -112,8 +118,9 @@ nlohmann::json compare_one(const CompareSide& a, const CompareSide& b) {
   c["pairs"] = static_cast<std::int64_t>(all.size());
   c["unpaired_a"] = static_cast<std::int64_t>(left.size() - all.size());
   c["unpaired_b"] = static_cast<std::int64_t>(right.size() - all.size());
-  for (const auto& [level, pairs] : by_level) c["levels"][level] = level_json(pairs, label + "/" + level);
-  c["levels"]["all"] = level_json(all, label + "/all");
+  const std::string seed_key = a.agent + " vs " + b.agent + "/";  // not the runs' names (see compare.h)
+  for (const auto& [level, pairs] : by_level) c["levels"][level] = level_json(pairs, seed_key + level);
+  c["levels"]["all"] = level_json(all, seed_key + "all");
   c["regressions"] = regressions;
   c["improvements"] = improvements;
   c["regression_count"] = n_regressions;
@@ -202,8 +209,8 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
     const auto agents_b = agents_of(b->rows);
     for (const std::string& x : agents_a) {
       if (!has(agents_b, x) || (!agent.empty() && x != agent)) continue;
-      baselines.push_back({a.name, x, a.rows});
-      candidates.push_back({b->name, x, b->rows});
+      baselines.push_back({a.name, x, a.rows, a.per_repeat});
+      candidates.push_back({b->name, x, b->rows, b->per_repeat});
     }
     if (baselines.empty()) {
       throw Error(agent.empty() ? "no agent ran in both " + a.name + " and " + b->name
@@ -218,14 +225,25 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
     }
     for (const std::string& x : agents_a) {
       if (x == base || (!agent.empty() && x != agent)) continue;
-      baselines.push_back({a.name, base, a.rows});
-      candidates.push_back({a.name, x, a.rows});
+      baselines.push_back({a.name, base, a.rows, a.per_repeat});
+      candidates.push_back({a.name, x, a.rows, a.per_repeat});
     }
   }
   nlohmann::json out = compare_sides(baselines, candidates);
   if (b != nullptr && !a.task_set.empty() && !b->task_set.empty() && a.task_set != b->task_set) {
     out["warning"] = a.name + " and " + b->name + " ran different task sets (" + a.task_set + "; " + b->task_set +
                      "): a task id may name another task in each";
+  }
+  return out;
+}
+
+RunRows load_run_rows(const std::filesystem::path& dir, const std::string& name) {
+  if (!std::filesystem::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
+  RunRows out{name, without_excluded(read_results(dir / "results.sqlite"), current_marks(read_marks(dir))), "", 0};
+  if (std::filesystem::exists(dir / "plan.json")) {
+    const RunPlan plan = load_plan(dir);
+    out.task_set = task_set_identity(plan.provenance);
+    out.per_repeat = static_cast<std::int64_t>(plan.episodes.size()) / std::max(1, plan.repeat);
   }
   return out;
 }

@@ -5,6 +5,7 @@
 // correction across the agents compared, the smallest difference the run could detect, and the
 // tasks whose outcome flipped.
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,11 +19,16 @@ struct CompareSide {
   std::string run;
   std::string agent;
   std::vector<EpisodeRow> rows;
+  /// Episodes per repeat in the run's plan (its tasks × agents; run_plan.h lays episodes out
+  /// repeat by repeat), so an episode's repeat is id / per_repeat; 0 when unknown, and then the
+  /// k-th row of a task is repeat k.
+  std::int64_t per_repeat = 0;
 };
 
 /// Compares each `candidates[i]` with `baselines[i]` (B with A: differences are B - A). Episodes
-/// pair when they ran the same task and are the same repeat (the k-th episode of that task on each
-/// side, by episode id). Rows not scored are left out. Keys: comparisons[{a, b, pairs, unpaired_a,
+/// pair when they ran the same task and are the same repeat. Rows not scored are left out. The
+/// bootstrap and Monte Carlo draws are seeded by the agents and the level, not the runs' names,
+/// so a renamed folder compares the same. Keys: comparisons[{a, b, pairs, unpaired_a,
 /// unpaired_b, levels: {"1"..., "all": {pairs, sr_a, sr_b, sr_diff, sr_diff_ci, only_a, only_b,
 /// sr_p, sr_p_holm, sr_detectable, ip_a, ip_b, ip_diff, ip_diff_ci, ip_p, ip_p_holm, ip_detectable}},
 /// regressions, improvements: [{task, level, episode_a, episode_b}]}], alpha.
@@ -32,10 +38,11 @@ nlohmann::json compare_sides(const std::vector<CompareSide>& baselines, const st
 /// A run's results for a comparison: its name and rows.
 struct RunRows {
   std::string name;
-  std::vector<EpisodeRow> rows;
-  /// What the run's task ids mean: its task set's file and config hash (plan.json's provenance),
-  /// "" when unknown. Two runs on different task sets pair by id all the same, with a warning.
+  std::vector<EpisodeRow> rows;  ///< without the episodes a person excluded (marks.h)
+  /// What the run's task ids mean (provenance.h, task_set_identity); "" when unknown. Two runs on
+  /// different task sets pair by id all the same, with a warning.
   std::string task_set;
+  std::int64_t per_repeat = 0;  ///< as in CompareSide
 };
 
 /// What `mtg compare` and the viewer compare. With `b`: every agent of both runs (or `agent`
@@ -44,6 +51,10 @@ struct RunRows {
 /// not in the run, --baseline with two runs, a run of one agent, nothing in common). Runs on
 /// different task sets get "warning".
 nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::string& agent, const std::string& baseline);
+
+/// A run folder's rows for a comparison: results without the excluded episodes, the task set's
+/// identity and the plan's layout. @throws mtg::Error naming the folder when it is not a run.
+RunRows load_run_rows(const std::filesystem::path& dir, const std::string& name);
 
 /// The comparison as text: a table per comparison and a plain verdict ("not significant").
 std::string compare_text(const nlohmann::json& comparison);

@@ -188,13 +188,18 @@ std::string repeats_html(const nlohmann::json& report) {
          "right in all k. Both estimated from every try of a task (docs/statistics.md).</p>";
 }
 
+std::string average_label(const nlohmann::json& levels) {
+  if (!levels.is_array() || levels.empty()) return "";
+  const std::string first = levels.front().get<std::string>(), last = levels.back().get<std::string>();
+  return levels.size() == 1 ? "Avg (L" + first + ")" : "Avg (L" + first + "–" + last + ")";
+}
+
 std::string paper_average_label(const nlohmann::json& report) {
-  std::vector<std::string> levels;
+  nlohmann::json levels = nlohmann::json::array();
   for (const auto& [l, v] : report["by_level"].items()) {
     if (std::stoi(l) <= kPaperLevels) levels.push_back(l);
   }
-  if (levels.empty()) return "";
-  return levels.size() == 1 ? "Avg (L" + levels.front() + ")" : "Avg (L" + levels.front() + "–" + levels.back() + ")";
+  return average_label(levels);
 }
 
 nlohmann::json make_report(const std::vector<EpisodeRow>& all_rows, const std::string& run_id,
@@ -323,7 +328,8 @@ std::string report_html(const nlohmann::json& r) {
       }
     }
     if (!avg.empty()) {
-      if (a.contains("paper_avg") && !a["paper_avg"].is_null()) {
+      // An agent that lacks one of the run's levels has another average: left blank, not mislabelled.
+      if (a.contains("paper_avg") && !a["paper_avg"].is_null() && average_label(a["paper_avg"]["levels"]) == avg) {
         cells(a["paper_avg"]);
       } else {
         h << "<td></td><td></td>";

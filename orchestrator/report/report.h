@@ -40,6 +40,8 @@ std::string repeats_text(const std::string& agent, const nlohmann::json& repeats
 std::string repeats_html(const nlohmann::json& report);
 /// "Avg (L1–3)", or over the paper's levels the run has ("Avg (L1–2)"); "" with none of them.
 std::string paper_average_label(const nlohmann::json& report);
+/// The same for a list of levels (a paper_avg's "levels").
+std::string average_label(const nlohmann::json& levels);
 /// @throws mtg::Error if the file cannot be written.
 void write_report_png(const nlohmann::json& report, const std::filesystem::path& file);
 

@@ -91,6 +91,14 @@ std::vector<MarkEntry> read_marks(const fs::path& run_dir) {
   return out;
 }
 
+std::int64_t marks_version(const fs::path& run_dir) {
+  const fs::path file = run_dir / "marks.sqlite";
+  if (!fs::exists(file)) return 0;
+  store::Database db(file, store::Database::Mode::kReadOnly);
+  store::Statement q(db, "SELECT COALESCE(MAX(seq), 0) FROM marks");  // rows are only ever added
+  return q.step() ? q.column_int(0) : 0;
+}
+
 std::map<bus::EpisodeId, EpisodeMarks> current_marks(const std::vector<MarkEntry>& trail) {
   std::map<bus::EpisodeId, EpisodeMarks> out;
   for (const MarkEntry& e : trail) {

@@ -58,6 +58,9 @@ void add_mark(const std::filesystem::path& run_dir, const MarkEntry& entry);
 /// The trail, oldest first; [] when the run has no marks file.
 std::vector<MarkEntry> read_marks(const std::filesystem::path& run_dir);
 
+/// A number that grows with every change stored (0 without marks): readers cache on it.
+std::int64_t marks_version(const std::filesystem::path& run_dir);
+
 /// The trail replayed: each episode's marks now (episodes never marked are absent).
 std::map<bus::EpisodeId, EpisodeMarks> current_marks(const std::vector<MarkEntry>& trail);
 

@@ -42,8 +42,12 @@ nlohmann::json make_provenance(const ProvenanceInputs& in) {
 
 std::string task_set_identity(const nlohmann::json& p) {
   if (!p.is_object() || !p.contains("task_set")) return "";
-  const auto& t = p["task_set"];
-  return t.value("file", std::string("?")) + " (config " + t.value("config_hash", std::string("?")) + ")";
+  // Not the file's path: the same task set copied to another folder or host is the same set.
+  std::string id = "config " + p["task_set"].value("config_hash", std::string("?"));
+  if (p.contains("dataset") && p["dataset"].is_object()) {
+    for (const auto& [scene, digest] : p["dataset"].items()) id += ", " + scene + " " + digest.get<std::string>();
+  }
+  return id;
 }
 
 void append_session(const fs::path& run_dir, const nlohmann::json& entry) {

@@ -27,8 +27,9 @@ struct ProvenanceInputs {
 
 nlohmann::json make_provenance(const ProvenanceInputs& inputs);
 
-/// "<file> (config <hash>)" from a plan's provenance: what its task ids mean; "" for a plan
-/// from before provenance.
+/// What a plan's task ids mean, from its provenance: the task set's config hash and the digests
+/// of the scenes' dataset files ("config 1f2e…, apt_0 9a8b…"); "" for a plan from before
+/// provenance.
 std::string task_set_identity(const nlohmann::json& provenance);
 
 /// Now, as "2026-11-28T10:58:03Z".

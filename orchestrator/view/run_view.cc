@@ -154,20 +154,6 @@ json RunView::summary() {
   return s;
 }
 
-namespace {
-
-// Changes when marks.sqlite does (this viewer's marks or another's): size and time of the file.
-std::string marks_stamp(const fs::path& dir) {
-  std::error_code ec;
-  const fs::path file = dir / "marks.sqlite";
-  const auto size = fs::file_size(file, ec);
-  if (ec) return "";
-  const auto time = fs::last_write_time(file, ec);
-  return std::to_string(size) + "@" + std::to_string(time.time_since_epoch().count());
-}
-
-}  // namespace
-
 json RunView::marks(bus::EpisodeId episode) const {
   const std::vector<MarkEntry> trail = read_marks(dir_);
   json by_episode = json::object(), entries = json::array();
@@ -192,9 +178,15 @@ void RunView::add_mark(const MarkEntry& entry) {
   orchestrator::add_mark(dir_, entry);
 }
 
+RunRows RunView::compare_rows() {
+  return {name_, without_excluded(*rows(), current_marks(read_marks(dir_))),
+          task_set_identity(plan_summary_["provenance"]),
+          static_cast<std::int64_t>(planned_) / std::max(1, plan_summary_["settings"].value("repeat", 1))};
+}
+
 json RunView::overview() {
   const Rows all = rows();
-  const std::string stamp = marks_stamp(dir_);
+  const std::int64_t stamp = marks_version(dir_);  // this viewer's marks or another's
   {
     // The report is recomputed only when the results or the marks changed (a live page asks
     // every 2 s).

@@ -65,7 +65,7 @@ class RunView {
   /// What the episode's agent replied, lower case, as the search reads it (RecordingIndex).
   std::string said_of(bus::EpisodeId id) const { return index_.said_of(id); }
   /// For a comparison: the run's name, rows and task set (provenance.h, task_set_identity).
-  RunRows compare_rows() { return {name_, *rows(), task_set_identity(plan_summary_["provenance"])}; }
+  RunRows compare_rows();
   /// Every results row (episode order).
   std::vector<EpisodeRow> all_rows() { return *rows(); }
 
@@ -93,7 +93,7 @@ class RunView {
   std::string rows_stamp_;  // sizes and times of the database files last read
   Rows rows_ = std::make_shared<const std::vector<EpisodeRow>>();
   Rows overview_rows_;  // the rows overview_ was made from
-  std::string overview_marks_;  // and the marks file's stamp (marks_stamp)
+  std::int64_t overview_marks_ = -1;  // and the marks' version (marks_version)
   nlohmann::json overview_;
 
   RecordingIndex index_;

@@ -125,6 +125,32 @@ ExportStats export_site(const std::vector<fs::path>& runs, const fs::path& out,
 
 namespace {
 
+// A shared site keeps what made the run (provenance) but not where its files lived: every
+// absolute path in it (the command's arguments, the task set, the sessions' commands) becomes its
+// file name.
+void without_folders(json& summary) {
+  auto name_only = [](json& text) {
+    if (text.is_string() && !text.get<std::string>().empty() && text.get<std::string>().front() == '/') {
+      text = fs::path(text.get<std::string>()).filename().string();
+    }
+  };
+  auto command = [&](json& argv) {
+    if (!argv.is_array()) return;
+    for (json& arg : argv) name_only(arg);
+  };
+  if (summary.contains("settings")) name_only(summary["settings"]["tasks_db"]);
+  if (summary.contains("provenance") && summary["provenance"].is_object()) {
+    json& p = summary["provenance"];
+    command(p["command"]);
+    if (p.contains("task_set")) name_only(p["task_set"]["file"]);
+  }
+  if (summary.contains("sessions")) {
+    for (json& s : summary["sessions"]) {
+      if (s.contains("command")) command(s["command"]);
+    }
+  }
+}
+
 // The comparisons the overview offers (each agent of a run as the baseline; each run against each
 // other one), computed now: data/comparisons.js maps the query ("a=R&baseline=X", "a=R&b=S") to
 // its file. A pair that cannot be compared (no common task or agent) is left out.
@@ -136,7 +162,7 @@ void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunVi
       const std::string file = "data/compare-" + std::to_string(keys.size()) + ".js";
       site.data(file, value);
       keys[key] = file;
-    } catch (const Error&) {
+    } catch (const std::exception&) {  // a pair that cannot be compared: the page says so when asked
     }
   };
   std::vector<RunRows> runs;
@@ -192,9 +218,11 @@ ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
     // A snapshot: the exported page never polls; and where the run lived here is nobody's business.
     overview["live"] = false;
     overview.erase("dir");
+    without_folders(overview);
     json summary = view.summary();
     summary["live"] = false;
     summary.erase("dir");
+    without_folders(summary);
     json agents = json::array();
     for (const auto& [agent, _] : overview["report"]["by_agent"].items()) agents.push_back(agent);
     index.push_back({{"summary", summary}, {"dir", "r" + std::to_string(r)}, {"agents", agents}});

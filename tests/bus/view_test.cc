@@ -534,6 +534,9 @@ TEST_F(ViewerTest, MarksFlagTagAndExcludeWithATrailAndNeverTouchAVerdict) {
   };
   const json excluded = report();
   EXPECT_EQ(excluded["scored"].get<std::size_t>(), rows.size() - 1);
+  // A comparison leaves it out too: one pair fewer than there are tasks.
+  const json paired = b->evaluate("fetch('/api/compare?a=run&baseline=oracle').then((r) => r.json())");
+  EXPECT_EQ(paired["comparisons"][0]["pairs"].get<std::size_t>(), rows.size() / 2 - 1) << paired.dump().substr(0, 300);
   EXPECT_EQ(excluded["excluded"][0]["episode"].dump(), id);
   EXPECT_EQ(excluded["marks"][id]["tags"], json::parse(R"(["wrong-shelf"])"));
   EXPECT_EQ(results("run").size(), rows.size());
@@ -683,7 +686,15 @@ TEST_F(ViewerTest, TheExportedSiteOpensFromFileAndAnswersAsTheServerDoes) {
   for (std::size_t i = 0; i < questions.size(); ++i) {
     json s = served[i], e = exported[i];
     if (i == 0) {  // the run list: where it lives differs, and an export is never live
-      for (json* r : {&s[0], &e[0]}) (*r).erase("dir");
+      // The export keeps what made the run but no folder: every path is a file name there.
+      for (const auto& arg : e[0]["provenance"]["command"]) {
+        EXPECT_NE(arg.get<std::string>().front(), '/') << e[0]["provenance"].dump();
+      }
+      EXPECT_EQ(e[0]["settings"]["tasks_db"], "tasks.sqlite");
+      EXPECT_EQ(e[0]["provenance"]["task_set"]["config_hash"], s[0]["provenance"]["task_set"]["config_hash"]);
+      for (json* r : {&s[0], &e[0]}) {
+        for (const char* where : {"dir", "provenance", "sessions", "settings"}) (*r).erase(where);
+      }
       s[0]["live"] = false;
     }
     EXPECT_EQ(s, e) << questions[i];

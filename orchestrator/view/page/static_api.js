@@ -39,7 +39,8 @@
   // agents said (each row's "said", written by the export), a stable
   // sort with ties in episode order.
   function select(rows, q) {
-    const text = (q.get('q') || '').toLowerCase();
+    // ASCII lower case, as the server's std::tolower: the same needle finds the same rows.
+    const text = (q.get('q') || '').replace(/[A-Z]/g, (c) => c.toLowerCase());
     const level = number(q, 'level');
     const success = q.get('success');
     const cause = q.get('cause');
@@ -55,7 +56,8 @@
         const wanted = cause === 'success' ? '' : cause;
         if (r.cause !== wanted || (cause === 'success') !== r.success) return false;
       }
-      return !text || r.task_id.toLowerCase().includes(text) || (r.task_text || '').toLowerCase().includes(text) ||
+      const lower = (t) => t.replace(/[A-Z]/g, (c) => c.toLowerCase());
+      return !text || lower(r.task_id).includes(text) || lower(r.task_text || '').includes(text) ||
         (r.said || '').includes(text);
     });
     const key = KEY[sort];
@@ -94,7 +96,7 @@
     if (parts[3] === 'marks') {
       const all = await load(dir + 'marks.js');
       const episode = q.get('episode');
-      if (episode === null) return all;
+      if (!episode || Number(episode) < 0) return all;  // as the server: no valid episode, every mark
       return {marks: all.marks[episode] ? {[episode]: all.marks[episode]} : {},
         trail: all.trail.filter((e) => String(e.episode) === episode)};
     }

@@ -99,7 +99,9 @@ function table3(o) {
   const cellsOf = (byLevel, ls) => ls.flatMap((l) => cells((byLevel || {})[l], ''));
   for (const [agent, a] of Object.entries(report.by_agent)) {
     t.append(el('tr', {class: 'clickable agent-row', onclick: () => go(o.name, {agent})},
-      el('td', {class: 'l'}, agent), ...cellsOf(a.by_level, paperLevels), ...(avgLabel ? cells(a.paper_avg, 'avg') : []),
+      el('td', {class: 'l'}, agent), ...cellsOf(a.by_level, paperLevels),
+      // An agent without one of the run's levels has another average: blank, not mislabelled.
+      ...(avgLabel ? cells(a.paper_avg && a.paper_avg.levels.join() === paperLevels.join() ? a.paper_avg : null, 'avg') : []),
       ...cellsOf(a.by_level, apart), el('td', {}, a.episodes)));
   }
   t.append(el('tr', {}, el('td', {class: 'l muted', colspan: 2 * groups.length + 2},
@@ -551,9 +553,11 @@ function stepStrip(e, stepHash) {
 }
 
 // The episode as one JSON file (what the page shows), for a bug report or a notebook.
+let episodeBlobUrl = null;  // one at a time: the last episode page's is let go
 function episodeDownload(run, e) {
-  const blob = new Blob([JSON.stringify(e, null, 1)], {type: 'application/json'});
-  return el('a', {id: 'episode-json', href: URL.createObjectURL(blob), download: run + '-episode-' + e.episode_id +
+  if (episodeBlobUrl) URL.revokeObjectURL(episodeBlobUrl);
+  episodeBlobUrl = URL.createObjectURL(new Blob([JSON.stringify(e, null, 1)], {type: 'application/json'}));
+  return el('a', {id: 'episode-json', href: episodeBlobUrl, download: run + '-episode-' + e.episode_id +
     '-attempt-' + e.attempt + '.json'}, 'Download this episode (JSON)');
 }
 
