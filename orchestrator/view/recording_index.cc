@@ -9,6 +9,7 @@
 
 #include "bus/channels.h"
 #include "mtg/agent_action_t.hpp"
+#include "mtg/observation_t.hpp"
 #include "bus/header.h"
 #include "bus/recording.h"
 #include "core/util/error.h"
@@ -54,15 +55,22 @@ std::size_t RecordingIndex::refresh() {
       if (!header || !bus::episode_of(*header).valid()) return;
       places_[bus::episode_of(*header)].push_back(place(i, static_cast<long>(offset)));
       ++added;
+      std::string line;
       if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
         mtg::agent_action_t action;
         if (action.decode(ev.data, 0, ev.datalen) < 0) return;  // damage is the reader's to name
-        std::string& said = said_[bus::episode_of(*header)];
-        if (said.size() >= kSaidPerEpisode) return;
-        std::string line = action.parsed_key + " " + action.raw_reply + " " + action.error + "\n";
-        std::transform(line.begin(), line.end(), line.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-        said.append(line, 0, kSaidPerEpisode - said.size());
+        line = action.parsed_key + " " + action.raw_reply + " " + action.error + "\n";
+      } else if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation) &&
+                 static_cast<std::size_t>(ev.datalen) <= kFeedbackObservationBytes) {
+        mtg::observation_t observation;  // the feedback on the step before ("hint")
+        if (observation.decode(ev.data, 0, ev.datalen) < 0 || observation.hint.empty()) return;
+        line = observation.hint + "\n";
       }
+      if (line.empty()) return;
+      std::string& said = said_[bus::episode_of(*header)];
+      if (said.size() >= kSaidPerEpisode) return;
+      std::transform(line.begin(), line.end(), line.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      said.append(line, 0, kSaidPerEpisode - said.size());
     });
     file.indexed_to = static_cast<long>(read.end);
     torn_tails_.erase(i);

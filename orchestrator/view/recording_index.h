@@ -36,8 +36,9 @@ class RecordingIndex {
   std::vector<std::string> damage(bool finished) const;
   /// Messages indexed so far (all episodes).
   std::size_t size() const;
-  /// Whether the episode's agent replied or answered with text containing `needle` (lower case):
-  /// its keys, full replies and provider errors, the first kSaidPerEpisode bytes of them.
+  /// Whether the episode's agent replied or answered, or was told, text containing `needle`
+  /// (lower case): its keys, full replies and provider errors, and the feedback its observations
+  /// carried, the first kSaidPerEpisode bytes of them.
   bool said_contains(bus::EpisodeId episode_id, const std::string& needle) const;
   /// The text said_contains searches ("" when the episode has none).
   std::string said_of(bus::EpisodeId episode_id) const;
@@ -45,6 +46,10 @@ class RecordingIndex {
   /// What is kept per episode for said_contains: a model's 15 replies fit; a run of 10,000
   /// episodes holds at most 640 MB only if every reply is long (built-in agents: a few bytes).
   static constexpr std::size_t kSaidPerEpisode = 64 * 1024;
+  /// Observations are read for their feedback up to this size: every text-only step; a step
+  /// carrying new images is larger and is not decoded (copying its images would slow the index
+  /// of a rendered run tenfold), so its feedback is not searched.
+  static constexpr std::size_t kFeedbackObservationBytes = 256 * 1024;
 
  private:
   struct File {

@@ -374,6 +374,17 @@ TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   }
   EXPECT_TRUE(replied) << "episode " << first_said << " was found by a reply it never gave";
   EXPECT_EQ(b->evaluate("fetch('/api/runs/run/episodes?q=nobody-said-this').then((r) => r.json())")["total"], 0);
+  // ... and what the agent was told: the feedback on look-alikes, in no task's text.
+  const json told = b->evaluate("fetch('/api/runs/run/episodes?q=LOOK-ALIKES&limit=1').then((r) => r.json())");
+  ASSERT_GT(told["total"].get<int>(), 0) << told.dump().substr(0, 300);
+  const json told_trace = b->evaluate("fetch('/api/runs/run/episodes/" + told["rows"][0]["episode_id"].dump() +
+                                      "').then((r) => r.json())");
+  bool hinted = false;
+  for (const auto& step : told_trace["steps"]) {
+    hinted = hinted || (step.contains("observation") && step["observation"].is_object() &&
+                        step["observation"].value("hint", std::string()).find("look-alikes") != std::string::npos);
+  }
+  EXPECT_TRUE(hinted) << "found by feedback it was never given";
 
   // The failure section for one agent: its own Sankey and causes, and its clicks keep the agent.
   b->evaluate("location.hash = '#/run/run?agent=random'");
