@@ -10,10 +10,6 @@
 namespace mtg::stats {
 namespace {
 
-double mean_of(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
-
 double resampled_mean(const std::vector<double>& values, Rng& rng) {
   double sum = 0.0;
   for (std::size_t i = 0; i < values.size(); ++i) sum += values[rng.uniform_index(values.size())];
@@ -26,6 +22,10 @@ Interval percentile_interval(std::vector<double> estimates) {
 }
 
 }  // namespace
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
 
 Interval wilson_interval_of(double p, double n) {
   MTG_DEMAND(p >= 0.0 && p <= 1.0, "wilson_interval_of needs a proportion in [0, 1]");
@@ -66,7 +66,7 @@ double quantile_of_sorted(const std::vector<double>& sorted, double q) {
 
 Interval bootstrap_mean_interval(const std::vector<double>& values, std::uint64_t seed, int resamples) {
   MTG_DEMAND(resamples > 0, "bootstrap needs at least one resample");
-  if (values.size() < 2) return {mean_of(values), mean_of(values)};
+  if (values.size() < 2) return {mean(values), mean(values)};
   Rng rng(seed);
   std::vector<double> means(static_cast<std::size_t>(resamples));
   for (double& m : means) m = resampled_mean(values, rng);
@@ -85,7 +85,7 @@ Interval bootstrap_mean_of_means_interval(const std::vector<std::vector<double>>
   std::vector<double> means(static_cast<std::size_t>(resamples));
   for (double& m : means) {
     double sum = 0.0;
-    for (const auto* s : kept) sum += s->size() < 2 ? mean_of(*s) : resampled_mean(*s, rng);
+    for (const auto* s : kept) sum += s->size() < 2 ? mean(*s) : resampled_mean(*s, rng);
     m = sum / static_cast<double>(kept.size());
   }
   return percentile_interval(std::move(means));

@@ -22,6 +22,9 @@ struct Interval {
   bool operator==(const Interval&) const = default;
 };
 
+/// The arithmetic mean; 0 for no values.
+double mean(const std::vector<double>& values);
+
 /// Wilson score interval of `successes` in `trials`, as fractions in [0, 1]; [0, 0] when there
 /// are no trials. Requires 0 <= successes <= trials.
 Interval wilson_interval(std::int64_t successes, std::int64_t trials);

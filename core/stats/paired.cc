@@ -16,10 +16,6 @@ double log_choose(std::int64_t n, std::int64_t k) {
          std::lgamma(static_cast<double>(n - k) + 1.0);
 }
 
-double mean_of(const std::vector<double>& v) {
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
-
 // Differences within this of the observed one count as "as extreme": sums of the same terms in
 // another order differ in the last bits.
 constexpr double kTie = 1e-9;
@@ -73,7 +69,7 @@ PairedDifference paired_difference(const std::vector<double>& a, const std::vect
   }
   std::vector<double> d(a.size());
   for (std::size_t i = 0; i < a.size(); ++i) d[i] = b[i] - a[i];
-  out.mean = mean_of(d);
+  out.mean = mean(d);
   out.interval = bootstrap_mean_interval(d, derive_seed(seed, 1), resamples);
   out.p = sign_flip_p(d, derive_seed(seed, 2), resamples);
   if (d.size() < 2) {

@@ -60,24 +60,19 @@ nlohmann::json level_json(const std::vector<Pair>& pairs, const std::string& see
   const std::uint64_t seed = derive_seed(kCompareSeed, fnv1a64(seed_key));
   const stats::PairedDifference sr = stats::paired_difference(sa, sb, derive_seed(seed, 1));
   const stats::PairedDifference ip = stats::paired_difference(ia, ib, derive_seed(seed, 2));
-  auto mean = [](const std::vector<double>& v) {
-    double s = 0.0;
-    for (const double x : v) s += x;
-    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
-  };
   // A spread of zero (every pair alike) gives no detectable-difference figure, not "0 points".
   auto detectable = [](const stats::PairedDifference& d) { return d.detectable > 0.0 ? d.detectable : NAN; };
   return {{"pairs", static_cast<std::int64_t>(pairs.size())},
-          {"sr_a", round1(mean(sa))},
-          {"sr_b", round1(mean(sb))},
+          {"sr_a", round1(stats::mean(sa))},
+          {"sr_b", round1(stats::mean(sb))},
           {"sr_diff", round1(sr.mean)},
           {"sr_diff_ci", {round1(sr.interval.low), round1(sr.interval.high)}},
           {"only_a", only_a},
           {"only_b", only_b},
           {"sr_p", stats::mcnemar_exact_p(only_a, only_b)},
           {"sr_detectable", number_or_null(detectable(sr))},
-          {"ip_a", round1(mean(ia))},
-          {"ip_b", round1(mean(ib))},
+          {"ip_a", round1(stats::mean(ia))},
+          {"ip_b", round1(stats::mean(ib))},
           {"ip_diff", round1(ip.mean)},
           {"ip_diff_ci", {round1(ip.interval.low), round1(ip.interval.high)}},
           {"ip_p", ip.p},

@@ -148,22 +148,27 @@ std::string fmt(double v) {
 
 }  // namespace
 
-std::string with_interval(const nlohmann::json& figures, const std::string& key) {
+namespace {
+
+// figures[key], then its interval between `open`, `dash` and `close` when the report has one.
+std::string figure_with_interval(const nlohmann::json& figures, const std::string& key, const char* open,
+                                 const char* dash, const char* close) {
   std::string out = fmt(figures[key].get<double>());
   if (figures.contains(key + "_ci")) {
     const auto& ci = figures[key + "_ci"];
-    out += " [" + fmt(ci[0].get<double>()) + ", " + fmt(ci[1].get<double>()) + "]";
+    out += open + fmt(ci[0].get<double>()) + dash + fmt(ci[1].get<double>()) + close;
   }
   return out;
 }
 
+}  // namespace
+
+std::string with_interval(const nlohmann::json& figures, const std::string& key) {
+  return figure_with_interval(figures, key, " [", ", ", "]");
+}
+
 std::string with_interval_html(const nlohmann::json& figures, const std::string& key) {
-  std::string out = fmt(figures[key].get<double>());
-  if (figures.contains(key + "_ci")) {
-    const auto& ci = figures[key + "_ci"];
-    out += "<br><small class=ci>" + fmt(ci[0].get<double>()) + "&ndash;" + fmt(ci[1].get<double>()) + "</small>";
-  }
-  return out;
+  return figure_with_interval(figures, key, "<br><small class=ci>", "&ndash;", "</small>");
 }
 
 std::string repeats_text(const std::string& agent, const nlohmann::json& rep) {

@@ -86,6 +86,7 @@ RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(
   const json plan = json::parse(in, nullptr, false);
   if (plan.is_discarded() || !plan.is_object()) throw Error(plan_file.string() + ": not valid JSON");
   planned_ = plan.value("episodes", json::array()).size();
+  per_repeat_ = static_cast<std::int64_t>(planned_) / std::max(1, plan.value("repeat", 1));
   tasks_db_ = plan.value("tasks_db", "");
   plan_summary_ = {{"run_id", plan.value("run_id", "")},
                    {"agents", plan.value("agents", json::array())},
@@ -180,8 +181,7 @@ void RunView::add_mark(const MarkEntry& entry) {
 
 RunRows RunView::compare_rows() {
   return {name_, without_excluded(*rows(), current_marks(read_marks(dir_))),
-          task_set_identity(plan_summary_["provenance"]),
-          static_cast<std::int64_t>(planned_) / std::max(1, plan_summary_["settings"].value("repeat", 1))};
+          task_set_identity(plan_summary_["provenance"]), per_repeat_};
 }
 
 json RunView::overview() {
@@ -248,8 +248,6 @@ const TaskTexts& RunView::task_texts() {
 json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_t limit) {
   const Rows all = rows();
   const auto marked = current_marks(read_marks(dir_));
-  const std::int64_t per_repeat =
-      static_cast<std::int64_t>(planned_) / std::max(1, plan_summary_["settings"].value("repeat", 1));
   const TaskTexts& texts = task_texts();
   if (query.text) index_.refresh();  // replies are searched: the recording read to its end first
   const std::vector<std::size_t> selected = select_episodes(*all, texts, query, said_search());
@@ -260,7 +258,7 @@ json RunView::episodes(const EpisodeQuery& query, std::size_t offset, std::size_
     const auto text = texts.find(r.task_id);
     row["task_text"] = text == texts.end() ? "" : text->second;
     // Episodes are laid out repeat by repeat (run_plan.h): the k-th block of tasks x agents.
-    row["repeat"] = per_repeat > 0 ? r.episode_id.value() / per_repeat : 0;
+    row["repeat"] = per_repeat_ > 0 ? r.episode_id.value() / per_repeat_ : 0;
     if (const auto m = marked.find(r.episode_id); m != marked.end()) {
       row["marks"] = {{"flagged", m->second.flagged}, {"tags", m->second.tags}, {"excluded", m->second.excluded}};
     }

@@ -84,6 +84,7 @@ class RunView {
   std::filesystem::path dir_;
   nlohmann::json plan_summary_;
   std::size_t planned_ = 0;
+  std::int64_t per_repeat_ = 0;  // episodes of one repeat (run_plan.h lays them out repeat by repeat)
   std::filesystem::path tasks_db_;
 
   std::once_flag texts_once_;

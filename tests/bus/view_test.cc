@@ -69,11 +69,9 @@ TEST_F(ViewerTest, OverviewSankeyEpisodeAndSideBySideShowWhatTheRunRecorded) {
   const auto rows = results("run");
   ASSERT_FALSE(rows.empty());
 
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0) << "mtg view never said where it listens";
-  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run"}, view);
+  ASSERT_FALSE(base.empty()) << "mtg view never said where it listens";
   auto b = browser();
 
   // Overview: one row per agent, the paper's rows, a Sankey whose flows can be clicked.
@@ -323,11 +321,9 @@ TEST_F(ViewerTest, MarkupInEveryTextFieldOfARunFolderRunsNowhere) {
 // or by words of the task text, and stepped through episode by episode with the arrow keys.
 TEST_F(ViewerTest, TheListSortsSearchesAndStepsAndFailuresShowPerAgent) {
   ASSERT_EQ(mtg(run_args("run", {"oracle", "random"}, 3, 2)), 0) << log_text();
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
-  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run"}, view);
+  ASSERT_FALSE(base.empty());
   auto b = browser();
   const std::string rows_js = "[...document.querySelectorAll('tr.episode-row')]";
   auto column = [&](int k) {
@@ -502,11 +498,9 @@ TEST_F(ViewerTest, MarksFlagTagAndExcludeWithATrailAndNeverTouchAVerdict) {
   const auto oracle = std::find_if(rows.begin(), rows.end(), [](const auto& r) { return r.agent == "oracle"; });
   ASSERT_NE(oracle, rows.end());
   const std::string id = to_string(oracle->episode_id);
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
-  const std::string base = "http://127.0.0.1:" + std::to_string(port) + "/";
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run"}, view);
+  ASSERT_FALSE(base.empty());
   auto b = browser();
   b->navigate(base + "#/run/run/episode/" + id);
   ASSERT_TRUE(b->wait_for("document.getElementById('mark-form') !== null", 20000));
@@ -585,12 +579,11 @@ TEST_F(ViewerTest, RepeatsShowPassAtKAndAGridOfTasksByAgents) {
     plan["episodes"].push_back(extra);
     std::ofstream(plan_file) << plan.dump();
   }
-  testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
-                             (fx_.root() / "view.log").string());
-  const int port = port_in_log(fx_.root() / "view.log", 10000);
-  ASSERT_GT(port, 0);
+  std::unique_ptr<testing::ChildProcess> view;
+  const std::string base = serve({"run"}, view);
+  ASSERT_FALSE(base.empty());
   auto b = browser();
-  b->navigate("http://127.0.0.1:" + std::to_string(port) + "/#/run/run");
+  b->navigate(base + "#/run/run");
   ASSERT_TRUE(b->wait_for("document.querySelectorAll('table.repeats tr').length === 3", 20000));
   const std::string repeats = b->evaluate("document.querySelector('table.repeats').textContent").get<std::string>();
   EXPECT_NE(repeats.find("pass@3"), std::string::npos) << repeats;

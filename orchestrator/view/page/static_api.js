@@ -35,12 +35,14 @@
     return Number(v);
   }
 
+  // ASCII lower case, as the server's std::tolower: the same needle finds the same rows.
+  const lower = (t) => t.replace(/[A-Z]/g, (c) => c.toLowerCase());
+
   // episode_query.cc: filters, the case-insensitive search over task ids, texts and what the
   // agents said (each row's "said", written by the export), a stable
   // sort with ties in episode order.
   function select(rows, q) {
-    // ASCII lower case, as the server's std::tolower: the same needle finds the same rows.
-    const text = (q.get('q') || '').replace(/[A-Z]/g, (c) => c.toLowerCase());
+    const text = lower(q.get('q') || '');
     const level = number(q, 'level');
     const success = q.get('success');
     const cause = q.get('cause');
@@ -56,7 +58,6 @@
         const wanted = cause === 'success' ? '' : cause;
         if (r.cause !== wanted || (cause === 'success') !== r.success) return false;
       }
-      const lower = (t) => t.replace(/[A-Z]/g, (c) => c.toLowerCase());
       return !text || lower(r.task_id).includes(text) || lower(r.task_text || '').includes(text) ||
         (r.said || '').includes(text);
     });
