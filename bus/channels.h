@@ -1,6 +1,7 @@
 #pragma once
 // Channel names (DESIGN.md §4): MTG_<TOPIC>.
 
+#include <optional>
 #include <string>
 
 namespace mtg::bus {
@@ -11,6 +12,8 @@ inline constexpr const char* kEpisodeTruth = "MTG_EPISODE_TRUTH";
 inline constexpr const char* kEpisodeResult = "MTG_RESULT";
 /// The recorder's acknowledgement that a result is in the recording (recorded_t).
 inline constexpr const char* kRecorded = "MTG_RECORDED";
+/// Render requests to the first (or only) renderer of a host; render_request_channel(k) names
+/// the channel of renderer k of a pool.
 inline constexpr const char* kRenderRequest = "MTG_RENDER_REQ";
 inline constexpr const char* kRenderResult = "MTG_RENDER_RES";
 inline constexpr const char* kHeartbeat = "MTG_HEARTBEAT";
@@ -24,6 +27,15 @@ inline constexpr const char* kSceneRequest = "MTG_SCENE_REQ";
 inline constexpr const char* kSceneSummary = "MTG_SCENE_SUMMARY";
 inline constexpr const char* kTaskSetRequest = "MTG_TASKSET_REQ";
 inline constexpr const char* kTaskSetSummary = "MTG_TASKSET_SUMMARY";
+
+/// The request channel of renderer `pool_index` of a host's pool (core/render/render_pool.h):
+/// kRenderRequest for 0, so a pool of one talks as a lone renderer did; "MTG_RENDER_REQ_<k>"
+/// after, so each renderer wakes only for its own requests (bus/channel_filter.h).
+std::string render_request_channel(int pool_index);
+/// The role (heartbeats, process names) of renderer `pool_index`: "renderer", "renderer-1", ...
+std::string renderer_role(int pool_index);
+/// The pool index a renderer's role names; nullopt for any other role.
+std::optional<int> renderer_index(const std::string& role);
 
 /// Per-episode streams: one fixed channel each, the episode in the header (docs/bus.md
 /// "Channels" says why not one channel per episode).

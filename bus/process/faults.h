@@ -9,4 +9,8 @@ namespace mtg::process {
 /// The number given for `name` in $MTG_FAULTS, or -1 when it is not named.
 int fault_setting(std::string_view name);
 
+/// True the first time any process asks for `mark` while $MTG_FAULT_MARKS names a folder (it
+/// leaves a file there): a fault a restarted process must not repeat. False without the folder.
+bool first_time_fault(std::string_view mark);
+
 }  // namespace mtg::process

@@ -99,8 +99,8 @@ std::string part_caption(const PlatformPicture& picture, const std::string& plat
 
 }  // namespace
 
-ImageRenderer::ImageRenderer(std::string profile, RendererOptions options)
-    : scenes_(std::move(profile), /*with_textures=*/true), options_(options) {
+ImageRenderer::ImageRenderer(std::string profile, RendererOptions options, int gpu)
+    : scenes_(std::move(profile), /*with_textures=*/true), options_(options), context_(gpu) {
   log::info("renderer: " + context_.description());
 }
 
@@ -117,6 +117,31 @@ const SceneGeometry& ImageRenderer::geometry(const graph::SceneCache::Entry& ent
 }
 
 ImageReply ImageRenderer::render(const ImageRequest& request) {
+  const DrawnReply drawn = draw(request);
+  return encoded_reply(drawn, encode_images(drawn.images(), drawn.encoding, jobs_or_cores(options_.encode_jobs)));
+}
+
+ImageReply encoded_reply(const DrawnReply& drawn, std::vector<std::vector<std::uint8_t>> bytes) {
+  const std::vector<const cv::Mat*> images = drawn.images();
+  if (bytes.size() != images.size()) throw Error("render: internal: " + std::to_string(bytes.size()) + " encodings of " +
+                                                 std::to_string(images.size()) + " images");
+  const std::string encoding = drawn.encoding == "jpg" ? "jpeg" : drawn.encoding;
+  ImageReply reply;
+  reply.triangles = drawn.triangles;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    EncodedImage e;
+    e.role = drawn.roles[i];
+    e.caption = drawn.captions[i];
+    e.encoding = encoding;
+    e.width = images[i]->cols;
+    e.height = images[i]->rows;
+    e.bytes = std::move(bytes[i]);
+    reply.images.push_back(std::move(e));
+  }
+  return reply;
+}
+
+DrawnReply ImageRenderer::draw(const ImageRequest& request) {
   // Everything that can be checked without the scene first, so a bad request costs nothing.
   require_image_size(request.width, request.height);
   require_encoding(request.encoding);
@@ -127,12 +152,13 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
   const episode::WorldState state = episode::apply_delta(g, request.state);
   SceneRenderer& renderer = scene_renderer(entry);
 
-  // Every view is drawn first (the GL context is this thread's), then all images are encoded at
-  // once: encoding is most of an observation's time, and each image is encoded on its own.
-  ImageReply reply;
-  std::vector<ViewImages> drawn;
-  std::vector<std::string> roles;     // one per image, in reply order
-  std::vector<std::string> captions;  // likewise
+  // Every view is drawn first (the GL context is this thread's); the images are encoded after,
+  // all at once: encoding is most of an observation's time, and each image is encoded on its own.
+  DrawnReply out;
+  out.encoding = request.encoding;
+  std::vector<ViewImages>& drawn = out.views;
+  std::vector<std::string>& roles = out.roles;
+  std::vector<std::string>& captions = out.captions;
   for (const ViewSpec& v : request.views) {
     ViewRequest r;
     r.view = v.view;
@@ -166,7 +192,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
     for (std::size_t k = 0; k < plans.size(); ++k) {
       plans[k].first_zoom = zooms_so_far;
       drawn.push_back(draw_view(renderer, g, state, plans[k], v.marks != MarkKind::kNone, geometry(entry)));
-      reply.triangles += drawn.back().triangles;
+      out.triangles += drawn.back().triangles;
       const ViewImages& images = drawn.back();
       const std::string role = role_of(r.view);
       roles.push_back(role);
@@ -182,21 +208,7 @@ ImageReply ImageRenderer::render(const ImageRequest& request) {
       zooms_so_far += images.zooms.size();
     }
   }
-  const std::vector<const cv::Mat*> images = images_in_reply_order(drawn);
-  std::vector<std::vector<std::uint8_t>> bytes =
-      encode_images(images, request.encoding, jobs_or_cores(options_.encode_jobs));
-  const std::string encoding = request.encoding == "jpg" ? "jpeg" : request.encoding;
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    EncodedImage e;
-    e.role = roles[i];
-    e.caption = captions[i];
-    e.encoding = encoding;
-    e.width = images[i]->cols;
-    e.height = images[i]->rows;
-    e.bytes = std::move(bytes[i]);
-    reply.images.push_back(std::move(e));
-  }
-  return reply;
+  return out;
 }
 
 }  // namespace mtg::render

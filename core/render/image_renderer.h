@@ -5,7 +5,9 @@
 
 #include <map>
 #include <memory>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/graph/scene_cache.h"
 #include "core/render/gl/gl_context.h"
@@ -14,13 +16,34 @@
 
 namespace mtg::render {
 
+/// A request drawn and not yet encoded: its frames, and the words for each image in the order
+/// the reply carries them. Encoding needs no GL, so another thread may do it (the renderer
+/// process draws the next request meanwhile).
+struct DrawnReply {
+  std::vector<ViewImages> views;
+  std::vector<std::string> roles;     // one per image, in reply order
+  std::vector<std::string> captions;  // likewise
+  std::string encoding;               // as asked: png, jpeg or jpg
+  std::int64_t triangles = 0;
+  /// The frames in reply order (pointers into `views`).
+  std::vector<const cv::Mat*> images() const { return images_in_reply_order(views); }
+};
+
+/// The reply of `drawn` with `bytes[i]` the encoding of its image i.
+ImageReply encoded_reply(const DrawnReply& drawn, std::vector<std::vector<std::uint8_t>> bytes);
+
 class ImageRenderer {
  public:
-  /// @throws mtg::Error when no headless GL context can be made.
-  explicit ImageRenderer(std::string profile = "replica_cad", RendererOptions options = {});
+  /// On `gpu` (the hardware EGL device of that index, modulo how many there are; -1 = the
+  /// first). @throws mtg::Error when no headless GL context can be made.
+  explicit ImageRenderer(std::string profile = "replica_cad", RendererOptions options = {}, int gpu = -1);
 
+  /// draw() then every image encoded, on up to RendererOptions::encode_jobs threads.
   /// @throws mtg::Error with a one-line message naming the bad field, name or file.
   ImageReply render(const ImageRequest& request);
+  /// Every view of the request drawn on this thread's GL context, nothing encoded.
+  /// @throws mtg::Error as render().
+  DrawnReply draw(const ImageRequest& request);
 
   const std::string& gl_description() const { return context_.description(); }
   /// The loaded scene and its GPU copy (loading them on first use).

@@ -43,6 +43,18 @@ struct BenchRenderOptions {
   int episodes = 20;  // oracle episodes rendered end to end
 };
 
+struct BenchPoolOptions {
+  std::string scene = "apt_0";
+  std::string data_dir;
+  std::string work = "/tmp/mtg_bench_pool";  // tasks and one run folder per pool and round
+  int per_level = 10;                        // tasks per level, Levels 1-3
+  int parallel = 4;                          // episodes in flight
+  std::vector<int> renderers = {1, 2};       // the pools compared
+  int rounds = 2;
+  int width = 640;
+  int height = 480;
+};
+
 struct BenchSoakOptions {
   std::string scene = "apt_0";   // tasks generated for it (Levels 1-4) unless --tasks
   std::string tasks;             // a task database to take instead
@@ -64,6 +76,7 @@ int run_bench_soak(const BenchSoakOptions& options);
 /// @throws mtg::Error naming the folder then.
 std::filesystem::path fresh_scratch_folder(const std::string& work, const std::string& command);
 int run_bench_render(const BenchRenderOptions& options);
+int run_bench_pool(const BenchPoolOptions& options);
 int run_bench_scene_load(const BenchSceneLoadOptions& options);
 int run_bench_tasks(const BenchTasksOptions& options);
 int run_bench_scene_graph(const BenchSceneGraphOptions& options);

@@ -181,6 +181,9 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   run->add_option("--seed", run_opts->seed, "run seed (default 0)");
   run->add_flag("--render", run_opts->render, "observations carry images (default: only for model agents)");
   run->add_flag("--no-render", run_opts->no_render, "text-only observations, for any agent");
+  run->add_option("--renderers", run_opts->renderers,
+                  "renderer processes on this machine (default 0: one per four cores, at least one per GPU)")
+      ->check(CLI::Range(0, 256));
   run->add_option("--image-size", run_opts->image_size, "observation images WIDTHxHEIGHT (default 640x480)");
   run->add_option("--image-encoding", run_opts->image_encoding, "png (default) or jpeg")
       ->check(CLI::IsMember({"png", "jpeg"}));
@@ -230,6 +233,9 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   worker->add_option("--dir", worker_opts->worker.dir, "folder for process logs and this host's recordings (default ./mtg-worker)");
   worker->add_option("--data", worker_opts->worker.data_dir, "dataset root on this host (default: the coordinator's path)");
   worker->add_option("--recorder", worker_opts->worker.recorder, "mtg (default) or lcm-logger");
+  worker->add_option("--renderers", worker_opts->worker.renderers,
+                     "renderer processes on this host for runs with images (default 0: one per four cores, at least one per GPU)")
+      ->check(CLI::Range(0, 256));
   worker->add_option("--chunk-bytes", worker_opts->worker.chunk_bytes, "recording chunk size (default 32768)");
   worker->add_flag("--once", worker_opts->worker.once, "exit after one run");
   mtg::vlm::add_vlm_options(*worker, worker_opts->vlm, false);
@@ -351,6 +357,19 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_render_cmd->add_option("--data", bench_render->data_dir, "dataset root");
   bench_render_cmd->add_option("--rounds", bench_render->rounds, "passes over every navigable platform");
   bench_render_cmd->add_option("--episodes", bench_render->episodes, "oracle episodes rendered end to end");
+  auto bench_pool = std::make_shared<BenchPoolOptions>();
+  CLI::App* bench_pool_cmd =
+      bench->add_subcommand("pool", "Rendered episodes over the bus with pools of 1, 2, ... renderers");
+  bench_pool_cmd->add_option("--scene", bench_pool->scene, "scene name");
+  bench_pool_cmd->add_option("--data", bench_pool->data_dir, "dataset root");
+  bench_pool_cmd->add_option("--work", bench_pool->work, "scratch folder for tasks and runs (emptied first)");
+  bench_pool_cmd->add_option("--per-level", bench_pool->per_level, "tasks per level (Levels 1-3; default 10)");
+  bench_pool_cmd->add_option("--parallel", bench_pool->parallel, "episodes in flight (default 4)");
+  bench_pool_cmd->add_option("--renderers", bench_pool->renderers, "pool sizes compared (repeatable; default 1 2)")
+      ->check(CLI::Range(1, 256));
+  bench_pool_cmd->add_option("--rounds", bench_pool->rounds, "times each pool runs, alternating (default 2)")
+      ->check(CLI::Range(1, 100));
+  commands.push_back({bench_pool_cmd, [bench_pool] { return run_bench_pool(*bench_pool); }});
   auto bench_soak = std::make_shared<BenchSoakOptions>();
   CLI::App* bench_soak_cmd = bench->add_subcommand("soak", "A long run: every process's memory as episodes go by, episodes/s, bytes recorded");
   bench_soak_cmd->add_option("--episodes", bench_soak->episodes, "episodes in all (default 1,000,000)");

@@ -73,6 +73,12 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
               dir.filename().c_str(), static_cast<long long>(s.planned), static_cast<long long>(s.completed),
               static_cast<long long>(s.already_done), static_cast<long long>(s.errors),
               static_cast<long long>(s.retries), s.restarts, s.seconds);
+  if (s.completed > 0 && s.seconds > 0 && s.cpu_seconds > 0) {
+    // Start-up included (scenes, GPU upload): the figure of a whole invocation.
+    std::printf("  %.2f episodes/s, %.3f episodes per CPU-second (%.1f CPU-s: mtg and the processes it ran here)\n",
+                static_cast<double>(s.completed) / s.seconds, static_cast<double>(s.completed) / s.cpu_seconds,
+                s.cpu_seconds);
+  }
   std::printf("  SR %s %%  IP %s  over %lld scored episodes (95 %% intervals)\n",
               orchestrator::with_interval(report, "sr").c_str(), orchestrator::with_interval(report, "ip").c_str(),
               static_cast<long long>(report["scored"].get<std::int64_t>()));
@@ -384,6 +390,7 @@ int run_run(const RunOptions& o) {
   engine.dataset_json = scene::to_json(fingerprints).dump();
   engine.progress = !o.no_progress;
   engine.recorder = o.recorder;
+  engine.renderers = o.renderers;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;
   engine.play_host = o.play_host;

@@ -22,6 +22,7 @@ struct RunOptions {
   int parallel = 0;                  // when not given: 4, or with --remote as many as the workers take
   std::uint64_t seed = 0;
   bool render = false;               // --render: images even for built-in agents
+  int renderers = 0;                 // renderer processes here (0 = render::default_renderers)
   bool no_render = false;            // --no-render: text only even for model agents
   std::string image_size = "640x480";
   std::string image_encoding = "png";

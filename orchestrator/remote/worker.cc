@@ -230,6 +230,7 @@ class Worker final : public LaunchSink {
     c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
     c.parallel = options_.capacity;
     c.recorder = options_.recorder;
+    c.renderers = options_.renderers;
     c.governor = false;  // the coordinator's governor serves every host
     // The answers come sealed in the grants; this host's judge opens them with the key every
     // host derives from the bus secret.

@@ -25,6 +25,7 @@ struct WorkerOptions {
   std::string dir;                // per-run process logs and this host's recordings
   std::string data_dir;           // dataset root here ("" = the path the coordinator uses)
   std::string recorder = "mtg";
+  int renderers = 0;              // renderer processes for runs with images (0 = render::default_renderers)
   std::vector<std::string> vlm_args;  // host-local adapter options: key file, cache, settings, prompts
   int chunk_bytes = 32 * 1024;    // one datagram each
   int chunks_per_round = 16;      // paced: at most this many chunks per 10 ms round

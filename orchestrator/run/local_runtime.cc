@@ -14,8 +14,11 @@
 #include "agents/vlm/model_spec.h"
 #include "bus/channels.h"
 #include "bus/error_events.h"
+#include "bus/process/subprocess.h"
+#include "core/render/render_pool.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "core/util/parallel.h"
 #include "mtg/error_event_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/recorded_t.hpp"
@@ -27,6 +30,23 @@ namespace mtg::orchestrator {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Hardware GPUs the renderer finds (its EGL probe; GL stays out of this process). 0 when the
+// probe fails: the pool is then sized for llvmpipe, which still draws.
+int count_gpus(const fs::path& bin) {
+  try {
+    const process::CommandOutput out = process::run_command({(bin / "mtg_renderer").string(), "--count-gpus"});
+    // The count is the last line: EGL drivers may warn on stderr before it.
+    std::string last = out.output;
+    while (!last.empty() && (last.back() == '\n' || last.back() == ' ')) last.pop_back();
+    last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
+    if (out.exit_code == 0) return std::max(0, std::stoi(last));
+    log::warn("mtg_renderer --count-gpus failed: " + out.output);
+  } catch (const std::exception& e) {
+    log::warn(std::string("mtg_renderer --count-gpus: ") + e.what());
+  }
+  return 0;
+}
 
 // The last line a process wrote to its log: usually why it stopped.
 std::string last_line_of(const fs::path& log) {
@@ -125,14 +145,28 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
     argv.insert(argv.end(), common.begin(), common.end());
     return argv;
   };
+  const std::vector<render::RendererSlot> renderers =
+      config_.render ? render::plan_render_pool(config_.renderers, default_jobs(), count_gpus(bin))
+                     : std::vector<render::RendererSlot>{};
   supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--truth-key-file", truth_key,
                                          "--profile", config_.profile,
                                          "--image-width", std::to_string(config_.image_width), "--image-height",
                                          std::to_string(config_.image_height), "--image-encoding",
-                                         config_.image_encoding}));
-  if (config_.render) {
-    supervisor_.start("renderer", with({(bin / "mtg_renderer").string(), "--profile", config_.profile}));
-    names_.push_back("renderer");
+                                         config_.image_encoding, "--renderers",
+                                         std::to_string(std::max<std::size_t>(1, renderers.size()))}));
+  for (const render::RendererSlot& slot : renderers) {
+    std::vector<std::string> argv = {(bin / "mtg_renderer").string(), "--profile", config_.profile, "--pool-index",
+                                     std::to_string(slot.index), "--encode-jobs", std::to_string(slot.encode_threads)};
+    if (slot.gpu >= 0) argv.insert(argv.end(), {"--gpu", std::to_string(slot.gpu)});
+    if (slot.draw_threads > 0) argv.insert(argv.end(), {"--draw-threads", std::to_string(slot.draw_threads)});
+    const std::string name = bus::renderer_role(slot.index);
+    supervisor_.start(name, with(argv));
+    names_.push_back(name);
+  }
+  if (!renderers.empty()) {
+    log::info(std::to_string(renderers.size()) + " renderer(s), " +
+              (renderers.front().gpu >= 0 ? "on the GPU(s)" : "on llvmpipe") + ", " +
+              std::to_string(renderers.front().encode_threads) + " encoder thread(s) each");
   }
   supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--truth-key-file", truth_key, "--profile",
                                    config_.profile}));
@@ -307,8 +341,9 @@ void LocalRuntime::handle_deaths(LaunchSink& sink) {
       throw Error("the recorder died 3 times in a row without recording a result (see " +
                   (dir_ / "logs" / "recorder.log").string() + "): the run cannot be recorded; it resumes once fixed");
     }
-    // The governor holds no episode: its restart only delays calls.
-    if (name == "scene_graph" || name == "judge" || name == "recorder" || name == "renderer") all = true;
+    // The governor holds no episode: its restart only delays calls. A renderer's neither: the
+    // scene-graph service asks its successor for what it was drawing (episode_host.h).
+    if (name == "scene_graph" || name == "judge" || name == "recorder") all = true;
     for (const auto& [spec, process] : agent_process_) {
       if (process == name) affected_agents.insert(spec);
     }

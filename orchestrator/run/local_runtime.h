@@ -32,6 +32,9 @@ struct RuntimeConfig {
   std::string bus_url;
   std::string profile = "replica_cad";
   bool render = false;
+  /// Renderer processes when images are on (core/render/render_pool.h; 0 = one per four cores,
+  /// at least one per GPU). Each host of a multi-host run chooses its own.
+  int renderers = 0;
   int image_width = 640;
   int image_height = 480;
   std::string image_encoding = "png";

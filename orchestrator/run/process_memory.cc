@@ -6,6 +6,8 @@
 #include <map>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace mtg::orchestrator {
 namespace {
 
@@ -23,6 +25,21 @@ pid_t parent_of(pid_t pid) {
   pid_t ppid = 0;
   rest >> state >> ppid;
   return ppid;
+}
+
+// utime + stime (fields 14 and 15 of /proc/<pid>/stat) in seconds; 0 when the process is gone.
+double cpu_seconds_of(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), {});
+  const auto close = stat.rfind(')');
+  if (close == std::string::npos) return 0.0;
+  std::istringstream rest(stat.substr(close + 2));
+  std::string field;
+  double ticks = 0.0;
+  for (int i = 3; i <= 15 && rest >> field; ++i) {
+    if (i == 14 || i == 15) ticks += std::stod(field);
+  }
+  return ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
 }
 
 double rss_mib(pid_t pid) {
@@ -68,7 +85,7 @@ std::vector<ProcessMemory> process_tree_memory(pid_t root) {
     if (!below) continue;
     const double rss = rss_mib(pid);
     if (rss < 0.0) continue;  // gone meanwhile
-    out.push_back({pid, pid == root ? "mtg" : role_of(pid), rss});
+    out.push_back({pid, pid == root ? "mtg" : role_of(pid), rss, cpu_seconds_of(pid)});
   }
   return out;
 }

@@ -1,6 +1,6 @@
 #pragma once
-// Resident memory of a process and of the processes it started, read from /proc (Linux). For
-// `mtg bench soak` and its test: telemetry, never used in run logic.
+// Resident memory and CPU time of a process and of the processes it started, read from /proc (Linux). For
+// `mtg bench soak`, `mtg bench pool` and the soak test: telemetry, never used in run logic.
 
 #include <sys/types.h>
 
@@ -15,6 +15,7 @@ struct ProcessMemory {
   /// "recorder"), with the agent for an agent process ("agent:oracle"); "mtg" for the root.
   std::string role;
   double rss_mib = 0.0;  // VmRSS
+  double cpu_seconds = 0.0;  // user + system so far (its own, not its children's)
 };
 
 /// `root` and every living descendant of it, in pid order. Processes that end while they are read

@@ -1,5 +1,6 @@
 #include "orchestrator/run/run_engine.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,6 +26,18 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+// This process's CPU and that of its children that have ended (the launcher has stopped them).
+double cpu_seconds_with_children() {
+  double total = 0.0;
+  for (const int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    if (::getrusage(who, &u) != 0) continue;
+    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return total;
+}
+
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -38,6 +51,7 @@ class Engine final : public LaunchSink {
 
   RunSummary run() {
     const auto started = Clock::now();
+    const double cpu_at_start = cpu_seconds_with_children();
     RunSummary summary;
     summary.planned = static_cast<std::int64_t>(plan_.episodes.size());
     // One read of what earlier invocations finished: what to skip, and the counts so far. An
@@ -98,6 +112,7 @@ class Engine final : public LaunchSink {
     summary.stopped_agents = stopped_agents_;
     summary.not_run = not_run_;
     summary.seconds = seconds_since(started);
+    summary.cpu_seconds = cpu_seconds_with_children() - cpu_at_start;
     return summary;
   }
 
@@ -288,6 +303,7 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.bus_url = plan.bus_url;
   c.profile = plan.profile;
   c.render = plan.render;
+  c.renderers = options.renderers;
   c.image_width = plan.image_width;
   c.image_height = plan.image_height;
   c.image_encoding = plan.image_encoding;

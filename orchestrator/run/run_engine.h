@@ -33,6 +33,9 @@ struct RunSummary {
   int restarts = 0;
   double seconds = 0.0;            // the whole invocation (telemetry)
   double episode_seconds = 0.0;    // first episode handed out to last result (telemetry)
+  /// CPU (user + system) of this process and every process it started and has ended, over the
+  /// invocation: the run's services on this machine, or a coordinator's governor (telemetry).
+  double cpu_seconds = 0.0;
   bool interrupted = false;
   /// Agents that stopped (authentication, quota, billing): agent spec -> why. Their episodes
   /// not yet finished stay unfinished, so the same command resumes them once fixed.
@@ -45,6 +48,8 @@ struct EngineOptions {
   /// "mtg" (mtg_recorder, the default) or "lcm-logger" (the stock tool, which drops bursts of
   /// more than 30 messages when its process is starved: docs/runtime.md, "Recording").
   std::string recorder = "mtg";
+  /// Renderer processes on this machine when the plan renders (0 = render::default_renderers).
+  int renderers = 0;
   /// Arguments for every model adapter process (agents/vlm/options.h, VlmOptions::to_args).
   std::vector<std::string> vlm_args;
   /// With plan.remote: how the coordinator deals with workers.

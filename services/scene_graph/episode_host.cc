@@ -1,15 +1,19 @@
 #include "services/scene_graph/episode_host.h"
 
+#include <algorithm>
+
 #include "bus/channels.h"
 #include "bus/convert.h"
 #include "bus/error_events.h"
 #include "bus/process/faults.h"
 #include "core/episode/state_delta.h"
 #include "core/episode/transcript.h"
+#include "core/render/render_pool.h"
 #include "core/render/view.h"
 #include "core/tasks/phrasing.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
+#include "mtg/heartbeat_t.hpp"
 #include "mtg/observation_t.hpp"
 #include "mtg/state_update_t.hpp"
 
@@ -33,6 +37,55 @@ EpisodeHost::EpisodeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneC
   bus_.subscribe<mtg::render_result_t>(bus::kRenderResult, [this](const std::string&, const mtg::render_result_t& m) {
     if (run_id_.empty() || m.header.run_id == run_id_) on_render_result(m);
   });
+  images_.renderers = std::max(1, images_.renderers);
+  renderer_pids_.assign(static_cast<std::size_t>(images_.renderers), 0);
+  bus_.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [this](const std::string&, const mtg::heartbeat_t& m) {
+    if (!run_id_.empty() && m.header.run_id != run_id_) return;
+    if (const auto k = bus::renderer_index(m.role); k && *k < images_.renderers) on_renderer_beat(*k, m.pid);
+  });
+}
+
+int EpisodeHost::renderer_of(Episode& e) {
+  if (e.renderer >= 0) return e.renderer;
+  std::vector<int> load(static_cast<std::size_t>(images_.renderers), 0);
+  for (const auto& [key, other] : episodes_) {
+    if (other.renderer >= 0) ++load[static_cast<std::size_t>(other.renderer)];
+  }
+  e.renderer = render::least_loaded(load);
+  return e.renderer;
+}
+
+void EpisodeHost::send_request(Episode& e) {
+  bus_.publish(bus::render_request_channel(renderer_of(e)), e.request);
+}
+
+void EpisodeHost::on_renderer_beat(int index, int pid) {
+  int& known = renderer_pids_[static_cast<std::size_t>(index)];
+  const bool replaced = known != 0 && known != pid;
+  known = pid;
+  if (!replaced) return;
+  // What the dead renderer held never comes: ask its successor, once per episode. A request that
+  // outlives two renderers is not drawn again (it may be what kills them): the episode ends in an
+  // error and the orchestrator runs it again.
+  std::vector<Key> lost;
+  for (auto& [key, e] : episodes_) {
+    if (!e.awaiting_images || e.renderer != index) continue;
+    if (e.resent_on_restart) {
+      lost.push_back(key);
+      continue;
+    }
+    e.resent_on_restart = true;
+    e.requested_at = std::chrono::steady_clock::now();
+    log::warn("episode " + to_string(key.second) + ": " + bus::renderer_role(index) +
+              " was restarted; asking it again for step " + std::to_string(e.request.request_id));
+    send_request(e);
+  }
+  for (const Key& key : lost) {
+    Episode& e = *episodes_.find(key);
+    report_error(key, e.attempt, "step " + std::to_string(e.request.request_id) + " outlived two renderers (" +
+                                     bus::renderer_role(index) + " restarted twice while drawing it)");
+    finish_observation(key, e);
+  }
 }
 
 void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
@@ -169,7 +222,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   e.awaiting_images = true;
   e.resent = false;
   e.requested_at = std::chrono::steady_clock::now();
-  bus_.publish(bus::kRenderRequest, r);
+  send_request(e);
 }
 
 void EpisodeHost::finish_observation(const Key& key, Episode& e, bool published) {
@@ -210,8 +263,13 @@ void EpisodeHost::check_render_timeouts() {
     if (!e.resent) {
       e.resent = true;
       e.requested_at = now;
-      log::warn("episode " + to_string(key.second) + ": no renderer answer, asking again");
-      bus_.publish(bus::kRenderRequest, e.request);
+      // A renderer that does not answer may be gone or stuck: in a pool, the next one is asked,
+      // and the episode stays with it.
+      const int was = renderer_of(e);
+      e.renderer = (was + 1) % images_.renderers;
+      log::warn("episode " + to_string(key.second) + ": no answer from " + bus::renderer_role(was) + ", asking " +
+                bus::renderer_role(e.renderer));
+      send_request(e);
     } else {
       expired.push_back(key);
     }

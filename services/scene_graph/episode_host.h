@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "bus/bus.h"
 #include "bus/convert.h"
@@ -46,6 +47,10 @@ struct ImageOptions {
   int height = 480;
   std::string encoding = "png";
   double timeout_s = 20.0;  // per request; one resend, then the observation goes without images
+  /// The host's pool of renderers (core/render/render_pool.h): renderer k serves the channel
+  /// bus::render_request_channel(k). Each episode keeps one renderer; a new one goes to the
+  /// renderer holding the fewest.
+  int renderers = 1;
 };
 
 class EpisodeHost {
@@ -83,6 +88,8 @@ class EpisodeHost {
     mtg::render_request_t request;  // kept for the one resend
     std::chrono::steady_clock::time_point requested_at;
     bool resent = false;
+    int renderer = -1;             // its renderer in the pool (-1: none asked yet)
+    bool resent_on_restart = false;  // the one resend a renderer's restart earns
     bus::WordsPacker words;  // what the next observation's words are packed against (docs/bus.md)
   };
   using Episodes = bus::EpisodeTable<Episode>;
@@ -97,6 +104,12 @@ class EpisodeHost {
   /// The step's observation is out: sent here unless the renderer `published` it.
   void finish_observation(const Key& key, Episode& e, bool published = false);
   void report_error(const Key& key, int attempt, const std::string& message);
+  /// A renderer's heartbeat: one with a new pid replaced a renderer that died, and the requests
+  /// it held go to the new one.
+  void on_renderer_beat(int index, int pid);
+  /// The renderer for the episode's requests (chosen at its first).
+  int renderer_of(Episode& e);
+  void send_request(Episode& e);
 
   bus::Bus& bus_;
   bus::HeaderStamper& stamp_;
@@ -107,6 +120,7 @@ class EpisodeHost {
   Episodes episodes_;
   bus::EpisodeJoin starts_;
   bus::WordsCodec codec_;
+  std::vector<int> renderer_pids_;  // per pool index, the pid last heard (0: none yet)
 };
 
 }  // namespace mtg::services

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   app.add_option("--image-height", images.height, "observation image height (pixels)")->check(CLI::Range(16, 8192));
   app.add_option("--image-encoding", images.encoding, "png or jpeg")->check(CLI::IsMember({"png", "jpeg"}));
   app.add_option("--render-timeout", images.timeout_s, "seconds to wait for the renderer before asking again");
+  app.add_option("--renderers", images.renderers, "renderer processes on this host's bus (docs/render.md)")
+      ->check(CLI::Range(1, 256));
   CLI11_PARSE(app, argc, argv);
   mtg::log::set_role("scene_graph");
   mtg::process::install_stop_signals();

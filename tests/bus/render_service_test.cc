@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -180,6 +181,75 @@ TEST_F(RenderServiceTest, ARenderedRunGivesTheAgentImagesAtEveryStep) {
   EXPECT_GE(marked, with_images);
   EXPECT_GE(published, 2 * with_images);
   EXPECT_GT(by_reference, 0) << "the oracle's views repeat (the start view, a platform seen twice)";
+}
+
+// A pool of renderers (core/render/render_pool.h): three renderers give every observation the
+// images one renderer gives, byte for byte, and each of them draws; one that dies with a request
+// unanswered is replaced, its request goes to the new one, and no episode is run again.
+TEST_F(RenderServiceTest, APoolOfRenderersGivesOneRenderersImagesAndOutlivesADeadOne) {
+  tasks::TaskOptions options;
+  options.levels = {1};
+  const auto generated = tasks::generate_tasks(built_.scene, built_.graph, options);
+  const std::string db = (fx_.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  const auto run = [&](const std::string& name, int renderers, const std::map<std::string, std::string>& env) {
+    const auto out = fx_.root() / name;
+    for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);  // the run's processes inherit it
+    testing::ChildProcess p({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "6",
+                             "--parallel", "4", "--render", "--renderers", std::to_string(renderers), "--image-size",
+                             "320x240", "--out", out.string(), "--data", fx_.root().string(), "--profile", "none",
+                             "--no-progress"},
+                            (fx_.root() / (name + ".log")).string());
+    EXPECT_EQ(p.wait(180000), 0) << "see " << (fx_.root() / (name + ".log"));
+    for (const auto& [k, v] : env) ::unsetenv(k.c_str());
+    return out;
+  };
+  // (episode, step) -> the content hashes of its images, in order; and who drew them.
+  using Images = std::map<std::pair<std::int64_t, int>, std::vector<std::string>>;
+  const auto images_of = [](const std::filesystem::path& out, std::set<std::string>& renderers) {
+    Images images;
+    bus::RecordedObservations recorded;
+    bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
+      if (ev.channel == bus::kRenderResult) {
+        mtg::render_result_t r{};
+        if (r.decode(ev.data, 0, ev.datalen) >= 0 && r.ok) renderers.insert(r.header.sender.substr(0, r.header.sender.find(':')));
+        return;
+      }
+      if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+      mtg::observation_t packed{};
+      ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
+      const mtg::observation_t obs = recorded.whole(packed).value();
+      if (obs.n_images == 0) return;
+      auto& hashes = images[{obs.header.episode_id, obs.step}];
+      hashes.clear();  // a step drawn twice (its request sent again) shows what the agent saw last
+      for (const auto& img : obs.images) hashes.push_back(img.role + " " + img.content_hash);
+    });
+    return images;
+  };
+  const auto one = run("one", 1, {});
+  const auto marks = fx_.root() / "marks";
+  std::filesystem::create_directories(marks);
+  const auto three = run("three", 3, {{"MTG_FAULTS", "renderer_dies:1"}, {"MTG_FAULT_MARKS", marks.string()}});
+
+  std::set<std::string> drew_one, drew_three;
+  const Images a = images_of(one, drew_one), b = images_of(three, drew_three);
+  EXPECT_EQ(drew_one, (std::set<std::string>{"renderer"}));
+  EXPECT_EQ(drew_three, (std::set<std::string>{"renderer", "renderer-1", "renderer-2"})) << "every renderer draws";
+  EXPECT_GT(a.size(), 12u);
+  EXPECT_EQ(a, b) << "the same images whatever the pool";
+
+  EXPECT_TRUE(std::filesystem::exists(marks / "renderer_dies")) << "renderer-1 was to die once";
+  const auto rows_one = orchestrator::read_results(one / "results.sqlite");
+  const auto rows_three = orchestrator::read_results(three / "results.sqlite");
+  ASSERT_EQ(rows_three.size(), 6u);
+  ASSERT_EQ(rows_one.size(), 6u);
+  for (std::size_t i = 0; i < rows_three.size(); ++i) {
+    EXPECT_EQ(orchestrator::verdict_fingerprint(rows_three[i]), orchestrator::verdict_fingerprint(rows_one[i]));
+    EXPECT_EQ(rows_three[i].attempt, 0) << "episode " << rows_three[i].episode_id.value() << " was run again";
+  }
+  std::ifstream log(three / "logs" / "scene_graph.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), {});
+  EXPECT_THAT(text, HasSubstr("renderer-1 was restarted; asking it again"));
 }
 
 // Look-alikes are shown, not only named: the first observation of a task about one of three

@@ -5,6 +5,7 @@
 #include <EGL/eglext.h>
 #include <GL/gl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -71,8 +72,11 @@ Attempt try_display(EGLDisplay display) {
   return a;
 }
 
-// Hardware devices first: a software device (llvmpipe) only if nothing else exists.
-std::vector<EGLDeviceEXT> devices_by_preference() {
+struct Devices {
+  std::vector<EGLDeviceEXT> hardware, software;
+};
+
+Devices egl_devices() {
   auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
   auto query_string =
       reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
@@ -80,26 +84,38 @@ std::vector<EGLDeviceEXT> devices_by_preference() {
   EGLDeviceEXT devices[16];
   EGLint n = 0;
   if (!query(16, devices, &n)) return {};
-  std::vector<EGLDeviceEXT> hardware, software;
+  Devices out;
   for (EGLint i = 0; i < n; ++i) {
     const char* ext = query_string != nullptr ? query_string(devices[i], EGL_EXTENSIONS) : nullptr;
     const bool is_software = ext != nullptr && std::strstr(ext, "EGL_MESA_device_software") != nullptr;
-    (is_software ? software : hardware).push_back(devices[i]);
+    (is_software ? out.software : out.hardware).push_back(devices[i]);
   }
-  hardware.insert(hardware.end(), software.begin(), software.end());
-  return hardware;
+  return out;
+}
+
+// Hardware devices first, device `gpu` of them leading (a pool spreads its renderers over the
+// GPUs); a software device (llvmpipe) only if nothing else exists.
+std::vector<EGLDeviceEXT> devices_by_preference(int gpu) {
+  Devices d = egl_devices();
+  if (gpu >= 0 && !d.hardware.empty()) {
+    std::rotate(d.hardware.begin(), d.hardware.begin() + (gpu % static_cast<int>(d.hardware.size())), d.hardware.end());
+  }
+  d.hardware.insert(d.hardware.end(), d.software.begin(), d.software.end());
+  return d.hardware;
 }
 
 }  // namespace
 
-GlContext::GlContext() {
+int hardware_gl_devices() { return static_cast<int>(egl_devices().hardware.size()); }
+
+GlContext::GlContext(int gpu) {
   auto get_display =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (get_display == nullptr) throw Error("render: EGL lacks eglGetPlatformDisplayEXT (install libegl1-mesa)");
   std::string tried;
   Attempt found;
   std::string platform;
-  for (EGLDeviceEXT device : devices_by_preference()) {
+  for (EGLDeviceEXT device : devices_by_preference(gpu)) {
     found = try_display(get_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr));
     if (found.error.empty()) {
       platform = "EGL device";

@@ -9,9 +9,10 @@ namespace mtg::render {
 
 class GlContext {
  public:
-  /// Creates the context and makes it current on this thread.
+  /// Creates the context and makes it current on this thread: on hardware device `gpu` (modulo
+  /// how many there are; -1 = the first that works), else on any other device, else surfaceless.
   /// @throws mtg::Error saying which EGL step failed on each platform tried.
-  GlContext();
+  explicit GlContext(int gpu = -1);
   ~GlContext();
   GlContext(const GlContext&) = delete;
   GlContext& operator=(const GlContext&) = delete;
@@ -24,5 +25,8 @@ class GlContext {
   void* context_ = nullptr;  // EGLContext
   std::string description_;
 };
+
+/// Hardware EGL devices (GPUs) on this machine; 0 where only llvmpipe (or no EGL) is present.
+int hardware_gl_devices();
 
 }  // namespace mtg::render
