@@ -32,6 +32,8 @@ std::optional<int> renderer_index(const std::string& role) {
   return k > 0 ? std::optional<int>(k) : std::nullopt;
 }
 
+std::string lease_channel(const std::string& worker_session) { return std::string(kLease) + "_" + worker_session; }
+
 bool is_episode_channel(const std::string& channel, EpisodeStream stream) { return channel == episode_channel(stream); }
 
 }  // namespace mtg::bus

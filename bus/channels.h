@@ -17,9 +17,16 @@ inline constexpr const char* kRecorded = "MTG_RECORDED";
 inline constexpr const char* kRenderRequest = "MTG_RENDER_REQ";
 inline constexpr const char* kRenderResult = "MTG_RENDER_RES";
 inline constexpr const char* kHeartbeat = "MTG_HEARTBEAT";
+/// Worker -> coordinator lease messages (renew); coordinator -> worker ones go on lease_channel().
 inline constexpr const char* kLease = "MTG_LEASE";
+/// A worker's renewal of all its leases at once (lease_renewal_t).
+inline constexpr const char* kLeaseRenewal = "MTG_LEASE_RENEW";
 inline constexpr const char* kRunInfo = "MTG_RUN";
 inline constexpr const char* kRecord = "MTG_RECORD";
+/// Where a worker keeps an attempt's recording (recording_ref_t), instead of its chunks.
+inline constexpr const char* kRecordRef = "MTG_RECORD_REF";
+/// A request for recordings a worker keeps (`mtg gather`; recording_request_t).
+inline constexpr const char* kRecordRequest = "MTG_RECORD_REQ";
 inline constexpr const char* kRateLimit = "MTG_RATE";
 inline constexpr const char* kControl = "MTG_CONTROL";
 inline constexpr const char* kError = "MTG_ERROR";
@@ -36,6 +43,10 @@ std::string render_request_channel(int pool_index);
 std::string renderer_role(int pool_index);
 /// The pool index a renderer's role names; nullopt for any other role.
 std::optional<int> renderer_index(const std::string& role);
+
+/// The channel of the lease messages a coordinator sends to the worker of session
+/// `worker_session` (grant, release, revoke): "MTG_LEASE_<session>".
+std::string lease_channel(const std::string& worker_session);
 
 /// Per-episode streams: one fixed channel each, the episode in the header (docs/bus.md
 /// "Channels" says why not one channel per episode).

@@ -19,8 +19,9 @@ namespace mtg::bus {
 // caption, render views an object number and caption (close-ups numbered, zoomed views).
 // 5: actions carry the model's request. 6: heartbeats, announcements and leases name sessions.
 // 7: observations travel packed, their words against the step before and unchanged images by
-// reference (bus/observation_packing.h).
-inline constexpr std::int32_t kSchemaVersion = 7;
+// reference (bus/observation_packing.h). 8: leases go to each worker's own channel and are
+// renewed together (lease_renewal_t); announcements say where recordings go (recording_ref_t).
+inline constexpr std::int32_t kSchemaVersion = 8;
 
 /// Whether a message with this header was written by a build of this schema (a message of another
 /// schema may decode and still mean something else).

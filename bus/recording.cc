@@ -33,6 +33,7 @@ std::int64_t next_sync_word(const std::filesystem::path& log, std::int64_t from)
 }  // namespace
 
 std::string describe(const RecordingDamage& d) {
+  if (!d.problem.empty()) return d.problem;
   const std::string where = " at byte " + std::to_string(d.offset) + " of " + std::to_string(d.offset + d.bytes);
   if (d.at_end) {
     return d.file.filename().string() + ": its last " + std::to_string(d.bytes) + " bytes" + where +
@@ -57,7 +58,7 @@ RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from
     for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
       const std::int64_t end = std::ftell(f);
       const std::int64_t start = end - event_bytes(*ev);
-      if (start > at) read.damage.push_back({log, at, start - at, false});
+      if (start > at) read.damage.push_back({log, at, start - at, false, ""});
       at = end;
       fn(*ev, start);
     }
@@ -66,10 +67,10 @@ RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from
     // go on from the next sync word.
     const std::int64_t next = next_sync_word(log, at + 1);
     if (next < 0) {
-      read.damage.push_back({log, at, size - at, true});
+      read.damage.push_back({log, at, size - at, true, ""});
       break;
     }
-    read.damage.push_back({log, at, next - at, false});
+    read.damage.push_back({log, at, next - at, false, ""});
     at = next;
     if (std::fseek(f, static_cast<long>(next), SEEK_SET) != 0) throw Error(log.string() + ": cannot seek in the recording");
   }
@@ -77,17 +78,38 @@ RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from
   return read;
 }
 
+std::vector<RecordingFile> recording_files(const std::filesystem::path& run_dir) {
+  std::vector<RecordingFile> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(run_dir, ec)) {
+    if (entry.path().extension() == ".lcmlog") out.push_back({entry.path(), std::nullopt});
+  }
+  std::sort(out.begin(), out.end(), [](const RecordingFile& a, const RecordingFile& b) { return a.path < b.path; });
+  const bool merged = std::any_of(out.begin(), out.end(),
+                                  [](const RecordingFile& f) { return f.path.filename() == "bus-merged.lcmlog"; });
+  if (merged) return out;
+  for (RecordingRef& ref : read_recording_refs(run_dir / "results.sqlite")) {
+    const std::filesystem::path file = resolve(ref, run_dir);
+    out.push_back({file, std::move(ref)});
+  }
+  return out;
+}
+
 std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path& run_dir,
                                                      const std::function<void(const lcm::LogEvent&)>& fn) {
   if (!std::filesystem::is_directory(run_dir)) throw Error(run_dir.string() + ": no run folder");
-  std::vector<std::filesystem::path> logs;
-  for (const auto& entry : std::filesystem::directory_iterator(run_dir)) {
-    if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
-  }
-  std::sort(logs.begin(), logs.end());
-  if (logs.empty()) throw Error(run_dir.string() + ": no recording (*.lcmlog)");
+  const std::vector<RecordingFile> files = recording_files(run_dir);
+  if (files.empty()) throw Error(run_dir.string() + ": no recording (*.lcmlog, or recordings referenced by results.sqlite)");
   std::vector<RecordingDamage> damage;
-  for (const auto& log : logs) {
+  for (const RecordingFile& file : files) {
+    const auto& log = file.path;
+    if (file.ref) {
+      std::string problem = check_recording(log, *file.ref);
+      if (!problem.empty()) {
+        damage.push_back({log, 0, file.ref->bytes, false, std::move(problem)});
+        continue;
+      }
+    }
     auto read = read_recording(log, 0, [&](const lcm::LogEvent& ev, std::int64_t) {
       // A recording of another schema would be read wrongly without a word: refuse it.
       if (ev.channel.starts_with("MTG_")) {

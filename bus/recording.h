@@ -1,6 +1,8 @@
 #pragma once
 // Reading a run's recording: every `*.lcmlog` of the run folder (one per `mtg run` invocation),
-// in name order, as LCM log events. Replay, re-judging and the runtime bench all read it so.
+// in name order, as LCM log events; for a multi-host run whose recordings stayed where they were
+// made (bus/recording_ref.h), the files results.sqlite references, in episode order, each checked
+// against its size and SHA-256 first. Replay, re-judging, the viewer and the benches read it so.
 //
 // LCM's reader says nothing about damage: it skips bytes until the next sync word, and where an
 // event's header does not hold it drops the event before it too and stops as if the file had
@@ -12,8 +14,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "bus/recording_ref.h"
 
 namespace mtg::bus {
 
@@ -23,6 +28,9 @@ struct RecordingDamage {
   std::int64_t offset = 0;  // where the unreadable bytes start
   std::int64_t bytes = 0;   // how many were skipped (to the next event or the end)
   bool at_end = false;      // a torn last event (a recorder stopped mid-write), not damage inside
+  /// A referenced recording that is missing or not the one referenced (check_recording's line);
+  /// none of it was read.
+  std::string problem;
 };
 
 /// One line: "bus-0.lcmlog: 120 unreadable bytes at byte 4096 of 8192 (skipped)".
@@ -41,9 +49,21 @@ struct RecordingRead {
 RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from,
                              const std::function<void(const lcm::LogEvent&, std::int64_t offset)>& fn);
 
+/// One file of a run's recording, in the order it is read.
+struct RecordingFile {
+  std::filesystem::path path;
+  std::optional<RecordingRef> ref;  // a referenced recording (checked before it is read)
+};
+
+/// The files of the recording of `run_dir`: its `*.lcmlog` in name order; then, unless one of them
+/// is bus-merged.lcmlog, the recordings results.sqlite references, in episode order.
+/// @throws mtg::Error naming results.sqlite when it cannot be read.
+std::vector<RecordingFile> recording_files(const std::filesystem::path& run_dir);
+
 /// Calls `fn(event)` for every event of every recording in `run_dir`, file by file in name order,
-/// and returns what could not be read. @throws mtg::Error naming the folder when it holds no
-/// recording, or the file it cannot read.
+/// and returns what could not be read (a referenced recording that is missing or damaged is not
+/// read, and named). @throws mtg::Error naming the folder when it holds no recording, or the file
+/// it cannot read.
 std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path& run_dir,
                                                      const std::function<void(const lcm::LogEvent&)>& fn);
 

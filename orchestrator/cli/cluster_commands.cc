@@ -22,9 +22,25 @@
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/run_info_t.hpp"
+#include "orchestrator/remote/gather.h"
 #include "orchestrator/remote/tcp_hub.h"
 
 namespace mtg::cli {
+
+int run_gather(const GatherCliOptions& o) {
+  orchestrator::remote::GatherOptions g;
+  g.run = o.run;
+  for (const auto& f : o.from) g.from.emplace_back(f);
+  g.bus = !o.no_bus;
+  g.bus_url = o.bus_url.empty() ? "" : bus::normalize_url(o.bus_url);
+  g.bus_key = o.bus_key;
+  g.wait_s = o.wait_s;
+  const auto r = orchestrator::remote::gather_recordings(g);
+  std::printf("%s: %d recording(s) were in the run folder, %d copied, %d received from workers (%.1f MB); %zu missing\n",
+              o.run.c_str(), r.already, r.copied, r.received, static_cast<double>(r.bytes) / 1e6, r.missing.size());
+  for (const auto& line : r.missing) std::fprintf(stderr, "  %s\n", line.c_str());
+  return r.missing.empty() ? 0 : 1;
+}
 
 int run_worker(WorkerCliOptions o) {
   auto& w = o.worker;

@@ -200,6 +200,10 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   run->add_flag("--remote", run_opts->remote, "run the episodes on the workers of the bus (`mtg worker`), by lease");
   run->add_option("--bus-key", run_opts->remote_options.bus_key,
                   "with --remote: the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
+  run->add_option("--recordings", run_opts->recordings,
+                  "with --remote/--slurm: where each episode's recording goes: coordinator (default: sent here), "
+                  "shared:PATH (a folder every host sees; only a reference crosses the bus) or worker (kept on "
+                  "each worker; `mtg gather` brings them in)");
   run->add_option("--min-workers", run_opts->remote_options.min_workers, "with --remote: workers to wait for (default 1)");
   run->add_option("--worker-wait", run_opts->remote_options.worker_wait_s, "with --remote: seconds to wait for them (default 600)");
   run->add_option("--lease-ttl", run_opts->remote_options.lease_ttl_s,
@@ -258,6 +262,17 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
                         }
                         return run_run(*run_opts);
                       }});
+  auto gather_opts = std::make_shared<GatherCliOptions>();
+  CLI::App* gather = app.add_subcommand(
+      "gather", "Bring a multi-host run's recordings kept on its workers (--recordings worker) into the run folder");
+  gather->add_option("run", gather_opts->run, "run folder")->required();
+  gather->add_option("--from", gather_opts->from, "a copy of a worker's --dir to take them from first (repeatable)");
+  gather->add_flag("--no-bus", gather_opts->no_bus, "do not ask the workers over the bus");
+  gather->add_option("--bus", gather_opts->bus_url, "the shared bus (default: the run's)");
+  gather->add_option("--bus-key", gather_opts->bus_key,
+                     "its key file (default $MTG_BUS_KEY, else the run folder's bus.key)");
+  gather->add_option("--wait", gather_opts->wait_s, "seconds without a new recording before giving up (default 30)");
+  commands.push_back({gather, [gather_opts] { return run_gather(*gather_opts); }});
   auto hub_opts = std::make_shared<HubOptions>();
   CLI::App* hub = app.add_subcommand("hub", "The shared bus without multicast: LCM's TCP hub (join with --bus tcpq://HOST:PORT)");
   hub->add_option("--port", hub_opts->port, "TCP port (default 7700)");

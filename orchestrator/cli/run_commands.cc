@@ -28,6 +28,7 @@
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/util/log.h"
+#include "orchestrator/remote/recordings_place.h"
 #include "orchestrator/remote/slurm_workers.h"
 #include "orchestrator/remote/tcp_hub.h"
 #include "orchestrator/report/compare.h"
@@ -205,6 +206,10 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
     plan.bus_url = bus::normalize_url(o.url.empty() ? bus::default_url() : o.url);
   }
   plan.remote = o.remote;
+  if (o.given.count("--recordings") && !o.remote && o.given.count("--slurm") == 0) {
+    throw Error("--recordings goes with --remote or --slurm (a run on one machine records its own bus)");
+  }
+  plan.recordings = orchestrator::remote::parse_recordings_place(o.recordings).to_string();
   plan.allow_data_mismatch = o.allow_data_mismatch;
   return plan;
 }
@@ -257,6 +262,7 @@ void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir)
   differs("--data", o.data_dir != plan.data_dir);
   differs("--profile", o.profile != plan.profile);
   differs("--parallel", o.parallel != plan.parallel);
+  differs("--recordings", orchestrator::remote::parse_recordings_place(o.recordings).to_string() != plan.recordings);
   if (changed.empty()) return;
   std::string names;
   for (const auto& c : changed) names += (names.empty() ? "" : ", ") + c;
@@ -393,6 +399,7 @@ int run_run(const RunOptions& o) {
   engine.renderers = o.renderers;
   engine.vlm_args = plan.remote ? run_wide(o.vlm).to_args() : o.vlm.to_args();
   engine.remote = o.remote_options;
+  engine.remote.recordings = orchestrator::remote::parse_recordings_place(plan.recordings);
   engine.play_host = o.play_host;
   engine.play_port = o.play_port;
   if (const char* socket = std::getenv(orchestrator::kPlaySocketEnv); socket != nullptr && orchestrator::inside_run_namespace()) {
@@ -597,11 +604,14 @@ int run_rejudge(const std::string& run) {
     for (const auto& row : report.rows) db.insert(row);
   }
   for (const auto& d : report.damage) std::fprintf(stderr, "mtg rejudge: %s\n", d.c_str());
+  for (const auto& u : report.unjudged) std::fprintf(stderr, "mtg rejudge: %s: not judged again\n", u.c_str());
   for (const auto& d : report.differences) std::printf("  %s\n", d.c_str());
-  std::printf("rejudged %zu episodes of %s from the recording: %lld identical, %zu differ; wrote %s\n",
+  std::printf("rejudged %zu episodes of %s from the recording: %lld identical, %zu differ%s; wrote %s\n",
               report.rows.size(), dir.c_str(), static_cast<long long>(report.identical), report.differences.size(),
+              report.unjudged.empty() ? "" : (", " + std::to_string(report.unjudged.size()) + " not judged (above)").c_str(),
               out.c_str());
-  return 0;
+  // A recording that cannot be read whole cannot say the verdicts hold.
+  return report.unjudged.empty() ? 0 : 1;
 }
 
 }  // namespace mtg::cli

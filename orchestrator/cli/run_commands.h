@@ -23,6 +23,7 @@ struct RunOptions {
   std::uint64_t seed = 0;
   bool render = false;               // --render: images even for built-in agents
   int renderers = 0;                 // renderer processes here (0 = render::default_renderers)
+  std::string recordings;            // --recordings: coordinator (default), shared:PATH, worker
   bool no_render = false;            // --no-render: text only even for model agents
   std::string image_size = "640x480";
   std::string image_encoding = "png";

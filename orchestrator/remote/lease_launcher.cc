@@ -15,6 +15,7 @@
 #include "core/util/log.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/error_event_t.hpp"
+#include "mtg/lease_renewal_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/merge_recordings.h"
 #include "orchestrator/remote/run_announcement.h"
@@ -70,6 +71,7 @@ void LeaseLauncher::subscribe() {
     heard_[m.session] = now;
     Worker& w = workers_[m.header.sender];
     w.host = m.host;
+    w.session = m.session;
     // A worker of another run or another coordinator session (an earlier invocation of this
     // run, whose heartbeats an attacker may replay), or one still starting, takes no lease.
     const auto status = process::parse_heartbeat_status(m.status);
@@ -82,7 +84,24 @@ void LeaseLauncher::subscribe() {
   });
   bus_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
     // A renewal names the session it renews for: one of an earlier invocation is not ours.
-    if (m.header.run_id == run_.run_id && m.action == "renew" && m.session == session_) on_renew(m);
+    if (m.header.run_id == run_.run_id && m.action == "renew" && m.session == session_) {
+      on_renew(bus::episode_of(m.header), m.header.attempt, m.worker);
+    }
+  });
+  bus_.subscribe<mtg::lease_renewal_t>(bus::kLeaseRenewal, [this](const std::string&, const mtg::lease_renewal_t& m) {
+    if (m.header.run_id != run_.run_id || m.session != session_) return;
+    const std::size_t n = std::min(m.episode_ids.size(), m.attempts.size());
+    for (std::size_t i = 0; i < n; ++i) on_renew(bus::EpisodeId(m.episode_ids[i]), m.attempts[i], m.worker);
+  });
+  bus_.subscribe<mtg::recording_ref_t>(bus::kRecordRef, [this](const std::string&, const mtg::recording_ref_t& m) {
+    if (m.header.run_id != run_.run_id) return;
+    const AttemptKey key{bus::episode_of(m.header), m.header.attempt};
+    if (delivered_.count(key) == 0) {
+      Arrival& a = arrivals_[key];
+      a.worker = m.header.sender;
+      a.ref = m;
+    }
+    arrived(key);
   });
   bus_.subscribe<mtg::episode_result_t>(bus::kEpisodeResult, [this](const std::string&, const mtg::episode_result_t& m) {
     if (m.header.run_id != run_.run_id) return;
@@ -128,10 +147,18 @@ std::vector<AdoptedAttempt> LeaseLauncher::open() {
     lease.worker = l.worker;
     lease.acknowledged = true;
     lease.last_renewal = lease.last_grant = now;
-    leases_[l.episode_id] = lease;
+    hold(l.episode_id, lease);
     adopted.push_back({l.episode_id, l.attempt});
   }
   if (!adopted.empty()) log::info("adopting " + std::to_string(adopted.size()) + " leases still out");
+  if (options_.recordings.kind == RecordingsPlace::Kind::kShared) {
+    // A worker joins only where it reads this file with this session in it: the folder is then
+    // the one the coordinator sees.
+    const fs::path folder = options_.recordings.run_folder(run_.run_id);
+    fs::create_directories(folder);
+    write_file_atomically(folder / kSharedProbe, [&](std::ostream& out) { out << session_ << '\n'; });
+    log::info("recordings stay in " + folder.string() + "; only references cross the bus");
+  }
   const bool model_agents = std::any_of(run_.agents.begin(), run_.agents.end(), vlm::is_model_spec);
   if (model_agents) {
     supervisor_.start("governor", {(executable_dir() / "mtg_governor").string(), "--url", run_.bus_url, "--run",
@@ -173,9 +200,21 @@ int LeaseLauncher::live_workers() const {
 }
 
 int LeaseLauncher::held_by(const std::string& worker) const {
-  int n = 0;
-  for (const auto& [id, l] : leases_) n += l.worker == worker ? 1 : 0;
-  return n;
+  const auto it = workers_.find(worker);
+  return it == workers_.end() ? 0 : it->second.held;
+}
+
+void LeaseLauncher::hold(bus::EpisodeId id, Lease lease) {
+  const auto old = leases_.find(id);
+  if (old != leases_.end()) release_hold(old);
+  ++workers_[lease.worker].held;
+  leases_[id] = std::move(lease);
+}
+
+void LeaseLauncher::release_hold(std::map<bus::EpisodeId, Lease>::iterator it) {
+  const auto w = workers_.find(it->second.worker);
+  if (w != workers_.end() && w->second.held > 0) --w->second.held;
+  leases_.erase(it);
 }
 
 int LeaseLauncher::free_slots() const {
@@ -205,7 +244,11 @@ void LeaseLauncher::send_lease(const std::string& action, bus::EpisodeId episode
     m.start = launch->start;
     m.truth = truth_seal_->seal(launch->truth);
   }
-  bus_.publish(bus::kLease, m);
+  // On the worker's own channel, so no other worker wakes for it. A worker not heard yet (an
+  // adopted lease's, before its first heartbeat) is told when it is: its renewals are answered.
+  const auto w = workers_.find(worker);
+  if (w == workers_.end() || w->second.session.empty()) return;
+  bus_.publish(bus::lease_channel(w->second.session), m);
 }
 
 void LeaseLauncher::launch(const EpisodeLaunch& launch) {
@@ -231,7 +274,7 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   lease.worker = best;
   lease.launch = launch;
   lease.last_renewal = lease.last_grant = Clock::now();
-  leases_[id] = lease;
+  hold(id, std::move(lease));
   send_lease("grant", id, attempt, best, &launch);
 }
 
@@ -240,23 +283,22 @@ void LeaseLauncher::drop(bus::EpisodeId episode_id, int attempt) {
   if (it == leases_.end() || it->second.attempt != attempt) return;
   send_lease("revoke", episode_id, attempt, it->second.worker);
   book_.close(episode_id, attempt, LeaseState::kRevoked);
-  leases_.erase(it);
+  release_hold(it);
 }
 
-void LeaseLauncher::on_renew(const mtg::lease_t& m) {
-  const bus::EpisodeId id = bus::episode_of(m.header);
+void LeaseLauncher::on_renew(bus::EpisodeId id, int attempt, const std::string& worker) {
   const auto it = leases_.find(id);
-  if (it != leases_.end() && it->second.attempt == m.header.attempt && it->second.worker == m.worker) {
+  if (it != leases_.end() && it->second.attempt == attempt && it->second.worker == worker) {
     it->second.acknowledged = true;
     it->second.last_renewal = Clock::now();
     return;
   }
   // A lease this coordinator no longer counts on (expired, revoked, or finished and the release
   // was lost): the worker drops it. Its result, if one comes, is answered with a release.
-  if (delivered_.count({id, m.header.attempt}) != 0) {
-    send_lease("release", id, m.header.attempt, m.worker);
+  if (delivered_.count({id, attempt}) != 0) {
+    send_lease("release", id, attempt, worker);
   } else {
-    send_lease("revoke", id, m.header.attempt, m.worker);
+    send_lease("revoke", id, attempt, worker);
   }
   if (it == leases_.end()) stamp_.forget_episode(id);
 }
@@ -271,17 +313,55 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
     return;
   }
   Arrival& a = arrivals_[key];
-  if (!a.result || !a.chunks.complete() || sink_ == nullptr) return;
-  std::vector<std::uint8_t> bytes;
-  try {
-    bytes = a.chunks.bytes();
-    (void)decode_event_log(bytes, lease_id(id, attempt));
-  } catch (const Error& e) {
-    log::warn(std::string(e.what()) + "; waiting for the worker to resend it");
-    a.chunks = ChunkAssembly();
-    return;
+  if (!a.result || (!a.ref && !a.chunks.complete()) || sink_ == nullptr) return;
+  std::optional<bus::RecordingRef> ref;
+  if (a.ref) {
+    std::string why;
+    ref = reference_of(key, a, why);
+    if (!ref) {
+      if (++a.ref_misses == 3) {
+        // Seen three times (the worker resends every 3 s), never there: the folder is not shared.
+        log::error(why + "; the attempt runs again");
+        arrivals_.erase(key);
+        const auto lease = leases_.find(id);
+        if (lease != leases_.end() && lease->second.attempt == attempt) {
+          const std::string worker = lease->second.worker;
+          book_.close(id, attempt, LeaseState::kRevoked);
+          release_hold(lease);
+          send_lease("revoke", id, attempt, worker);
+          sink_->on_failure(id, attempt, why);
+        }
+        return;
+      }
+      log::warn(why + "; waiting for the worker to send it again");
+      a.result.reset();  // the next resend brings both, and is checked once
+      a.ref.reset();
+      return;
+    }
+  } else {
+    std::vector<std::uint8_t> bytes;
+    try {
+      bytes = a.chunks.bytes();
+      (void)decode_event_log(bytes, lease_id(id, attempt));
+    } catch (const Error& e) {
+      log::warn(std::string(e.what()) + "; waiting for the worker to resend it");
+      a.chunks = ChunkAssembly();
+      return;
+    }
+    const fs::path file = episode_log_path(dir_, id, attempt);
+    write_bytes(file, bytes);
+    if (options_.recordings.kind != RecordingsPlace::Kind::kCoordinator) {
+      // A worker that could not keep it sent it here: the run's references name this copy.
+      bus::RecordingRef here;
+      here.episode = id;
+      here.attempt = attempt;
+      here.location = file.string();
+      here.shared = true;
+      here.bytes = static_cast<std::int64_t>(bytes.size());
+      here.sha256 = bus::sha256_hex(bytes);
+      ref = bus::relative_to(here, dir_);
+    }
   }
-  write_bytes(episode_log_path(dir_, id, attempt), bytes);
   const mtg::episode_result_t result = *a.result;
   const std::string worker = a.worker;
   arrivals_.erase(key);
@@ -292,13 +372,34 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
   const auto w = workers_.find(worker);
   if (w != workers_.end()) host = w->second.host;
   if (lease != leases_.end() && lease->second.attempt == attempt) {
-    leases_.erase(lease);
+    release_hold(lease);
     book_.close(id, attempt, LeaseState::kDone);
-    sink_->on_result(result, host);
+    sink_->on_result(result, host, ref ? &*ref : nullptr);
     last_attempt_.erase(id);  // stored: no attempt of it is numbered again
   }
   send_lease("release", id, attempt, worker);
   if (leases_.count(id) == 0) stamp_.forget_episode(id);
+}
+
+std::optional<bus::RecordingRef> LeaseLauncher::reference_of(const AttemptKey& key, Arrival& a, std::string& why) {
+  bus::RecordingRef ref = bus::from_message(*a.ref);
+  if (ref.episode != key.first || ref.attempt != key.second) {
+    why = "a recording reference of " + lease_id(key.first, key.second) + " names another attempt";
+    return std::nullopt;
+  }
+  if (ref.shared) {
+    // What a shared folder holds is checked here by size (its bytes are checked by whoever reads
+    // it: reading every recording here is what the shared folder saves).
+    std::error_code ec;
+    const auto size = fs::file_size(ref.location, ec);
+    if (ec || static_cast<std::int64_t>(size) != ref.bytes) {
+      why = "the recording of " + lease_id(key.first, key.second) + " is not in the shared folder here (" +
+            ref.location + (ec ? " is missing" : " has " + std::to_string(size) + " bytes, not " + std::to_string(ref.bytes)) +
+            "); is " + options_.recordings.folder.string() + " the same folder on every host?";
+      return std::nullopt;
+    }
+  }
+  return bus::relative_to(std::move(ref), dir_);
 }
 
 void LeaseLauncher::expire_leases(LaunchSink& sink) {
@@ -314,7 +415,7 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
   }
   for (const auto id : expired) {
     const Lease l = leases_.at(id);
-    leases_.erase(id);
+    release_hold(leases_.find(id));
     book_.close(id, l.attempt, LeaseState::kExpired);
     send_lease("revoke", id, l.attempt, l.worker);  // in case the worker is alive but was cut off
     const auto w = workers_.find(l.worker);
@@ -350,6 +451,7 @@ void LeaseLauncher::announce(const std::string& state) {
   m.n_heard = static_cast<std::int16_t>(m.heard.size());
   m.lease_ttl_ms = static_cast<std::int32_t>(options_.lease_ttl_s * 1000.0);
   m.workers = live_workers();
+  m.recordings = options_.recordings.to_string();
   const auto now = Clock::now();
   while (!finish_times_.empty() && seconds_between(finish_times_.front(), now) > 60.0) finish_times_.pop_front();
   m.episodes_per_min = static_cast<double>(finish_times_.size());

@@ -29,6 +29,7 @@
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/record_chunk_t.hpp"
+#include "mtg/recording_ref_t.hpp"
 #include "orchestrator/remote/episode_log.h"
 #include "orchestrator/remote/lease_book.h"
 #include "orchestrator/remote/remote_options.h"
@@ -57,6 +58,8 @@ class LeaseLauncher final : public Launcher {
   using Clock = std::chrono::steady_clock;
   struct Worker {
     std::string host;
+    std::string session;  // its process's session: the lease messages to it go on its channel
+    int held = 0;         // leases it holds (kept with leases_, so placement is not a scan)
     int capacity = 0;
     std::string status;
     Clock::time_point last_seen;
@@ -77,6 +80,8 @@ class LeaseLauncher final : public Launcher {
   struct Arrival {
     std::optional<mtg::episode_result_t> result;
     ChunkAssembly chunks;
+    std::optional<mtg::recording_ref_t> ref;  // the recording stayed on the worker or went to the shared folder
+    int ref_misses = 0;                       // a shared file not (yet) seen here, as often
     std::string worker;
   };
 
@@ -90,7 +95,12 @@ class LeaseLauncher final : public Launcher {
   int held_by(const std::string& worker) const;
   void send_lease(const std::string& action, bus::EpisodeId episode_id, int attempt, const std::string& worker,
                   const EpisodeLaunch* launch = nullptr);
-  void on_renew(const mtg::lease_t& m);
+  void on_renew(bus::EpisodeId id, int attempt, const std::string& worker);
+  /// A lease of `l.worker` now out / no longer out (the worker's count follows).
+  void hold(bus::EpisodeId id, Lease lease);
+  void release_hold(std::map<bus::EpisodeId, Lease>::iterator it);
+  /// The reference to store for an arrival (the shared file checked), or why it cannot be stored yet.
+  std::optional<bus::RecordingRef> reference_of(const AttemptKey& key, Arrival& a, std::string& why);
   void arrived(const AttemptKey& key);
   void remember_delivered(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "orchestrator/remote/recordings_place.h"
+
 namespace mtg::orchestrator::remote {
 
 struct RemoteOptions {
@@ -14,6 +16,8 @@ struct RemoteOptions {
   double lease_ttl_s = 5.0;
   /// The shared bus's key file ("" = $MTG_BUS_KEY): every message between hosts is signed with it.
   std::string bus_key;
+  /// Where each attempt's recording goes (the plan's, parsed).
+  RecordingsPlace recordings;
 };
 
 }  // namespace mtg::orchestrator::remote

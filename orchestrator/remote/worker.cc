@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <deque>
+#include <fstream>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -21,12 +23,17 @@
 #include "core/episode/outcomes.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
+#include "bus/recording_ref.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/log.h"
+#include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
+#include "mtg/recording_request_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/episode_log.h"
+#include "orchestrator/remote/recordings_place.h"
 #include "orchestrator/remote/run_announcement.h"
 #include "orchestrator/remote/session_rules.h"
 #include "orchestrator/run/local_runtime.h"
@@ -67,8 +74,13 @@ class Worker final : public LaunchSink {
     shared_.subscribe<mtg::run_info_t>(bus::kRunInfo, [this](const std::string&, const mtg::run_info_t& m) {
       on_run_info(m);
     });
-    shared_.subscribe<mtg::lease_t>(bus::kLease, [this](const std::string&, const mtg::lease_t& m) {
+    // Grants, releases and revocations come on this worker's own channel.
+    shared_.subscribe<mtg::lease_t>(bus::lease_channel(session_), [this](const std::string&, const mtg::lease_t& m) {
       if (m.worker == stamp_.sender() && !run_id_.empty() && m.header.run_id == run_id_) on_lease(m);
+    });
+    shared_.subscribe<mtg::recording_request_t>(bus::kRecordRequest, [this](const std::string&,
+                                                                           const mtg::recording_request_t& m) {
+      if (m.host.empty() || m.host == host_) on_recording_request(m);
     });
     shared_.subscribe_raw(bus::kRateLimit, [this](const std::string& channel, std::span<const std::uint8_t> bytes,
                                                   std::int64_t) {
@@ -112,7 +124,7 @@ class Worker final : public LaunchSink {
         next_beat = now + std::chrono::milliseconds(500);
       }
       if (now >= next_renewal) {
-        for (const auto& [id, h] : held_) send_lease("renew", id, h.attempt);
+        renew_all();
         next_renewal = now + std::chrono::seconds(1);
       }
     }
@@ -124,7 +136,9 @@ class Worker final : public LaunchSink {
 
   // LaunchSink: what became of the attempts on this host. Finished attempts are shipped after
   // poll() returns, so the recording also holds the message that finished them.
-  void on_result(const mtg::episode_result_t& m, const std::string&) override { finished_.push_back(m); }
+  void on_result(const mtg::episode_result_t& m, const std::string&, const bus::RecordingRef*) override {
+    finished_.push_back(m);
+  }
 
   void on_failure(bus::EpisodeId episode_id, int attempt, const std::string& why) override {
     const auto it = held_.find(episode_id);
@@ -152,6 +166,7 @@ class Worker final : public LaunchSink {
   };
   struct Outgoing {
     mtg::episode_result_t result{};
+    std::optional<mtg::recording_ref_t> ref;  // the recording stayed here: only this goes
     std::vector<mtg::record_chunk_t> chunks;
     std::size_t next = 0;              // next chunk to send
     bool resent = false;
@@ -238,6 +253,7 @@ class Worker final : public LaunchSink {
     log::info("joining run " + run_id_ + " of " + info.header.sender);
     try {
       check_dataset(c);
+      use_recordings(info);
       runtime_ = std::make_unique<LocalRuntime>(c, fs::path(options_.dir) / run_id_);
       runtime_->bus().subscribe_raw(".*", [this](const std::string& channel, std::span<const std::uint8_t> bytes,
                                                  std::int64_t utime) { capture(channel, bytes, utime); });
@@ -274,6 +290,36 @@ class Worker final : public LaunchSink {
     const std::string what = "the dataset at " + root.string() + " is not the one the run's tasks were made from (" + diff + ")";
     if (!c.allow_data_mismatch) throw Error(what);
     log::warn(what + "; going on (the run allows it)");
+  }
+
+  // Where this run's recordings go (run_info_t.recordings): to the coordinator (""), into a folder
+  // every host shares, or kept in this worker's folder. A shared folder must be the coordinator's:
+  // its probe file must be readable here, with the coordinator session's token in it.
+  void use_recordings(const mtg::run_info_t& info) {
+    recordings_ = parse_recordings_place(info.recordings);
+    switch (recordings_.kind) {
+      case RecordingsPlace::Kind::kCoordinator:
+        return;
+      case RecordingsPlace::Kind::kWorker:
+        recordings_folder_ = fs::absolute(fs::path(options_.dir) / run_id_ / "episodes");
+        return;
+      case RecordingsPlace::Kind::kShared:
+        break;
+    }
+    const fs::path root = recordings_.run_folder(run_id_);
+    const fs::path probe = root / kSharedProbe;
+    std::ifstream in(probe);
+    std::string token;
+    std::getline(in, token);
+    if (!in && token.empty()) {
+      throw Error("the shared recordings folder " + root.string() + " is not shared with this host (" + probe.string() +
+                  " cannot be read here); mount it at the same path on every host");
+    }
+    if (token != info.session) {
+      throw Error("the shared recordings folder " + root.string() + " here is not the coordinator's (" + probe.string() +
+                  " names another session); mount the same folder at the same path on every host");
+    }
+    recordings_folder_ = root;
   }
 
   void leave() {
@@ -314,6 +360,22 @@ class Worker final : public LaunchSink {
     m.action = action;
     m.session = serving_;
     shared_.publish(bus::kLease, m);
+  }
+
+  // Every lease held, in one message (lease_renewal_t): one a second per worker, whatever its
+  // capacity, so renewals do not grow with the leases out.
+  void renew_all() {
+    if (held_.empty()) return;
+    mtg::lease_renewal_t m{};
+    m.header = stamp_.next({}, 0, "renewal");
+    m.worker = stamp_.sender();
+    m.session = serving_;
+    for (const auto& [id, h] : held_) {
+      m.episode_ids.push_back(id.value());
+      m.attempts.push_back(h.attempt);
+    }
+    m.n_leases = static_cast<std::int32_t>(m.episode_ids.size());
+    shared_.publish(bus::kLeaseRenewal, m);
   }
 
   void forget(bus::EpisodeId episode_id, int attempt) {
@@ -380,14 +442,22 @@ class Worker final : public LaunchSink {
       const std::vector<std::uint8_t> log = encode_event_log(events);
       Outgoing out;
       out.result = result;
-      out.chunks = make_chunks(stamp_.next(id, attempt, "record"), lid, log, options_.chunk_bytes);
+      if (recordings_.kind == RecordingsPlace::Kind::kCoordinator) {
+        out.chunks = make_chunks(stamp_.next(id, attempt, "record"), lid, log, options_.chunk_bytes);
+      } else {
+        out.ref = keep_recording(id, attempt, lid, log);
+      }
       shared_.publish(bus::kEpisodeResult, out.result);
+      if (out.ref) shared_.publish(bus::kRecordRef, *out.ref);
+      // Sent whole (a reference has no chunks to pace): again in 3 s unless released.
+      out.resend_at = Clock::now() + std::chrono::seconds(3);
       outbox_[lid] = std::move(out);
     }
     finished_.clear();
   }
 
   bool sending() const {
+    if (!gather_out_.empty()) return true;
     for (const auto& [lid, out] : outbox_) {
       if (out.next < out.chunks.size()) return true;
     }
@@ -403,6 +473,7 @@ class Worker final : public LaunchSink {
       if (out.next >= out.chunks.size()) {
         if (now < out.resend_at) continue;
         shared_.publish(bus::kEpisodeResult, out.result);
+        if (out.ref) shared_.publish(bus::kRecordRef, *out.ref);
         out.next = 0;
         out.resent = true;
       }
@@ -416,6 +487,58 @@ class Worker final : public LaunchSink {
       if (out.next >= out.chunks.size()) out.resend_at = now + std::chrono::seconds(3);
       if (budget == 0) break;
     }
+    // Recordings asked for by `mtg gather`, once each, paced like the rest.
+    while (budget > 0 && !gather_out_.empty()) {
+      shared_.publish(bus::kRecord, gather_out_.front());
+      gather_out_.pop_front();
+      --budget;
+    }
+  }
+
+  // Where this host keeps an attempt's recording, written whole or not at all; the reference
+  // that goes instead of it.
+  mtg::recording_ref_t keep_recording(bus::EpisodeId id, int attempt, const std::string& lid,
+                                      const std::vector<std::uint8_t>& log) {
+    const fs::path file = recordings_folder_ / ("E" + to_string(id) + "-a" + std::to_string(attempt) + ".lcmlog");
+    fs::create_directories(file.parent_path());
+    write_file_atomically(file, [&](std::ostream& out) {
+      out.write(reinterpret_cast<const char*>(log.data()), static_cast<std::streamsize>(log.size()));
+    });
+    bus::RecordingRef ref;
+    ref.episode = id;
+    ref.attempt = attempt;
+    ref.location = fs::absolute(file).lexically_normal().string();
+    ref.host = host_;
+    ref.shared = recordings_.kind == RecordingsPlace::Kind::kShared;
+    ref.bytes = static_cast<std::int64_t>(log.size());
+    ref.sha256 = bus::sha256_hex(log);
+    mtg::recording_ref_t m = bus::to_message(ref);
+    m.header = stamp_.next(id, attempt, "record_ref");
+    m.lease_id = lid;
+    return m;
+  }
+
+  // `mtg gather`: the recordings this host keeps (under its own folder, nothing else) go out in
+  // chunks, once; the gatherer asks again for what it misses.
+  void on_recording_request(const mtg::recording_request_t& m) {
+    const fs::path mine = fs::weakly_canonical(fs::absolute(options_.dir));
+    const std::size_t n = std::min({m.locations.size(), m.episode_ids.size(), m.attempts.size()});
+    int sent = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::error_code ec;
+      const fs::path file = fs::weakly_canonical(fs::path(m.locations[i]), ec);
+      const fs::path rel = file.lexically_relative(mine);
+      if (ec || rel.empty() || *rel.begin() == ".." || file.extension() != ".lcmlog" || !fs::is_regular_file(file)) {
+        continue;  // not a recording of this host's folder
+      }
+      std::ifstream in(file, std::ios::binary);
+      const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+      mtg::header_t h = stamp_.next(bus::EpisodeId(m.episode_ids[i]), m.attempts[i], "gather");
+      h.run_id = m.header.run_id;
+      for (auto& chunk : make_chunks(h, m.locations[i], bytes, options_.chunk_bytes)) gather_out_.push_back(std::move(chunk));
+      ++sent;
+    }
+    if (sent > 0) log::info("sending " + std::to_string(sent) + " kept recording(s) of run " + m.header.run_id);
   }
 
   WorkerOptions options_;
@@ -443,6 +566,9 @@ class Worker final : public LaunchSink {
   std::map<std::pair<bus::EpisodeId, int>, std::vector<LoggedEvent>> captured_;
   std::vector<mtg::episode_result_t> finished_;
   Bridge rate_bridge_;
+  RecordingsPlace recordings_;        // run_info_t.recordings of the run joined
+  fs::path recordings_folder_;        // where this host writes them (when not sent)
+  std::deque<mtg::record_chunk_t> gather_out_;  // kept recordings asked for by `mtg gather`
 };
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bus/episode_id.h"
+#include "bus/recording_ref.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/episode_start_t.hpp"
 #include "mtg/episode_truth_t.hpp"
@@ -41,8 +42,11 @@ class LaunchSink {
  public:
   virtual ~LaunchSink() = default;
   /// The judge's verdict on an attempt (any cause, including transport_error and
-  /// provider_error); `worker` is who ran it ("" on this machine).
-  virtual void on_result(const mtg::episode_result_t& result, const std::string& worker) = 0;
+  /// provider_error); `worker` is who ran it ("" on this machine); `recording` where the
+  /// attempt's recording was kept (null: in the run folder's own recording), stored with the
+  /// verdict in one transaction.
+  virtual void on_result(const mtg::episode_result_t& result, const std::string& worker,
+                         const bus::RecordingRef* recording) = 0;
   /// The attempt is lost without a verdict (a process died, no news for too long, a worker
   /// vanished); the engine decides whether to try again.
   virtual void on_failure(bus::EpisodeId episode, int attempt, const std::string& why) = 0;

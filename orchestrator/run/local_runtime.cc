@@ -278,7 +278,7 @@ void LocalRuntime::poll(int timeout_ms, LaunchSink& sink) {
 void LocalRuntime::finish(std::map<bus::EpisodeId, Flight>::iterator flight) {
   const mtg::episode_result_t result = *flight->second.result;
   in_flight_.erase(flight);
-  sink_->on_result(result, "");
+  sink_->on_result(result, "", nullptr);
 }
 
 void LocalRuntime::fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink) {

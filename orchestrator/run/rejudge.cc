@@ -72,9 +72,9 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       const auto rec = recording.find(original.episode_id);
       if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0 ||
           rec->second.truths.count(original.attempt) == 0) {
-        throw Error(run_dir.string() + ": the recording lacks the start of episode " +
-                    to_string(original.episode_id) + " attempt " + std::to_string(original.attempt) +
-                    because_of(report.damage));
+        report.unjudged.push_back("the recording lacks the start of episode " + to_string(original.episode_id) +
+                                  " attempt " + std::to_string(original.attempt) + because_of(report.damage));
+        continue;
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
       const bus::EpisodeTask task = bus::from_messages(start.task, rec->second.truths.at(original.attempt));
@@ -86,14 +86,18 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       const episode::TaskConstraints constraints{goal.protected_objects()};
       judge.observe(episode::StateUpdate{});
       const auto answers = rec->second.actions.find(original.attempt);
+      bool whole = true;
       for (int step = 0; !judge.done(); ++step) {
         if (answers == rec->second.actions.end() || answers->second.count(step) == 0) {
-          throw Error(run_dir.string() + ": the recording lacks episode " + to_string(original.episode_id) +
-                      "'s answer to step " + std::to_string(step) + because_of(report.damage));
+          report.unjudged.push_back("the recording lacks episode " + to_string(original.episode_id) +
+                                    "'s answer to step " + std::to_string(step) + because_of(report.damage));
+          whole = false;
+          break;
         }
         const episode::AgentAnswer answer = bus::to_answer(answers->second.at(step));
         judge.observe(episode::step_episode(g, state, answer, constraints, rules).update);
       }
+      if (!whole) continue;
       mtg::episode_result_t result{};
       bus::fill_result(judge.verdict(), result);
       set_verdict(row, result);

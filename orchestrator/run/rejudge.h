@@ -16,10 +16,12 @@ struct RejudgeReport {
   std::int64_t identical = 0;
   std::vector<std::string> differences;  // one line per changed episode
   std::vector<std::string> damage;       // one line per unreadable stretch of the recording (bus::describe)
+  /// One line per stored episode that could not be judged again: the recording lacks its start or
+  /// an answer (with the damage that explains it, when there is some). Not in `rows`.
+  std::vector<std::string> unjudged;
 };
 
-/// @throws mtg::Error if the run folder, its plan, results or recording are missing, or the
-/// recording lacks what a stored episode needs (naming the damage when the recording is damaged).
+/// @throws mtg::Error if the run folder, its plan, results or recording are missing.
 RejudgeReport rejudge_run(const std::filesystem::path& run_dir);
 
 }  // namespace mtg::orchestrator

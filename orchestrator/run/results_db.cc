@@ -105,6 +105,7 @@ ResultsDb::ResultsDb(const std::filesystem::path& file) : file_(file) {
   db_->exec("PRAGMA synchronous=NORMAL");
   db_->exec(kSchema);
   add_missing_columns(*db_);
+  bus::create_recording_refs(*db_);
   // A verdict is written once; a row of an episode given up (status "error") gives way to a
   // later attempt's row, so a resume that runs it again stores what it gave.
   insert_ = std::make_unique<store::Statement>(
@@ -122,7 +123,17 @@ ResultsDb::~ResultsDb() {
   }
 }
 
-bool ResultsDb::insert(const EpisodeRow& r) {
+bool ResultsDb::insert(const EpisodeRow& r, const bus::RecordingRef* recording) {
+  if (recording == nullptr) return insert_row(r);
+  // The verdict and where its recording is, together or not at all.
+  store::Transaction t(*db_);
+  const bool written = insert_row(r);
+  if (written) store_recording_ref(*db_, *recording);
+  t.commit();
+  return written;
+}
+
+bool ResultsDb::insert_row(const EpisodeRow& r) {
   store::Statement& q = *insert_;
   q.reset();  // after a failed insert too
   q.bind(1, r.episode_id.value()).bind(2, r.task_id).bind(3, r.scene).bind(4, std::int64_t{r.level}).bind(5, r.task_type);

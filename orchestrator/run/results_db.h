@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bus/episode_id.h"
+#include "bus/recording_ref.h"
 #include "core/episode/usage.h"
 #include "core/store/sqlite.h"
 #include "mtg/episode_result_t.hpp"
@@ -46,12 +47,15 @@ class ResultsDb {
   /// Checkpoints and leaves the file in rollback-journal mode (no -wal/-shm files behind).
   ~ResultsDb();
   /// Inserts unless the episode already has a row with a verdict (one given up is replaced);
-  /// returns whether it wrote.
-  bool insert(const EpisodeRow& row);
+  /// returns whether it wrote. With `recording`, where the attempt's recording is kept is stored
+  /// in the same transaction (table `recordings`, bus/recording_ref.h), only if the row is.
+  bool insert(const EpisodeRow& row, const bus::RecordingRef* recording = nullptr);
   std::vector<EpisodeRow> rows() const;
   const std::filesystem::path& file() const { return file_; }
 
  private:
+  bool insert_row(const EpisodeRow& row);
+
   std::filesystem::path file_;
   std::unique_ptr<store::Database> db_;
   std::unique_ptr<store::Statement> insert_;  // prepared once: parsing it per row was a tenth of a run's orchestrator

@@ -116,7 +116,8 @@ class Engine final : public LaunchSink {
     return summary;
   }
 
-  void on_result(const mtg::episode_result_t& m, const std::string& worker) override {
+  void on_result(const mtg::episode_result_t& m, const std::string& worker,
+                 const bus::RecordingRef* recording) override {
     const auto it = in_flight_.find(bus::episode_of(m.header));
     if (it == in_flight_.end() || it->second.attempt != m.header.attempt) return;  // stale or duplicate
     // Neither a lost message nor a failing API is the agent's failure: try the episode again.
@@ -136,7 +137,7 @@ class Engine final : public LaunchSink {
     row.worker = worker;
     row.wall_ms = 1000.0 * seconds_since(it->second.started);
     in_flight_.erase(it);
-    store(row, true);
+    store(row, true, recording);
   }
 
   void on_failure(bus::EpisodeId episode_id, int attempt, const std::string& why) override {
@@ -254,9 +255,9 @@ class Engine final : public LaunchSink {
     return row;
   }
 
-  void store(const EpisodeRow& row, bool scored) {
+  void store(const EpisodeRow& row, bool scored, const bus::RecordingRef* recording = nullptr) {
     stamp_.forget_episode(row.episode_id);  // stored: no more starts of it from this invocation
-    if (results_.insert(row)) {
+    if (results_.insert(row, recording)) {
       ++completed_;
       if (options_.stored != nullptr) options_.stored->fetch_add(1, std::memory_order_relaxed);
       count(row);
@@ -329,7 +330,9 @@ RunSummary run_plan(const RunPlan& plan, const fs::path& run_dir, const std::map
     remote::LeaseLauncher launcher(runtime_config(plan, options), run_dir, counts, options.remote);
     Engine engine(plan, run_dir, tasks, launcher, counts, options);
     const RunSummary summary = engine.run();
-    remote::merge_recordings(run_dir);
+    // Recordings that stayed where they were made are read where they are (bus::recording_files):
+    // gathering them here is the traffic they were kept away from.
+    if (options.remote.recordings.kind == remote::RecordingsPlace::Kind::kCoordinator) remote::merge_recordings(run_dir);
     return summary;
   }
   LocalRuntime launcher(runtime_config(plan, options), run_dir);

@@ -37,6 +37,7 @@ nlohmann::json RunPlan::to_json() const {
                      {"profile", profile},
                      {"bus_url", bus_url},
                      {"remote", remote},
+                     {"recordings", recordings},
                      {"allow_data_mismatch", allow_data_mismatch},
                      {"episodes", eps}};
   if (!provenance.is_null()) j["provenance"] = provenance;
@@ -68,6 +69,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.profile = j.at("profile").get<std::string>();
     p.bus_url = j.at("bus_url").get<std::string>();
     p.remote = j.value("remote", false);  // absent in plans written before multi-host runs
+    p.recordings = j.value("recordings", std::string("coordinator"));  // absent before recordings stayed on workers
     p.allow_data_mismatch = j.value("allow_data_mismatch", false);
     if (j.contains("provenance")) p.provenance = j.at("provenance");  // absent in plans written before provenance
     for (const auto& e : j.at("episodes")) {

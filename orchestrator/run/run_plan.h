@@ -46,6 +46,9 @@ struct RunPlan {
   std::string bus_url;
   /// Episodes run on workers (`mtg worker`) of the bus by lease, not on this machine.
   bool remote = false;
+  /// With remote: where each attempt's recording goes (remote::RecordingsPlace by name:
+  /// "coordinator", "shared:<folder>", "worker").
+  std::string recordings = "coordinator";
   /// Run even where the dataset differs from the one the task set was made from.
   bool allow_data_mismatch = false;
   std::vector<PlannedEpisode> episodes;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <limits>
 #include <span>
 
 #include "bus/channels.h"
@@ -29,22 +30,34 @@ bool viewer_reads_channel(const std::string& channel) {
 RecordingIndex::RecordingIndex(fs::path run_dir) : run_dir_(std::move(run_dir)) {}
 
 std::size_t RecordingIndex::refresh() {
-  std::vector<fs::path> logs;
+  std::vector<bus::RecordingFile> logs;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(run_dir_, ec)) {
-    if (entry.path().extension() == ".lcmlog") logs.push_back(entry.path());
+  try {
+    logs = bus::recording_files(run_dir_);
+  } catch (const Error& e) {
+    const std::lock_guard lock(mutex_);
+    if (std::find(damage_.begin(), damage_.end(), e.what()) == damage_.end()) damage_.push_back(e.what());
   }
-  std::sort(logs.begin(), logs.end());
 
   const std::lock_guard lock(mutex_);
   for (const auto& log : logs) {
-    if (std::none_of(files_.begin(), files_.end(), [&](const File& f) { return f.path == log; })) {
-      files_.push_back({log, 0});
+    if (std::any_of(files_.begin(), files_.end(), [&](const File& f) { return f.path == log.path; })) continue;
+    if (files_.size() >= (std::size_t{1} << (64 - kOffsetBits))) break;
+    if (log.ref) {
+      // Read once, whole, if it is the recording referenced; named otherwise (and not read).
+      const std::string problem = bus::check_recording(log.path, *log.ref);
+      if (!problem.empty()) {
+        damage_.push_back(problem);
+        files_.push_back({log.path, std::numeric_limits<long>::max(), true});
+        continue;
+      }
     }
+    files_.push_back({log.path, 0, log.ref.has_value()});
   }
   std::size_t added = 0;
   for (std::size_t i = 0; i < files_.size(); ++i) {
     File& file = files_[i];
+    if (file.referenced && file.indexed_to > 0) continue;  // whole already (or refused)
     if (static_cast<long>(fs::file_size(file.path, ec)) <= file.indexed_to || ec) continue;
     // Read past damage (named once, damage()); a torn tail may be an event the recorder is still
     // writing: read again from its start next time.
@@ -101,8 +114,8 @@ std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_
   std::size_t open_file = paths.size();
   std::unique_ptr<lcm::LogFile> log;
   for (const std::uint64_t p : places) {
-    const std::size_t file = static_cast<std::size_t>(p >> 48);
-    const long offset = static_cast<long>(p & ((std::uint64_t{1} << 48) - 1));
+    const std::size_t file = static_cast<std::size_t>(p >> kOffsetBits);
+    const long offset = static_cast<long>(p & ((std::uint64_t{1} << kOffsetBits) - 1));
     if (file != open_file) {
       log = std::make_unique<lcm::LogFile>(paths[file].string(), "r");
       if (!log->good()) throw Error(paths[file].string() + ": cannot read the recording");

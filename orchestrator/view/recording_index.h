@@ -1,5 +1,6 @@
 #pragma once
-// Where each episode's messages lie in a run's recordings (bus-<k>.lcmlog), so the viewer reads
+// Where each episode's messages lie in a run's recordings (bus-<k>.lcmlog, or the per-episode
+// files a multi-host run kept where they were made: bus::recording_files), so the viewer reads
 // one episode without decoding the whole run. The index grows as a live run's recorder appends:
 // refresh() reads only the bytes added since the last call and stops before a half-written event;
 // it reads on past damage inside a file and keeps a line for each damaged stretch.
@@ -55,10 +56,13 @@ class RecordingIndex {
   struct File {
     std::filesystem::path path;
     long indexed_to = 0;  // byte offset of the first event not yet indexed
+    bool referenced = false;  // a recording kept where it was made: checked once, read whole
   };
-  // An event's place: file number in the high 16 bits, byte offset below.
+  // An event's place: file number in the high 24 bits (a run whose recordings stayed on the
+  // workers has a file per episode), byte offset in the low 40 (files up to 1 TiB).
+  static constexpr int kOffsetBits = 40;
   static std::uint64_t place(std::size_t file, long offset) {
-    return (static_cast<std::uint64_t>(file) << 48) | static_cast<std::uint64_t>(offset);
+    return (static_cast<std::uint64_t>(file) << kOffsetBits) | static_cast<std::uint64_t>(offset);
   }
 
   std::filesystem::path run_dir_;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <regex>
 
+#include "bus/recording_ref.h"
 #include "tests/bus/multihost_fixture.h"
 
 namespace mtg {
@@ -131,6 +132,24 @@ TEST_F(SlurmTest, AJobArrayOfWorkersGivesTheResultsOfOneMachineAndIsCancelledAtT
     q.wait(10000);
     return read_text(queue).find_first_not_of(" \n") == std::string::npos;
   }, 30000)) << read_text(queue);
+
+  // The cluster's shared file system holds the recordings: the array tasks write them there, only
+  // references reach the coordinator, and the run reads as the merged one.
+  const fs::path cluster_fs = fx_.root() / "cluster-fs";
+  auto shared_args = slurm_run_args("array-shared", 4);
+  shared_args.push_back("--recordings=shared:" + cluster_fs.string());
+  ASSERT_EQ(mtg(shared_args), 0) << log_text();
+  EXPECT_EQ(fingerprints(results("array-shared")), single);
+  EXPECT_FALSE(fs::exists(fx_.root() / "array-shared" / "episodes"));
+  const auto refs = bus::read_recording_refs(fx_.root() / "array-shared" / "results.sqlite");
+  EXPECT_EQ(refs.size(), rows.size());
+  for (const auto& r : refs) EXPECT_EQ(r.location.rfind(cluster_fs.string(), 0), 0u) << r.location;
+  expect_one_start_per_episode("array-shared");
+  const std::string rejudged = (fx_.root() / "rejudge.txt").string();
+  testing::ChildProcess rejudge({testing::bin("mtg"), "rejudge", (fx_.root() / "array-shared").string()}, rejudged);
+  EXPECT_EQ(rejudge.wait(60000), 0) << read_text(rejudged);
+  EXPECT_NE(read_text(rejudged).find(std::to_string(rows.size()) + " identical, 0 differ"), std::string::npos)
+      << read_text(rejudged);
 }
 
 TEST_F(SlurmTest, AnArrayTaskKilledMidRunLosesNoEpisodeAndRunsNoneTwice) {

@@ -20,6 +20,7 @@
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/image_t.hpp"
 #include "mtg/judge_event_t.hpp"
+#include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/recorded_t.hpp"
 #include "mtg/object_placement_t.hpp"
@@ -27,6 +28,8 @@
 #include "mtg/action_list_t.hpp"
 #include "mtg/rate_limit_t.hpp"
 #include "mtg/record_chunk_t.hpp"
+#include "mtg/recording_ref_t.hpp"
+#include "mtg/recording_request_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
 #include "mtg/render_view_t.hpp"
@@ -140,6 +143,21 @@ TEST(LcmSpyTypes, TheJavaBindingsDecodeOneRecordedMessageOfEveryType) {
     chunk.data = {9, 9};
     chunk.size = 2;
     w.add("MTG_RECORD", chunk);
+    auto renewal = with_header<mtg::lease_renewal_t>();
+    renewal.episode_ids = {3, 4};
+    renewal.attempts = {0, 1};
+    renewal.n_leases = 2;
+    w.add("MTG_LEASE_RENEW", renewal);
+    auto ref = with_header<mtg::recording_ref_t>();
+    ref.location = "/shared/run/E3-a0.lcmlog";
+    ref.sha256 = std::string(64, 'a');
+    w.add("MTG_RECORD_REF", ref);
+    auto wanted = with_header<mtg::recording_request_t>();
+    wanted.locations = {"/w/run/episodes/E3-a0.lcmlog"};
+    wanted.episode_ids = {3};
+    wanted.attempts = {0};
+    wanted.n_files = 1;
+    w.add("MTG_RECORD_REQ", wanted);
     w.add("MTG_RATE", with_header<mtg::rate_limit_t>());
     w.add("MTG_CONTROL", with_header<mtg::run_control_t>());
     w.add("MTG_ERROR", with_header<mtg::error_event_t>());

@@ -10,6 +10,7 @@
 #include "bus/authenticator.h"
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "bus/recording_ref.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
@@ -57,6 +58,150 @@ TEST_F(MultiHostTest, TwoAndThreeHostsGiveTheResultsOfOneHostAndTheRecordingReju
   EXPECT_NE(log_text().find(rows + " / " + rows + " judge results identical"), std::string::npos) << log_text();
 }
 
+// Recordings that stay where they are made (--recordings shared:PATH | worker): only a reference
+// with the file's SHA-256 crosses the shared bus, no chunk; the run folder's tools read the run as
+// they read a merged one (rejudge identical, the same images, one start per episode); a damaged or
+// missing recording is named; recordings kept on the workers come into the run folder with
+// `mtg gather` over the bus, named while they are not there.
+TEST_F(MultiHostTest, RecordingsKeptInASharedFolderOrOnTheWorkersReadAsAMergedOne) {
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  bus::Bus tap(kSharedUrl);  // counts what crosses the shared bus
+  std::map<std::string, std::pair<int, std::int64_t>> crossing;  // channel -> (messages, bytes)
+  tap.subscribe_raw(".*", [&](const std::string& channel, std::span<const std::uint8_t> b, std::int64_t) {
+    ++crossing[channel].first;
+    crossing[channel].second += static_cast<std::int64_t>(b.size());
+  });
+  const auto run = [&](const std::string& out, const std::vector<std::string>& extra) {
+    crossing.clear();
+    std::vector<std::string> args = run_args(out, 3, 4, 2);
+    args.insert(args.end(), extra.begin(), extra.end());
+    testing::ChildProcess p(args, log());
+    while (p.running()) tap.handle_once(20);
+    EXPECT_EQ(p.wait(1000), 0) << log_text();
+    while (tap.handle_once(50)) {
+    }
+  };
+  const auto rejudge = [&](const std::string& out) {
+    const fs::path text = fx_.root() / ("rejudge-" + out + ".txt");
+    testing::ChildProcess p({testing::bin("mtg"), "rejudge", (fx_.root() / out).string()}, text.string());
+    const int status = p.wait(60000);
+    return std::make_pair(status, testing_multihost::read_text(text));
+  };
+  const auto images = [&](const std::string& out) {
+    const fs::path folder = fx_.root() / ("images-" + out);
+    testing::ChildProcess p({testing::bin("mtg"), "images", (fx_.root() / out).string(), "--out", folder.string()}, log());
+    EXPECT_EQ(p.wait(60000), 0) << log_text();
+    std::set<std::string> names;
+    for (const auto& f : fs::directory_iterator(folder)) names.insert(f.path().filename().string());
+    return names;
+  };
+
+  run("merged", {"--render", "--image-size", "160x120"});
+  const auto merged = fingerprints(results("merged"));
+  EXPECT_GT(crossing[bus::kRecord].first, 0);
+  const std::int64_t merged_bytes = crossing[bus::kRecord].second;
+
+  const fs::path shared = fx_.root() / "shared";
+  run("shared", {"--render", "--image-size", "160x120", "--recordings", "shared:" + shared.string()});
+  EXPECT_EQ(fingerprints(results("shared")), merged);
+  EXPECT_EQ(crossing.count(bus::kRecord), 0u) << "no recording chunk crosses the bus";
+  EXPECT_EQ(crossing[bus::kRecordRef].first, static_cast<int>(merged.size()) * 1) << "one reference per attempt";
+  EXPECT_LT(crossing[bus::kRecordRef].second * 100, merged_bytes) << "references are small";
+  const std::string run_id = orchestrator::load_plan(fx_.root() / "shared").run_id;
+  EXPECT_TRUE(fs::exists(shared / run_id / "shared.probe"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "shared" / "bus-merged.lcmlog"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "shared" / "episodes")) << "nothing of it came to the coordinator";
+  const auto refs = bus::read_recording_refs(fx_.root() / "shared" / "results.sqlite");
+  ASSERT_EQ(refs.size(), merged.size());
+  for (const auto& r : refs) {
+    EXPECT_TRUE(r.shared);
+    EXPECT_TRUE(fs::exists(shared / run_id / fs::path(r.location).filename())) << r.location;
+  }
+  expect_one_start_per_episode("shared");
+  {
+    const auto [status, text] = rejudge("shared");
+    EXPECT_EQ(status, 0) << text;
+    EXPECT_NE(text.find(std::to_string(merged.size()) + " identical, 0 differ"), std::string::npos) << text;
+  }
+  EXPECT_EQ(images("shared"), images("merged")) << "the same images from either";
+  {
+    // Replayed on this machine, and exported as a site (the viewer's reading of it).
+    const fs::path text = fx_.root() / "replay-shared.txt";
+    testing::ChildProcess replay({testing::bin("mtg"), "replay", (fx_.root() / "shared").string()}, text.string());
+    EXPECT_EQ(replay.wait(120000), 0) << testing_multihost::read_text(text);
+    const std::string n = std::to_string(merged.size());
+    EXPECT_NE(testing_multihost::read_text(text).find(n + " / " + n + " judge results identical"), std::string::npos)
+        << testing_multihost::read_text(text);
+    // The same site from either run: as many episode pages and image files.
+    const auto site_files = [&](const std::string& out) {
+      const fs::path site = fx_.root() / ("site-" + out);
+      testing::ChildProcess exported({testing::bin("mtg"), "export", (fx_.root() / out).string(), "--out", site.string()},
+                                     text.string());
+      EXPECT_EQ(exported.wait(120000), 0) << testing_multihost::read_text(text);
+      std::size_t files = 0;
+      for (const auto& f : fs::recursive_directory_iterator(site)) files += f.is_regular_file() ? 1 : 0;
+      return files;
+    };
+    const std::size_t exported = site_files("shared");
+    EXPECT_EQ(exported, site_files("merged"));
+    EXPECT_GT(exported, merged.size());
+    EXPECT_EQ(testing_multihost::read_text(text).find("damaged"), std::string::npos) << testing_multihost::read_text(text);
+  }
+
+  // Damage is named, file by file: one recording flipped, one gone.
+  const fs::path first = bus::resolve(refs[0], fx_.root() / "shared");
+  const fs::path second = bus::resolve(refs[1], fx_.root() / "shared");
+  {
+    std::fstream f(first, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(40);
+    f.put('\x7f');
+  }
+  fs::rename(second, second.string() + ".away");
+  {
+    const auto [status, text] = rejudge("shared");
+    EXPECT_NE(status, 0) << text;
+    EXPECT_NE(text.find(first.string() + " is damaged"), std::string::npos) << text;
+    EXPECT_NE(text.find(second.string() + " is missing from the shared folder"), std::string::npos) << text;
+  }
+
+  // Kept on the workers: named while they are away, gathered over the bus, then whole.
+  run("kept", {"--recordings", "worker"});
+  EXPECT_EQ(crossing.count(bus::kRecord), 0u);
+  const auto kept = bus::read_recording_refs(fx_.root() / "kept" / "results.sqlite");
+  ASSERT_EQ(kept.size(), results("kept").size());
+  std::set<std::string> hosts;
+  for (const auto& r : kept) {
+    EXPECT_FALSE(r.shared);
+    hosts.insert(r.host);
+  }
+  EXPECT_EQ(hosts, (std::set<std::string>{"host0", "host1"}));
+  // The folders are on this machine too; away, as on real hosts, the reader names what it lacks.
+  for (int i = 0; i < 2; ++i) fs::rename(fx_.root() / ("worker" + std::to_string(i)), fx_.root() / ("away" + std::to_string(i)));
+  {
+    const auto [status, text] = rejudge("kept");
+    EXPECT_NE(status, 0) << text;
+    EXPECT_NE(text.find("kept on host1; `mtg gather` brings it into the run folder"), std::string::npos) << text;
+  }
+  for (int i = 0; i < 2; ++i) fs::rename(fx_.root() / ("away" + std::to_string(i)), fx_.root() / ("worker" + std::to_string(i)));
+  const fs::path gathered = fx_.root() / "gather.txt";
+  testing::ChildProcess gather({testing::bin("mtg"), "gather", (fx_.root() / "kept").string(), "--wait", "20"},
+                               gathered.string());
+  EXPECT_EQ(gather.wait(60000), 0) << testing_multihost::read_text(gathered);
+  EXPECT_NE(testing_multihost::read_text(gathered).find("0 copied, " + std::to_string(kept.size()) + " received from workers"),
+            std::string::npos)
+      << testing_multihost::read_text(gathered);
+  for (const auto& r : bus::read_recording_refs(fx_.root() / "kept" / "results.sqlite")) {
+    EXPECT_EQ(r.location.rfind("episodes/", 0), 0u) << r.location << ": the run folder's own copy";
+  }
+  for (int i = 0; i < 2; ++i) fs::remove_all(fx_.root() / ("worker" + std::to_string(i)));
+  {
+    const auto [status, text] = rejudge("kept");
+    EXPECT_EQ(status, 0) << text;
+    EXPECT_NE(text.find(std::to_string(kept.size()) + " identical, 0 differ"), std::string::npos) << text;
+  }
+}
+
 // The shared bus is authenticated: results, lease revocations and a shutdown forged during a run
 // (unsigned, or signed with another key) are dropped and counted, and the run's results are those
 // of one machine.
@@ -71,8 +216,15 @@ TEST_F(MultiHostTest, ForgedMessagesOnTheSharedBusAreDroppedAndCounted) {
   bus::Bus plain(kSharedUrl);
   bus::Bus other_key(kSharedUrl);
   other_key.authenticate(std::make_shared<const bus::Authenticator>("not-the-run-s-secret-at-all"));
+  // Lease messages go to each worker's own channel, named by the session its heartbeats show.
+  std::set<std::string> sessions;
+  plain.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
+    if (m.role == "worker" && !m.session.empty()) sessions.insert(m.session);
+  });
   int forged = 0;
   while (run.running() && forged < 400) {
+    while (plain.handle_once(0)) {
+    }
     for (bus::Bus* b : {&plain, &other_key}) {
       mtg::episode_result_t fake{};
       fake.header.run_id = run_id;
@@ -84,6 +236,7 @@ TEST_F(MultiHostTest, ForgedMessagesOnTheSharedBusAreDroppedAndCounted) {
       revoke.header = fake.header;
       revoke.action = "revoke";
       b->publish(bus::kLease, revoke);
+      for (const std::string& session : sessions) b->publish(bus::lease_channel(session), revoke);
       forged += 2;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -140,7 +293,7 @@ TEST_F(MultiHostTest, ReplayedDatagramsOfAFinishedRunOrAKilledWorkerChangeNothin
   });
   // Grants carry the episode's answers: sealed, so the tap (no key) reads no goal or plan.
   int grants = 0, open_grants = 0;
-  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+  tap.subscribe_raw("MTG_LEASE.*", [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
     mtg::lease_t m{};
     if (m.decode(b.data(), 0, static_cast<int>(b.size())) < 0 || m.action != "grant") return;
     ++grants;
@@ -204,12 +357,13 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
   for (int i = 0; i < 2; ++i) start_worker(i);
 
   bus::Bus tap(kSharedUrl);  // no key: it reads and re-sends datagrams as they are
-  std::vector<std::vector<std::uint8_t>> running, beats, grants;
+  std::vector<std::vector<std::uint8_t>> running, beats;
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> grants;  // (channel, datagram)
   bool capture_beats = true;
-  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+  tap.subscribe_raw("MTG_LEASE.*", [&](const std::string& channel, std::span<const std::uint8_t> b, std::int64_t) {
     mtg::lease_t m{};
     if (capture_beats && m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && m.action == "grant") {
-      grants.emplace_back(b.begin(), b.end());
+      grants.emplace_back(channel, std::vector<std::uint8_t>(b.begin(), b.end()));
     }
   });
   tap.subscribe_raw(bus::kRunInfo, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
@@ -259,7 +413,8 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
       tap.handle_once(20);
       if (std::chrono::steady_clock::now() - last > std::chrono::milliseconds(500)) {
         tap.publish_raw(bus::kHeartbeat, beats[next % beats.size()]);
-        tap.publish_raw(bus::kLease, grants[next % grants.size()]);
+        const auto& [channel, grant] = grants[next % grants.size()];
+        tap.publish_raw(channel, grant);
         ++next;
         last = std::chrono::steady_clock::now();
       }
@@ -321,7 +476,7 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
     mtg::run_info_t m{};
     if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) run_id = m.header.run_id;
   });
-  tap.subscribe_raw(bus::kLease, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+  tap.subscribe_raw("MTG_LEASE.*", [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
     mtg::lease_t m{};
     if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) granted.insert(m.header.episode_id);
   });

@@ -25,7 +25,11 @@
 #include "mtg/error_event_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/judge_event_t.hpp"
+#include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
+#include "mtg/recording_ref_t.hpp"
+#include "mtg/recording_request_t.hpp"
+#include "bus/recording_ref.h"
 #include "mtg/observation_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
@@ -231,6 +235,29 @@ class RoundTrip {
     lease.action = "grant";
     lease.ttl_ms = 5000;
     check("T_LEASE", lease);
+
+    mtg::lease_renewal_t renewal{};
+    renewal.worker = "worker:host1:42";
+    renewal.episode_ids = {7, 9};
+    renewal.attempts = {0, 3};
+    renewal.n_leases = 2;
+    check("T_RENEWAL", renewal);
+
+    mtg::recording_ref_t ref{};
+    ref.location = "/shared/recordings/run/E7-a0.lcmlog";
+    ref.host = "host1";
+    ref.shared = true;
+    ref.bytes = 1700000;
+    ref.sha256 = bus::sha256_hex(std::vector<std::uint8_t>{1, 2, 3});
+    check("T_RECORD_REF", ref);
+
+    mtg::recording_request_t wanted{};
+    wanted.host = "host1";
+    wanted.locations = {"/w/run/episodes/E7-a0.lcmlog"};
+    wanted.episode_ids = {7};
+    wanted.attempts = {0};
+    wanted.n_files = 1;
+    check("T_RECORD_REQ", wanted);
 
     mtg::run_control_t control{};
     control.command = "shutdown";

@@ -17,7 +17,7 @@ namespace mtg::orchestrator {
 namespace {
 
 struct Collected final : LaunchSink {
-  void on_result(const mtg::episode_result_t& r, const std::string&) override { results.push_back(r.header.episode_id); }
+  void on_result(const mtg::episode_result_t& r, const std::string&, const bus::RecordingRef*) override { results.push_back(r.header.episode_id); }
   void on_failure(bus::EpisodeId id, int, const std::string&) override { failures.push_back(id.value()); }
   void on_agent_stopped(const std::string&, const std::string&) override {}
   std::vector<std::int64_t> results, failures;

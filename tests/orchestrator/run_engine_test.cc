@@ -49,7 +49,7 @@ class ScriptedLauncher final : public Launcher {
     m.ip = 1.0;
     m.stage = "done";
     m.cause = "";
-    sink.on_result(m, "host");
+    sink.on_result(m, "host", nullptr);
   }
   void lose(std::pair<std::int64_t, int> key, LaunchSink& sink) {
     in_flight.erase(key);

@@ -1,0 +1,130 @@
+#include "bus/recording_ref.h"
+
+#include <openssl/evp.h>
+
+#include <fstream>
+
+#include "core/util/error.h"
+
+namespace mtg::bus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTable =
+    "CREATE TABLE IF NOT EXISTS recordings (episode_id INTEGER PRIMARY KEY, attempt INTEGER NOT NULL, "
+    "location TEXT NOT NULL, host TEXT NOT NULL, shared INTEGER NOT NULL, bytes INTEGER NOT NULL, "
+    "sha256 TEXT NOT NULL)";
+
+std::string hex(const unsigned char* digest, unsigned int n) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < n; ++i) {
+    out += kDigits[digest[i] >> 4];
+    out += kDigits[digest[i] & 15];
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string sha256_hex(std::span<const std::uint8_t> bytes) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int n = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest, &n, EVP_sha256(), nullptr) != 1) {
+    throw Error("SHA-256 failed (OpenSSL)");
+  }
+  return hex(digest, n);
+}
+
+mtg::recording_ref_t to_message(const RecordingRef& ref) {
+  mtg::recording_ref_t m{};
+  m.location = ref.location;
+  m.host = ref.host;
+  m.shared = ref.shared;
+  m.bytes = ref.bytes;
+  m.sha256 = ref.sha256;
+  return m;
+}
+
+RecordingRef from_message(const mtg::recording_ref_t& m) {
+  RecordingRef r;
+  r.episode = episode_of(m.header);
+  r.attempt = m.header.attempt;
+  r.location = m.location;
+  r.host = m.host;
+  r.shared = m.shared;
+  r.bytes = m.bytes;
+  r.sha256 = m.sha256;
+  return r;
+}
+
+RecordingRef relative_to(RecordingRef ref, const fs::path& run_dir) {
+  const fs::path file = fs::path(ref.location).lexically_normal();
+  const fs::path rel = file.lexically_relative(run_dir.lexically_normal());
+  if (file.is_absolute() && !rel.empty() && *rel.begin() != "..") ref.location = rel.string();
+  return ref;
+}
+
+fs::path resolve(const RecordingRef& ref, const fs::path& run_dir) {
+  const fs::path file(ref.location);
+  return file.is_absolute() ? file : run_dir / file;
+}
+
+void create_recording_refs(store::Database& db) { db.exec(kTable); }
+
+void store_recording_ref(store::Database& db, const RecordingRef& ref) {
+  store::Statement q(db, "INSERT OR REPLACE INTO recordings (episode_id, attempt, location, host, shared, bytes, sha256) "
+                         "VALUES (?,?,?,?,?,?,?)");
+  q.bind(1, ref.episode.value()).bind(2, std::int64_t{ref.attempt}).bind(3, ref.location).bind(4, ref.host);
+  q.bind(5, std::int64_t{ref.shared ? 1 : 0}).bind(6, ref.bytes).bind(7, ref.sha256);
+  q.run();
+}
+
+std::vector<RecordingRef> read_recording_refs(const fs::path& results_file) {
+  if (!fs::exists(results_file)) return {};
+  store::Database db(results_file, store::Database::Mode::kReadOnly);
+  {
+    store::Statement has(db, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = 'recordings'");
+    if (!has.step()) return {};
+  }
+  store::Statement q(db, "SELECT episode_id, attempt, location, host, shared, bytes, sha256 FROM recordings "
+                         "ORDER BY episode_id");
+  std::vector<RecordingRef> out;
+  while (q.step()) {
+    RecordingRef r;
+    r.episode = EpisodeId(q.column_int(0));
+    r.attempt = static_cast<int>(q.column_int(1));
+    r.location = q.column_text(2);
+    r.host = q.column_text(3);
+    r.shared = q.column_int(4) != 0;
+    r.bytes = q.column_int(5);
+    r.sha256 = q.column_text(6);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::string check_recording(const fs::path& file, const RecordingRef& ref) {
+  const std::string what = "the recording of episode " + to_string(ref.episode) + " (attempt " +
+                           std::to_string(ref.attempt) + ") " + file.string();
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
+  if (ec) {
+    return what + " is missing" +
+           (ref.shared ? std::string(" from the shared folder")
+                       : " (kept on " + (ref.host.empty() ? std::string("its worker") : ref.host) +
+                             "; `mtg gather` brings it into the run folder)");
+  }
+  if (static_cast<std::int64_t>(size) != ref.bytes) {
+    return what + " has " + std::to_string(size) + " bytes, not the " + std::to_string(ref.bytes) + " stored with it";
+  }
+  std::ifstream in(file, std::ios::binary);
+  std::vector<std::uint8_t> bytes(size);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) return what + " cannot be read";
+  if (sha256_hex(bytes) != ref.sha256) return what + " is damaged: its bytes are not the ones stored with it (SHA-256)";
+  return "";
+}
+
+}  // namespace mtg::bus
