@@ -10,19 +10,24 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
+#include "bus/authenticator.h"
 #include "bus/bus.h"
 #include "bus/channels.h"
+#include "bus/header.h"
 #include "bus/process/faults.h"
 #include "bus/process/identity.h"
 #include "bus/process/subprocess.h"
 #include "bus/url.h"
 #include "core/util/error.h"
 #include "mtg/heartbeat_t.hpp"
+#include "mtg/run_control_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/gather.h"
+#include "orchestrator/remote/session_rules.h"
 #include "orchestrator/remote/tcp_hub.h"
 
 namespace mtg::cli {
@@ -67,16 +72,39 @@ int run_status(const StatusOptions& o) {
   bus::Bus bus(url);
   const bool keyed = !o.bus_key.empty() || std::getenv("MTG_BUS_KEY") != nullptr;
   if (keyed) bus.authenticate(bus::shared_bus_authenticator(o.bus_key));
+  // With the key, only what answers this status's own challenge counts: a beat or announcement
+  // sent before it asked may be a replay of a worker or run that is gone (session_rules.h).
+  const std::string nonce = bus::draw_session_token();
   std::map<std::string, mtg::heartbeat_t> workers;
   std::map<std::string, mtg::run_info_t> runs;
+  std::set<std::string> unanswered;  // workers heard only in beats that do not answer the challenge
   bus.subscribe<mtg::heartbeat_t>(bus::kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) {
-    if (m.role == "worker") workers[m.header.sender] = m;
+    if (m.role != "worker") return;
+    if (keyed && m.echo != nonce) {
+      unanswered.insert(m.header.sender);
+      return;
+    }
+    workers[m.header.sender] = m;
   });
   bus.subscribe<mtg::run_info_t>(bus::kRunInfo, [&](const std::string&, const mtg::run_info_t& m) {
+    if (keyed && m.echo != nonce) return;
     runs[m.header.run_id] = m;
   });
+  bus::HeaderStamper stamp("", process::sender_id("status"));
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.listen_s);
-  while (std::chrono::steady_clock::now() < end) bus.handle_once(50);
+  auto next_probe = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() < end) {
+    if (keyed && std::chrono::steady_clock::now() >= next_probe) {
+      mtg::run_control_t probe{};
+      probe.header = stamp.next({}, 0, "control");
+      probe.command = orchestrator::remote::kStatusProbe;
+      probe.argument = nonce;
+      bus.publish(bus::kControl, probe);
+      next_probe += std::chrono::milliseconds(500);  // datagrams get lost: ask again
+    }
+    bus.handle_once(50);
+  }
+  for (const auto& [id, w] : workers) unanswered.erase(id);
   if (workers.empty() && runs.empty()) {
     const std::string rejected =
         bus.rejected() > 0 ? "; " + std::to_string(bus.rejected()) + " message(s) were not signed with this key" : "";
@@ -88,6 +116,7 @@ int run_status(const StatusOptions& o) {
   auto ip = [](const mtg::run_info_t& r) { return r.scored > 0 ? r.ip_sum / static_cast<double>(r.scored) : 0.0; };
   if (o.json) {
     nlohmann::json j = {{"bus", url},          {"verified", keyed},      {"rejected", bus.rejected()},
+                        {"unanswered", unanswered.size()},
                         {"runs", nlohmann::json::array()}, {"workers", nlohmann::json::array()}};
     for (const auto& [id, r] : runs) {
       j["runs"].push_back({{"run", id}, {"coordinator", r.header.sender}, {"state", r.state}, {"planned", r.planned},
@@ -111,6 +140,10 @@ int run_status(const StatusOptions& o) {
     std::printf("  SR %.1f %%  IP %.1f  over %lld scored episodes\n", sr(r), ip(r), static_cast<long long>(r.scored));
   }
   std::printf("%zu worker(s)\n", workers.size());
+  if (!unanswered.empty()) {
+    std::printf("  (%zu more heard in heartbeats that did not answer this status: replayed, or another mtg version; "
+                "left out)\n", unanswered.size());
+  }
   for (const auto& [id, w] : workers) {
     std::printf("  %-16s %-9s %d/%d in flight  run %s  (%s)\n", w.host.c_str(), w.status.c_str(), w.in_flight,
                 w.capacity, w.header.run_id.empty() ? "-" : w.header.run_id.c_str(), id.c_str());

@@ -25,6 +25,8 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/atomic_file.h"
+#include "core/episode/goals.h"
+#include "core/graph/scene_cache.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 #include "core/util/log.h"
@@ -237,6 +239,36 @@ void check_dataset(const RunPlan& plan, const std::map<std::string, scene::Datas
   log::warn(what + "; going on (--allow-data-mismatch)");
 }
 
+// Every planned task's goal resolves in its scene as this machine loads it, before anything is
+// written: a goal that names an object or platform the scene lacks would give an error row per
+// episode after the run started. Without the dataset here (a coordinator whose workers hold it)
+// the workers check each episode as it starts.
+void check_goals(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks) {
+  std::set<std::string> planned;
+  for (const auto& e : plan.episodes) planned.insert(e.task_id);
+  graph::SceneCache scenes(plan.profile);
+  for (const std::string& id : planned) {
+    const tasks::Task& t = tasks.at(id);
+    const graph::SceneGraph* g = nullptr;
+    try {
+      g = &scenes.get(t.scene, plan.data_dir);
+    } catch (const Error& e) {
+      if (plan.remote) {
+        log::info(std::string("goals not checked here (") + e.what() + "); each worker checks its episodes");
+        return;
+      }
+      throw;
+    }
+    try {
+      (void)episode::task_goal_from_json(*g, t.goal);
+    } catch (const Error& e) {
+      throw Error(plan.tasks_db + ": task " + id + ": its goal does not hold in scene " + t.scene + ": " + e.what());
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(plan.tasks_db + ": task " + id + ": its goal is malformed: " + e.what());
+    }
+  }
+}
+
 // A resume runs the plan on disk: options that would change what it evaluates are refused, with
 // the names of those that differ.
 void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir) {
@@ -368,6 +400,7 @@ int run_run(const RunOptions& o) {
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
   const auto fingerprints = fingerprints_of(plan, tasks);
   if (!plan.remote) check_dataset(plan, fingerprints);
+  check_goals(plan, tasks);
   if (!resuming) {
     const bool model_agent = std::any_of(plan.agents.begin(), plan.agents.end(),
                                          [](const std::string& a) { return vlm::is_model_spec(a); });

@@ -1,5 +1,7 @@
 #include "orchestrator/remote/lease_book.h"
 
+#include "core/util/error.h"
+
 namespace mtg::orchestrator::remote {
 
 const char* to_string(LeaseState state) {
@@ -20,18 +22,43 @@ LeaseBook::LeaseBook(const std::filesystem::path& file) {
   db_->exec(
       "CREATE TABLE IF NOT EXISTS leases (episode_id INTEGER NOT NULL, attempt INTEGER NOT NULL, "
       "worker TEXT NOT NULL, state TEXT NOT NULL, PRIMARY KEY (episode_id, attempt))");
+  grant_ = std::make_unique<store::Statement>(
+      *db_, "INSERT OR REPLACE INTO leases (episode_id, attempt, worker, state) VALUES (?,?,?,?)");
+  close_ = std::make_unique<store::Statement>(*db_, "UPDATE leases SET state = ? WHERE episode_id = ? AND attempt = ?");
 }
 
-void LeaseBook::grant(const LeaseRecord& l) {
-  store::Statement q(*db_, "INSERT OR REPLACE INTO leases (episode_id, attempt, worker, state) VALUES (?,?,?,?)");
-  q.bind(1, l.episode_id.value()).bind(2, std::int64_t{l.attempt}).bind(3, l.worker).bind(4, to_string(LeaseState::kGranted));
-  q.run();
+LeaseBook::~LeaseBook() {
+  try {
+    flush();
+  } catch (const Error&) {
+    // Nothing to do in a destructor: a resumed coordinator sees the book as it was last flushed.
+  }
+  grant_.reset();
+  close_.reset();
 }
+
+void LeaseBook::grant(const LeaseRecord& l) { pending_.push_back({l, LeaseState::kGranted}); }
 
 void LeaseBook::close(bus::EpisodeId episode_id, int attempt, LeaseState state) {
-  store::Statement q(*db_, "UPDATE leases SET state = ? WHERE episode_id = ? AND attempt = ?");
-  q.bind(1, to_string(state)).bind(2, episode_id.value()).bind(3, std::int64_t{attempt});
-  q.run();
+  pending_.push_back({{episode_id, attempt, ""}, state});
+}
+
+void LeaseBook::flush() {
+  if (pending_.empty()) return;
+  store::Transaction t(*db_);
+  for (const Change& c : pending_) {
+    store::Statement& q = c.state == LeaseState::kGranted ? *grant_ : *close_;
+    q.reset();
+    if (c.state == LeaseState::kGranted) {
+      q.bind(1, c.lease.episode_id.value()).bind(2, std::int64_t{c.lease.attempt}).bind(3, c.lease.worker);
+      q.bind(4, to_string(LeaseState::kGranted));
+    } else {
+      q.bind(1, to_string(c.state)).bind(2, c.lease.episode_id.value()).bind(3, std::int64_t{c.lease.attempt});
+    }
+    q.run();
+  }
+  t.commit();
+  pending_.clear();
 }
 
 std::vector<LeaseRecord> LeaseBook::open_leases() const {

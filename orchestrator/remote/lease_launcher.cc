@@ -16,9 +16,11 @@
 #include "mtg/episode_result_t.hpp"
 #include "mtg/error_event_t.hpp"
 #include "mtg/lease_renewal_t.hpp"
+#include "mtg/run_control_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/merge_recordings.h"
 #include "orchestrator/remote/run_announcement.h"
+#include "orchestrator/remote/session_rules.h"
 
 namespace mtg::orchestrator::remote {
 
@@ -125,6 +127,9 @@ void LeaseLauncher::subscribe() {
       }
     }
     arrived(key);
+  });
+  bus_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
+    if (m.command == kStatusProbe && !m.argument.empty() && m.argument.size() <= 64) announce("running", m.argument);
   });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
     if (m.header.run_id != run_.run_id) return;
@@ -267,7 +272,8 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   if (best.empty()) throw Error("internal: launch() without a free worker slot");
   const bus::EpisodeId id = bus::episode_of(start.header);
   const int attempt = start.header.attempt;
-  book_.grant({id, attempt, best});  // on disk before it is out
+  book_.grant({id, attempt, best});  // on disk before it is out: sent once the book is flushed
+  unsent_grants_.push_back({id, attempt});
   last_attempt_[id] = std::max(last_attempt_[id], attempt);
   Lease lease;
   lease.attempt = attempt;
@@ -275,7 +281,6 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   lease.launch = launch;
   lease.last_renewal = lease.last_grant = Clock::now();
   hold(id, std::move(lease));
-  send_lease("grant", id, attempt, best, &launch);
 }
 
 void LeaseLauncher::drop(bus::EpisodeId episode_id, int attempt) {
@@ -426,8 +431,20 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
   }
 }
 
+void LeaseLauncher::send_grants() {
+  book_.flush();
+  for (const auto& [id, attempt] : unsent_grants_) {
+    const auto it = leases_.find(id);
+    if (it != leases_.end() && it->second.attempt == attempt) {
+      send_lease("grant", id, attempt, it->second.worker, &it->second.launch);
+    }
+  }
+  unsent_grants_.clear();
+}
+
 void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
   sink_ = &sink;
+  send_grants();  // the ones launch() wrote since the last poll, all in one commit
   if (bus_.handle_once(timeout_ms)) {
     while (bus_.handle_once(0)) {
     }
@@ -439,11 +456,13 @@ void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
     announce("running");
     next_announce_ = Clock::now() + std::chrono::seconds(1);
   }
+  book_.flush();  // what this round closed
   sink_ = nullptr;
 }
 
-void LeaseLauncher::announce(const std::string& state) {
+void LeaseLauncher::announce(const std::string& state, const std::string& echo) {
   mtg::run_info_t m = announcement(run_, counts_);
+  m.echo = echo;
   m.header = stamp_.next({}, 0, "run_info");
   m.state = state;
   m.session = session_;
@@ -485,6 +504,7 @@ std::vector<std::string> LeaseLauncher::heard_sessions() {
 }
 
 void LeaseLauncher::close() {
+  send_grants();
   // Workers leave the run when they hear it is done; say it a few times (UDP). With leases still
   // out (interrupted) say nothing: the workers finish them, and a resumed coordinator adopts them.
   for (int i = 0; i < 3 && leases_.empty(); ++i) {

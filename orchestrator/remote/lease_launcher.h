@@ -23,6 +23,7 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "bus/bus.h"
 #include "bus/header.h"
@@ -86,7 +87,8 @@ class LeaseLauncher final : public Launcher {
   };
 
   void subscribe();
-  void announce(const std::string& state);
+  /// `echo`: the status challenge this announcement answers (session_rules.h, kStatusProbe).
+  void announce(const std::string& state, const std::string& echo = "");
   /// The worker sessions heard within the lease TTL, oldest dropped beyond kHeardKept.
   std::vector<std::string> heard_sessions();
   /// Clears `live` of the workers not heard within the lease ttl (a heartbeat sets it again).
@@ -104,6 +106,8 @@ class LeaseLauncher final : public Launcher {
   void arrived(const AttemptKey& key);
   void remember_delivered(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);
+  /// Flushes the lease book, then sends the grants launch() wrote (on disk before they are out).
+  void send_grants();
   std::string lease_id(bus::EpisodeId episode_id, int attempt) const;
 
   RuntimeConfig run_;
@@ -119,6 +123,7 @@ class LeaseLauncher final : public Launcher {
   std::map<std::string, Worker> workers_;       // by sender id
   std::map<bus::EpisodeId, Lease> leases_;        // by episode id
   std::map<AttemptKey, Arrival> arrivals_;
+  std::vector<AttemptKey> unsent_grants_;  // launched, waiting for the book's next flush
   // Answered with "release" when resent; the last kDeliveredKept only (a worker resends within
   // seconds, while thousands of episodes finish in between only on a very long run).
   static constexpr std::size_t kDeliveredKept = 16384;

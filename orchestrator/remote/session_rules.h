@@ -21,6 +21,12 @@
 
 namespace mtg::orchestrator::remote {
 
+/// `mtg status`'s challenge (run_control_t command, its nonce the argument): workers answer with a
+/// heartbeat, coordinators with an announcement, that echo the nonce, and status believes only
+/// those, so nothing sent before it asked (a dead worker's beats, a finished run's announcement,
+/// replayed to a status that never heard them) is shown as alive.
+inline constexpr const char* kStatusProbe = "status_probe";
+
 struct HeardAnnouncement {
   std::string run_id;
   std::string session;             // the coordinator's

@@ -31,6 +31,7 @@
 #include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/recording_request_t.hpp"
+#include "mtg/run_control_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/remote/episode_log.h"
 #include "orchestrator/remote/recordings_place.h"
@@ -77,6 +78,11 @@ class Worker final : public LaunchSink {
     // Grants, releases and revocations come on this worker's own channel.
     shared_.subscribe<mtg::lease_t>(bus::lease_channel(session_), [this](const std::string&, const mtg::lease_t& m) {
       if (m.worker == stamp_.sender() && !run_id_.empty() && m.header.run_id == run_id_) on_lease(m);
+    });
+    // `mtg status` asks (a signed challenge); the answer is a beat that names it, so a status
+    // believes no beat sent before it asked (a dead worker's, replayed).
+    shared_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
+      if (m.command == kStatusProbe && !m.argument.empty() && m.argument.size() <= 64) heartbeat(m.argument);
     });
     shared_.subscribe<mtg::recording_request_t>(bus::kRecordRequest, [this](const std::string&,
                                                                            const mtg::recording_request_t& m) {
@@ -343,12 +349,13 @@ class Worker final : public LaunchSink {
     once_done_ = options_.once;
   }
 
-  void heartbeat() {
+  void heartbeat(const std::string& echo = "") {
     mtg::heartbeat_t hb = process::heartbeat_message(
         {"worker", host_, options_.capacity, static_cast<int>(held_.size()), tick_++, status_});
     hb.header = stamp_.next({}, 0, "heartbeat");
     hb.session = session_;
     hb.serving = serving_;
+    hb.echo = echo;
     shared_.publish(bus::kHeartbeat, hb);
   }
 
@@ -442,15 +449,22 @@ class Worker final : public LaunchSink {
       const std::vector<std::uint8_t> log = encode_event_log(events);
       Outgoing out;
       out.result = result;
-      if (recordings_.kind == RecordingsPlace::Kind::kCoordinator) {
-        out.chunks = make_chunks(stamp_.next(id, attempt, "record"), lid, log, options_.chunk_bytes);
-      } else {
-        out.ref = keep_recording(id, attempt, lid, log);
+      if (recordings_.kind != RecordingsPlace::Kind::kCoordinator) {
+        try {
+          out.ref = keep_recording(id, attempt, lid, log);
+        } catch (const std::exception& e) {
+          // Not lost for a full or vanished folder: the coordinator keeps this one.
+          log::error("cannot keep the recording of " + lid + " in " + recordings_folder_.string() + " (" + e.what() +
+                     "); sending it to the coordinator instead");
+        }
       }
+      if (!out.ref) out.chunks = make_chunks(stamp_.next(id, attempt, "record"), lid, log, options_.chunk_bytes);
       shared_.publish(bus::kEpisodeResult, out.result);
-      if (out.ref) shared_.publish(bus::kRecordRef, *out.ref);
-      // Sent whole (a reference has no chunks to pace): again in 3 s unless released.
-      out.resend_at = Clock::now() + std::chrono::seconds(3);
+      if (out.ref) {
+        shared_.publish(bus::kRecordRef, *out.ref);
+        // Sent whole (a reference has no chunks to pace): again in 3 s unless released.
+        out.resend_at = Clock::now() + std::chrono::seconds(3);
+      }
       outbox_[lid] = std::move(out);
     }
     finished_.clear();

@@ -200,6 +200,60 @@ TEST_F(MultiHostTest, RecordingsKeptInASharedFolderOrOnTheWorkersReadAsAMergedOn
     EXPECT_EQ(status, 0) << text;
     EXPECT_NE(text.find(std::to_string(kept.size()) + " identical, 0 differ"), std::string::npos) << text;
   }
+  // A worker that cannot write the shared folder (here: directories where episode 0 and 1's files
+  // go) sends those recordings to the coordinator instead; the run is whole all the same.
+  {
+    const fs::path blocked = fx_.root() / "blocked";
+    std::vector<std::string> args = run_args("fallback", 3, 4, 2);
+    args.insert(args.end(), {"--recordings", "shared:" + blocked.string()});
+    testing::ChildProcess p(args, log());
+    ASSERT_TRUE(wait_for([&] { return fs::exists(fx_.root() / "fallback" / "plan.json"); }, 30000));
+    const std::string id = orchestrator::load_plan(fx_.root() / "fallback").run_id;
+    for (const char* name : {"E0-a0.lcmlog", "E1-a0.lcmlog"}) fs::create_directories(blocked / id / name / "in-the-way");
+    EXPECT_EQ(p.wait(180000), 0) << log_text();
+    EXPECT_EQ(fingerprints(results("fallback")), fingerprints(results("kept")));
+    const auto refs_fallback = bus::read_recording_refs(fx_.root() / "fallback" / "results.sqlite");
+    ASSERT_EQ(refs_fallback.size(), results("fallback").size());
+    EXPECT_EQ(refs_fallback[0].location, "episodes/E0-a0.lcmlog");
+    EXPECT_EQ(refs_fallback[2].location.rfind(blocked.string(), 0), 0u) << refs_fallback[2].location;
+    EXPECT_NE(log_text().find("sending it to the coordinator instead"), std::string::npos);
+    const auto [status, text] = rejudge("fallback");
+    EXPECT_EQ(status, 0) << text;
+  }
+
+}
+
+// A fresh `mtg status` believes only what answers its own challenge: a dead worker's heartbeats,
+// captured and re-sent at it, do not list that worker (before, it was listed as idle).
+TEST_F(MultiHostTest, AFreshStatusListsNoDeadWorkerWhoseBeatsAreReplayed) {
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  bus::Bus tap(kSharedUrl);  // no key: it reads and re-sends datagrams as they are
+  std::vector<std::vector<std::uint8_t>> beats;
+  tap.subscribe_raw(bus::kHeartbeat, [&](const std::string&, std::span<const std::uint8_t> b, std::int64_t) {
+    mtg::heartbeat_t hb{};
+    if (hb.decode(b.data(), 0, static_cast<int>(b.size())) >= 0 && hb.host == "host1") beats.emplace_back(b.begin(), b.end());
+  });
+  ASSERT_TRUE(wait_for([&] {
+    tap.handle_once(20);
+    return beats.size() >= 4;
+  }, 30000));
+  kill_host(1);
+  const fs::path out = fx_.root() / "status.json";
+  testing::ChildProcess status({testing::bin("mtg"), "status", "--bus", kSharedUrl, "--json", "--listen", "3"},
+                               out.string());
+  std::size_t next = 0;
+  while (status.running()) {
+    tap.publish_raw(bus::kHeartbeat, beats[next++ % beats.size()]);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(status.wait(1000), 0) << testing_multihost::read_text(out);
+  const std::string text = testing_multihost::read_text(out);
+  const auto j = nlohmann::json::parse(text.substr(text.find('{')));
+  std::set<std::string> hosts;
+  for (const auto& w : j["workers"]) hosts.insert(w["host"].get<std::string>());
+  EXPECT_EQ(hosts, (std::set<std::string>{"host0"})) << text;
+  EXPECT_GE(j["unanswered"].get<int>(), 1) << text;
 }
 
 // The shared bus is authenticated: results, lease revocations and a shutdown forged during a run

@@ -493,8 +493,10 @@ TEST_F(RuntimeTest, MalformedRepliesCostAStepEachAndCrashNothing) {
   }
 }
 
-TEST_F(RuntimeTest, AnEpisodeThatCannotRunIsGivenUpNeverHangs) {
-  // A task of a scene the data does not have: the scene-graph service reports it every time.
+TEST_F(RuntimeTest, ATaskThatCannotRunIsRefusedBeforeTheRunStarts) {
+  // A task of a scene the data does not have, and one whose goal names an object its scene lacks:
+  // each is refused with one line naming the task, before anything is written (before: every
+  // episode of it was given up as an error row, after the run had started).
   tasks::Task t;
   t.id = "nowhere/L1/000000";
   t.scene = "nowhere";
@@ -506,16 +508,24 @@ TEST_F(RuntimeTest, AnEpisodeThatCannotRunIsGivenUpNeverHangs) {
   tasks::TaskSet set;
   set.scene = "nowhere";
   set.tasks = {t};
+  const std::string good_db = tasks_db_;
   tasks_db_ = (fx_.root() / "bad_tasks.sqlite").string();
   tasks::write_task_db(tasks_db_, {set}, {}, tasks::TaskOptions{});
-  // Exit 1, saying so: a run with an episode given up is not a success (before: exit 0).
   ASSERT_EQ(mtg(run_args("nowhere", {"oracle"}, 0, 1), 60000), 1) << log_text();
-  EXPECT_THAT(log_text(), ::testing::HasSubstr("1 episode(s) given up by the infrastructure, outside SR and IP"));
-  const auto rows = results("nowhere");
-  ASSERT_EQ(rows.size(), 1u);
-  EXPECT_EQ(rows[0].status, "error");
-  EXPECT_EQ(rows[0].cause, "infrastructure");
-  EXPECT_THAT(rows[0].detail, ::testing::HasSubstr("unknown scene 'nowhere'"));
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("unknown scene 'nowhere'"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "nowhere" / "results.sqlite"));
+
+  auto tasks = tasks::read_tasks(good_db);
+  ASSERT_FALSE(tasks.empty());
+  tasks::TaskSet broken;
+  broken.scene = tasks.front().scene;
+  tasks.front().goal["atomic"]["item"] = "no_such_object_9";
+  broken.tasks = {tasks.front()};
+  tasks_db_ = (fx_.root() / "broken_goal.sqlite").string();
+  tasks::write_task_db(tasks_db_, {broken}, {}, tasks::TaskOptions{});
+  ASSERT_EQ(mtg(run_args("broken", {"oracle"}, 0, 1), 60000), 1) << log_text();
+  EXPECT_THAT(log_text(), ::testing::HasSubstr("task " + tasks.front().id + ": its goal does not hold in scene"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "broken" / "results.sqlite"));
 }
 
 TEST_F(RuntimeTest, LcmLogplayerOntoABusWithAJudgeGivesTheSameResults) {

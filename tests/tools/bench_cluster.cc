@@ -24,6 +24,8 @@
 #include <sstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "core/store/sqlite.h"
 #include "orchestrator/remote/lease_book.h"
 #include "orchestrator/run/results_db.h"
@@ -104,7 +106,8 @@ class Bench {
     hosts_ = 0;
   }
 
-  std::vector<std::string> run_args(const std::string& out, int limit, bool remote, bool render, int parallel = 4) const {
+  std::vector<std::string> run_args(const std::string& out, int limit, bool remote, bool render, int parallel = 4,
+                                    const std::vector<std::string>& extra = {}) const {
     std::vector<std::string> a = {mtg(), "--log-level", "warn", "run", "--tasks", tasks_, "--agent", "oracle",
                                   "--levels", "1,2,3", "--limit", std::to_string(limit), "--parallel",
                                   std::to_string(parallel), "--out", (work_ / out).string(), "--no-progress"};
@@ -114,6 +117,7 @@ class Bench {
     if (render) {
       for (const char* s : {"--render", "--image-size", "640x480"}) a.emplace_back(s);
     }
+    a.insert(a.end(), extra.begin(), extra.end());
     return a;
   }
 
@@ -121,12 +125,14 @@ class Bench {
     double seconds = 0, episodes = 0, coordinator_cpu = 0, worker_cpu = 0;
     double steady_seconds = 0;  // from the first stored result on (scenes loaded, processes up)
     double hub_cpu = 0;         // the hub's user + system seconds during the run (0 without a hub)
+    double coordinator_episode_cpu = -1;  // per episode, first to last result (without merge and report)
     std::map<std::string, std::pair<std::int64_t, std::int64_t>> shared_bytes;  // channel -> (messages, bytes)
   };
 
   // One run; `record` puts a recorder on the shared bus to count its traffic (over a hub it is
   // one more client the hub relays everything to).
-  RunFigures run(const std::string& out, int limit, bool remote, bool render, int parallel = 4, bool record = true) {
+  RunFigures run(const std::string& out, int limit, bool remote, bool render, int parallel = 4, bool record = true,
+                 const std::vector<std::string>& extra = {}) {
     fs::remove_all(work_ / out);
     const fs::path shared_log = work_ / (out + "-shared.lcmlog");
     fs::remove(shared_log);
@@ -141,14 +147,29 @@ class Bench {
     for (const auto& w : workers_) worker_cpu_before.push_back(cpu_seconds(w->pid()));
     const double hub_before = hub_ ? cpu_seconds(hub_->pid()) : 0.0;
     const auto start = Clock::now();
-    ChildProcess p(run_args(out, limit, remote, render, parallel), (work_ / (out + ".log")).string());
+    ChildProcess p(run_args(out, limit, remote, render, parallel, extra), (work_ / (out + ".log")).string());
     // The coordinator's CPU from its first stored result on: planning and loading the task set
     // happen once per run, whatever the number of episodes.
-    double coordinator_cpu = 0.0, cpu_at_first = -1.0;
+    double coordinator_cpu = 0.0, cpu_at_first = -1.0, cpu_at_last = -1.0;
     Clock::time_point first_result = start;
     std::size_t stored_at_first = 0;
+    std::int64_t planned = -1;
     while (p.running()) {
       coordinator_cpu = std::max(coordinator_cpu, cpu_seconds(p.pid()));
+      if (cpu_at_first >= 0 && cpu_at_last < 0) {
+        // Up to the last result: what follows (merging, the report) is once per run.
+        try {
+          if (planned < 0) {
+            std::ifstream in(work_ / out / "plan.json");
+            const std::string text((std::istreambuf_iterator<char>(in)), {});
+            planned = static_cast<std::int64_t>(nlohmann::json::parse(text)["episodes"].size());
+          }
+          mtg::store::Database db(work_ / out / "results.sqlite", mtg::store::Database::Mode::kReadOnly);
+          mtg::store::Statement q(db, "SELECT COUNT(*) FROM episodes");
+          if (q.step() && q.column_int(0) >= planned) cpu_at_last = coordinator_cpu;
+        } catch (const std::exception&) {
+        }
+      }
       if (cpu_at_first < 0) {
         try {
           stored_at_first = mtg::orchestrator::read_results(work_ / out / "results.sqlite").size();
@@ -169,6 +190,9 @@ class Bench {
     f.coordinator_cpu = cpu_at_first < 0 ? coordinator_cpu
                                          : (coordinator_cpu - cpu_at_first) * f.episodes /
                                                std::max(1.0, f.episodes - static_cast<double>(stored_at_first));
+    if (cpu_at_first >= 0 && cpu_at_last >= 0) {
+      f.coordinator_episode_cpu = (cpu_at_last - cpu_at_first) / std::max(1.0, f.episodes - static_cast<double>(stored_at_first));
+    }
     for (std::size_t i = 0; i < workers_.size(); ++i) f.worker_cpu += cpu_seconds(workers_[i]->pid()) - worker_cpu_before[i];
     if (hub_) f.hub_cpu = cpu_seconds(hub_->pid()) - hub_before;
     if (recorder) {
@@ -181,6 +205,28 @@ class Bench {
       }
     }
     return f;
+  }
+
+  // The coordinator's CPU per host and second with `hosts` workers joined and no episode: it waits
+  // for one worker more than there are, for `seconds`, and gives up (heartbeats, announcements).
+  double idle_cpu_per_host_second(int hosts, double seconds) {
+    const std::string out = "idle-" + std::to_string(hosts);
+    fs::remove_all(work_ / out);
+    std::vector<std::string> args = run_args(out, 1, false, false);
+    args.insert(args.end(), {"--remote", "--bus", url_, "--min-workers", std::to_string(hosts + 1), "--worker-wait",
+                             std::to_string(static_cast<int>(seconds))});
+    ChildProcess p(args, (work_ / (out + ".log")).string());
+    // From the moment every worker is heard (its announcements name them) to the give-up.
+    std::this_thread::sleep_for(std::chrono::seconds(3));
+    const double before = cpu_seconds(p.pid());
+    const auto t0 = Clock::now();
+    double last = before;
+    while (p.running()) {
+      last = std::max(last, cpu_seconds(p.pid()));
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    p.wait(1000);  // exit 1: not enough workers, as asked
+    return (last - before) / std::max(1e-9, seconds_since(t0)) / hosts;
   }
 
   // Kills host `victim` while it holds leases; returns (detect s, recover s, episodes it lost).
@@ -293,12 +339,90 @@ void print_hub(const Bench::RunFigures& f, double per_episode) {
 
 double messages_per_episode(const Bench::RunFigures& f) { return static_cast<double>(messages(f)) / f.episodes; }
 
+// The coordinator as hosts are added (2, 4, 8; capacity 2 each, as many in flight as slots): its
+// CPU per episode after its first result, and the shared bus's messages and bytes per episode by
+// channel, text only and with 640x480 images (recordings sent to it, or kept in a shared folder).
+// What grows with the hosts and what with the episodes is what docs/multihost.md extrapolates.
+int scale_section(Bench& bench, int limit, const std::vector<std::string>& modes, const fs::path& work, bool images,
+                  const std::vector<int>& host_counts) {
+  std::printf("the coordinator at 2, 4 and 8 hosts (capacity 2 each; oracle on apt_0, Levels 1-3):\n");
+  for (const bool render : {false, true}) {
+    if (render && !images) continue;
+    for (const std::string& mode : modes) {
+      for (const int hosts : host_counts) {
+        bench.up(hosts, SharedBus::kMulticast, 2);
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        std::vector<std::string> extra;
+        if (mode != "coordinator") {
+          const fs::path folder = work / ("recordings-" + std::to_string(hosts));
+          fs::remove_all(folder);
+          extra = {"--recordings", "shared:" + folder.string()};
+        }
+        const std::string name = std::string(render ? "images" : "text") + "-" + mode + "-" + std::to_string(hosts);
+        const int per_level = render ? std::max(2, 2 * hosts / 3) : limit;
+        const auto f = bench.run(name, per_level, true, render, 2 * hosts, true, extra);
+        std::printf("  %-5s %-11s %d hosts: %4.0f episodes in %6.2f s; coordinator %.2f ms CPU per episode (first to "
+                    "last result), workers %.2f ms; shared bus %.1f messages, %.0f bytes per episode\n",
+                    render ? "image" : "text", mode.c_str(), hosts, f.episodes, f.seconds,
+                    1000.0 * f.coordinator_episode_cpu, 1000.0 * f.worker_cpu / f.episodes,
+                    messages_per_episode(f), static_cast<double>(bytes(f)) / f.episodes);
+        // Each worker's lease channel (MTG_LEASE_<session>) counted as one.
+        std::map<std::string, std::pair<std::int64_t, std::int64_t>> by_kind;
+        for (const auto& [ch, nb] : f.shared_bytes) {
+          const bool own = ch.rfind("MTG_LEASE_", 0) == 0 && ch != "MTG_LEASE_RENEW";
+          auto& k = by_kind[own ? "MTG_LEASE_<worker>" : ch];
+          k.first += nb.first;
+          k.second += nb.second;
+        }
+        for (const auto& [ch, nb] : by_kind) {
+          std::printf("        %-20s %8.2f messages %11.0f bytes per episode\n", ch.c_str(),
+                      static_cast<double>(nb.first) / f.episodes, static_cast<double>(nb.second) / f.episodes);
+        }
+        std::fflush(stdout);
+      }
+    }
+  }
+  // Over the hub, which relays each message to every client subscribed to its channel: text runs,
+  // the hub's CPU per episode (no recorder on the hub: it would be one more client).
+  for (const std::string& mode : modes) {
+    for (const int hosts : host_counts) {
+      bench.up(hosts, SharedBus::kHub, 2);
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      std::vector<std::string> extra;
+      if (mode != "coordinator") extra = {"--recordings", "shared:" + (work / ("hub-recordings-" + std::to_string(hosts))).string()};
+      const auto f = bench.run("hub-" + mode + "-" + std::to_string(hosts), limit, true, false, 2 * hosts, false, extra);
+      std::printf("  hub   %-11s %d hosts: %4.0f episodes in %6.2f s; hub %.3f ms CPU per episode, coordinator %.2f ms\n",
+                  mode.c_str(), hosts, f.episodes, f.seconds, 1000.0 * f.hub_cpu / f.episodes,
+                  1000.0 * f.coordinator_episode_cpu);
+      std::fflush(stdout);
+    }
+  }
+  for (const int hosts : host_counts) {
+    bench.up(hosts, SharedBus::kMulticast, 2);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::printf("  idle coordinator, %d hosts joined: %.3f ms CPU per host and second\n", hosts,
+                1000.0 * bench.idle_cpu_per_host_second(hosts, 10.0));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"multi-host figures on simulated hosts (scripts/bench cluster)"};
   std::string root, tasks, work = "/tmp/mtg_bench_cluster";
   int limit = 300;
+  std::string only;
+  std::vector<std::string> modes = {"coordinator", "shared"};
+  int scale_limit = 100;
+  bool no_images = false;
+  std::vector<int> host_counts = {2, 4, 8};
+  app.add_option("--only", only, "one section: scale (the coordinator at 2, 4 and 8 hosts), or all (default)");
+  app.add_option("--modes", modes, "with scale: recordings places to compare (coordinator, shared)");
+  app.add_option("--scale-limit", scale_limit, "with scale: tasks per level of the text runs (default 100)");
+  app.add_flag("--no-images", no_images, "with scale: text runs only");
+  app.add_option("--hosts", host_counts, "with scale: host counts (default 2 4 8)");
   app.add_option("--root", root, "repository root")->required();
   app.add_option("--tasks", tasks, "task database (apt_0, Levels 1-3)")->required();
   app.add_option("--work", work, "scratch folder");
@@ -312,6 +436,7 @@ int main(int argc, char** argv) {
     std::ofstream(key) << "bench-secret-of-the-cluster-figures\n";
     ::setenv("MTG_BUS_KEY", key.c_str(), 1);
     Bench bench(root, work, tasks);
+    if (only == "scale") return scale_section(bench, scale_limit, modes, work, !no_images, host_counts);
     std::printf("oracle on apt_0, Levels 1-3, %d tasks each, 4 episodes in flight; every host is a network\n"
                 "namespace on this machine's %ld cores\n", limit, sysconf(_SC_NPROCESSORS_ONLN));
     const auto local = bench.run("local", limit, false, false);
