@@ -43,6 +43,18 @@ std::string describe(const RecordingDamage& d) {
          std::to_string(d.offset) + " (skipped; the recording is damaged there)";
 }
 
+std::string damage_for(const std::vector<RecordingDamage>& damage, EpisodeId episode) {
+  std::vector<std::string> lines;
+  for (const RecordingDamage& d : damage) {
+    if (d.episode && *d.episode == episode) return describe(d);  // its own file: the reason
+  }
+  for (const RecordingDamage& d : damage) {
+    if (!d.episode) lines.push_back(describe(d));
+  }
+  if (lines.empty()) return "";
+  return lines.front() + (lines.size() > 1 ? "; and " + std::to_string(lines.size() - 1) + " more" : "");
+}
+
 RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from,
                              const std::function<void(const lcm::LogEvent&, std::int64_t offset)>& fn) {
   lcm::LogFile file(log.string(), "r");
@@ -58,7 +70,7 @@ RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from
     for (const lcm::LogEvent* ev = file.readNextEvent(); ev != nullptr; ev = file.readNextEvent()) {
       const std::int64_t end = std::ftell(f);
       const std::int64_t start = end - event_bytes(*ev);
-      if (start > at) read.damage.push_back({log, at, start - at, false, ""});
+      if (start > at) read.damage.push_back({log, at, start - at, false, "", std::nullopt});
       at = end;
       fn(*ev, start);
     }
@@ -67,10 +79,10 @@ RecordingRead read_recording(const std::filesystem::path& log, std::int64_t from
     // go on from the next sync word.
     const std::int64_t next = next_sync_word(log, at + 1);
     if (next < 0) {
-      read.damage.push_back({log, at, size - at, true, ""});
+      read.damage.push_back({log, at, size - at, true, "", std::nullopt});
       break;
     }
-    read.damage.push_back({log, at, next - at, false, ""});
+    read.damage.push_back({log, at, next - at, false, "", std::nullopt});
     at = next;
     if (std::fseek(f, static_cast<long>(next), SEEK_SET) != 0) throw Error(log.string() + ": cannot seek in the recording");
   }
@@ -106,7 +118,7 @@ std::vector<RecordingDamage> for_each_recorded_event(const std::filesystem::path
     if (file.ref) {
       std::string problem = check_recording(log, *file.ref);
       if (!problem.empty()) {
-        damage.push_back({log, 0, file.ref->bytes, false, std::move(problem)});
+        damage.push_back({log, 0, file.ref->bytes, false, std::move(problem), file.ref->episode});
         continue;
       }
     }

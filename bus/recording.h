@@ -31,7 +31,15 @@ struct RecordingDamage {
   /// A referenced recording that is missing or not the one referenced (check_recording's line);
   /// none of it was read.
   std::string problem;
+  /// The episode a referenced recording is of (none for damage inside a run's own logs, which
+  /// may hold any episode).
+  std::optional<EpisodeId> episode;
 };
+
+/// The damage that may explain what the recording lacks of `episode`, as one line ("" when none
+/// may): that episode's own referenced file, else damage inside a log; another episode's missing
+/// file never.
+std::string damage_for(const std::vector<RecordingDamage>& damage, EpisodeId episode);
 
 /// One line: "bus-0.lcmlog: 120 unreadable bytes at byte 4096 of 8192 (skipped)".
 std::string describe(const RecordingDamage& damage);

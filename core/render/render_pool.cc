@@ -7,7 +7,11 @@
 
 namespace mtg::render {
 
-int default_renderers(int cores, int gpus) { return std::max({1, cores / 4, gpus}); }
+int default_renderers(int cores, int gpus) {
+  // Each renderer holds the scenes with their textures (~0.5 GB for an apartment): past eight
+  // (or one per GPU) the memory grows faster than what more renderers add; --renderers goes further.
+  return std::max(1, std::min(std::max(cores / 4, gpus), std::max(kMaxDefaultRenderers, gpus)));
+}
 
 std::vector<RendererSlot> plan_render_pool(int renderers, int cores, int gpus) {
   if (renderers < 0) throw Error("--renderers must be 0 (one per four cores) or more, not " + std::to_string(renderers));

@@ -21,8 +21,9 @@ struct RendererSlot {
 
 /// The pool's size when the user does not give one: a renderer per four cores (drawing one
 /// request while its encoders write the last one's PNGs keeps about that many busy), at least
-/// one per GPU, at least one.
+/// one per GPU, at least one, and no more than kMaxDefaultRenderers or the GPUs.
 int default_renderers(int cores, int gpus);
+inline constexpr int kMaxDefaultRenderers = 8;
 
 /// The pool of `renderers` processes (0 = default_renderers) on `cores` cores and `gpus`
 /// hardware GPUs: renderers go round the GPUs; each gets an equal share of the cores for

@@ -233,7 +233,9 @@ int run_images(const ImagesOptions& o) {
   for (const bus::RecordingDamage& d : damage) std::fprintf(stderr, "mtg images: %s\n", bus::describe(d).c_str());
   const std::string damaged = damage.empty() ? "" : " (the recording is damaged: " + bus::describe(damage.front()) + ")";
   if (o.episode >= 0 && !seen_episode) {
-    throw Error("episode " + std::to_string(o.episode) + " is not in the recording of " + o.run + damaged);
+    const std::string why = bus::damage_for(damage, bus::EpisodeId(o.episode));
+    throw Error("episode " + std::to_string(o.episode) + " is not in the recording of " + o.run +
+                (why.empty() ? "" : " (the recording is damaged: " + why + ")"));
   }
   if (written == 0 && !damage.empty()) {
     throw Error("no image read from " + o.run + ", and the recording is damaged: images may have been in what "

@@ -17,6 +17,7 @@
 #include "agents/vlm/model_setup.h"
 #include "bus/authenticator.h"
 #include "bus/process/identity.h"
+#include "bus/recording_ref.h"
 #include "bus/url.h"
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
@@ -107,8 +108,22 @@ void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const
     }
   }
   std::printf("  results     %s\n", (dir / "results.sqlite").c_str());
-  std::printf("  recording   %s/bus-*.lcmlog\n", dir.c_str());
-  if (fs::exists(dir / "episodes")) std::printf("  episodes    %s/episodes/ (each attempt's recording from its worker)\n", dir.c_str());
+  const auto refs = bus::read_recording_refs(dir / "results.sqlite");
+  if (refs.empty()) {
+    std::printf("  recording   %s/bus-*.lcmlog\n", dir.c_str());
+    if (fs::exists(dir / "episodes")) std::printf("  episodes    %s/episodes/ (each attempt's recording from its worker)\n", dir.c_str());
+  } else {
+    // Kept where they were made (docs/multihost.md): say where, and how to bring them here.
+    std::size_t on_workers = 0;
+    for (const auto& r : refs) on_workers += r.shared ? 0 : 1;
+    const fs::path first = bus::resolve(refs.front(), dir);
+    std::printf("  recordings  %zu referenced by results.sqlite", refs.size());
+    if (on_workers > 0) {
+      std::printf(", %zu kept on the workers (`mtg gather %s` brings them here)\n", on_workers, dir.c_str());
+    } else {
+      std::printf(", in %s/\n", first.parent_path().c_str());
+    }
+  }
   std::printf("  report      %s (+ report.png, report.json)\n", (dir / "report.html").c_str());
   std::printf("  logs        %s/logs/\n", dir.c_str());
 }

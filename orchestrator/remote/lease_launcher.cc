@@ -98,6 +98,16 @@ void LeaseLauncher::subscribe() {
   bus_.subscribe<mtg::recording_ref_t>(bus::kRecordRef, [this](const std::string&, const mtg::recording_ref_t& m) {
     if (m.header.run_id != run_.run_id) return;
     const AttemptKey key{bus::episode_of(m.header), m.header.attempt};
+    // Only where the run keeps recordings elsewhere, for the attempt it names, kept as the run says.
+    const auto kind = options_.recordings.kind;
+    const bool as_planned = (kind == RecordingsPlace::Kind::kShared && m.shared) ||
+                            (kind == RecordingsPlace::Kind::kWorker && !m.shared);
+    if (!as_planned || m.lease_id != lease_id(key.first, key.second)) {
+      const std::string why = "a recording reference from " + m.header.sender + " does not fit the run (" +
+                              options_.recordings.to_string() + "); ignored";
+      if (worker_errors_.insert(why).second) log::warn(why + " (" + m.lease_id + ")");
+      return;
+    }
     if (delivered_.count(key) == 0) {
       Arrival& a = arrivals_[key];
       a.worker = m.header.sender;
@@ -272,7 +282,7 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
   if (best.empty()) throw Error("internal: launch() without a free worker slot");
   const bus::EpisodeId id = bus::episode_of(start.header);
   const int attempt = start.header.attempt;
-  book_.grant({id, attempt, best});  // on disk before it is out: sent once the book is flushed
+  book_.grant({id, attempt, best});  // on disk before it is out: sent once the book is flushed (flush_book)
   unsent_grants_.push_back({id, attempt});
   last_attempt_[id] = std::max(last_attempt_[id], attempt);
   Lease lease;
@@ -286,8 +296,8 @@ void LeaseLauncher::launch(const EpisodeLaunch& launch) {
 void LeaseLauncher::drop(bus::EpisodeId episode_id, int attempt) {
   const auto it = leases_.find(episode_id);
   if (it == leases_.end() || it->second.attempt != attempt) return;
-  send_lease("revoke", episode_id, attempt, it->second.worker);
   book_.close(episode_id, attempt, LeaseState::kRevoked);
+  end_lease("revoke", episode_id, attempt, it->second.worker);
   release_hold(it);
 }
 
@@ -333,7 +343,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
           const std::string worker = lease->second.worker;
           book_.close(id, attempt, LeaseState::kRevoked);
           release_hold(lease);
-          send_lease("revoke", id, attempt, worker);
+          end_lease("revoke", id, attempt, worker);
           sink_->on_failure(id, attempt, why);
         }
         return;
@@ -382,16 +392,11 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
     sink_->on_result(result, host, ref ? &*ref : nullptr);
     last_attempt_.erase(id);  // stored: no attempt of it is numbered again
   }
-  send_lease("release", id, attempt, worker);
-  if (leases_.count(id) == 0) stamp_.forget_episode(id);
+  end_lease("release", id, attempt, worker);
 }
 
 std::optional<bus::RecordingRef> LeaseLauncher::reference_of(const AttemptKey& key, Arrival& a, std::string& why) {
   bus::RecordingRef ref = bus::from_message(*a.ref);
-  if (ref.episode != key.first || ref.attempt != key.second) {
-    why = "a recording reference of " + lease_id(key.first, key.second) + " names another attempt";
-    return std::nullopt;
-  }
   if (ref.shared) {
     // What a shared folder holds is checked here by size (its bytes are checked by whoever reads
     // it: reading every recording here is what the shared folder saves).
@@ -422,7 +427,7 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
     const Lease l = leases_.at(id);
     release_hold(leases_.find(id));
     book_.close(id, l.attempt, LeaseState::kExpired);
-    send_lease("revoke", id, l.attempt, l.worker);  // in case the worker is alive but was cut off
+    end_lease("revoke", id, l.attempt, l.worker);  // in case the worker is alive but was cut off
     const auto w = workers_.find(l.worker);
     const std::string host = w == workers_.end() ? l.worker : w->second.host;
     log::warn("lease " + lease_id(id, l.attempt) + " of " + host + " not renewed for " +
@@ -431,7 +436,11 @@ void LeaseLauncher::expire_leases(LaunchSink& sink) {
   }
 }
 
-void LeaseLauncher::send_grants() {
+void LeaseLauncher::end_lease(const std::string& action, bus::EpisodeId id, int attempt, const std::string& worker) {
+  unsent_ends_.push_back({action, id, attempt, worker});
+}
+
+void LeaseLauncher::flush_book() {
   book_.flush();
   for (const auto& [id, attempt] : unsent_grants_) {
     const auto it = leases_.find(id);
@@ -440,11 +449,16 @@ void LeaseLauncher::send_grants() {
     }
   }
   unsent_grants_.clear();
+  for (const LeaseEnd& e : unsent_ends_) {
+    send_lease(e.action, e.episode, e.attempt, e.worker);
+    if (leases_.count(e.episode) == 0) stamp_.forget_episode(e.episode);
+  }
+  unsent_ends_.clear();
 }
 
 void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
   sink_ = &sink;
-  send_grants();  // the ones launch() wrote since the last poll, all in one commit
+  flush_book();  // what launch() and drop() wrote since the last poll, in one commit, then sent
   if (bus_.handle_once(timeout_ms)) {
     while (bus_.handle_once(0)) {
     }
@@ -456,7 +470,7 @@ void LeaseLauncher::poll(int timeout_ms, LaunchSink& sink) {
     announce("running");
     next_announce_ = Clock::now() + std::chrono::seconds(1);
   }
-  book_.flush();  // what this round closed
+  flush_book();  // what this round closed, then the releases and revocations
   sink_ = nullptr;
 }
 
@@ -504,7 +518,7 @@ std::vector<std::string> LeaseLauncher::heard_sessions() {
 }
 
 void LeaseLauncher::close() {
-  send_grants();
+  flush_book();
   // Workers leave the run when they hear it is done; say it a few times (UDP). With leases still
   // out (interrupted) say nothing: the workers finish them, and a resumed coordinator adopts them.
   for (int i = 0; i < 3 && leases_.empty(); ++i) {

@@ -106,8 +106,10 @@ class LeaseLauncher final : public Launcher {
   void arrived(const AttemptKey& key);
   void remember_delivered(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);
-  /// Flushes the lease book, then sends the grants launch() wrote (on disk before they are out).
-  void send_grants();
+  /// Flushes the lease book, then sends the grants launch() wrote and the releases and
+  /// revocations of the leases closed: each is on disk before it is out.
+  void flush_book();
+  void end_lease(const std::string& action, bus::EpisodeId id, int attempt, const std::string& worker);
   std::string lease_id(bus::EpisodeId episode_id, int attempt) const;
 
   RuntimeConfig run_;
@@ -124,6 +126,13 @@ class LeaseLauncher final : public Launcher {
   std::map<bus::EpisodeId, Lease> leases_;        // by episode id
   std::map<AttemptKey, Arrival> arrivals_;
   std::vector<AttemptKey> unsent_grants_;  // launched, waiting for the book's next flush
+  struct LeaseEnd {
+    std::string action;  // release, revoke
+    bus::EpisodeId episode;
+    int attempt = 0;
+    std::string worker;
+  };
+  std::vector<LeaseEnd> unsent_ends_;  // closed in the book, waiting for its next flush
   // Answered with "release" when resent; the last kDeliveredKept only (a worker resends within
   // seconds, while thousands of episodes finish in between only on a very long run).
   static constexpr std::size_t kDeliveredKept = 16384;

@@ -471,7 +471,7 @@ class Worker final : public LaunchSink {
   }
 
   bool sending() const {
-    if (!gather_out_.empty()) return true;
+    if (!gather_files_.empty() || !gather_chunks_.empty()) return true;
     for (const auto& [lid, out] : outbox_) {
       if (out.next < out.chunks.size()) return true;
     }
@@ -502,9 +502,21 @@ class Worker final : public LaunchSink {
       if (budget == 0) break;
     }
     // Recordings asked for by `mtg gather`, once each, paced like the rest.
-    while (budget > 0 && !gather_out_.empty()) {
-      shared_.publish(bus::kRecord, gather_out_.front());
-      gather_out_.pop_front();
+    while (budget > 0 && (!gather_chunks_.empty() || !gather_files_.empty())) {
+      if (gather_chunks_.empty()) {
+        // The next file asked for, read only now: a long list waits as names, not as bytes.
+        const GatherFile f = std::move(gather_files_.front());
+        gather_files_.pop_front();
+        gather_queued_.erase(f.location);
+        std::ifstream in(f.location, std::ios::binary);
+        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+        for (auto& chunk : make_chunks(f.header, f.location, bytes, options_.chunk_bytes)) {
+          gather_chunks_.push_back(std::move(chunk));
+        }
+        continue;
+      }
+      shared_.publish(bus::kRecord, gather_chunks_.front());
+      gather_chunks_.pop_front();
       --budget;
     }
   }
@@ -545,14 +557,14 @@ class Worker final : public LaunchSink {
       if (ec || rel.empty() || *rel.begin() == ".." || file.extension() != ".lcmlog" || !fs::is_regular_file(file)) {
         continue;  // not a recording of this host's folder
       }
-      std::ifstream in(file, std::ios::binary);
-      const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+      // Asked again while still queued (the gatherer repeats what has not arrived): once is enough.
+      if (!gather_queued_.insert(m.locations[i]).second) continue;
       mtg::header_t h = stamp_.next(bus::EpisodeId(m.episode_ids[i]), m.attempts[i], "gather");
       h.run_id = m.header.run_id;
-      for (auto& chunk : make_chunks(h, m.locations[i], bytes, options_.chunk_bytes)) gather_out_.push_back(std::move(chunk));
+      gather_files_.push_back({m.locations[i], h});
       ++sent;
     }
-    if (sent > 0) log::info("sending " + std::to_string(sent) + " kept recording(s) of run " + m.header.run_id);
+    if (sent > 0) log::info("sending " + std::to_string(sent) + " more kept recording(s) of run " + m.header.run_id);
   }
 
   WorkerOptions options_;
@@ -582,7 +594,15 @@ class Worker final : public LaunchSink {
   Bridge rate_bridge_;
   RecordingsPlace recordings_;        // run_info_t.recordings of the run joined
   fs::path recordings_folder_;        // where this host writes them (when not sent)
-  std::deque<mtg::record_chunk_t> gather_out_;  // kept recordings asked for by `mtg gather`
+  // Kept recordings asked for by `mtg gather`: files waiting (each once), and the chunks of the
+  // one being sent.
+  struct GatherFile {
+    std::string location;
+    mtg::header_t header;
+  };
+  std::deque<GatherFile> gather_files_;
+  std::set<std::string> gather_queued_;
+  std::deque<mtg::record_chunk_t> gather_chunks_;
 };
 
 }  // namespace

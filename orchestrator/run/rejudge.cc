@@ -28,7 +28,7 @@ struct Recorded {
 };
 
 std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const std::string& run_id,
-                                                  std::vector<std::string>& damage) {
+                                                  std::vector<bus::RecordingDamage>& damage) {
   std::map<bus::EpisodeId, Recorded> out;
   const bus::RecordedTruths answers(run_dir);
   const auto damaged = bus::for_each_recorded_event(run_dir, [&](const lcm::LogEvent& ev) {
@@ -46,16 +46,14 @@ std::map<bus::EpisodeId, Recorded> read_recording(const fs::path& run_dir, const
       out[bus::episode_of(m.header)].actions[m.header.attempt].emplace(m.step, m);  // first answer per step wins
     }
   });
-  for (const bus::RecordingDamage& d : damaged) damage.push_back(bus::describe(d));
+  damage = damaged;
   return out;
 }
 
-// Why the recording may lack something: the damage found in it, if any.
-std::string because_of(const std::vector<std::string>& damage) {
-  if (damage.empty()) return "";
-  std::string out = " (the recording is damaged: " + damage.front();
-  if (damage.size() > 1) out += "; and " + std::to_string(damage.size() - 1) + " more";
-  return out + ")";
+// Why the recording may lack something of `episode`: the damage found in it that may explain it.
+std::string because_of(const std::vector<bus::RecordingDamage>& damage, bus::EpisodeId episode) {
+  const std::string why = bus::damage_for(damage, episode);
+  return why.empty() ? "" : " (the recording is damaged: " + why + ")";
 }
 
 }  // namespace
@@ -64,7 +62,9 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
   const RunPlan plan = load_plan(run_dir);
   const std::vector<EpisodeRow> recorded_rows = read_results(run_dir / "results.sqlite");
   RejudgeReport report;
-  const auto recording = read_recording(run_dir, plan.run_id, report.damage);
+  std::vector<bus::RecordingDamage> damage;
+  const auto recording = read_recording(run_dir, plan.run_id, damage);
+  for (const bus::RecordingDamage& d : damage) report.damage.push_back(bus::describe(d));
   graph::SceneCache scenes(plan.profile);
   for (const EpisodeRow& original : recorded_rows) {
     EpisodeRow row = original;
@@ -73,7 +73,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       if (rec == recording.end() || rec->second.starts.count(original.attempt) == 0 ||
           rec->second.truths.count(original.attempt) == 0) {
         report.unjudged.push_back("the recording lacks the start of episode " + to_string(original.episode_id) +
-                                  " attempt " + std::to_string(original.attempt) + because_of(report.damage));
+                                  " attempt " + std::to_string(original.attempt) + because_of(damage, original.episode_id));
         continue;
       }
       const mtg::episode_start_t& start = rec->second.starts.at(original.attempt);
@@ -90,7 +90,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       for (int step = 0; !judge.done(); ++step) {
         if (answers == rec->second.actions.end() || answers->second.count(step) == 0) {
           report.unjudged.push_back("the recording lacks episode " + to_string(original.episode_id) +
-                                    "'s answer to step " + std::to_string(step) + because_of(report.damage));
+                                    "'s answer to step " + std::to_string(step) + because_of(damage, original.episode_id));
           whole = false;
           break;
         }

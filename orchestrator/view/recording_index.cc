@@ -42,7 +42,6 @@ std::size_t RecordingIndex::refresh() {
   const std::lock_guard lock(mutex_);
   for (const auto& log : logs) {
     if (std::any_of(files_.begin(), files_.end(), [&](const File& f) { return f.path == log.path; })) continue;
-    if (files_.size() >= (std::size_t{1} << (64 - kOffsetBits))) break;
     if (log.ref) {
       // Read once, whole, if it is the recording referenced; named otherwise (and not read).
       const std::string problem = bus::check_recording(log.path, *log.ref);
@@ -66,7 +65,7 @@ std::size_t RecordingIndex::refresh() {
       if (!viewer_reads_channel(ev.channel)) return;
       const auto header = bus::peek_header({static_cast<const std::uint8_t*>(ev.data), static_cast<std::size_t>(ev.datalen)});
       if (!header || !bus::episode_of(*header).valid()) return;
-      places_[bus::episode_of(*header)].push_back(place(i, static_cast<long>(offset)));
+      places_[bus::episode_of(*header)].push_back({static_cast<std::uint32_t>(i), offset});
       ++added;
       std::string line;
       if (bus::is_episode_channel(ev.channel, bus::EpisodeStream::kAction)) {
@@ -100,7 +99,7 @@ std::size_t RecordingIndex::refresh() {
 }
 
 std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_id) const {
-  std::vector<std::uint64_t> places;
+  std::vector<Place> places;
   std::vector<fs::path> paths;
   {
     const std::lock_guard lock(mutex_);
@@ -113,9 +112,9 @@ std::vector<RecordedMessage> RecordingIndex::messages_of(bus::EpisodeId episode_
   out.reserve(places.size());
   std::size_t open_file = paths.size();
   std::unique_ptr<lcm::LogFile> log;
-  for (const std::uint64_t p : places) {
-    const std::size_t file = static_cast<std::size_t>(p >> kOffsetBits);
-    const long offset = static_cast<long>(p & ((std::uint64_t{1} << kOffsetBits) - 1));
+  for (const Place& p : places) {
+    const std::size_t file = p.file;
+    const long offset = static_cast<long>(p.offset);
     if (file != open_file) {
       log = std::make_unique<lcm::LogFile>(paths[file].string(), "r");
       if (!log->good()) throw Error(paths[file].string() + ": cannot read the recording");

@@ -58,17 +58,17 @@ class RecordingIndex {
     long indexed_to = 0;  // byte offset of the first event not yet indexed
     bool referenced = false;  // a recording kept where it was made: checked once, read whole
   };
-  // An event's place: file number in the high 24 bits (a run whose recordings stayed on the
-  // workers has a file per episode), byte offset in the low 40 (files up to 1 TiB).
-  static constexpr int kOffsetBits = 40;
-  static std::uint64_t place(std::size_t file, long offset) {
-    return (static_cast<std::uint64_t>(file) << kOffsetBits) | static_cast<std::uint64_t>(offset);
-  }
+  // An event's place: which file (a run whose recordings stayed on the workers has one per
+  // episode) and where in it.
+  struct Place {
+    std::uint32_t file = 0;
+    std::int64_t offset = 0;
+  };
 
   std::filesystem::path run_dir_;
   mutable std::mutex mutex_;
   std::vector<File> files_;
-  std::map<bus::EpisodeId, std::vector<std::uint64_t>> places_;
+  std::map<bus::EpisodeId, std::vector<Place>> places_;
   std::map<bus::EpisodeId, std::string> said_;  // lower case, one line per answer
   std::size_t size_ = 0;
   std::vector<std::string> damage_;

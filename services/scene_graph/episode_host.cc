@@ -221,6 +221,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
   r.observation = e.pending;
   e.awaiting_images = true;
   e.resent = false;
+  e.resent_on_restart = false;
   e.requested_at = std::chrono::steady_clock::now();
   send_request(e);
 }

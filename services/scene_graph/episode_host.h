@@ -89,7 +89,7 @@ class EpisodeHost {
     std::chrono::steady_clock::time_point requested_at;
     bool resent = false;
     int renderer = -1;             // its renderer in the pool (-1: none asked yet)
-    bool resent_on_restart = false;  // the one resend a renderer's restart earns
+    bool resent_on_restart = false;  // this request's one resend for a renderer's restart
     bus::WordsPacker words;  // what the next observation's words are packed against (docs/bus.md)
   };
   using Episodes = bus::EpisodeTable<Episode>;

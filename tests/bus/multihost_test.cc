@@ -163,6 +163,14 @@ TEST_F(MultiHostTest, RecordingsKeptInASharedFolderOrOnTheWorkersReadAsAMergedOn
     EXPECT_NE(status, 0) << text;
     EXPECT_NE(text.find(first.string() + " is damaged"), std::string::npos) << text;
     EXPECT_NE(text.find(second.string() + " is missing from the shared folder"), std::string::npos) << text;
+    // Each episode it could not judge is named with its own file's problem, not another's.
+    for (const auto& r : {refs[0], refs[1]}) {
+      const std::string n = to_string(r.episode), a = std::to_string(r.attempt);
+      EXPECT_NE(text.find("lacks the start of episode " + n + " attempt " + a +
+                          " (the recording is damaged: the recording of episode " + n + " (attempt " + a + ")"),
+                std::string::npos)
+          << text;
+    }
   }
 
   // Kept on the workers: named while they are away, gathered over the bus, then whole.

@@ -8,13 +8,16 @@
 namespace mtg::render {
 namespace {
 
-TEST(RenderPool, DefaultSizeIsARendererPerFourCoresAndAtLeastOnePerGpu) {
+TEST(RenderPool, DefaultSizeIsARendererPerFourCoresAtLeastOnePerGpuAtMostEight) {
   EXPECT_EQ(default_renderers(1, 0), 1);
   EXPECT_EQ(default_renderers(2, 0), 1);
   EXPECT_EQ(default_renderers(16, 0), 4);
   EXPECT_EQ(default_renderers(16, 1), 4);
   EXPECT_EQ(default_renderers(8, 4), 4);
-  EXPECT_EQ(default_renderers(64, 8), 16);
+  EXPECT_EQ(default_renderers(64, 8), 8);
+  EXPECT_EQ(default_renderers(128, 0), 8) << "each holds the scenes: at most eight unless asked";
+  EXPECT_EQ(default_renderers(128, 12), 12) << "but one per GPU";
+  EXPECT_EQ(plan_render_pool(12, 128, 0).size(), 12u);
 }
 
 TEST(RenderPool, WithoutAGpuEachRendererDrawsAndEncodesOnItsShareOfTheCores) {
