@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "core/episode/placement.h"
@@ -32,6 +33,39 @@ struct Series {
 };
 
 }  // namespace
+
+std::map<std::string, tasks::Task> bench_task_set(const std::filesystem::path& work, const std::string& scene,
+                                                  const std::string& data_dir, int per_level) {
+  tasks::GenerationJob job;
+  job.scenes = {scene};
+  job.data_dir = data_dir;
+  job.out = (work / "tasks.sqlite").string();
+  job.options.levels = {1, 2, 3};
+  job.options.level3_count = std::max(1, per_level);
+  tasks::run_generation(job);
+  std::map<std::string, tasks::Task> by_id;
+  for (auto& t : tasks::read_tasks(job.out)) by_id.emplace(t.id, std::move(t));
+  return by_id;
+}
+
+orchestrator::RunSummary run_plan_sampled(const orchestrator::RunPlan& plan, const std::filesystem::path& dir,
+                                          const std::map<std::string, tasks::Task>& tasks,
+                                          const orchestrator::EngineOptions& engine,
+                                          const std::function<void(const std::atomic<bool>& done)>& sampler) {
+  std::atomic<bool> done{false};
+  std::thread thread([&] { sampler(done); });
+  orchestrator::RunSummary summary;
+  try {
+    summary = orchestrator::run_plan(plan, dir, tasks, engine);
+  } catch (...) {
+    done = true;
+    thread.join();
+    throw;
+  }
+  done = true;
+  thread.join();
+  return summary;
+}
 
 std::filesystem::path fresh_scratch_folder(const std::string& work_dir, const std::string& command) {
   namespace fs = std::filesystem;

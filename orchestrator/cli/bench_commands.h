@@ -1,10 +1,17 @@
 #pragma once
 // `mtg bench ...`: the measurements scripts/bench prints (wall-clock, telemetry only).
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "core/tasks/task.h"
+#include "orchestrator/run/run_engine.h"
+#include "orchestrator/run/run_plan.h"
 
 namespace mtg::cli {
 
@@ -70,6 +77,17 @@ struct BenchSoakOptions {
 };
 
 int run_bench_soak(const BenchSoakOptions& options);
+
+/// Levels 1-3 of `scene` (`per_level` Level 3 tasks) generated into `work`/tasks.sqlite, by id.
+std::map<std::string, tasks::Task> bench_task_set(const std::filesystem::path& work, const std::string& scene,
+                                                  const std::string& data_dir, int per_level);
+
+/// run_plan() with `sampler(done)` on a thread of its own until the run returns (or throws):
+/// the benches watch a run's processes while it goes.
+orchestrator::RunSummary run_plan_sampled(const orchestrator::RunPlan& plan, const std::filesystem::path& dir,
+                                          const std::map<std::string, tasks::Task>& tasks,
+                                          const orchestrator::EngineOptions& engine,
+                                          const std::function<void(const std::atomic<bool>& done)>& sampler);
 
 /// `work` (absolute), emptied and marked as the scratch folder of `mtg bench <command>`. A folder
 /// that holds anything and is not such a scratch folder is never emptied.

@@ -79,15 +79,8 @@ struct PoolFigures {
 
 int run_bench_pool(const BenchPoolOptions& options) {
   const fs::path work = fresh_scratch_folder(options.work, "pool");
-  tasks::GenerationJob job;
-  job.scenes = {options.scene};
-  job.data_dir = options.data_dir;
-  job.out = (work / "tasks.sqlite").string();
-  job.options.levels = {1, 2, 3};
-  job.options.level3_count = std::max(1, options.per_level);
-  tasks::run_generation(job);
-  std::map<std::string, tasks::Task> by_id;
-  for (auto& t : tasks::read_tasks(job.out)) by_id.emplace(t.id, std::move(t));
+  const auto by_id = bench_task_set(work, options.scene, options.data_dir, options.per_level);
+  const std::string tasks_db = (work / "tasks.sqlite").string();
 
   const int gpus = render::hardware_gl_devices();
   std::printf("renderer pool: oracle episodes with %dx%d PNG images on %s, Levels 1-3, %d tasks each, %d in flight, "
@@ -107,7 +100,7 @@ int run_bench_pool(const BenchPoolOptions& options) {
       const std::string name = "renderers-" + std::to_string(n) + "-round-" + std::to_string(round);
       orchestrator::RunPlan plan;
       plan.run_id = orchestrator::new_run_id(name);
-      plan.tasks_db = job.out;
+      plan.tasks_db = tasks_db;
       plan.agents = {"oracle"};
       plan.levels = {1, 2, 3};
       plan.limit = options.per_level;
@@ -128,36 +121,26 @@ int run_bench_pool(const BenchPoolOptions& options) {
       engine.stored = &stored;
       // CPU of every process of the run, sampled at the first and at the last result.
       const auto planned = static_cast<std::int64_t>(plan.episodes.size());
-      std::atomic<bool> done{false};
       PoolFigures f;
       double cpu_first = 0, cpu_last = 0;
       std::int64_t at_first = 0;
       Clock::time_point t_first{}, t_last{};
-      std::thread sampler([&] {
-        while (!done) {
-          const std::int64_t now = stored.load();
-          if (at_first == 0 && now > 0) {
-            cpu_first = tree_cpu_seconds();
-            t_first = Clock::now();
-            at_first = now;
-          }
-          if (now >= planned && t_last == Clock::time_point{}) {
-            cpu_last = tree_cpu_seconds();
-            t_last = Clock::now();
-          }
-          std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-      });
-      orchestrator::RunSummary summary;
-      try {
-        summary = orchestrator::run_plan(plan, dir, by_id, engine);
-      } catch (...) {
-        done = true;
-        sampler.join();
-        throw;
-      }
-      done = true;
-      sampler.join();
+      const orchestrator::RunSummary summary =
+          run_plan_sampled(plan, dir, by_id, engine, [&](const std::atomic<bool>& done) {
+            while (!done) {
+              const std::int64_t now = stored.load();
+              if (at_first == 0 && now > 0) {
+                cpu_first = tree_cpu_seconds();
+                t_first = Clock::now();
+                at_first = now;
+              }
+              if (now >= planned && t_last == Clock::time_point{}) {
+                cpu_last = tree_cpu_seconds();
+                t_last = Clock::now();
+              }
+              std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
+          });
       f.episodes = static_cast<double>(summary.completed);
       f.seconds = summary.seconds;
       f.cpu = summary.cpu_seconds;

@@ -89,15 +89,8 @@ void print_latency(const char* what, const std::vector<double>& ms) {
 int run_bench_runtime(const BenchRuntimeOptions& options) {
   const fs::path work = fresh_scratch_folder(options.work, "runtime");
 
-  tasks::GenerationJob job;
-  job.scenes = {options.scene};
-  job.data_dir = options.data_dir;
-  job.out = (work / "tasks.sqlite").string();
-  job.options.levels = {1, 2, 3};
-  job.options.level3_count = std::max(1, options.per_level);
-  tasks::run_generation(job);
-  std::map<std::string, tasks::Task> by_id;
-  for (auto& t : tasks::read_tasks(job.out)) by_id.emplace(t.id, std::move(t));
+  const auto by_id = bench_task_set(work, options.scene, options.data_dir, options.per_level);
+  const std::string tasks_db = (work / "tasks.sqlite").string();
 
   std::printf("runtime: text-only oracle episodes on %s, %d tasks per level (L1-L3), over %s\n", options.scene.c_str(),
               options.per_level, bus::default_url().c_str());
@@ -112,7 +105,7 @@ int run_bench_runtime(const BenchRuntimeOptions& options) {
       // two benches on one bus at once do not take each other's messages.
       const std::string name = "parallel-" + std::to_string(k) + (round > 1 ? "-round-" + std::to_string(round) : "");
       plan.run_id = orchestrator::new_run_id(name);
-      plan.tasks_db = job.out;
+      plan.tasks_db = tasks_db;
       plan.agents = {"oracle"};
       plan.levels = {1, 2, 3};
       plan.limit = options.per_level;

@@ -110,12 +110,16 @@ int run_bench_soak(const BenchSoakOptions& options) {
               plan.agents.size(), plan.repeat, options.levels.c_str(), plan.parallel, plan.bus_url.c_str());
   std::fflush(stdout);
 
-  std::atomic<bool> done{false};
   std::atomic<std::int64_t> stored{0};
   std::vector<Sample> samples;  // every row printed
   std::optional<Sample> reference;
   const auto started = Clock::now();
-  std::thread sampler([&] {
+  orchestrator::EngineOptions engine;
+  engine.progress = false;
+  engine.stored = &stored;
+  // The last row while the processes still live is the sampler's last; one more after the end
+  // would find them gone.
+  const orchestrator::RunSummary summary = run_plan_sampled(plan, dir, by_id, engine, [&](const std::atomic<bool>& done) {
     std::int64_t next_mark = first;
     auto next_time = started + std::chrono::duration<double>(options.every_s);
     bool header = false;
@@ -141,21 +145,6 @@ int run_bench_soak(const BenchSoakOptions& options) {
       next_time = now + std::chrono::duration<double>(options.every_s);
     }
   });
-  orchestrator::EngineOptions engine;
-  engine.progress = false;
-  engine.stored = &stored;
-  orchestrator::RunSummary summary;
-  try {
-    summary = orchestrator::run_plan(plan, dir, by_id, engine);
-  } catch (...) {
-    done = true;
-    sampler.join();
-    throw;
-  }
-  // The last row while the processes still live is the sampler's last; one more after the end
-  // would find them gone.
-  done = true;
-  sampler.join();
 
   std::uintmax_t recorded = 0;
   for (const auto& f : fs::directory_iterator(dir)) {

@@ -13,33 +13,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The parent of `pid` from /proc/<pid>/stat (its fourth field, after the parenthesised name,
-// which may itself hold spaces and parentheses); 0 when the process is gone.
-pid_t parent_of(pid_t pid) {
+// The fields of /proc/<pid>/stat after the parenthesised name (which may itself hold spaces and
+// parentheses): the state is [0], so field k of proc(5) is [k - 3]. Empty when the process is gone.
+std::vector<std::string> stat_fields(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
   std::string stat((std::istreambuf_iterator<char>(in)), {});
   const auto close = stat.rfind(')');
-  if (close == std::string::npos) return 0;
+  if (close == std::string::npos) return {};
   std::istringstream rest(stat.substr(close + 1));
-  std::string state;
-  pid_t ppid = 0;
-  rest >> state >> ppid;
-  return ppid;
+  std::vector<std::string> out;
+  for (std::string field; rest >> field;) out.push_back(field);
+  return out;
 }
 
-// utime + stime (fields 14 and 15 of /proc/<pid>/stat) in seconds; 0 when the process is gone.
-double cpu_seconds_of(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string stat((std::istreambuf_iterator<char>(in)), {});
-  const auto close = stat.rfind(')');
-  if (close == std::string::npos) return 0.0;
-  std::istringstream rest(stat.substr(close + 2));
-  std::string field;
-  double ticks = 0.0;
-  for (int i = 3; i <= 15 && rest >> field; ++i) {
-    if (i == 14 || i == 15) ticks += std::stod(field);
-  }
-  return ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
+pid_t parent_of(pid_t pid) {
+  const auto f = stat_fields(pid);
+  return f.size() > 1 ? static_cast<pid_t>(std::stol(f[1])) : 0;
 }
 
 double rss_mib(pid_t pid) {
@@ -66,6 +55,12 @@ std::string role_of(pid_t pid) {
 
 }  // namespace
 
+double process_cpu_seconds(pid_t pid) {
+  const auto f = stat_fields(pid);
+  if (f.size() < 13) return 0.0;
+  return (std::stod(f[11]) + std::stod(f[12])) / static_cast<double>(::sysconf(_SC_CLK_TCK));  // utime, stime
+}
+
 std::vector<ProcessMemory> process_tree_memory(pid_t root) {
   std::map<pid_t, pid_t> parents;
   for (const auto& entry : fs::directory_iterator("/proc")) {
@@ -85,7 +80,7 @@ std::vector<ProcessMemory> process_tree_memory(pid_t root) {
     if (!below) continue;
     const double rss = rss_mib(pid);
     if (rss < 0.0) continue;  // gone meanwhile
-    out.push_back({pid, pid == root ? "mtg" : role_of(pid), rss, cpu_seconds_of(pid)});
+    out.push_back({pid, pid == root ? "mtg" : role_of(pid), rss, process_cpu_seconds(pid)});
   }
   return out;
 }

@@ -18,6 +18,9 @@ struct ProcessMemory {
   double cpu_seconds = 0.0;  // user + system so far (its own, not its children's)
 };
 
+/// User + system CPU seconds of `pid` so far (its own, not its children's); 0 when it is gone.
+double process_cpu_seconds(pid_t pid);
+
 /// `root` and every living descendant of it, in pid order. Processes that end while they are read
 /// are left out.
 std::vector<ProcessMemory> process_tree_memory(pid_t root);

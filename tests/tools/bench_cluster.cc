@@ -28,6 +28,7 @@
 
 #include "core/store/sqlite.h"
 #include "orchestrator/remote/lease_book.h"
+#include "orchestrator/run/process_memory.h"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/process.h"
 
@@ -47,19 +48,7 @@ enum class SharedBus { kMulticast, kHub };
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // User + system CPU seconds of one live process (its children not included).
-double cpu_seconds(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string stat((std::istreambuf_iterator<char>(in)), {});
-  const auto close = stat.rfind(')');
-  if (close == std::string::npos) return 0.0;
-  std::istringstream rest(stat.substr(close + 2));
-  std::string field;
-  double ticks = 0.0;
-  for (int i = 3; i <= 15 && rest >> field; ++i) {
-    if (i == 14 || i == 15) ticks += std::stod(field);
-  }
-  return ticks / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
+double cpu_seconds(pid_t pid) { return mtg::orchestrator::process_cpu_seconds(pid); }
 
 class Bench {
  public:
