@@ -2,9 +2,8 @@
 
 #include <openssl/evp.h>
 
-#include <fstream>
-
 #include "core/util/error.h"
+#include "core/util/file_bytes.h"
 
 namespace mtg::bus {
 
@@ -36,6 +35,19 @@ std::string sha256_hex(std::span<const std::uint8_t> bytes) {
     throw Error("SHA-256 failed (OpenSSL)");
   }
   return hex(digest, n);
+}
+
+RecordingRef reference_to(EpisodeId episode, int attempt, std::string location, std::string host, bool shared,
+                          std::span<const std::uint8_t> bytes) {
+  RecordingRef ref;
+  ref.episode = episode;
+  ref.attempt = attempt;
+  ref.location = std::move(location);
+  ref.host = std::move(host);
+  ref.shared = shared;
+  ref.bytes = static_cast<std::int64_t>(bytes.size());
+  ref.sha256 = sha256_hex(bytes);
+  return ref;
 }
 
 mtg::recording_ref_t to_message(const RecordingRef& ref) {
@@ -120,9 +132,12 @@ std::string check_recording(const fs::path& file, const RecordingRef& ref) {
   if (static_cast<std::int64_t>(size) != ref.bytes) {
     return what + " has " + std::to_string(size) + " bytes, not the " + std::to_string(ref.bytes) + " stored with it";
   }
-  std::ifstream in(file, std::ios::binary);
-  std::vector<std::uint8_t> bytes(size);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) return what + " cannot be read";
+  std::vector<std::uint8_t> bytes;
+  try {
+    bytes = read_file_bytes(file);
+  } catch (const Error&) {
+    return what + " cannot be read";
+  }
   if (sha256_hex(bytes) != ref.sha256) return what + " is damaged: its bytes are not the ones stored with it (SHA-256)";
   return "";
 }

@@ -36,6 +36,10 @@ struct RecordingRef {
 /// SHA-256 of `bytes`, lower-case hex.
 std::string sha256_hex(std::span<const std::uint8_t> bytes);
 
+/// The reference to the recording `bytes` of an attempt, kept at `location` on `host`.
+RecordingRef reference_to(EpisodeId episode, int attempt, std::string location, std::string host, bool shared,
+                          std::span<const std::uint8_t> bytes);
+
 /// The message for `ref` (header left to the caller) and back; from_message keeps the absolute
 /// location the worker sent.
 mtg::recording_ref_t to_message(const RecordingRef& ref);

@@ -23,6 +23,7 @@
 #include "core/tasks/validate.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/file_bytes.h"
 #include "core/util/stopwatch.h"
 #include "mtg/observation_t.hpp"
 
@@ -31,12 +32,6 @@ namespace mtg::cli {
 namespace fs = std::filesystem;
 
 namespace {
-
-void write_bytes(const fs::path& file, const std::uint8_t* data, std::size_t size) {
-  write_file_atomically(file, [&](std::ostream& os) {
-    os.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  });
-}
 
 nlohmann::json point(const Eigen::Vector2d& p) { return {std::round(p.x() * 10) / 10, std::round(p.y() * 10) / 10}; }
 
@@ -180,7 +175,7 @@ int run_render(const RenderOptions& o) {
     const fs::path file = zoom     ? out.parent_path() / (out.stem().string() + "_zoom" + std::to_string(++zooms) + ext)
                           : marked ? out.parent_path() / (stem + "_marked" + ext)
                                    : out.parent_path() / (stem + ext);
-    write_bytes(file, image.bytes.data(), image.bytes.size());
+    write_file_bytes_atomically(file, image.bytes);
     std::printf("wrote %s (%dx%d, %s)\n", file.c_str(), image.width, image.height, image.role.c_str());
   }
   std::printf("%lld triangles; scene load %.0f ms, view %.1f ms (%s)\n", static_cast<long long>(reply.triangles),
@@ -226,7 +221,7 @@ int run_images(const ImagesOptions& o) {
                                "_s" + std::to_string(obs.step) + "_" + img.role +
                                (n > 1 ? "_" + std::to_string(n) : std::string()) + ext;
       const fs::path file = fs::path(o.out) / name;
-      write_bytes(file, img.data.data(), img.data.size());
+      write_file_bytes_atomically(file, img.data);
       ++written;
     }
   });

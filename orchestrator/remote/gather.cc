@@ -1,7 +1,6 @@
 #include "orchestrator/remote/gather.h"
 
 #include <chrono>
-#include <fstream>
 #include <map>
 #include <optional>
 
@@ -12,7 +11,7 @@
 #include "bus/process/identity.h"
 #include "bus/recording_ref.h"
 #include "core/store/sqlite.h"
-#include "core/util/atomic_file.h"
+#include "core/util/file_bytes.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/record_chunk_t.hpp"
@@ -28,11 +27,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-std::vector<std::uint8_t> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)), {});
-}
 
 // Where the first folder of `from` holds a copy of `name` (a worker's --dir keeps it under
 // <run id>/episodes/; a copy may be flat).
@@ -78,29 +72,33 @@ GatherReport gather_recordings(const GatherOptions& o) {
   // names the copy from then on.
   const auto keep = [&](const bus::RecordingRef& ref, const std::vector<std::uint8_t>& bytes) {
     if (static_cast<std::int64_t>(bytes.size()) != ref.bytes || bus::sha256_hex(bytes) != ref.sha256) return false;
-    const fs::path here = episode_log_path(run, ref.episode, ref.attempt);
-    fs::create_directories(here.parent_path());
-    write_file_atomically(here, [&](std::ostream& out) {
-      out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    });
     bus::RecordingRef moved = ref;
-    moved.location = here.lexically_relative(run).string();
+    moved.location = store_episode_log(run, ref.episode, ref.attempt, bytes).lexically_relative(run).string();
     moved.shared = true;
     bus::store_recording_ref(db, moved);
     report.bytes += static_cast<std::int64_t>(bytes.size());
     return true;
   };
 
+  // Read once, kept only if its bytes are the referenced ones.
+  const auto keep_from = [&](const bus::RecordingRef& ref, const fs::path& source) {
+    try {
+      return fs::is_regular_file(source) && keep(ref, read_file_bytes(source));
+    } catch (const Error&) {
+      return false;  // unreadable: looked for elsewhere
+    }
+  };
   // From the shared folder where it was written, or from a copy of a worker's folder.
   for (auto it = wanted.begin(); it != wanted.end();) {
     const bus::RecordingRef& ref = it->second;
-    const fs::path file = bus::resolve(ref, run);
-    std::optional<fs::path> source;
     // A path kept on another host names nothing here (even where this machine has one like it).
     const bool readable_here = ref.shared || ref.host == process::host_name();
-    if (readable_here && fs::is_regular_file(file) && bus::check_recording(file, ref).empty()) source = file;
-    if (!source) source = find_copy(o.from, plan.run_id, fs::path(ref.location).filename().string());
-    if (source && keep(ref, read_bytes(*source))) {
+    bool kept = readable_here && keep_from(ref, bus::resolve(ref, run));
+    if (!kept) {
+      const auto copy = find_copy(o.from, plan.run_id, fs::path(ref.location).filename().string());
+      kept = copy && keep_from(ref, *copy);
+    }
+    if (kept) {
       ++report.copied;
       it = wanted.erase(it);
     } else {

@@ -32,14 +32,6 @@ double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::ste
   return std::chrono::duration<double>(b - a).count();
 }
 
-// The bytes as they are, written whole or not at all (a killed coordinator leaves no half file).
-void write_bytes(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
-  fs::create_directories(file.parent_path());
-  write_file_atomically(file, [&](std::ostream& out) {
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  });
-}
-
 }  // namespace
 
 LeaseLauncher::LeaseLauncher(RuntimeConfig run, fs::path run_dir, const RunCounts& counts, RemoteOptions options)
@@ -363,18 +355,11 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
       a.chunks = ChunkAssembly();
       return;
     }
-    const fs::path file = episode_log_path(dir_, id, attempt);
-    write_bytes(file, bytes);
+    // Whole or not at all: a killed coordinator leaves no half file.
+    const fs::path file = store_episode_log(dir_, id, attempt, bytes);
     if (options_.recordings.kind != RecordingsPlace::Kind::kCoordinator) {
       // A worker that could not keep it sent it here: the run's references name this copy.
-      bus::RecordingRef here;
-      here.episode = id;
-      here.attempt = attempt;
-      here.location = file.string();
-      here.shared = true;
-      here.bytes = static_cast<std::int64_t>(bytes.size());
-      here.sha256 = bus::sha256_hex(bytes);
-      ref = bus::relative_to(here, dir_);
+      ref = bus::relative_to(bus::reference_to(id, attempt, file.string(), "", true, bytes), dir_);
     }
   }
   const mtg::episode_result_t result = *a.result;
@@ -395,7 +380,7 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
   end_lease("release", id, attempt, worker);
 }
 
-std::optional<bus::RecordingRef> LeaseLauncher::reference_of(const AttemptKey& key, Arrival& a, std::string& why) {
+std::optional<bus::RecordingRef> LeaseLauncher::reference_of(const AttemptKey& key, const Arrival& a, std::string& why) {
   bus::RecordingRef ref = bus::from_message(*a.ref);
   if (ref.shared) {
     // What a shared folder holds is checked here by size (its bytes are checked by whoever reads

@@ -102,7 +102,7 @@ class LeaseLauncher final : public Launcher {
   void hold(bus::EpisodeId id, Lease lease);
   void release_hold(std::map<bus::EpisodeId, Lease>::iterator it);
   /// The reference to store for an arrival (the shared file checked), or why it cannot be stored yet.
-  std::optional<bus::RecordingRef> reference_of(const AttemptKey& key, Arrival& a, std::string& why);
+  std::optional<bus::RecordingRef> reference_of(const AttemptKey& key, const Arrival& a, std::string& why);
   void arrived(const AttemptKey& key);
   void remember_delivered(const AttemptKey& key);
   void expire_leases(LaunchSink& sink);

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "bus/episode_id.h"
@@ -15,6 +16,10 @@ namespace mtg::orchestrator::remote {
 
 /// Where an attempt's recording is kept in the run folder.
 std::filesystem::path episode_log_path(const std::filesystem::path& run_dir, bus::EpisodeId episode_id, int attempt);
+/// Writes an attempt's recording there, whole or not at all; returns the file.
+/// @throws mtg::Error naming the file when it cannot be written.
+std::filesystem::path store_episode_log(const std::filesystem::path& run_dir, bus::EpisodeId episode_id, int attempt,
+                                        std::span<const std::uint8_t> bytes);
 
 /// Rewrites <run_dir>/bus-merged.lcmlog; returns the number of events written.
 /// @throws mtg::Error naming the file it cannot read or write.

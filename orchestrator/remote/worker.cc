@@ -24,7 +24,7 @@
 #include "core/scene/dataset.h"
 #include "core/scene/dataset_fingerprint.h"
 #include "bus/recording_ref.h"
-#include "core/util/atomic_file.h"
+#include "core/util/file_bytes.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/log.h"
@@ -508,10 +508,12 @@ class Worker final : public LaunchSink {
         const GatherFile f = std::move(gather_files_.front());
         gather_files_.pop_front();
         gather_queued_.erase(f.location);
-        std::ifstream in(f.location, std::ios::binary);
-        const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
-        for (auto& chunk : make_chunks(f.header, f.location, bytes, options_.chunk_bytes)) {
-          gather_chunks_.push_back(std::move(chunk));
+        try {
+          for (auto& chunk : make_chunks(f.header, f.location, read_file_bytes(f.location), options_.chunk_bytes)) {
+            gather_chunks_.push_back(std::move(chunk));
+          }
+        } catch (const Error& e) {
+          log::warn(std::string(e.what()) + "; not sent to mtg gather");  // gone since it was asked for
         }
         continue;
       }
@@ -526,19 +528,9 @@ class Worker final : public LaunchSink {
   mtg::recording_ref_t keep_recording(bus::EpisodeId id, int attempt, const std::string& lid,
                                       const std::vector<std::uint8_t>& log) {
     const fs::path file = recordings_folder_ / ("E" + to_string(id) + "-a" + std::to_string(attempt) + ".lcmlog");
-    fs::create_directories(file.parent_path());
-    write_file_atomically(file, [&](std::ostream& out) {
-      out.write(reinterpret_cast<const char*>(log.data()), static_cast<std::streamsize>(log.size()));
-    });
-    bus::RecordingRef ref;
-    ref.episode = id;
-    ref.attempt = attempt;
-    ref.location = fs::absolute(file).lexically_normal().string();
-    ref.host = host_;
-    ref.shared = recordings_.kind == RecordingsPlace::Kind::kShared;
-    ref.bytes = static_cast<std::int64_t>(log.size());
-    ref.sha256 = bus::sha256_hex(log);
-    mtg::recording_ref_t m = bus::to_message(ref);
+    write_file_bytes_atomically(file, log);
+    mtg::recording_ref_t m = bus::to_message(bus::reference_to(id, attempt, fs::absolute(file).lexically_normal().string(),
+                                                               host_, recordings_.kind == RecordingsPlace::Kind::kShared, log));
     m.header = stamp_.next(id, attempt, "record_ref");
     m.lease_id = lid;
     return m;

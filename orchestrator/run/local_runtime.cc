@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "agents/builtin/policies.h"
@@ -31,31 +32,34 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The last line that is not empty ("no message" when there is none).
+std::string last_line(std::istream& in) {
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  return last.empty() ? "no message" : last;
+}
+
+// The last line a process wrote to its log: usually why it stopped.
+std::string last_line_of(const fs::path& log) {
+  std::ifstream in(log);
+  return last_line(in);
+}
+
 // Hardware GPUs the renderer finds (its EGL probe; GL stays out of this process). 0 when the
 // probe fails: the pool is then sized for llvmpipe, which still draws.
 int count_gpus(const fs::path& bin) {
   try {
     const process::CommandOutput out = process::run_command({(bin / "mtg_renderer").string(), "--count-gpus"});
     // The count is the last line: EGL drivers may warn on stderr before it.
-    std::string last = out.output;
-    while (!last.empty() && (last.back() == '\n' || last.back() == ' ')) last.pop_back();
-    last = last.substr(last.find_last_of('\n') == std::string::npos ? 0 : last.find_last_of('\n') + 1);
-    if (out.exit_code == 0) return std::max(0, std::stoi(last));
+    std::istringstream lines(out.output);
+    if (out.exit_code == 0) return std::max(0, std::stoi(last_line(lines)));
     log::warn("mtg_renderer --count-gpus failed: " + out.output);
   } catch (const std::exception& e) {
     log::warn(std::string("mtg_renderer --count-gpus: ") + e.what());
   }
   return 0;
-}
-
-// The last line a process wrote to its log: usually why it stopped.
-std::string last_line_of(const fs::path& log) {
-  std::ifstream in(log);
-  std::string line, last;
-  while (std::getline(in, line)) {
-    if (!line.empty()) last = line;
-  }
-  return last.empty() ? "no message" : last;
 }
 
 }  // namespace

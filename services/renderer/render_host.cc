@@ -1,6 +1,7 @@
 #include "services/renderer/render_host.h"
 
 #include <cstdlib>
+#include <optional>
 
 #include "bus/channels.h"
 #include "bus/convert.h"
@@ -19,11 +20,6 @@ RenderHost::RenderHost(bus::Bus& bus, bus::Bus& out, bus::HeaderStamper& stamp, 
                                                                                      const mtg::render_request_t& m) {
     if (run_id_.empty() || m.header.run_id == run_id_) on_request(m);
   });
-}
-
-long RenderHost::served() const {
-  const std::lock_guard<std::mutex> lock(publishing_);
-  return served_;
 }
 
 void RenderHost::on_request(const mtg::render_request_t& request) {
@@ -65,7 +61,15 @@ void RenderHost::finish(const mtg::render_request_t& request, const render::Draw
                         EncodePipeline::Bytes bytes, std::string error, const Stopwatch& since_request) {
   mtg::render_result_t out{};
   out.request_id = request.request_id;
-  const std::lock_guard<std::mutex> lock(publishing_);
+  const auto failed = [&](const std::string& why) {
+    out.ok = false;
+    out.error = why;
+    out.images.clear();
+    log::warn("request " + std::to_string(request.request_id) + " of episode " +
+              std::to_string(request.header.episode_id) + ": " + why);
+  };
+  // The images are copied into the messages here, on this encoder's thread, beside the others.
+  std::optional<mtg::observation_t> obs;
   try {
     if (drawn == nullptr) throw Error(error);
     const render::ImageReply reply = render::encoded_reply(*drawn, std::move(bytes));
@@ -74,25 +78,25 @@ void RenderHost::finish(const mtg::render_request_t& request, const render::Draw
     for (const render::EncodedImage& e : reply.images) out.images.push_back(bus::to_message(e));
     if (request.with_observation) {
       // The images go to the agent in the observation, and nowhere else.
-      mtg::observation_t obs = request.observation;
-      obs.images = std::move(out.images);
-      obs.n_images = static_cast<int32_t>(obs.images.size());
-      sent_.refer_to_earlier(obs);
+      obs = request.observation;
+      obs->images = std::move(out.images);
+      obs->n_images = static_cast<int32_t>(obs->images.size());
       out.images.clear();
-      out.images_published = obs.n_images;
-      try {
-        out_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), obs);
-      } catch (...) {
-        sent_.forget(obs.header);  // nothing reached the agent: the attempt's later views go whole
-        throw;
-      }
+      out.images_published = obs->n_images;
     }
   } catch (const std::exception& e) {
-    out.ok = false;
-    out.error = e.what();
-    out.images.clear();
-    log::warn("request " + std::to_string(request.request_id) + " of episode " +
-              std::to_string(request.header.episode_id) + ": " + out.error);
+    failed(e.what());
+  }
+  // One encoder at a time from here: the publishing bus, and what each attempt's observations carried.
+  const std::lock_guard<std::mutex> lock(publishing_);
+  if (obs) {
+    sent_.refer_to_earlier(*obs);
+    try {
+      out_.publish(bus::episode_channel(bus::EpisodeStream::kObservation), *obs);
+    } catch (const std::exception& e) {
+      sent_.forget(obs->header);  // nothing reached the agent: the attempt's later views go whole
+      failed(e.what());
+    }
   }
   out.n_images = static_cast<int32_t>(out.images.size());
   out.render_ms = since_request.elapsed_ms();  // drawn, waited for an encoder, encoded
@@ -106,7 +110,6 @@ void RenderHost::finish(const mtg::render_request_t& request, const render::Draw
     log::error("request " + std::to_string(request.request_id) + " of episode " +
                std::to_string(request.header.episode_id) + ": the result could not be sent: " + e.what());
   }
-  ++served_;
 }
 
 }  // namespace mtg::services

@@ -36,7 +36,6 @@ class RenderHost {
   RenderHost(const RenderHost&) = delete;
   RenderHost& operator=(const RenderHost&) = delete;
   void on_request(const mtg::render_request_t& request);
-  long served() const;
 
  private:
   // On an encoder thread (or this one, for a failed request): the observation with its images,
@@ -52,9 +51,8 @@ class RenderHost {
   render::ImageRenderer& renderer_;
   EncodePipeline& encoders_;
   std::string run_id_;
-  mutable std::mutex publishing_;  // out_, sent_ and served_ are shared by the encoders
-  bus::SentImages sent_;           // per attempt in flight: the images its observations carried
-  long served_ = 0;
+  std::mutex publishing_;  // out_ and sent_ are shared by the encoders
+  bus::SentImages sent_;   // per attempt in flight: the images its observations carried
 };
 
 }  // namespace mtg::services

@@ -64,7 +64,7 @@ void EpisodeHost::on_renderer_beat(int index, int pid) {
   const bool replaced = known != 0 && known != pid;
   known = pid;
   if (!replaced) return;
-  // What the dead renderer held never comes: ask its successor, once per episode. A request that
+  // What the dead renderer held never comes: ask its successor, once per request. A request that
   // outlives two renderers is not drawn again (it may be what kills them): the episode ends in an
   // error and the orchestrator runs it again.
   std::vector<Key> lost;
