@@ -16,11 +16,29 @@
 
 namespace mtg::bus {
 
-Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
+Bus::Bus(const std::string& url, std::shared_ptr<const PrivateNetwork> network) : url_(normalize_url(url)) {
+  if (network == nullptr) {
+    connect();
+    return;
+  }
+  network->run_inside([this] {
+    connect();
+    if (udpm_port_ == 0) return;
+    // liblcm opens its receive socket at the first subscription, in the thread that makes it:
+    // that must happen in here, not in whichever thread subscribes first.
+    lcm::Subscription* opener = lcm_->subscribeFunction(
+        "MTG_PRIVATE_NETWORK_OPEN", +[](const lcm::ReceiveBuffer*, const std::string&, void*) {}, static_cast<void*>(nullptr));
+    if (opener == nullptr) throw Error("cannot open LCM's receive socket on " + url_ + " in the host bus's network namespace");
+    lcm_->unsubscribe(opener);
+  });
+}
+
+void Bus::connect() {
   check_multicast_route(url_);
   // A hub started at the same moment (a script, a Slurm array) gets a few seconds to listen.
   check_hub_reachable(url_, std::chrono::seconds(10));
   is_log_ = url_.rfind("file://", 0) == 0;
+  if (const auto udpm = parse_udpm(url_)) sockets_before_ = udp_sockets_on_port(udpm->port);
   lcm_ = std::make_unique<lcm::LCM>(url_);
   if (!lcm_->good()) {
     throw Error("cannot start LCM on " + url_ +
@@ -30,7 +48,6 @@ Bus::Bus(const std::string& url) : url_(normalize_url(url)) {
   if (tcp_) tune_tcp();
   if (const auto udpm = parse_udpm(url_)) {
     udpm_port_ = udpm->port;
-    sockets_before_ = udp_sockets_on_port(udpm_port_);
     // ttl=0: every message of this bus is looped back on this host; nothing else is let in.
     channels_ = ChannelFilter(loopback_group_of(url_));
   }

@@ -19,6 +19,7 @@
 
 #include "bus/authenticator.h"
 #include "bus/channel_filter.h"
+#include "bus/private_network.h"
 #include "bus/truth_seal.h"
 #include "core/util/error.h"
 #include "mtg/episode_truth_t.hpp"
@@ -32,8 +33,10 @@ inline constexpr int kQueueCapacity = 10000;
 class Bus {
  public:
   /// Connects to `url` (normalised; udpm URLs are refused without a proper multicast route).
+  /// With `network`, the bus's sockets are made in that namespace (private_network.h): the bus
+  /// is the one of the processes started inside it, and nothing outside it reaches.
   /// @throws mtg::Error naming the URL and the fix when LCM cannot start.
-  explicit Bus(const std::string& url);
+  explicit Bus(const std::string& url, std::shared_ptr<const PrivateNetwork> network = nullptr);
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
@@ -143,6 +146,8 @@ class Bus {
 
  private:
   void tune_tcp();
+  // Everything of the constructor that makes or names sockets.
+  void connect();
   // After a subscription on udpm: the receive socket's filter lets through what is now subscribed.
   void filter_channels(const std::string& subscription);
   // Drops typed messages of another schema version, saying so once per bus.
@@ -220,8 +225,8 @@ class Bus {
   std::shared_ptr<std::int64_t> unopened_ = std::make_shared<std::int64_t>(0);
   static void log_unopened(const std::string& why);  // the first one, as a warning
   SchemaGate schema_gate_;
-  // udpm only: liblcm opens its receive socket at the first subscription; it is the one socket
-  // on the bus's port that was not open when this bus was made.
+  // udpm only: liblcm opens its receive socket at the first subscription (in a private network,
+  // when the bus is made); it is the one socket on the bus's port that was not open before.
   int udpm_port_ = 0;
   std::vector<OpenSocket> sockets_before_;
   OpenSocket receive_socket_;

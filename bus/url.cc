@@ -58,7 +58,10 @@ std::optional<UdpmAddress> parse_udpm(const std::string& url) {
 std::string multicast_interface(const std::string& group) {
   in_addr target{};
   if (inet_pton(AF_INET, group.c_str(), &target) != 1) return "";
-  std::ifstream routes("/proc/net/route");
+  // The calling thread's namespace: /proc/net is the main thread's, and a bus of a private
+  // network (private_network.h) is made on a thread inside it.
+  std::ifstream routes("/proc/thread-self/net/route");
+  if (!routes) routes.open("/proc/net/route");
   std::string line;
   std::getline(routes, line);  // header
   std::string best;

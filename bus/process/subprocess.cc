@@ -7,6 +7,7 @@
 
 #include <cerrno>
 
+#include "bus/private_network.h"
 #include "core/util/error.h"
 
 namespace mtg::process {
@@ -23,7 +24,8 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
 
 }  // namespace
 
-pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal) {
+pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal,
+                    const bus::PrivateNetwork* network) {
   // Everything the child needs is prepared before fork: after it only async-signal-safe calls.
   std::vector<char*> args = c_argv(argv);
   const pid_t parent = ::getpid();
@@ -39,6 +41,11 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log
         ::dup2(fd, 2);
         ::close(fd);
       }
+    }
+    if (network != nullptr && !network->enter()) {
+      static const char kWhy[] = "cannot enter the host bus's network namespace\n";
+      (void)!::write(2, kWhy, sizeof kWhy - 1);
+      ::_exit(127);
     }
     ::execv(args[0], args.data());
     ::_exit(127);

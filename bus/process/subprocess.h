@@ -8,12 +8,19 @@
 #include <string>
 #include <vector>
 
+namespace mtg::bus {
+class PrivateNetwork;
+}
+
 namespace mtg::process {
 
 /// Starts argv[0] (an absolute path) with `argv`; stdout and stderr are appended to `log_file`
-/// ("" = inherited). Returns the child's pid; the caller reaps it.
-/// @throws mtg::Error if the process cannot be forked. A failed exec exits the child with 127.
-pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal);
+/// ("" = inherited). With `network`, the child runs in that network namespace. Returns the
+/// child's pid; the caller reaps it.
+/// @throws mtg::Error if the process cannot be forked. A failed exec, or a namespace the child
+/// cannot enter (said in its log), exits the child with 127.
+pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log_file, int parent_death_signal,
+                    const bus::PrivateNetwork* network = nullptr);
 
 struct CommandOutput {
   int exit_code = -1;  // -1 when it did not exit normally

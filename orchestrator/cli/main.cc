@@ -230,7 +230,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   worker->add_option("--bus-key", worker_opts->worker.bus_key,
                      "the shared bus's key file, the same on every host (default $MTG_BUS_KEY)");
   worker->add_option("--local-url", worker_opts->worker.local_url,
-                     "this host's own bus (default: the loopback group on a port no other bus here uses)");
+                     "this host's own bus (default: a network namespace of the worker's own, else the loopback group on a port no other bus here uses)");
   worker->add_option("--run", worker_opts->worker.run_id, "join only this run id (default: the first announced)");
   worker->add_option("--capacity", worker_opts->worker.capacity, "episodes at once (default 2)");
   worker->add_option("--name", worker_opts->worker.name, "name shown by mtg status (default: the host name)");

@@ -17,6 +17,8 @@
 #include "bus/error_events.h"
 #include "bus/header.h"
 #include "bus/host_bus.h"
+#include "bus/private_network.h"
+#include "bus/url.h"
 #include "bus/process/heartbeat.h"
 #include "bus/process/identity.h"
 #include "bus/process/stop_signals.h"
@@ -27,7 +29,9 @@
 #include "core/util/file_bytes.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
+#include "core/util/json_file.h"
 #include "core/util/log.h"
+#include "agents/vlm/http_relay.h"
 #include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/recording_request_t.hpp"
@@ -67,8 +71,9 @@ class Bridge {
 
 class Worker final : public LaunchSink {
  public:
-  explicit Worker(WorkerOptions options)
-      : options_(std::move(options)), host_(options_.name.empty() ? process::host_name() : options_.name),
+  Worker(WorkerOptions options, std::shared_ptr<const bus::PrivateNetwork> network)
+      : options_(std::move(options)), network_(std::move(network)),
+        host_(options_.name.empty() ? process::host_name() : options_.name),
         shared_(options_.bus_url), stamp_("", process::sender_id("worker")) {
     if (options_.capacity < 1) throw Error("mtg worker: --capacity must be at least 1");
     shared_.authenticate(bus::shared_bus_authenticator(options_.bus_key));
@@ -97,7 +102,8 @@ class Worker final : public LaunchSink {
   int run() {
     process::install_stop_signals();
     const auto started = Clock::now();
-    log::info(stamp_.sender() + " on " + options_.bus_url + " (host bus " + options_.local_url + "), capacity " +
+    log::info(stamp_.sender() + " on " + options_.bus_url + " (host bus " + options_.local_url +
+              (network_ ? " in a network namespace of its own" : "") + "), capacity " +
               std::to_string(options_.capacity));
     auto next_beat = Clock::now();
     auto next_renewal = Clock::now();
@@ -248,6 +254,7 @@ class Worker final : public LaunchSink {
     heartbeat();
     RuntimeConfig c = announced_config(info);
     c.bus_url = options_.local_url;
+    c.network = network_;
     c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
     c.parallel = options_.capacity;
     c.recorder = options_.recorder;
@@ -268,6 +275,7 @@ class Worker final : public LaunchSink {
         if (rate_bridge_.should_forward(bytes)) shared_.publish_raw(channel, bytes);
       });
       runtime_->open();
+      write_bus_file();
       status_ = process::HeartbeatStatus::kReady;
     } catch (const Error& e) {
       log::error("cannot run " + run_id_ + ": " + e.what() + " (trying again in 30 s)");
@@ -284,6 +292,18 @@ class Worker final : public LaunchSink {
       stamp_.set_run_id("");
       status_ = process::HeartbeatStatus::kIdle;
     }
+  }
+
+  // Where the run's host bus is, for `scripts/lcm-spy --run <dir>/<run id>`: the URL, and the
+  // namespace to enter for it.
+  void write_bus_file() const {
+    nlohmann::json bus = {{"url", options_.local_url}, {"pid", static_cast<long>(::getpid())}};
+    bus["own_namespace"] = network_ != nullptr;
+    if (network_) {
+      bus["netns"] = network_->path();
+      bus["user_namespace"] = network_->in_user_namespace();
+    }
+    write_json_file(fs::path(options_.dir) / run_id_ / "bus.json", bus);
   }
 
   // This host's dataset must be the one the run's task set was made from (run_info_t).
@@ -560,6 +580,7 @@ class Worker final : public LaunchSink {
   }
 
   WorkerOptions options_;
+  std::shared_ptr<const bus::PrivateNetwork> network_;  // the host bus's (null: this host's loopback)
   std::string host_;
   bus::Bus shared_;
   bus::HeaderStamper stamp_;
@@ -600,13 +621,30 @@ class Worker final : public LaunchSink {
 }  // namespace
 
 int run_worker(const WorkerOptions& options) {
-  std::optional<bus::HostBusReservation> own_port;
   WorkerOptions o = options;
+  std::optional<bus::HostBusReservation> own_port;
+  std::shared_ptr<const bus::PrivateNetwork> network;
+  std::unique_ptr<vlm::HttpRelayServer> relay;
   if (o.local_url.empty()) {
-    own_port.emplace();
-    o.local_url = own_port->url();
+    try {
+      // First, while this process has one thread: without root it needs a user namespace.
+      network = bus::PrivateNetwork::make();
+      o.local_url = bus::normalize_url(bus::kDefaultUrl);
+      // The model adapters inside reach no network: this process makes their calls.
+      relay = std::make_unique<vlm::HttpRelayServer>();
+      ::setenv(vlm::kHttpRelayEnv, relay->socket_path().c_str(), 1);
+      relay->start();
+    } catch (const Error& e) {
+      log::warn(std::string(e.what()) + "; the host bus is a loopback port of its own instead, which the network cannot " +
+                "reach but other processes of this host can");
+      network.reset();
+      relay.reset();
+      ::unsetenv(vlm::kHttpRelayEnv);
+      own_port.emplace();
+      o.local_url = own_port->url();
+    }
   }
-  Worker worker(std::move(o));
+  Worker worker(std::move(o), std::move(network));
   return worker.run();
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // `mtg worker`: one per host of a multi-host run (docs/multihost.md). It waits on the shared bus
 // for a coordinator's run, starts that run's processes on this host (LocalRuntime, on a bus of
-// its own that never leaves the host), heartbeats its capacity, runs the episode attempts it is
+// its own in a network namespace of the worker's own, which nothing else of the host or the
+// network reaches: bus/private_network.h), heartbeats its capacity, runs the episode attempts it is
 // leased and renews those leases every second. A finished attempt goes back as its result plus
 // its recording -- the attempt's messages on this host's bus, cut into chunks -- resent until the
 // coordinator releases it. So images never cross hosts as single multicast messages, and a
@@ -19,7 +20,9 @@ namespace mtg::orchestrator::remote {
 struct WorkerOptions {
   std::string bus_url;            // the shared bus (udpm, ttl=1 across hosts)
   std::string bus_key;            // its key file ("" = $MTG_BUS_KEY): messages are signed
-  std::string local_url;          // this host's bus for the run's processes (ttl=0; "" = a loopback port of its own)
+  /// This host's bus for the run's processes (ttl=0). "" = the default group in a network
+  /// namespace of the worker's own, or, where none can be made, a loopback port of its own.
+  std::string local_url;
   std::string name;               // shown by `mtg status` ("" = host name)
   int capacity = 2;               // episodes at once
   std::string dir;                // per-run process logs and this host's recordings

@@ -65,8 +65,8 @@ int count_gpus(const fs::path& bin) {
 }  // namespace
 
 LocalRuntime::LocalRuntime(RuntimeConfig config, fs::path dir)
-    : config_(std::move(config)), dir_(std::move(dir)), bus_(config_.bus_url),
-      stamp_(config_.run_id, "orchestrator:" + std::to_string(::getpid())), supervisor_(dir_ / "logs") {
+    : config_(std::move(config)), dir_(std::move(dir)), bus_(config_.bus_url, config_.network),
+      stamp_(config_.run_id, "orchestrator:" + std::to_string(::getpid())), supervisor_(dir_ / "logs", config_.network) {
   subscribe();
 }
 

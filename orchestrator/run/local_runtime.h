@@ -16,12 +16,14 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bus/bus.h"
 #include "bus/header.h"
+#include "bus/private_network.h"
 #include "orchestrator/run/launcher.h"
 #include "orchestrator/run/supervisor.h"
 
@@ -65,6 +67,9 @@ struct RuntimeConfig {
   /// runtime: every host seals and opens with the same key); "" = a key of the run's own.
   /// Either way it is kept in the run folder's truth.key (bus/truth_seal.h).
   std::string truth_secret_file = "";
+  /// The network namespace the run's bus and processes live in (a worker's, bus/private_network.h);
+  /// null: this process's own (`mtg run` is inside a namespace of the run's already).
+  std::shared_ptr<const bus::PrivateNetwork> network;
 };
 
 class LocalRuntime final : public Launcher {

@@ -1,15 +1,9 @@
 #include "orchestrator/run/run_namespace.h"
 
-#include <arpa/inet.h>
 #include <fcntl.h>
-#include <net/if.h>
-#include <net/route.h>
-#include <netinet/in.h>
 #include <sched.h>
 #include <signal.h>
-#include <sys/ioctl.h>
 #include <sys/prctl.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,6 +16,7 @@
 #include <vector>
 
 #include "agents/vlm/http_relay.h"
+#include "bus/private_network.h"
 #include "orchestrator/run/page_relay.h"
 #include "core/util/log.h"
 
@@ -42,38 +37,6 @@ void forward_signal(int sig) {
   const int n = std::snprintf(buf, sizeof(buf), "%s: %s", what, std::strerror(errno));
   if (n > 0) (void)!::write(report_fd, buf, static_cast<std::size_t>(std::min(n, static_cast<int>(sizeof(buf)) - 1)));
   ::_exit(127);
-}
-
-bool write_file(const char* path, const char* text) {
-  const int fd = ::open(path, O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const auto n = static_cast<ssize_t>(std::strlen(text));
-  const bool ok = ::write(fd, text, static_cast<std::size_t>(n)) == n;
-  ::close(fd);
-  return ok;
-}
-
-// Loopback up and 224.0.0.0/4 routed through it, in the current network namespace.
-bool configure_loopback() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return false;
-  ifreq ifr{};
-  std::strncpy(ifr.ifr_name, "lo", IFNAMSIZ - 1);
-  bool ok = ::ioctl(fd, SIOCGIFFLAGS, &ifr) == 0;
-  ifr.ifr_flags = static_cast<short>(ifr.ifr_flags | IFF_UP | IFF_RUNNING);
-  ok = ok && ::ioctl(fd, SIOCSIFFLAGS, &ifr) == 0;
-  rtentry rt{};
-  auto* dst = reinterpret_cast<sockaddr_in*>(&rt.rt_dst);
-  auto* mask = reinterpret_cast<sockaddr_in*>(&rt.rt_genmask);
-  dst->sin_family = mask->sin_family = AF_INET;
-  dst->sin_addr.s_addr = htonl(0xE0000000u);   // 224.0.0.0
-  mask->sin_addr.s_addr = htonl(0xF0000000u);  // /4
-  rt.rt_flags = RTF_UP;
-  char lo[] = "lo";
-  rt.rt_dev = lo;
-  ok = ok && ::ioctl(fd, SIOCADDRT, &rt) == 0;
-  ::close(fd);
-  return ok;
 }
 
 }  // namespace
@@ -122,13 +85,8 @@ std::optional<int> run_in_own_namespace(char** argv, PageRelay* page) {
     if (::getppid() != parent) ::_exit(1);
     // As root a network namespace alone; otherwise a user namespace that maps us to ourselves.
     if (::unshare(uid == 0 ? CLONE_NEWNET : (CLONE_NEWUSER | CLONE_NEWNET)) != 0) fail(report[1], "unshare");
-    if (uid != 0) {
-      if (!write_file("/proc/self/setgroups", "deny") || !write_file("/proc/self/uid_map", uid_map.c_str()) ||
-          !write_file("/proc/self/gid_map", gid_map.c_str())) {
-        fail(report[1], "user namespace mapping");
-      }
-    }
-    if (!configure_loopback()) fail(report[1], "loopback setup");
+    if (uid != 0 && !bus::map_user_namespace(uid_map.c_str(), gid_map.c_str())) fail(report[1], "user namespace mapping");
+    if (!bus::configure_loopback()) fail(report[1], "loopback setup");
     ::execve("/proc/self/exe", argv, envp.data());
     fail(report[1], "exec");
   }

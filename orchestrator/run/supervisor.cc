@@ -23,7 +23,7 @@ Supervisor::~Supervisor() { stop_all(2000); }
 
 pid_t Supervisor::spawn(const std::string& name, const std::vector<std::string>& argv) {
   std::filesystem::create_directories(log_dir_);
-  return process::spawn_process(argv, (log_dir_ / (name + ".log")).string(), SIGTERM);
+  return process::spawn_process(argv, (log_dir_ / (name + ".log")).string(), SIGTERM, network_.get());
 }
 
 void Supervisor::start(const std::string& name, const std::vector<std::string>& argv, bool restart) {

@@ -7,14 +7,19 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "bus/private_network.h"
 
 namespace mtg::orchestrator {
 
 class Supervisor {
  public:
-  explicit Supervisor(std::filesystem::path log_dir) : log_dir_(std::move(log_dir)) {}
+  /// With `network`, every process starts in that network namespace (bus/private_network.h).
+  explicit Supervisor(std::filesystem::path log_dir, std::shared_ptr<const bus::PrivateNetwork> network = nullptr)
+      : log_dir_(std::move(log_dir)), network_(std::move(network)) {}
   ~Supervisor();
   Supervisor(const Supervisor&) = delete;
   Supervisor& operator=(const Supervisor&) = delete;
@@ -40,6 +45,7 @@ class Supervisor {
   pid_t spawn(const std::string& name, const std::vector<std::string>& argv);
 
   std::filesystem::path log_dir_;
+  std::shared_ptr<const bus::PrivateNetwork> network_;
   std::map<std::string, Child> children_;
   int restarts_ = 0;
 };

@@ -1,27 +1,38 @@
 // The kernel-side channel filter (bus/channel_filter.h): its program on a real UDP socket, and a
-// udpm bus that attaches it, in this test's own network namespace.
+// udpm bus that attaches it, in this test's own network namespace; a bus in a private one.
 
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
 #include <linux/sock_diag.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
+#include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "bus/bus.h"
 #include "bus/channel_filter.h"
+#include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/private_network.h"
+#include "bus/process/subprocess.h"
 #include "bus/url.h"
 #include "mtg/heartbeat_t.hpp"
+#include "tests/support/process.h"
 
 namespace mtg::bus {
 namespace {
+
+namespace fs = std::filesystem;
 
 // A datagram as liblcm sends an unfragmented message: "LC02", a sequence number, the channel.
 std::string short_message(const std::string& channel, const std::string& payload) {
@@ -245,6 +256,53 @@ TEST(ChannelFilter, OnlyAHostBusProgramAsksWhereADatagramCameFrom) {
   EXPECT_TRUE(host.add(".*"));
   ASSERT_TRUE(host.program().has_value()) << "a host bus keeps its loopback rule under a pattern";
   EXPECT_EQ(host.program()->size(), 7u);  // interface, destination (load, compare, drop each), accept
+}
+
+// A worker's host bus (bus/private_network.h): a bus made in a private network namespace and a
+// real process started inside hear each other; a bus of the host on the same group and port, and
+// unicast to that port, reach neither, and the host never hears the process.
+TEST(PrivateNetwork, ABusInsideHearsOnlyTheProcessesStartedInside) {
+  if (::geteuid() != 0) GTEST_SKIP() << "as root: otherwise the test process itself would move into a user namespace";
+  const auto network = PrivateNetwork::make();
+  Bus inside(kDefaultUrl, network);
+  Bus outside(kDefaultUrl);
+  std::set<int> heard_inside, heard_outside;
+  inside.subscribe<mtg::heartbeat_t>(kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) { heard_inside.insert(m.pid); });
+  outside.subscribe<mtg::heartbeat_t>(kHeartbeat, [&](const std::string&, const mtg::heartbeat_t& m) { heard_outside.insert(m.pid); });
+  const fs::path log = fs::temp_directory_path() / ("private_network_" + std::to_string(::getpid()) + ".lcmlog");
+  const pid_t recorder =
+      process::spawn_process({testing::bin("mtg_recorder"), "--url", kDefaultUrl, log.string()}, "", SIGKILL, network.get());
+  mtg::heartbeat_t forged{};
+  forged.header.schema_version = kSchemaVersion;
+  forged.pid = 424242;
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(forged.getEncodedSize()));
+  forged.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  const std::string datagram = short_message(kHeartbeat, std::string(bytes.begin(), bytes.end()));
+  const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<std::uint16_t>(parse_udpm(kDefaultUrl)->port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!heard_inside.count(recorder) && std::chrono::steady_clock::now() < until) {
+    outside.publish(kHeartbeat, forged);  // the host's own multicast on the same group and port
+    ::sendto(tx, datagram.data(), datagram.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+    inside.handle_once(50);
+    outside.handle_once(0);
+  }
+  for (int i = 0; i < 10; ++i) {
+    inside.handle_once(50);
+    outside.handle_once(0);
+  }
+  ::close(tx);
+  ::kill(recorder, SIGKILL);
+  ::waitpid(recorder, nullptr, 0);
+  fs::remove(log);
+  EXPECT_TRUE(inside.filters_channels()) << "its receive socket, made inside, was found and filtered";
+  EXPECT_TRUE(heard_inside.count(recorder)) << "the process started inside is heard inside";
+  EXPECT_FALSE(heard_inside.count(424242)) << "nothing of the host reaches the bus inside";
+  EXPECT_FALSE(heard_outside.count(recorder)) << "the host does not hear the process inside";
+  EXPECT_TRUE(heard_outside.count(424242)) << "the host's own bus still works";
 }
 
 }  // namespace

@@ -87,11 +87,18 @@ class MultiHostTest : public ::testing::Test {
 
   std::string host(int i) const { return prefix_ + std::to_string(i); }
 
-  void start_worker(int i, int capacity = 2, const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> argv = {script("netns-hosts"), "exec", host(i), testing::bin("mtg"), "worker", "--bus",
-                                     shared_url_, "--name", "host" + std::to_string(i), "--capacity",
-                                     std::to_string(capacity), "--dir",
-                                     (fx_.root() / ("worker" + std::to_string(i))).string()};
+  /// With `uid` >= 0 the worker runs as that user (and group), owning its --dir.
+  void start_worker(int i, int capacity = 2, const std::vector<std::string>& extra = {}, int uid = -1) {
+    const fs::path dir = fx_.root() / ("worker" + std::to_string(i));
+    std::vector<std::string> argv = {script("netns-hosts"), "exec", host(i)};
+    if (uid >= 0) {
+      fs::create_directories(dir);
+      ASSERT_EQ(::chown(dir.c_str(), static_cast<uid_t>(uid), static_cast<gid_t>(uid)), 0) << dir;
+      argv.insert(argv.end(), {"/usr/bin/setpriv", "--reuid=" + std::to_string(uid), "--regid=" + std::to_string(uid),
+                               "--clear-groups"});
+    }
+    argv.insert(argv.end(), {testing::bin("mtg"), "worker", "--bus", shared_url_, "--name", "host" + std::to_string(i),
+                             "--capacity", std::to_string(capacity), "--dir", dir.string()});
     argv.insert(argv.end(), extra.begin(), extra.end());
     workers_[i] = std::make_unique<testing::ChildProcess>(argv, (fx_.root() / ("worker" + std::to_string(i) + ".log")).string());
   }

@@ -3,14 +3,22 @@
 // (`mtg run --remote`) runs in this test's own namespace. The hosts are made and removed here.
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <sched.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <map>
+#include <thread>
 
 #include "bus/authenticator.h"
 #include "bus/bus.h"
 #include "bus/header.h"
 #include "bus/recording_ref.h"
+#include "bus/url.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
@@ -522,14 +530,22 @@ TEST_F(MultiHostTest, ReplaysToProcessesStartedAfterTheMessagesChangeNothing) {
 
 // An attacker on the hosts' network (the bridge, without the bus key) reads the run id off the
 // shared bus and sprays a shutdown and a forged success of every episode at every UDP port of a
-// worker while it runs. A worker's host bus is a ttl=0 group, but liblcm binds 0.0.0.0:<port>:
-// before, the datagrams reached its judge, which stopped as told. Now every process of the host
-// bus takes only datagrams this host looped back: the verdicts are the one-host run's.
-TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing) {
+// worker while it runs; a process on the worker's own host does the same at every port of its
+// loopback address and of the host bus's group. A worker's host bus is a ttl=0 group, but liblcm
+// binds 0.0.0.0:<port>: before, the network's datagrams reached its judge, which stopped as told,
+// and so did the same host's. Now the host bus's processes take only datagrams looped back on
+// loopback (the network's are dropped) in a network namespace of the worker's own (nothing else
+// of the host is in it): the verdicts are the one-host run's.
+TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkOrItsOwnHostChangeNothing) {
   ASSERT_EQ(mtg(run_args("one", 12, 4, 0)), 0) << log_text();
   const auto single = fingerprints(results("one"));
   make_hosts(1);
   start_worker(0);
+  const fs::path worker_log = fx_.root() / "worker0.log";
+  ASSERT_TRUE(wait_for([&] { return testing_multihost::read_text(worker_log).find(", capacity ") != std::string::npos; },
+                       15000)) << log_text();
+  EXPECT_NE(testing_multihost::read_text(worker_log).find("in a network namespace of its own"), std::string::npos)
+      << testing_multihost::read_text(worker_log);
 
   bus::Bus tap(kSharedUrl);  // no key: it reads the announcements as they are
   std::string run_id;
@@ -542,11 +558,22 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
     mtg::lease_t m{};
     if (m.decode(b.data(), 0, static_cast<int>(b.size())) >= 0) granted.insert(m.header.episode_id);
   });
-  // One LCM datagram (liblcm's small-message form) to every port of host 0.
-  const int tx = ::socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(tx, 0);
-  long sent = 0;
-  auto spray = [&](const std::string& channel, const auto& msg) {
+  const int from_network = ::socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(from_network, 0);
+  // A socket of the worker's host: made by a thread in that host's network namespace.
+  int from_host = -1;
+  std::thread([&] {
+    const int ns = ::open(("/run/netns/" + host(0)).c_str(), O_RDONLY | O_CLOEXEC);
+    if (ns >= 0 && ::setns(ns, CLONE_NEWNET) == 0) from_host = ::socket(AF_INET, SOCK_DGRAM, 0);
+    if (ns >= 0) ::close(ns);
+  }).join();
+  ASSERT_GE(from_host, 0) << "a socket in " << host(0) << "'s namespace";
+  const unsigned char ttl0 = 0;
+  ::setsockopt(from_host, IPPROTO_IP, IP_MULTICAST_TTL, &ttl0, sizeof ttl0);  // as the host bus sends
+  const auto host_bus = bus::parse_udpm(bus::kDefaultUrl);
+  std::map<std::string, long> sent;
+  // One LCM datagram (liblcm's small-message form) to every port of `address`.
+  auto spray = [&](int tx, const char* address, const std::string& channel, const auto& msg) {
     std::vector<std::uint8_t> packet = {'L', 'C', '0', '2', 0, 0, 0, 1};
     packet.insert(packet.end(), channel.begin(), channel.end());
     packet.push_back(0);
@@ -555,11 +582,18 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
     msg.encode(packet.data() + at, 0, msg.getEncodedSize());
     sockaddr_in to{};
     to.sin_family = AF_INET;
-    ::inet_pton(AF_INET, "10.77.0.1", &to.sin_addr);
+    ::inet_pton(AF_INET, address, &to.sin_addr);
     for (int port = 1; port < 65536; ++port) {
       to.sin_port = htons(static_cast<std::uint16_t>(port));
-      if (::sendto(tx, packet.data(), packet.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) > 0) ++sent;
+      if (::sendto(tx, packet.data(), packet.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) > 0) {
+        ++sent[address];
+      }
     }
+  };
+  auto spray_everywhere = [&](const std::string& channel, const auto& msg) {
+    spray(from_network, "10.77.0.1", channel, msg);
+    spray(from_host, "127.0.0.1", channel, msg);
+    spray(from_host, host_bus->group.c_str(), channel, msg);
   };
   testing::ChildProcess run(run_args("sprayed", 12, 4, 1), log());
   while (run.running()) {
@@ -570,7 +604,7 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
     stop.header.sender = "forger:0";
     stop.header.schema_version = bus::kSchemaVersion;
     stop.command = "shutdown";
-    spray(bus::kControl, stop);
+    spray_everywhere(bus::kControl, stop);
     for (const std::int64_t id : granted) {
       mtg::episode_result_t fake{};
       fake.header = stop.header;
@@ -578,12 +612,15 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
       fake.success = true;
       fake.ip = 100.0;
       fake.stage = "done";
-      spray(bus::kEpisodeResult, fake);
+      spray_everywhere(bus::kEpisodeResult, fake);
     }
   }
-  ::close(tx);
+  ::close(from_network);
+  ::close(from_host);
   ASSERT_EQ(run.wait(1000), 0) << log_text();
-  EXPECT_GT(sent, 65000) << "the spray went out";
+  for (const char* address : {"10.77.0.1", "127.0.0.1", host_bus->group.c_str()}) {
+    EXPECT_GT(sent[address], 65000) << "the spray at " << address << " went out";
+  }
   const auto rows = results("sprayed");
   EXPECT_EQ(rows.size(), planned("sprayed"));
   EXPECT_EQ(fingerprints(rows), single);
@@ -593,6 +630,38 @@ TEST_F(MultiHostTest, DatagramsSprayedAtAWorkersPortsFromTheNetworkChangeNothing
     EXPECT_EQ(testing_multihost::read_text(entry.path()).find("forger"), std::string::npos)
         << entry.path() << " heard the forger:\n" << testing_multihost::read_text(entry.path());
   }
+}
+
+// A worker that is not root (a Slurm job's) cannot make a network namespace alone: it first
+// becomes the owner of a user namespace of its own, at start while it has one thread, and its
+// run's processes enter the namespace it made there. Same verdicts as one host.
+TEST_F(MultiHostTest, AWorkerThatIsNotRootKeepsItsHostBusInANamespaceToo) {
+  ASSERT_EQ(mtg(run_args("one", 4, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  make_hosts(1);
+  constexpr int kNobody = 65534;
+  start_worker(0, 2, {}, kNobody);
+  const fs::path worker_log = fx_.root() / "worker0.log";
+  ASSERT_TRUE(wait_for([&] { return testing_multihost::read_text(worker_log).find(", capacity ") != std::string::npos; },
+                       15000)) << log_text();
+  EXPECT_NE(testing_multihost::read_text(worker_log).find("in a network namespace of its own"), std::string::npos)
+      << testing_multihost::read_text(worker_log);
+  ASSERT_EQ(mtg(run_args("unprivileged", 4, 4, 1)), 0) << log_text();
+  const auto rows = results("unprivileged");
+  EXPECT_EQ(fingerprints(rows), single);
+  for (const auto& r : rows) EXPECT_NE(r.worker.find("host0"), std::string::npos) << r.worker;
+  int bus_files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(fx_.root() / "worker0")) {
+    if (entry.path().filename() != "bus.json") continue;
+    ++bus_files;
+    const auto bus = nlohmann::json::parse(testing_multihost::read_text(entry.path()));
+    EXPECT_TRUE(bus.at("own_namespace").get<bool>()) << bus.dump();
+    EXPECT_TRUE(bus.at("user_namespace").get<bool>()) << bus.dump();
+    struct stat st{};
+    ASSERT_EQ(::stat(entry.path().c_str(), &st), 0);
+    EXPECT_EQ(st.st_uid, static_cast<uid_t>(kNobody)) << "files keep the worker's own user";
+  }
+  EXPECT_EQ(bus_files, 1);
 }
 
 // A worker whose dataset lacks a file the task set was made from stays out of the run, says why,
