@@ -28,8 +28,15 @@ Bus::Bus(const std::string& url, std::shared_ptr<const PrivateNetwork> network) 
     // that must happen in here, not in whichever thread subscribes first.
     lcm::Subscription* opener = lcm_->subscribeFunction(
         "MTG_PRIVATE_NETWORK_OPEN", +[](const lcm::ReceiveBuffer*, const std::string&, void*) {}, static_cast<void*>(nullptr));
-    if (opener == nullptr) throw Error("cannot open LCM's receive socket on " + url_ + " in the host bus's network namespace");
     lcm_->unsubscribe(opener);
+    // liblcm's C++ wrapper returns a subscription even when the receive side failed to start, and
+    // would then try again from the next subscriber's thread, outside: so the socket is checked.
+    const std::vector<OpenSocket> opened = sockets_opened();
+    if (opened.size() != 1) {
+      throw Error("LCM did not open its receive socket on " + url_ + " inside the host bus's network namespace (" +
+                  std::to_string(opened.size()) + " new sockets on its port)");
+    }
+    receive_socket_ = opened.front();
   });
 }
 
@@ -62,6 +69,14 @@ void Bus::subscribe_raw(const std::string& channel_regex, RawHandler::Fn handler
   filter_channels(channel_regex);
 }
 
+std::vector<OpenSocket> Bus::sockets_opened() const {
+  std::vector<OpenSocket> opened;
+  for (const OpenSocket& s : udp_sockets_on_port(udpm_port_)) {
+    if (std::find(sockets_before_.begin(), sockets_before_.end(), s) == sockets_before_.end()) opened.push_back(s);
+  }
+  return opened;
+}
+
 void Bus::filter_channels(const std::string& subscription) {
   if (udpm_port_ == 0 || !channels_.add(subscription)) return;
   // Every way this can fail leaves the bus unfiltered: slower, never deaf to a subscription.
@@ -74,10 +89,7 @@ void Bus::filter_channels(const std::string& subscription) {
     log::warn("LCM on " + url_ + ": " + why + "; every message on the bus wakes this process");
   };
   if (receive_socket_.fd < 0) {
-    std::vector<OpenSocket> opened;
-    for (const OpenSocket& s : udp_sockets_on_port(udpm_port_)) {
-      if (std::find(sockets_before_.begin(), sockets_before_.end(), s) == sockets_before_.end()) opened.push_back(s);
-    }
+    const std::vector<OpenSocket> opened = sockets_opened();
     if (opened.size() != 1) {  // e.g. another bus of this process opened one too: leave both alone
       udpm_port_ = 0;
       if (channels_.host_only()) {

@@ -148,6 +148,8 @@ class Bus {
   void tune_tcp();
   // Everything of the constructor that makes or names sockets.
   void connect();
+  // This process's sockets on the bus's port that were not open before the bus was made.
+  std::vector<OpenSocket> sockets_opened() const;
   // After a subscription on udpm: the receive socket's filter lets through what is now subscribed.
   void filter_channels(const std::string& subscription);
   // Drops typed messages of another schema version, saying so once per bus.

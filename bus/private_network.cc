@@ -8,6 +8,7 @@
 #include <sched.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -31,8 +32,69 @@ bool write_file(const char* path, const char* text) noexcept {
   return ok;
 }
 
-std::string failed(const std::string& what) {
-  return "cannot make a network namespace for the host bus: " + what + ": " + std::strerror(errno);
+std::string failed(const std::string& what, int error) {
+  std::string why = what + ": " + std::strerror(error);
+  if (error == ENOSPC) why += " (the limit of namespaces, sysctl user.max_user_namespaces or user.max_net_namespaces)";
+  if (error == EPERM) why += " (not permitted here: a container, a security module or a sysctl forbids it)";
+  return "cannot make a network namespace for the host bus: " + why;
+}
+std::string failed(const std::string& what) { return failed(what, errno); }
+
+// /proc of the calling thread: a namespace is per thread, and /proc/self is the main thread's.
+std::string thread_proc(const std::string& rest) { return "/proc/self/task/" + std::to_string(::gettid()) + "/" + rest; }
+
+// Steps of a namespace made without root, tried by a forked child first: a process that moved
+// into a user namespace cannot move back, so it moves only when the whole way is known to work.
+enum class Step : int { kNone, kUserNamespace, kIdMaps, kNetworkNamespace, kLoopback };
+
+const char* step_name(Step step) {
+  switch (step) {
+    case Step::kUserNamespace: return "a user namespace";
+    case Step::kIdMaps: return "the user namespace's id maps";
+    case Step::kNetworkNamespace: return "unshare";
+    case Step::kLoopback: return "loopback and its multicast route";
+    case Step::kNone: break;
+  }
+  return "";
+}
+
+// In the child: only system calls (this may run in a process that has threads).
+Step try_unprivileged(const char* uid_map, const char* gid_map) noexcept {
+  if (::unshare(CLONE_NEWUSER) != 0) return Step::kUserNamespace;
+  if (!map_user_namespace(uid_map, gid_map)) return Step::kIdMaps;
+  if (::unshare(CLONE_NEWNET) != 0) return Step::kNetworkNamespace;
+  if (!configure_loopback()) return Step::kLoopback;
+  return Step::kNone;
+}
+
+// @throws mtg::Error naming the step that would fail.
+void probe_unprivileged(const std::string& uid_map, const std::string& gid_map) {
+  int report[2];
+  if (::pipe2(report, O_CLOEXEC) != 0) throw Error(failed("a pipe"));
+  const pid_t child = ::fork();
+  if (child < 0) {
+    const int error = errno;
+    ::close(report[0]);
+    ::close(report[1]);
+    throw Error(failed("fork", error));
+  }
+  if (child == 0) {
+    ::close(report[0]);
+    const int out[2] = {static_cast<int>(try_unprivileged(uid_map.c_str(), gid_map.c_str())), errno};
+    (void)!::write(report[1], out, sizeof out);
+    ::_exit(0);
+  }
+  ::close(report[1]);
+  int in[2] = {static_cast<int>(Step::kNone), 0};
+  ssize_t n;
+  do {
+    n = ::read(report[0], in, sizeof in);
+  } while (n < 0 && errno == EINTR);
+  ::close(report[0]);
+  while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+  }
+  if (n != static_cast<ssize_t>(sizeof in)) throw Error(failed("a trial in a child process", EIO));
+  if (static_cast<Step>(in[0]) != Step::kNone) throw Error(failed(step_name(static_cast<Step>(in[0])), in[1]));
 }
 
 }  // namespace
@@ -74,6 +136,7 @@ std::shared_ptr<const PrivateNetwork> PrivateNetwork::make() {
     // single-threaded process may move into a new user namespace.
     const std::string uid_map = std::to_string(uid) + " " + std::to_string(uid) + " 1\n";
     const std::string gid_map = std::to_string(::getegid()) + " " + std::to_string(::getegid()) + " 1\n";
+    probe_unprivileged(uid_map, gid_map);
     if (::unshare(CLONE_NEWUSER) != 0) {
       throw Error(failed(errno == EINVAL ? "a user namespace (this process already runs threads)" : "a user namespace"));
     }
@@ -82,15 +145,15 @@ std::shared_ptr<const PrivateNetwork> PrivateNetwork::make() {
   }
   int fd = -1;
   std::string why;
-  // A thread of its own moves into the new namespace (a network namespace is per thread), opens
-  // it as a file and ends; the file keeps the namespace alive.
+  // A thread of its own moves into the new namespace, opens it as a file and ends; the file
+  // keeps the namespace alive.
   std::thread maker([&] {
     if (::unshare(CLONE_NEWNET) != 0) {
       why = failed("unshare");
     } else if (!configure_loopback()) {
       why = failed("loopback and its multicast route");
-    } else if ((fd = ::open("/proc/thread-self/ns/net", O_RDONLY | O_CLOEXEC)) < 0) {
-      why = failed("/proc/thread-self/ns/net");
+    } else if ((fd = ::open(thread_proc("ns/net").c_str(), O_RDONLY | O_CLOEXEC)) < 0) {
+      why = failed(thread_proc("ns/net"));
     }
   });
   maker.join();

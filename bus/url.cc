@@ -60,8 +60,7 @@ std::string multicast_interface(const std::string& group) {
   if (inet_pton(AF_INET, group.c_str(), &target) != 1) return "";
   // The calling thread's namespace: /proc/net is the main thread's, and a bus of a private
   // network (private_network.h) is made on a thread inside it.
-  std::ifstream routes("/proc/thread-self/net/route");
-  if (!routes) routes.open("/proc/net/route");
+  std::ifstream routes("/proc/self/task/" + std::to_string(::gettid()) + "/net/route");
   std::string line;
   std::getline(routes, line);  // header
   std::string best;

@@ -47,6 +47,12 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log
       (void)!::write(2, kWhy, sizeof kWhy - 1);
       ::_exit(127);
     }
+    // Nothing of the parent but stdio goes on (after entering: the namespace is one of these):
+    // liblcm's sockets are not close-on-exec, and a process in a private network must hold no
+    // socket of the host's, such as its parent's shared bus.
+    if (::close_range(3, ~0U, 0) != 0) {
+      for (int fd = 3; fd < 4096; ++fd) ::close(fd);
+    }
     ::execv(args[0], args.data());
     ::_exit(127);
   }

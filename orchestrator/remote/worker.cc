@@ -634,7 +634,7 @@ int run_worker(const WorkerOptions& options) {
       relay = std::make_unique<vlm::HttpRelayServer>();
       ::setenv(vlm::kHttpRelayEnv, relay->socket_path().c_str(), 1);
       relay->start();
-    } catch (const Error& e) {
+    } catch (const std::exception& e) {  // mtg::Error, or a thread the relay could not start
       log::warn(std::string(e.what()) + "; the host bus is a loopback port of its own instead, which the network cannot " +
                 "reach but other processes of this host can");
       network.reset();

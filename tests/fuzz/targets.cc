@@ -36,6 +36,7 @@
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/image_t.hpp"
 #include "mtg/judge_event_t.hpp"
+#include "mtg/lease_renewal_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/moved_object_t.hpp"
 #include "mtg/object_placement_t.hpp"
@@ -45,6 +46,8 @@
 #include "mtg/rate_limit_t.hpp"
 #include "mtg/record_chunk_t.hpp"
 #include "mtg/recorded_t.hpp"
+#include "mtg/recording_ref_t.hpp"
+#include "mtg/recording_request_t.hpp"
 #include "mtg/render_request_t.hpp"
 #include "mtg/render_result_t.hpp"
 #include "mtg/render_view_t.hpp"
@@ -119,7 +122,12 @@ const RoundTrip kMessages[] = {
       &round_trip<mtg::task_set_request_t>,
       &round_trip<mtg::task_set_summary_t>,
       &round_trip<mtg::task_t>,
-      &round_trip<mtg::world_state_delta_t>};
+      &round_trip<mtg::world_state_delta_t>,
+      // Types added later go at the end: an input's first byte picks its type, and the corpus
+      // holds inputs cut for the order above.
+      &round_trip<mtg::lease_renewal_t>,
+      &round_trip<mtg::recording_ref_t>,
+      &round_trip<mtg::recording_request_t>};
 
 const std::int64_t kHashes[] = {
       mtg::action_list_t::getHash(),
@@ -153,7 +161,12 @@ const std::int64_t kHashes[] = {
       mtg::task_set_request_t::getHash(),
       mtg::task_set_summary_t::getHash(),
       mtg::task_t::getHash(),
-      mtg::world_state_delta_t::getHash()};
+      mtg::world_state_delta_t::getHash(),
+      mtg::lease_renewal_t::getHash(),
+      mtg::recording_ref_t::getHash(),
+      mtg::recording_request_t::getHash()};
+static_assert(sizeof(kHashes) / sizeof(kHashes[0]) == sizeof(kMessages) / sizeof(kMessages[0]),
+              "one hash per message type, in the same order");
 
 // First byte: the message type; the rest: its bytes (with the type's hash, as on the bus).
 int lcm_messages(const std::uint8_t* data, std::size_t size) {
