@@ -38,66 +38,11 @@ std::string failed(const std::string& what, int error) {
   if (error == EPERM) why += " (not permitted here: a container, a security module or a sysctl forbids it)";
   return "cannot make a network namespace for the host bus: " + why;
 }
-std::string failed(const std::string& what) { return failed(what, errno); }
 
 // /proc of the calling thread: a namespace is per thread, and /proc/self is the main thread's.
 std::string thread_proc(const std::string& rest) { return "/proc/self/task/" + std::to_string(::gettid()) + "/" + rest; }
 
-// Steps of a namespace made without root, tried by a forked child first: a process that moved
-// into a user namespace cannot move back, so it moves only when the whole way is known to work.
-enum class Step : int { kNone, kUserNamespace, kIdMaps, kNetworkNamespace, kLoopback };
-
-const char* step_name(Step step) {
-  switch (step) {
-    case Step::kUserNamespace: return "a user namespace";
-    case Step::kIdMaps: return "the user namespace's id maps";
-    case Step::kNetworkNamespace: return "unshare";
-    case Step::kLoopback: return "loopback and its multicast route";
-    case Step::kNone: break;
-  }
-  return "";
-}
-
-// In the child: only system calls (this may run in a process that has threads).
-Step try_unprivileged(const char* uid_map, const char* gid_map) noexcept {
-  if (::unshare(CLONE_NEWUSER) != 0) return Step::kUserNamespace;
-  if (!map_user_namespace(uid_map, gid_map)) return Step::kIdMaps;
-  if (::unshare(CLONE_NEWNET) != 0) return Step::kNetworkNamespace;
-  if (!configure_loopback()) return Step::kLoopback;
-  return Step::kNone;
-}
-
-// @throws mtg::Error naming the step that would fail.
-void probe_unprivileged(const std::string& uid_map, const std::string& gid_map) {
-  int report[2];
-  if (::pipe2(report, O_CLOEXEC) != 0) throw Error(failed("a pipe"));
-  const pid_t child = ::fork();
-  if (child < 0) {
-    const int error = errno;
-    ::close(report[0]);
-    ::close(report[1]);
-    throw Error(failed("fork", error));
-  }
-  if (child == 0) {
-    ::close(report[0]);
-    const int out[2] = {static_cast<int>(try_unprivileged(uid_map.c_str(), gid_map.c_str())), errno};
-    (void)!::write(report[1], out, sizeof out);
-    ::_exit(0);
-  }
-  ::close(report[1]);
-  int in[2] = {static_cast<int>(Step::kNone), 0};
-  ssize_t n;
-  do {
-    n = ::read(report[0], in, sizeof in);
-  } while (n < 0 && errno == EINTR);
-  ::close(report[0]);
-  while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
-  }
-  if (n != static_cast<ssize_t>(sizeof in)) throw Error(failed("a trial in a child process", EIO));
-  if (static_cast<Step>(in[0]) != Step::kNone) throw Error(failed(step_name(static_cast<Step>(in[0])), in[1]));
-}
-
-}  // namespace
+constexpr const char* kUserNamespaceStep = "a user namespace";
 
 bool configure_loopback() noexcept {
   const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
@@ -123,37 +68,108 @@ bool configure_loopback() noexcept {
   return ok;
 }
 
-bool map_user_namespace(const char* uid_map, const char* gid_map) noexcept {
-  return write_file("/proc/self/setgroups", "deny") && write_file("/proc/self/uid_map", uid_map) &&
-         write_file("/proc/self/gid_map", gid_map);
+// The two halves of enter_new_network: a user namespace is the whole process's, a network
+// namespace the calling thread's. nullptr, or the step that failed with errno set.
+const char* enter_new_user_namespace(const IdMaps& maps) noexcept {
+  if (::unshare(CLONE_NEWUSER) != 0) return kUserNamespaceStep;
+  if (!write_file("/proc/self/setgroups", "deny") || !write_file("/proc/self/uid_map", maps.uid_map.c_str()) ||
+      !write_file("/proc/self/gid_map", maps.gid_map.c_str())) {
+    return "the user namespace's id maps";
+  }
+  return nullptr;
+}
+
+const char* enter_new_network_namespace() noexcept {
+  if (::unshare(CLONE_NEWNET) != 0) return "a network namespace";
+  if (!configure_loopback()) return "loopback and its multicast route";
+  return nullptr;
+}
+
+// Tries enter_new_network(maps) in a forked child: a process that moved into a user namespace
+// cannot move back, so it moves only when the whole way is known to work.
+// @throws mtg::Error naming the step that would fail.
+void try_in_a_child(const IdMaps& maps) {
+  int report[2];
+  if (::pipe2(report, O_CLOEXEC) != 0) {
+    const int error = errno;
+    throw Error(failed("a pipe", error));
+  }
+  const pid_t child = ::fork();
+  if (child < 0) {
+    const int error = errno;
+    ::close(report[0]);
+    ::close(report[1]);
+    throw Error(failed("fork", error));
+  }
+  if (child == 0) {  // only system calls: this process may have threads
+    ::close(report[0]);
+    if (const char* step = enter_new_network(&maps)) {
+      const int error = errno;
+      (void)!::write(report[1], &error, sizeof error);
+      (void)!::write(report[1], step, std::strlen(step));
+    }
+    ::_exit(0);
+  }
+  ::close(report[1]);
+  std::string said;
+  char buf[128];
+  for (;;) {
+    const ssize_t n = ::read(report[0], buf, sizeof buf);
+    if (n > 0) {
+      said.append(buf, static_cast<std::size_t>(n));
+    } else if (n == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  ::close(report[0]);
+  while (::waitpid(child, nullptr, 0) < 0 && errno == EINTR) {
+  }
+  if (said.size() <= sizeof(int)) return;  // nothing failed
+  int error = 0;
+  std::memcpy(&error, said.data(), sizeof error);
+  throw Error(failed(said.substr(sizeof error), error));
+}
+
+}  // namespace
+
+IdMaps own_id_maps() {
+  const std::string uid = std::to_string(::geteuid());
+  const std::string gid = std::to_string(::getegid());
+  return {uid + " " + uid + " 1\n", gid + " " + gid + " 1\n"};
+}
+
+const char* enter_new_network(const IdMaps* maps) noexcept {
+  if (maps != nullptr) {
+    if (const char* step = enter_new_user_namespace(*maps)) return step;
+  }
+  return enter_new_network_namespace();
 }
 
 std::shared_ptr<const PrivateNetwork> PrivateNetwork::make() {
-  const uid_t uid = ::geteuid();
-  bool user_namespace = false;
-  if (uid != 0) {
+  const bool user_namespace = ::geteuid() != 0;
+  if (user_namespace) {
     // Only the owner of a user namespace may enter the network namespaces it owns, and only a
     // single-threaded process may move into a new user namespace.
-    const std::string uid_map = std::to_string(uid) + " " + std::to_string(uid) + " 1\n";
-    const std::string gid_map = std::to_string(::getegid()) + " " + std::to_string(::getegid()) + " 1\n";
-    probe_unprivileged(uid_map, gid_map);
-    if (::unshare(CLONE_NEWUSER) != 0) {
-      throw Error(failed(errno == EINVAL ? "a user namespace (this process already runs threads)" : "a user namespace"));
+    const IdMaps maps = own_id_maps();
+    try_in_a_child(maps);
+    if (const char* step = enter_new_user_namespace(maps)) {
+      const int error = errno;
+      const bool threads = step == kUserNamespaceStep && error == EINVAL;
+      throw Error(failed(std::string(step) + (threads ? " (this process already runs threads)" : ""), error));
     }
-    if (!map_user_namespace(uid_map.c_str(), gid_map.c_str())) throw Error(failed("the user namespace's id maps"));
-    user_namespace = true;
   }
   int fd = -1;
   std::string why;
   // A thread of its own moves into the new namespace, opens it as a file and ends; the file
   // keeps the namespace alive.
   std::thread maker([&] {
-    if (::unshare(CLONE_NEWNET) != 0) {
-      why = failed("unshare");
-    } else if (!configure_loopback()) {
-      why = failed("loopback and its multicast route");
-    } else if ((fd = ::open(thread_proc("ns/net").c_str(), O_RDONLY | O_CLOEXEC)) < 0) {
-      why = failed(thread_proc("ns/net"));
+    const std::string file = thread_proc("ns/net");
+    if (const char* step = enter_new_network_namespace()) {
+      const int error = errno;
+      why = failed(step, error);
+    } else if ((fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC)) < 0) {
+      const int error = errno;
+      why = failed(file, error);
     }
   });
   maker.join();

@@ -4,8 +4,9 @@
 // `mtg worker` cannot, since it must stay on the shared bus between hosts, so it keeps a
 // namespace beside its own: its host-bus sockets are made inside it (a socket belongs to the
 // namespace of the thread that made it, for good) and its run's processes enter it before they
-// execute. Nothing outside -- another host, another process of this host, another worker -- can
-// then send to that bus or hear it.
+// execute. Nothing outside -- another host, another worker, a process of this host that does not
+// enter the namespace on purpose (which takes this process's uid, or root) -- can then send to
+// that bus or hear it.
 //
 // As root the namespace is a network namespace alone. Otherwise the process first becomes the
 // owner of a user namespace of its own that maps its uid and gid to themselves (Debian 12 allows
@@ -46,12 +47,18 @@ class PrivateNetwork {
   bool user_namespace_ = false;
 };
 
-/// Brings loopback up and routes 224.0.0.0/4 through it, in the calling thread's network
-/// namespace (async-signal-safe). False on failure, errno set.
-bool configure_loopback() noexcept;
+/// A user namespace's maps of this process's uid and gid to themselves ("<id> <id> 1\n" each),
+/// made before a fork so the child needs no allocation.
+struct IdMaps {
+  std::string uid_map;
+  std::string gid_map;
+};
+IdMaps own_id_maps();
 
-/// Maps this process, just moved into a new user namespace, to its own uid and gid (the texts
-/// "<id> <id> 1\n", prepared before a fork). Async-signal-safe. False on failure, errno set.
-bool map_user_namespace(const char* uid_map, const char* gid_map) noexcept;
+/// Moves the calling process into a new network namespace with loopback up and 224.0.0.0/4
+/// routed through it; with `maps` (not root) into a new user namespace so mapped first. Only
+/// system calls, for a child between fork and exec (`mtg run`'s own namespace, run_namespace.h).
+/// nullptr on success, else the step that failed ("a user namespace", ...), errno set.
+const char* enter_new_network(const IdMaps* maps) noexcept;
 
 }  // namespace mtg::bus

@@ -29,7 +29,6 @@
 #include "core/episode/goals.h"
 #include "core/graph/scene_cache.h"
 #include "core/util/error.h"
-#include "core/util/json_file.h"
 #include "core/util/log.h"
 #include "orchestrator/remote/recordings_place.h"
 #include "orchestrator/remote/slurm_workers.h"
@@ -317,15 +316,6 @@ void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir)
               "; resume it without them (the plan is in plan.json) or use another --out");
 }
 
-// Where a run's bus is, for `scripts/lcm-spy --run DIR`: the URL, and the process whose
-// network namespace holds it.
-void write_bus_file(const fs::path& dir, const RunPlan& plan) {
-  write_json_file(dir / "bus.json", {{"url", plan.bus_url},
-                                     {"pid", static_cast<long>(::getpid())},
-                                     {"own_namespace", orchestrator::inside_run_namespace()},
-                                     {"user_namespace", orchestrator::inside_run_namespace() && ::geteuid() != 0}});
-}
-
 // The key of a Slurm run's shared bus: the one given, else a fresh secret in the run folder
 // (which the nodes see at the same path), kept for a resume.
 std::string slurm_bus_key(const RunOptions& o, const fs::path& dir) {
@@ -434,7 +424,7 @@ int run_run(const RunOptions& o) {
     fs::create_directories(dir);
     orchestrator::save_plan(plan, dir);
   }
-  write_bus_file(dir, plan);
+  orchestrator::write_bus_file(dir, plan.bus_url);
   // Each invocation on the folder leaves a start and an end line (provenance.h).
   const std::string started = orchestrator::utc_now();
   orchestrator::append_session(dir, {{"event", "start"}, {"at", started}, {"host", host_name()},

@@ -131,7 +131,7 @@ void LeaseLauncher::subscribe() {
     arrived(key);
   });
   bus_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
-    if (m.command == kStatusProbe && !m.argument.empty() && m.argument.size() <= 64) announce("running", m.argument);
+    if (const auto nonce = status_challenge(m.command, m.argument)) announce("running", *nonce);
   });
   bus_.subscribe<mtg::error_event_t>(bus::kError, [this](const std::string&, const mtg::error_event_t& m) {
     if (m.header.run_id != run_.run_id) return;

@@ -4,6 +4,11 @@
 
 namespace mtg::orchestrator::remote {
 
+std::optional<std::string> status_challenge(const std::string& command, const std::string& argument) {
+  if (command != kStatusProbe || argument.empty() || argument.size() > 64) return std::nullopt;
+  return argument;
+}
+
 bool CoordinatorSessions::holds(const std::deque<std::string>& sessions, const std::string& s) {
   return std::find(sessions.begin(), sessions.end(), s) != sessions.end();
 }

@@ -26,6 +26,9 @@ namespace mtg::orchestrator::remote {
 /// those, so nothing sent before it asked (a dead worker's beats, a finished run's announcement,
 /// replayed to a status that never heard them) is shown as alive.
 inline constexpr const char* kStatusProbe = "status_probe";
+/// The nonce a run_control_t (`command`, `argument`) asks to be echoed: the argument of a status
+/// challenge, when it is one of at most 64 bytes; nullopt for any other message.
+std::optional<std::string> status_challenge(const std::string& command, const std::string& argument);
 
 struct HeardAnnouncement {
   std::string run_id;

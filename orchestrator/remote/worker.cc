@@ -29,7 +29,6 @@
 #include "core/util/file_bytes.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
-#include "core/util/json_file.h"
 #include "core/util/log.h"
 #include "agents/vlm/http_relay.h"
 #include "mtg/lease_renewal_t.hpp"
@@ -42,6 +41,7 @@
 #include "orchestrator/remote/run_announcement.h"
 #include "orchestrator/remote/session_rules.h"
 #include "orchestrator/run/local_runtime.h"
+#include "orchestrator/run/run_namespace.h"
 
 namespace mtg::orchestrator::remote {
 namespace {
@@ -87,7 +87,7 @@ class Worker final : public LaunchSink {
     // `mtg status` asks (a signed challenge); the answer is a beat that names it, so a status
     // believes no beat sent before it asked (a dead worker's, replayed).
     shared_.subscribe<mtg::run_control_t>(bus::kControl, [this](const std::string&, const mtg::run_control_t& m) {
-      if (m.command == kStatusProbe && !m.argument.empty() && m.argument.size() <= 64) heartbeat(m.argument);
+      if (const auto nonce = status_challenge(m.command, m.argument)) heartbeat(*nonce);
     });
     shared_.subscribe<mtg::recording_request_t>(bus::kRecordRequest, [this](const std::string&,
                                                                            const mtg::recording_request_t& m) {
@@ -275,7 +275,8 @@ class Worker final : public LaunchSink {
         if (rate_bridge_.should_forward(bytes)) shared_.publish_raw(channel, bytes);
       });
       runtime_->open();
-      write_bus_file();
+      // For `scripts/lcm-spy --run <dir>/<run id>`.
+      write_bus_file(fs::path(options_.dir) / run_id_, options_.local_url, network_.get());
       status_ = process::HeartbeatStatus::kReady;
     } catch (const Error& e) {
       log::error("cannot run " + run_id_ + ": " + e.what() + " (trying again in 30 s)");
@@ -292,18 +293,6 @@ class Worker final : public LaunchSink {
       stamp_.set_run_id("");
       status_ = process::HeartbeatStatus::kIdle;
     }
-  }
-
-  // Where the run's host bus is, for `scripts/lcm-spy --run <dir>/<run id>`: the URL, and the
-  // namespace to enter for it.
-  void write_bus_file() const {
-    nlohmann::json bus = {{"url", options_.local_url}, {"pid", static_cast<long>(::getpid())}};
-    bus["own_namespace"] = network_ != nullptr;
-    if (network_) {
-      bus["netns"] = network_->path();
-      bus["user_namespace"] = network_->in_user_namespace();
-    }
-    write_json_file(fs::path(options_.dir) / run_id_ / "bus.json", bus);
   }
 
   // This host's dataset must be the one the run's task set was made from (run_info_t).

@@ -1,7 +1,6 @@
 #include "orchestrator/run/run_namespace.h"
 
 #include <fcntl.h>
-#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -18,6 +17,7 @@
 #include "agents/vlm/http_relay.h"
 #include "bus/private_network.h"
 #include "orchestrator/run/page_relay.h"
+#include "core/util/json_file.h"
 #include "core/util/log.h"
 
 extern char** environ;
@@ -65,10 +65,8 @@ std::optional<int> run_in_own_namespace(char** argv, PageRelay* page) {
   std::vector<char*> envp;
   for (auto& s : env_strings) envp.push_back(s.data());
   envp.push_back(nullptr);
-  const uid_t uid = ::geteuid();
-  const gid_t gid = ::getegid();
-  const std::string uid_map = std::to_string(uid) + " " + std::to_string(uid) + " 1\n";
-  const std::string gid_map = std::to_string(gid) + " " + std::to_string(gid) + " 1\n";
+  const bus::IdMaps maps = bus::own_id_maps();
+  const bool as_root = ::geteuid() == 0;
   int report[2];
   if (::pipe2(report, O_CLOEXEC) != 0) return std::nullopt;
   const pid_t parent = ::getpid();
@@ -84,9 +82,7 @@ std::optional<int> run_in_own_namespace(char** argv, PageRelay* page) {
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // the outer process gone: stop, resumably
     if (::getppid() != parent) ::_exit(1);
     // As root a network namespace alone; otherwise a user namespace that maps us to ourselves.
-    if (::unshare(uid == 0 ? CLONE_NEWNET : (CLONE_NEWUSER | CLONE_NEWNET)) != 0) fail(report[1], "unshare");
-    if (uid != 0 && !bus::map_user_namespace(uid_map.c_str(), gid_map.c_str())) fail(report[1], "user namespace mapping");
-    if (!bus::configure_loopback()) fail(report[1], "loopback setup");
+    if (const char* step = bus::enter_new_network(as_root ? nullptr : &maps)) fail(report[1], step);
     ::execve("/proc/self/exe", argv, envp.data());
     fail(report[1], "exec");
   }
@@ -124,6 +120,19 @@ std::optional<int> run_in_own_namespace(char** argv, PageRelay* page) {
     return 128 + WTERMSIG(status);
   }
   return 1;
+}
+
+void write_bus_file(const std::filesystem::path& dir, const std::string& url, const bus::PrivateNetwork* network) {
+  nlohmann::json bus = {{"url", url}, {"pid", static_cast<long>(::getpid())}};
+  if (network != nullptr) {
+    bus["own_namespace"] = true;
+    bus["netns"] = network->path();  // kept open by this process, beside its own namespace
+    bus["user_namespace"] = network->in_user_namespace();
+  } else {
+    bus["own_namespace"] = inside_run_namespace();
+    bus["user_namespace"] = inside_run_namespace() && ::geteuid() != 0;
+  }
+  write_json_file(dir / "bus.json", bus);
 }
 
 }  // namespace mtg::orchestrator

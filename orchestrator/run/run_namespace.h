@@ -12,8 +12,11 @@
 // message of another run (run ids are unique), but a datagram sent to this host from elsewhere
 // could reach it.
 
+#include <filesystem>
 #include <optional>
 #include <string>
+
+#include "bus/private_network.h"
 
 namespace mtg::orchestrator {
 
@@ -31,5 +34,11 @@ bool inside_run_namespace();
 /// With `page`, the inner run serves the play page on its socket and `page` relays the page's TCP
 /// address to it (page_relay.h) while the run lasts.
 std::optional<int> run_in_own_namespace(char** argv, PageRelay* page = nullptr);
+
+/// `<dir>/bus.json`, for `scripts/lcm-spy --run DIR`: the bus's URL and the namespace that holds
+/// it, `network` (a worker's, bus/private_network.h) or else this process's own, which is a run's
+/// own namespace when inside_run_namespace().
+void write_bus_file(const std::filesystem::path& dir, const std::string& url,
+                    const bus::PrivateNetwork* network = nullptr);
 
 }  // namespace mtg::orchestrator

@@ -677,6 +677,7 @@ TEST_F(MultiHostTest, AWorkerThatIsNotRootKeepsItsHostBusInANamespaceToo) {
       const int worker = bus.at("pid").get<int>();
       if (worker_ns.empty()) worker_ns = namespace_of("/proc/" + std::to_string(worker) + "/ns/net");
       if (bus_ns.empty()) bus_ns = namespace_of(bus.at("netns").get<std::string>());
+      const std::set<std::string> workers_sockets = sockets_of("/proc/" + std::to_string(worker));
       for (const auto& proc : fs::directory_iterator("/proc")) {
         std::ifstream stat(proc.path() / "stat");
         std::string pid, name, state;
@@ -685,7 +686,7 @@ TEST_F(MultiHostTest, AWorkerThatIsNotRootKeepsItsHostBusInANamespaceToo) {
         const std::string ns = namespace_of((proc.path() / "ns/net").string());
         if (!ns.empty()) children[std::stoi(pid)] = ns;
         for (const std::string& socket : sockets_of(proc.path())) {
-          if (sockets_of("/proc/" + std::to_string(worker)).count(socket)) shared_sockets.insert(pid + " " + socket);
+          if (workers_sockets.count(socket)) shared_sockets.insert(pid + " " + socket);
         }
       }
     }

@@ -70,5 +70,14 @@ TEST(SessionRulesTest, AnOlderGrantNeverDisplacesTheNewerAttemptHeld) {
   EXPECT_EQ(hear_grant("c1", 0, "", std::nullopt), OnGrant::kIgnore) << "a worker in no run takes no grant";
 }
 
+// What workers and coordinators answer: only mtg status's challenge, with a nonce of sensible size.
+TEST(SessionRulesTest, OnlyAStatusChallengeWithANonceIsEchoed) {
+  EXPECT_EQ(status_challenge(kStatusProbe, "3fa2c1d0"), std::optional<std::string>("3fa2c1d0"));
+  EXPECT_EQ(status_challenge(kStatusProbe, std::string(64, 'a')), std::optional<std::string>(std::string(64, 'a')));
+  EXPECT_EQ(status_challenge(kStatusProbe, std::string(65, 'a')), std::nullopt) << "an oversize nonce";
+  EXPECT_EQ(status_challenge(kStatusProbe, ""), std::nullopt) << "no nonce";
+  EXPECT_EQ(status_challenge("shutdown", "3fa2c1d0"), std::nullopt) << "another command";
+}
+
 }  // namespace
 }  // namespace mtg::orchestrator::remote
