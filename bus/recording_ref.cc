@@ -1,7 +1,5 @@
 #include "bus/recording_ref.h"
 
-#include <openssl/evp.h>
-
 #include "core/util/error.h"
 #include "core/util/file_bytes.h"
 
@@ -16,26 +14,7 @@ constexpr const char* kTable =
     "location TEXT NOT NULL, host TEXT NOT NULL, shared INTEGER NOT NULL, bytes INTEGER NOT NULL, "
     "sha256 TEXT NOT NULL)";
 
-std::string hex(const unsigned char* digest, unsigned int n) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string out;
-  for (unsigned int i = 0; i < n; ++i) {
-    out += kDigits[digest[i] >> 4];
-    out += kDigits[digest[i] & 15];
-  }
-  return out;
-}
-
 }  // namespace
-
-std::string sha256_hex(std::span<const std::uint8_t> bytes) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int n = 0;
-  if (EVP_Digest(bytes.data(), bytes.size(), digest, &n, EVP_sha256(), nullptr) != 1) {
-    throw Error("SHA-256 failed (OpenSSL)");
-  }
-  return hex(digest, n);
-}
 
 RecordingRef reference_to(EpisodeId episode, int attempt, std::string location, std::string host, bool shared,
                           std::span<const std::uint8_t> bytes) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bus/episode_id.h"
+#include "core/util/sha256.h"
 #include "core/store/sqlite.h"
 #include "mtg/recording_ref_t.hpp"
 
@@ -33,8 +34,7 @@ struct RecordingRef {
   std::string sha256;   // 64 lower-case hex digits
 };
 
-/// SHA-256 of `bytes`, lower-case hex.
-std::string sha256_hex(std::span<const std::uint8_t> bytes);
+using mtg::sha256_hex;  // core/util/sha256.h
 
 /// The reference to the recording `bytes` of an attempt, kept at `location` on `host`.
 RecordingRef reference_to(EpisodeId episode, int attempt, std::string location, std::string host, bool shared,

@@ -12,6 +12,7 @@ using nlohmann::json;
 
 AgentReply PlayDesk::reply(const mtg::episode_start_t& /*start*/, const mtg::observation_t& observation) {
   std::unique_lock lock(mutex_);
+  awaiting_verdict_ = -1;  // a new observation: a verdict still missing is not waited for any longer
   current_ = observation;
   answer_.reset();
   between_steps_ = false;
@@ -35,9 +36,13 @@ AgentReply PlayDesk::reply(const mtg::episode_start_t& /*start*/, const mtg::obs
   return reply;
 }
 
-void PlayDesk::end(const mtg::episode_start_t& /*start*/) {
+void PlayDesk::end(const mtg::episode_start_t& start) {
   const std::lock_guard lock(mutex_);
   ++episodes_done_;
+  // The judge's verdict may come before or after the episode's end reaches the agent.
+  const bool judged = last_verdict_.is_object() && last_verdict_["episode"] == start.header.episode_id &&
+                      last_verdict_["attempt"] == start.header.attempt;
+  awaiting_verdict_ = judged ? -1 : start.header.episode_id;
   between_steps_ = false;
   ++version_;
   changed_.notify_all();
@@ -52,6 +57,7 @@ void PlayDesk::verdict(const mtg::episode_result_t& r) {
   last_verdict_ = {{"episode", r.header.episode_id}, {"attempt", r.header.attempt}, {"retried", retried},
                    {"success", r.success != 0}, {"ip", r.ip}, {"stage", r.stage}, {"cause", r.cause},
                    {"steps", r.steps}, {"detail", r.detail}};
+  if (r.header.episode_id == awaiting_verdict_) awaiting_verdict_ = -1;
   if (!retried) {
     ++scored_;
     successes_ += r.success ? 1 : 0;
@@ -120,7 +126,7 @@ std::string PlayDesk::act(const std::string& key) {
 json PlayDesk::wait_change(std::int64_t version, int timeout_ms) const {
   std::unique_lock lock(mutex_);
   changed_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
-                    [&] { return stopping_ || (version_ != version && !between_steps_); });
+                    [&] { return stopping_ || (version_ != version && !between_steps_ && awaiting_verdict_ < 0); });
   return observation_locked();
 }
 

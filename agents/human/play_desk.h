@@ -32,7 +32,7 @@ class PlayDesk final : public Policy {
   /// observation waiting, or a key that is not offered).
   std::string act(const std::string& key);
   /// Waits up to `timeout_ms` for the desk to change from `version` (the next observation, the
-  /// episode's end); returns observation().
+  /// episode's end with its verdict); returns observation().
   nlohmann::json wait_change(std::int64_t version, int timeout_ms) const;
   /// The encoded bytes of the current observation's image `index`, with its encoding.
   std::optional<std::pair<std::string, std::vector<std::uint8_t>>> image(int index) const;
@@ -56,6 +56,9 @@ class PlayDesk final : public Policy {
   int episodes_done_ = 0;
   bool stopping_ = false;
   nlohmann::json last_verdict_;  // null until the first verdict
+  // The episode that ended and whose verdict has not come yet (-1: none): the desk does not show
+  // "episode finished" with the episode before's verdict, it waits for this one's (issue 52).
+  std::int64_t awaiting_verdict_ = -1;
   int scored_ = 0, successes_ = 0;
   double ip_sum_ = 0.0;
 };

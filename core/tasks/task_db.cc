@@ -8,6 +8,7 @@
 
 #include "core/store/sqlite.h"
 #include "core/tasks/coverage.h"
+#include "core/tasks/suite.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/json_writer.h"
@@ -384,6 +385,13 @@ std::vector<Task> read_tasks(const fs::path& file, const std::set<int>& levels) 
 }
 
 void for_each_task(const fs::path& file, const std::set<int>& levels, const std::function<void(Task)>& take) {
+  // A suite stands wherever a task set does (suite.h): `mtg run --suite` runs from its copy.
+  if (is_suite_file(file)) {
+    for (Task& t : read_suite(file).tasks) {
+      if (levels.empty() || levels.count(t.level) != 0) take(std::move(t));
+    }
+    return;
+  }
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
   // In storage order, so each chunk is inflated once (a set's levels interleave in its chunks),
@@ -430,8 +438,29 @@ void for_each_task(const fs::path& file, const std::set<int>& levels, const std:
 
 namespace {
 
+// A suite's counts in the shape of task_db_stats (no drops or coverage: a suite is a sample).
+nlohmann::json suite_stats(const Suite& suite) {
+  nlohmann::json levels = {{"1", 0}, {"2", 0}, {"3", 0}, {"4", 0}};
+  nlohmann::json types = nlohmann::json::object(), scenes = nlohmann::json::object();
+  for (const Task& t : suite.tasks) {
+    const std::string level = std::to_string(t.level);
+    levels[level] = levels[level].get<std::int64_t>() + 1;
+    types[t.type] = types.value(t.type, std::int64_t{0}) + 1;
+    if (!scenes.contains(t.scene)) scenes[t.scene] = {{"1", 0}, {"2", 0}, {"3", 0}, {"4", 0}, {"total", 0}};
+    scenes[t.scene][level] = scenes[t.scene][level].get<std::int64_t>() + 1;
+    scenes[t.scene]["total"] = scenes[t.scene]["total"].get<std::int64_t>() + 1;
+  }
+  nlohmann::json meta = nlohmann::json::object();
+  for (const char* key : {"format", "suite_id", "config_hash", "generator_version", "seed", "scenes"}) {
+    if (const auto v = suite_meta(suite, key)) meta[key] = *v;
+  }
+  return {{"levels", levels}, {"types", types}, {"scenes", scenes}, {"total", suite.tasks.size()},
+          {"dropped", nlohmann::json::object()}, {"coverage", nlohmann::json::object()}, {"meta", meta}};
+}
+
 // One entry of the meta table of a task database, or nullopt.
 std::optional<std::string> meta_value(const fs::path& file, const std::string& key) {
+  if (is_suite_file(file)) return suite_meta(read_suite(file), key);
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
   store::Statement q(db, "SELECT value FROM meta WHERE key = ?");
@@ -443,6 +472,7 @@ std::optional<std::string> meta_value(const fs::path& file, const std::string& k
 }  // namespace
 
 std::map<std::string, scene::DatasetFingerprint> read_dataset_fingerprints(const fs::path& file) {
+  if (is_suite_file(file)) return read_suite(file).dataset;
   const auto dataset = meta_value(file, "dataset");
   if (!dataset) return {};
   try {
@@ -461,6 +491,7 @@ nlohmann::json read_generator_config(const fs::path& file) {
 }
 
 nlohmann::json task_db_stats(const fs::path& file) {
+  if (is_suite_file(file)) return suite_stats(read_suite(file));
   store::Database db(file, store::Database::Mode::kReadOnly);
   require_format(db, file);
   nlohmann::json j;

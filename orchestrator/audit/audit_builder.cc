@@ -47,7 +47,7 @@ render::ViewSpec spec_of(const graph::SceneGraph& g, const render::ViewRequest& 
 }  // namespace
 
 int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
-  if (o.tasks.empty()) throw Error("mtg audit: --tasks <task database> is required");
+  if (o.tasks.empty()) throw Error("mtg audit: --tasks <task database> or --suite <suite file> is required");
   if (o.out.empty()) throw Error("mtg audit: --out <folder> is required");
   if (o.per_level < 1) throw Error("mtg audit: --per-level must be at least 1");
   const json config = tasks::read_generator_config(o.tasks);

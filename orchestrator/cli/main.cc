@@ -15,8 +15,10 @@
 #include "core/util/log.h"
 #include "orchestrator/cli/audit_commands.h"
 #include "orchestrator/cli/sight_commands.h"
+#include "orchestrator/cli/suite_commands.h"
 #include "orchestrator/cli/bench_commands.h"
 #include "orchestrator/cli/cluster_commands.h"
+#include "orchestrator/cli/leaderboard_commands.h"
 #include "orchestrator/cli/render_commands.h"
 #include "orchestrator/cli/run_commands.h"
 #include "orchestrator/cli/scene_commands.h"
@@ -167,12 +169,24 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   auto run_opts = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts->tasks, "task database (tasks.sqlite)");
+  run->add_option("--suite", run_opts->suite,
+                  "a suite file (mtg suite make): run exactly its tasks, with no task set at hand")
+      ->excludes("--tasks");
   run->add_option("--agent", run_opts->agents,
                   "agent: oracle, random, replay:<run dir>, script:<file>, human, openai:<model>, anthropic:<model>, "
                   "gemini:<model>, openai-compatible:<url>:<model> (repeat for several)");
   run->add_option("--scene", run_opts->scenes, "only tasks of this scene (repeat for several; default all)");
   run->add_option("--levels", run_opts->levels, "levels to run (default 1,2,3)");
   run->add_option("--limit", run_opts->limit, "tasks per scene and level, drawn with the seed (default all)");
+  run->add_option("--draw", run_opts->draw,
+                  "how --limit draws: stratified (default: round-robin over platforms and item models, outcome "
+                  "kinds and templates) or uniform")
+      ->check(CLI::IsMember({"stratified", "uniform"}));
+  run->add_flag("--estimate", run_opts->estimate,
+                "print what the model agents would cost and take (docs/vlm.md, \"Cost before spending\") and exit");
+  run->add_option("--max-cost", run_opts->max_cost_usd,
+                  "US$: start no episode once spent plus expected in flight reaches it; exits 3 (0 = no cap)")
+      ->check(CLI::NonNegativeNumber);
   run->add_option("--repeat", run_opts->repeat,
                   "episodes per task and agent, each with its own episode seed (default 1; a random agent's spread, "
                   "long soaks)");
@@ -257,7 +271,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
                         if (run_opts->given.count("--slurm")) run_opts->remote = true;
                         for (char** a = argv; *a != nullptr; ++a) run_opts->command_line.emplace_back(*a);
                         // A run on this machine gets a bus of its own (run_namespace.h), unless told which to use.
-                        if (run_opts->url.empty() && !run_opts->remote) {
+                        if (run_opts->url.empty() && !run_opts->remote && !run_opts->estimate) {
                           if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
                         }
                         return run_run(*run_opts);
@@ -280,6 +294,45 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   commands.push_back({hub, [hub_opts]() -> int { run_hub(*hub_opts); }});
   commands.push_back({worker, [worker_opts] { return run_worker(*worker_opts); }});
   commands.push_back({status, [status_opts] { return run_status(*status_opts); }});
+}
+
+// mtg suite make | info | verify
+void add_suite_commands(CLI::App& app, Commands& commands) {
+  CLI::App* suite = app.add_subcommand("suite", "Frozen samples of tasks to run and cite (docs/suites.md)");
+  suite->require_subcommand(1);
+  auto make_opts = std::make_shared<SuiteMakeOptions>();
+  CLI::App* make = suite->add_subcommand("make", "Draw a stratified sample of a task set into one self-contained suite file");
+  make->add_option("--tasks", make_opts->tasks, "task database to draw from")->required();
+  make->add_option("--scene", make_opts->scenes, "only this scene (repeat for several; default all of the set)");
+  make->add_option("--levels", make_opts->levels, "levels (default 1,2,3,4)");
+  make->add_option("--per-level", make_opts->per_level, "tasks per scene and level");
+  make->add_option("--mde", make_opts->mde,
+                   "instead of --per-level: the SR difference (points) a paired comparison of two agents should detect");
+  make->add_option("--power", make_opts->power, "with --mde: power (default 0.8)");
+  make->add_option("--discordance", make_opts->discordance,
+                   "with --mde: expected share of tasks where exactly one of two agents succeeds (default 0.3)");
+  make->add_option("--alpha", make_opts->alpha, "with --mde: two-sided significance level (default 0.05)");
+  make->add_option("--seed", make_opts->seed, "seed of the draw (default 0)");
+  make->add_option("--draw", make_opts->draw, "stratified (default) or uniform")->check(CLI::IsMember({"stratified", "uniform"}));
+  make->add_option("--name", make_opts->name, "the suite's name (letters, digits, . _ -)")->required();
+  make->add_option("--out", make_opts->out, "the suite file to write")->required();
+  commands.push_back({make, [make, make_opts]() -> int {
+                        for (const CLI::Option* opt : make->get_options()) {
+                          if (opt->count() > 0) make_opts->given.insert(opt->get_name());
+                        }
+                        return run_suite_make(*make_opts);
+                      }});
+  auto info_opts = std::make_shared<SuiteInfoOptions>();
+  CLI::App* info = suite->add_subcommand("info", "What a suite holds: identity, draw, counts, spread, dataset, license");
+  info->add_option("file", info_opts->file, "suite file")->required();
+  info->add_flag("--json", info_opts->json, "print one JSON object");
+  commands.push_back({info, [info_opts] { return run_suite_info(*info_opts); }});
+  auto verify_opts = std::make_shared<SuiteVerifyOptions>();
+  CLI::App* verify = suite->add_subcommand("verify", "Check a suite's digest, the dataset here against it, and every goal");
+  verify->add_option("file", verify_opts->file, "suite file")->required();
+  verify->add_option("--data", verify_opts->data_dir, "dataset root (default: search order)");
+  verify->add_option("--profile", verify_opts->profile, "scene profile (default replica_cad)");
+  commands.push_back({verify, [verify_opts] { return run_suite_verify(*verify_opts); }});
 }
 
 // mtg vlm ask
@@ -307,6 +360,9 @@ void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
   report->add_option("run", report_opts->run, "run folder")->required();
   report->add_option("--html", report_opts->html, "write the HTML report here");
   report->add_flag("--json", report_opts->json, "print one JSON object");
+  report->add_flag("--card", report_opts->card,
+                   "also write the result card (card.md, card.json): suite, agents, SR/IP with intervals, cost, "
+                   "provenance, how to cite");
   auto compare_opts = std::make_shared<CompareOptions>();
   CLI::App* compare = app.add_subcommand(
       "compare", "Paired comparison on the same tasks: the agents of a run, or an agent in two runs (B against A)");
@@ -316,6 +372,13 @@ void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
   compare->add_option("--baseline", compare_opts->baseline, "one run: the agent the others are compared with (default: its first)");
   compare->add_flag("--json", compare_opts->json, "print one JSON object");
   commands.push_back({compare, [compare_opts] { return run_compare(*compare_opts); }});
+  auto leaderboard_opts = std::make_shared<LeaderboardOptions>();
+  CLI::App* leaderboard = app.add_subcommand(
+      "leaderboard", "Rank the agents of several runs per suite, with what paired tests can tell apart");
+  leaderboard->add_option("runs", leaderboard_opts->runs, "run folders")->required();
+  leaderboard->add_flag("--json", leaderboard_opts->json, "print one JSON object");
+  leaderboard->add_option("--markdown", leaderboard_opts->markdown, "also write the boards as Markdown to this file");
+  commands.push_back({leaderboard, [leaderboard_opts] { return run_leaderboard(*leaderboard_opts); }});
   auto replay_opts = std::make_shared<ReplayOptions>();
   CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
   replay->add_option("run", replay_opts->run, "run folder")->required();
@@ -423,10 +486,13 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
 
   auto play_opts = std::make_shared<PlayOptions>();
   CLI::App* play = app.add_subcommand("play", "Play episodes yourself in the browser (the human agent)");
-  play->add_option("--tasks", play_opts->tasks, "task database (tasks.sqlite)")->required();
+  CLI::Option* play_tasks = play->add_option("--tasks", play_opts->tasks, "task database (tasks.sqlite)");
+  play->add_option("--suite", play_opts->suite, "a suite file (mtg suite make): play its tasks")->excludes(play_tasks);
   play->add_option("--scene", play_opts->scenes, "only tasks of this scene (repeat for several)");
   play->add_option("--levels", play_opts->levels, "levels to play (default 1,2,3)");
   play->add_option("--limit", play_opts->limit, "tasks per scene and level (default 1)");
+  play->add_option("--draw", play_opts->draw, "how --limit draws: stratified (default) or uniform")
+      ->check(CLI::IsMember({"stratified", "uniform"}));
   play->add_option("--seed", play_opts->seed, "run seed (default 0)");
   play->add_option("--out", play_opts->out, "run folder (default ./play; the same command resumes)");
   play->add_option("--data", play_opts->data_dir, "dataset root (default: search order)");
@@ -448,7 +514,9 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   auto audit_opts = std::make_shared<AuditCommandOptions>();
   CLI::App* audit = app.add_subcommand("audit", "Judge sampled tasks from what the agent sees, in the browser (Table 2)");
   audit->require_subcommand(0, 1);
-  audit->add_option("--tasks", audit_opts->tasks, "task database (tasks.sqlite)");
+  CLI::Option* audit_tasks = audit->add_option("--tasks", audit_opts->tasks, "task database (tasks.sqlite)");
+  audit->add_option("--suite", audit_opts->tasks, "a suite file (mtg suite make): audit tasks drawn from it")
+      ->excludes(audit_tasks);
   audit->add_option("--scene", audit_opts->scene, "only tasks of this scene");
   audit->add_option("--per-level", audit_opts->per_level, "tasks drawn per level (default 10)");
   audit->add_option("--seed", audit_opts->seed, "seed of the draw (default 0)");
@@ -514,6 +582,7 @@ int main(int argc, char** argv) {
   mtg::cli::add_render_commands(app, commands);
   mtg::cli::add_task_commands(app, commands);
   mtg::cli::add_run_commands(app, commands, argv);
+  mtg::cli::add_suite_commands(app, commands);
   mtg::cli::add_vlm_commands(app, commands);
   mtg::cli::add_result_commands(app, commands, argv);
   mtg::cli::add_bench_commands(app, commands);

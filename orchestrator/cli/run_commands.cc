@@ -24,19 +24,23 @@
 #include "core/util/build_info.h"
 #include "core/util/host_name.h"
 #include "core/tasks/generator.h"
+#include "core/tasks/draw.h"
+#include "core/tasks/suite.h"
 #include "core/tasks/task_db.h"
+#include "core/util/file_bytes.h"
 #include "core/util/atomic_file.h"
-#include "core/episode/goals.h"
-#include "core/graph/scene_cache.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "orchestrator/remote/recordings_place.h"
 #include "orchestrator/remote/slurm_workers.h"
 #include "orchestrator/remote/tcp_hub.h"
+#include "orchestrator/report/card.h"
 #include "orchestrator/report/compare.h"
+#include "orchestrator/run/goal_check.h"
 #include "orchestrator/run/provenance.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
+#include "orchestrator/run/run_estimate.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
 #include "orchestrator/run/page_relay.h"
@@ -70,17 +74,50 @@ vlm::VlmOptions run_wide(vlm::VlmOptions o) {
   return o;
 }
 
-void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const nlohmann::json& report) {
+// What the run's tasks are and how spread they are (plan.json's provenance, draw_record): "" for
+// a plan from before draws were recorded.
+std::string draw_line(const nlohmann::json& provenance) {
+  if (!provenance.is_object() || !provenance.contains("draw")) return "";
+  const nlohmann::json& d = provenance["draw"];
+  std::string line = "tasks: ";
+  const std::string kind = d.value("kind", std::string("?"));
+  if (kind == "suite" && provenance.contains("suite")) {
+    line += "suite " + provenance["suite"].value("id", std::string("?"));
+  } else if (kind == "all") {
+    line += "every task of the set";
+  } else {
+    line += kind + " draw of " + std::to_string(d.value("limit", 0)) + " per scene and level";
+  }
+  std::string spread;
+  const nlohmann::json levels = d.value("spread", nlohmann::json::object());
+  for (const auto& [level, sp] : levels.items()) {
+    char part[160];
+    std::snprintf(part, sizeof part, "%sL%s %.0f %% (%s)", spread.empty() ? "" : ", ", level.c_str(),
+                  100.0 * sp.value("biggest_share", 0.0), sp.value("biggest", std::string()).c_str());
+    spread += part;
+  }
+  if (!spread.empty()) line += "; share of the biggest stratum (source platform; L4 outcome kind): " + spread;
+  return line;
+}
+
+void print_summary(const orchestrator::RunSummary& s, const fs::path& dir, const nlohmann::json& report, bool remote) {
   std::printf("run %s: %lld episodes planned, %lld done now (%lld before), %lld given up, %lld retries, "
               "%d restarts, %.1f s\n",
               dir.filename().c_str(), static_cast<long long>(s.planned), static_cast<long long>(s.completed),
               static_cast<long long>(s.already_done), static_cast<long long>(s.errors),
               static_cast<long long>(s.retries), s.restarts, s.seconds);
   if (s.completed > 0 && s.seconds > 0 && s.cpu_seconds > 0) {
-    // Start-up included (scenes, GPU upload): the figure of a whole invocation.
-    std::printf("  %.2f episodes/s, %.3f episodes per CPU-second (%.1f CPU-s: mtg and the processes it ran here)\n",
-                static_cast<double>(s.completed) / s.seconds, static_cast<double>(s.completed) / s.cpu_seconds,
-                s.cpu_seconds);
+    // Start-up included (scenes, GPU upload): the figure of a whole invocation. With workers the
+    // episodes ran elsewhere: their CPU is not in it, so no per-CPU-second figure is claimed.
+    if (remote) {
+      std::printf("  %.2f episodes/s; this coordinator used %.1f CPU-s (the workers' CPU is on their hosts, not "
+                  "counted here)\n",
+                  static_cast<double>(s.completed) / s.seconds, s.cpu_seconds);
+    } else {
+      std::printf("  %.2f episodes/s, %.3f episodes per CPU-second (%.1f CPU-s: mtg and the processes it ran here)\n",
+                  static_cast<double>(s.completed) / s.seconds, static_cast<double>(s.completed) / s.cpu_seconds,
+                  s.cpu_seconds);
+    }
   }
   std::printf("  SR %s %%  IP %s  over %lld scored episodes (95 %% intervals)\n",
               orchestrator::with_interval(report, "sr").c_str(), orchestrator::with_interval(report, "ip").c_str(),
@@ -183,20 +220,42 @@ void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions&
   }
 }
 
-// A new run's plan from the options (the episodes are laid out by make_plan).
-RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
-  if (o.tasks.empty()) throw Error("--tasks <tasks.sqlite> is required");
+// Where a run with --suite keeps its copy of the suite, which is its task set from then on: the
+// folder needs nothing outside it to resume, rejudge or view.
+constexpr const char* kSuiteCopy = "suite.json";
+
+// A new run's plan from the options (the episodes are laid out by make_plan). With a suite, its
+// tasks are read from `suite_file` until the run folder holds its copy.
+RunPlan plan_from_options(const RunOptions& o, const fs::path& dir, const tasks::Suite* suite) {
+  if (o.tasks.empty() && suite == nullptr) throw Error("--tasks <tasks.sqlite> or --suite <suite file> is required");
+  if (suite != nullptr) {
+    std::vector<std::string> drawn;
+    for (const char* option : {"--limit", "--levels", "--scene", "--draw"}) {
+      if (o.given.count(option)) drawn.push_back(option);
+    }
+    if (!drawn.empty()) {
+      std::string names;
+      for (const auto& d : drawn) names += (names.empty() ? "" : ", ") + d;
+      throw Error("--suite runs exactly the suite's tasks; " + names + (drawn.size() == 1 ? " goes" : " go") + " with --tasks");
+    }
+  }
   if (o.given.count("--parallel") && o.parallel < 1) throw Error("--parallel must be at least 1, not " + std::to_string(o.parallel));
   if (o.limit < 0) throw Error("--limit must be 0 (every task) or more, not " + std::to_string(o.limit));
   if (o.step_limit < 1) throw Error("--step-limit must be at least 1, not " + std::to_string(o.step_limit));
   if (o.render && o.no_render) throw Error("--render and --no-render contradict each other");
   RunPlan plan;
   plan.run_id = orchestrator::new_run_id(dir.filename().string());
-  plan.tasks_db = fs::absolute(o.tasks).lexically_normal().string();
+  const std::string source = suite != nullptr ? o.suite : o.tasks;
+  plan.tasks_db = suite != nullptr ? (dir / kSuiteCopy).string() : fs::absolute(o.tasks).lexically_normal().string();
   plan.agents = o.agents;
   plan.scenes = {o.scenes.begin(), o.scenes.end()};
   plan.levels = tasks::parse_levels(o.levels);
-  plan.limit = o.limit;
+  if (suite != nullptr) {
+    plan.levels.clear();
+    for (const auto& t : suite->tasks) plan.levels.insert(t.level);
+  }
+  plan.limit = suite != nullptr ? 0 : o.limit;  // a suite is its tasks, all of them (mtg play passes its default)
+  plan.draw = tasks::draw_kind_from_string(o.draw);
   plan.repeat = o.repeat;
   plan.seed = o.seed;
   // With workers their capacities decide, unless --parallel caps the whole run.
@@ -208,7 +267,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
   plan.render = o.render || (model_agent && !o.no_render);
   std::tie(plan.image_width, plan.image_height) = parse_image_size(o.image_size);
   plan.image_encoding = o.image_encoding;
-  plan.object_names = object_names_for(o.object_names, plan.render, plan.tasks_db);
+  plan.object_names = object_names_for(o.object_names, plan.render, source);
   // A model call may wait minutes for rate limits and retries before the next message.
   plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
   plan.data_dir = o.data_dir;
@@ -231,61 +290,58 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir) {
 }
 
 // The task set's fingerprints of the scenes the plan runs.
-std::map<std::string, scene::DatasetFingerprint> fingerprints_of(const RunPlan& plan,
+std::map<std::string, scene::DatasetFingerprint> fingerprints_of(const RunPlan& plan, const std::string& task_source,
                                                                  const std::map<std::string, tasks::Task>& tasks) {
   std::set<std::string> scenes;
   for (const auto& e : plan.episodes) scenes.insert(tasks.at(e.task_id).scene);
   std::map<std::string, scene::DatasetFingerprint> out;
-  for (auto& [scene, f] : tasks::read_dataset_fingerprints(plan.tasks_db)) {
+  for (auto& [scene, f] : tasks::read_dataset_fingerprints(task_source)) {
     if (scenes.count(scene) != 0) out.emplace(scene, std::move(f));
   }
   return out;
 }
 
+// How the run's tasks were chosen, for its provenance and report: the draw, and how spread the
+// tasks are (each level's biggest stratum and its share, tasks/draw.h).
+nlohmann::json draw_record(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks, bool from_suite) {
+  std::set<std::string> planned;
+  for (const auto& e : plan.episodes) planned.insert(e.task_id);
+  std::vector<const tasks::Task*> list;
+  for (const auto& id : planned) list.push_back(&tasks.at(id));
+  const std::string kind = from_suite ? "suite" : (plan.limit > 0 ? tasks::to_string(plan.draw) : "all");
+  return {{"kind", kind}, {"limit", plan.limit}, {"seed", plan.seed}, {"spread", tasks::to_json(tasks::spread_of(list))}};
+}
+
 // A run on this machine refuses a dataset other than the task set's (a missing mesh would turn
 // the oracle's tasks into failures without a word); workers check their own as they join.
-void check_dataset(const RunPlan& plan, const std::map<std::string, scene::DatasetFingerprint>& expected) {
+void check_dataset(const RunPlan& plan, const std::string& task_source,
+                   const std::map<std::string, scene::DatasetFingerprint>& expected) {
   const fs::path root = scene::resolve_data_root(plan.data_dir);
   const std::string diff = scene::first_difference(expected, root);
   if (diff.empty()) return;
-  const std::string what = "the dataset at " + root.string() + " is not the one " + plan.tasks_db + " was made from (" + diff + ")";
+  const std::string what = "the dataset at " + root.string() + " is not the one " + task_source + " was made from (" + diff + ")";
   if (!plan.allow_data_mismatch) throw Error(what + "; use that dataset (--data) or --allow-data-mismatch");
   log::warn(what + "; going on (--allow-data-mismatch)");
 }
 
-// Every planned task's goal resolves in its scene as this machine loads it, before anything is
-// written: a goal that names an object or platform the scene lacks would give an error row per
-// episode after the run started. Without the dataset here (a coordinator whose workers hold it)
-// the workers check each episode as it starts.
-void check_goals(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks) {
+// Every planned task's goal resolves here before anything is written (goal_check.h). Without the
+// dataset here (a coordinator whose workers hold it) the workers check each episode as it starts.
+void check_goals(const RunPlan& plan, const std::string& task_source, const std::map<std::string, tasks::Task>& tasks) {
   std::set<std::string> planned;
   for (const auto& e : plan.episodes) planned.insert(e.task_id);
-  graph::SceneCache scenes(plan.profile);
-  for (const std::string& id : planned) {
-    const tasks::Task& t = tasks.at(id);
-    const graph::SceneGraph* g = nullptr;
-    try {
-      g = &scenes.get(t.scene, plan.data_dir);
-    } catch (const Error& e) {
-      if (plan.remote) {
-        log::info(std::string("goals not checked here (") + e.what() + "); each worker checks its episodes");
-        return;
-      }
-      throw;
-    }
-    try {
-      (void)episode::task_goal_from_json(*g, t.goal);
-    } catch (const Error& e) {
-      throw Error(plan.tasks_db + ": task " + id + ": its goal does not hold in scene " + t.scene + ": " + e.what());
-    } catch (const nlohmann::json::exception& e) {
-      throw Error(plan.tasks_db + ": task " + id + ": its goal is malformed: " + e.what());
-    }
-  }
+  std::vector<const tasks::Task*> list;
+  for (const std::string& id : planned) list.push_back(&tasks.at(id));
+  orchestrator::check_goals(list, plan.profile, plan.data_dir, task_source,
+                            plan.remote ? orchestrator::MissingScene::kSkip : orchestrator::MissingScene::kFail);
 }
 
 // A resume runs the plan on disk: options that would change what it evaluates are refused, with
 // the names of those that differ.
-void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir) {
+void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir, const tasks::Suite* suite) {
+  if (suite != nullptr) {
+    const bool same = tasks::is_suite_file(plan.tasks_db) && tasks::read_suite(plan.tasks_db).digest == suite->digest;
+    if (!same) throw Error(dir.string() + " holds a run of " + plan.tasks_db + ", not of suite " + suite->id() + "; use another --out");
+  }
   if (!o.tasks.empty() && fs::absolute(o.tasks).lexically_normal().string() != plan.tasks_db) {
     throw Error(dir.string() + " holds a run of " + plan.tasks_db + "; use another --out for " + o.tasks);
   }
@@ -296,6 +352,7 @@ void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir)
   };
   differs("--levels", tasks::parse_levels(o.levels) != plan.levels);
   differs("--limit", o.limit != plan.limit);
+  differs("--draw", tasks::draw_kind_from_string(o.draw) != plan.draw);
   differs("--repeat", o.repeat != plan.repeat);
   differs("--seed", o.seed != plan.seed);
   differs("--scene", std::set<std::string>(o.scenes.begin(), o.scenes.end()) != plan.scenes);
@@ -392,26 +449,37 @@ int run_run(const RunOptions& o) {
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("--out " + dir.string() + " is a file, not a run folder");
   RunPlan plan;
   const bool resuming = fs::exists(dir / "plan.json");
+  // A suite is checked whole (format, digest, every task) before anything else.
+  std::optional<tasks::Suite> suite;
+  if (!o.suite.empty()) suite = tasks::read_suite(o.suite);
   if (resuming) {
     plan = orchestrator::load_plan(dir);
-    check_resume(plan, o, dir);
+    check_resume(plan, o, dir, suite ? &*suite : nullptr);
     plan.allow_data_mismatch = o.allow_data_mismatch;  // a permission of this invocation
   } else {
-    plan = plan_from_options(o, dir);
+    plan = plan_from_options(o, dir, suite ? &*suite : nullptr);
   }
+  // Until the folder holds its copy, a new suite run reads the suite given.
+  const std::string task_source = !resuming && suite ? o.suite : plan.tasks_db;
   // Everything is checked before anything is written: a typo must not spoil the folder.
   check_agents(plan.agents, o.vlm, plan.remote);
-  const auto tasks = load_tasks(plan.tasks_db);
+  const auto tasks = load_tasks(task_source);
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
-  const auto fingerprints = fingerprints_of(plan, tasks);
-  if (!plan.remote) check_dataset(plan, fingerprints);
-  check_goals(plan, tasks);
+  const auto fingerprints = fingerprints_of(plan, task_source, tasks);
+  if (!plan.remote) check_dataset(plan, task_source, fingerprints);
+  check_goals(plan, task_source, tasks);
+  if (o.estimate) return orchestrator::print_estimate(plan, tasks, o.vlm, dir);
   if (!resuming) {
     const bool model_agent = std::any_of(plan.agents.begin(), plan.agents.end(),
                                          [](const std::string& a) { return vlm::is_model_spec(a); });
     plan.provenance = orchestrator::make_provenance(
-        {o.command_line, plan.tasks_db, fingerprints,
+        {o.command_line, task_source, fingerprints,
          model_agent ? o.vlm.resolve().provenance_json() : nlohmann::json(nullptr)});
+    if (suite) {
+      plan.provenance["suite"] = {{"id", suite->id()}, {"name", suite->name}, {"digest", suite->digest},
+                                  {"file", fs::absolute(o.suite).lexically_normal().string()}};
+    }
+    plan.provenance["draw"] = draw_record(plan, tasks, suite.has_value());
   }
   // One writer per folder, from here to the end of the run (run_lock.h).
   const bool playing = plan.agents.size() == 1 && plan.agents.front() == agents::kHumanAgent;
@@ -422,6 +490,7 @@ int run_run(const RunOptions& o) {
   if (resuming) std::printf("resuming %s (run %s)\n", dir.c_str(), plan.run_id.c_str());
   if (!resuming || plan.bus_url != planned_bus) {
     fs::create_directories(dir);
+    if (!resuming && suite) write_file_bytes_atomically(plan.tasks_db, read_file_bytes(o.suite));
     orchestrator::save_plan(plan, dir);
   }
   orchestrator::write_bus_file(dir, plan.bus_url);
@@ -439,10 +508,12 @@ int run_run(const RunOptions& o) {
   engine.remote = o.remote_options;
   engine.remote.recordings = orchestrator::remote::parse_recordings_place(plan.recordings);
   engine.play_host = o.play_host;
+  engine.hold_after_last = playing;
   engine.play_port = o.play_port;
   if (const char* socket = std::getenv(orchestrator::kPlaySocketEnv); socket != nullptr && orchestrator::inside_run_namespace()) {
     engine.play_socket = socket;
   }
+  engine.budget = orchestrator::announce_estimate(o.max_cost_usd, plan, tasks, o.vlm, dir);
   if (o.given.count("--slurm")) slurm.workers = submit_slurm_workers(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   slurm.workers.reset();  // cancel what is left of the array
@@ -451,8 +522,12 @@ int run_run(const RunOptions& o) {
   orchestrator::append_session(
       dir, {{"event", "end"}, {"at", orchestrator::utc_now()}, {"started", started}, {"host", host_name()},
             {"episodes_done", summary.completed}, {"given_up", summary.errors},
-            {"ended", summary.interrupted ? "interrupted" : (!summary.stopped_agents.empty() ? "agent stopped" : "finished")}});
-  print_summary(summary, dir, report);
+            {"ended", summary.interrupted                    ? "interrupted"
+                      : !summary.stopped_agents.empty()       ? "agent stopped"
+                      : !summary.budget_stop.empty()          ? "budget"
+                                                              : "finished"}});
+  print_summary(summary, dir, report, plan.remote);
+  if (const std::string line = draw_line(plan.provenance); !line.empty()) std::printf("  %s\n", line.c_str());
   if (summary.interrupted) {
     std::printf("interrupted: run the same command again to resume\n");
     return 130;
@@ -462,6 +537,10 @@ int run_run(const RunOptions& o) {
     std::fprintf(stderr, "%lld episode(s) not run; fix the cause and run the same command again to resume\n",
                  static_cast<long long>(summary.not_run));
     return 1;
+  }
+  if (!summary.budget_stop.empty()) {
+    std::fprintf(stderr, "%s\n", summary.budget_stop.c_str());
+    return 3;
   }
   if (summary.errors > 0) {
     // Not a success: a task whose goal does not resolve, a service that cannot start, a lost
@@ -511,6 +590,10 @@ int run_report(const ReportOptions& o) {
   // --json only reads; otherwise the files are written where the folder allows it.
   const nlohmann::json report =
       o.json ? report_of(dir) : write_reports_if_possible(dir, o.html);
+  if (o.card) {
+    orchestrator::write_card(dir);
+    if (!o.json) std::printf("card: %s (+ card.json)\n", (dir / "card.md").c_str());
+  }
   if (o.json) {
     std::cout << report.dump() << '\n';
     return 0;
@@ -554,6 +637,11 @@ int run_report(const ReportOptions& o) {
   }
   for (const auto& [agent, a] : report["by_agent"].items()) {
     if (a.contains("repeats")) std::printf("  repeats of %s\n", orchestrator::repeats_text(agent, a["repeats"]).c_str());
+  }
+  if (fs::exists(dir / "plan.json")) {
+    if (const std::string drawn = draw_line(orchestrator::load_plan(dir).provenance); !drawn.empty()) {
+      std::printf("  %s\n", drawn.c_str());
+    }
   }
   if (!report["causes"].empty()) {
     std::printf("  failure causes:");

@@ -14,10 +14,14 @@ namespace mtg::cli {
 
 struct RunOptions {
   std::string tasks;                 // task database
+  std::string suite;                 // or a suite file (tasks/suite.h): exactly its tasks
   std::vector<std::string> agents;   // e.g. oracle, random
   std::vector<std::string> scenes;   // empty = all
   std::string levels = "1,2,3";
   int limit = 0;                     // tasks per (scene, level); 0 = all
+  std::string draw = "stratified";   // how --limit draws (tasks/draw.h)
+  bool estimate = false;             // --estimate: print the cost estimate and exit, running nothing
+  double max_cost_usd = 0.0;         // --max-cost: US$ cap on the run's spending (0 = none; docs/vlm.md)
   int repeat = 1;                    // episodes per (task, agent)
   int parallel = 0;                  // when not given: 4, or with --remote as many as the workers take
   std::uint64_t seed = 0;
@@ -56,6 +60,7 @@ struct ReportOptions {
   std::string run;
   std::string html;  // "" = <run>/report.html
   bool json = false;
+  bool card = false;  // also card.md and card.json (report/card.h)
 };
 
 struct CompareOptions {

@@ -48,6 +48,8 @@ int run_export(const ExportOptions& o) {
 int run_play(const PlayOptions& o) {
   RunOptions r;
   r.tasks = o.tasks;
+  r.suite = o.suite;
+  r.draw = o.draw;
   r.agents = {agents::kHumanAgent};
   r.scenes = o.scenes;
   r.levels = o.levels;

@@ -21,6 +21,8 @@ struct ExportOptions {
 
 struct PlayOptions {
   std::string tasks;
+  std::string suite;              // or a suite file: its tasks (no --limit draw)
+  std::string draw = "stratified";
   std::vector<std::string> scenes;
   std::string levels = "1,2,3";
   int limit = 1;                  // tasks per (scene, level)

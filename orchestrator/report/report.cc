@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "agents/vlm/model_spec.h"
 #include "core/episode/outcomes.h"
 #include "core/stats/intervals.h"
 #include "core/stats/repeats.h"
@@ -224,7 +225,8 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& all_rows, const std::s
   std::map<std::string, Usage> usage;
   std::map<std::string, std::map<std::string, std::pair<int, int>>> per_task;  // agent -> task -> (n, c)
   for (const EpisodeRow& r : rows) {
-    if (r.usage.model_calls > 0) {
+    // A person's or a replay's answers are not model calls: no tokens, no price (issue 52).
+    if (r.usage.model_calls > 0 && vlm::is_model_spec(r.agent)) {
       usage[r.agent].add(r);
       usage[r.agent].price_known = r.agent.rfind("openai-compatible:", 0) != 0;
     }
@@ -245,9 +247,11 @@ nlohmann::json make_report(const std::vector<EpisodeRow>& all_rows, const std::s
       causes[r.cause] += 1;
       causes_by_agent[r.agent][r.cause] += 1;
     }
-    in_tokens += r.usage.input_tokens;
-    out_tokens += r.usage.output_tokens;
-    cost += r.usage.cost_usd;
+    if (vlm::is_model_spec(r.agent)) {
+      in_tokens += r.usage.input_tokens;
+      out_tokens += r.usage.output_tokens;
+      cost += r.usage.cost_usd;
+    }
     flows.push_back({"Level " + level, r.stage, r.success ? "success" : r.cause, r.success ? "success" : "failure"});
   }
   nlohmann::json j;

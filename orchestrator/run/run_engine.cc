@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <deque>
 #include <set>
 
@@ -59,6 +60,7 @@ class Engine final : public LaunchSink {
     std::set<bus::EpisodeId> finished;
     std::int64_t given_up_before = 0;
     for (const auto& row : results_.rows()) {
+      book_cost(row);
       if (row.status != "scored") {
         ++given_up_before;
         continue;
@@ -76,6 +78,14 @@ class Engine final : public LaunchSink {
     }
     counts_.planned = summary.planned;
     if (pending_.empty()) {
+      summary.seconds = seconds_since(started);
+      return summary;
+    }
+    // Spent already reaches the cap (a resume with the same --max-cost): start nothing at all.
+    if (over_budget()) {
+      stop_launching();
+      summary.not_started = not_started_;
+      summary.budget_stop = budget_line();
       summary.seconds = seconds_since(started);
       return summary;
     }
@@ -102,6 +112,11 @@ class Engine final : public LaunchSink {
     }
     summary.episode_seconds = seconds_since(episodes_started);
     progress.draw(true);
+    if (options_.hold_after_last && !summary.interrupted && pending_.empty() && in_flight_.empty()) {
+      std::fprintf(stderr, "\nevery episode is played: the page shows the last verdict and your score until you stop "
+                           "(Ctrl-C)\n");
+      while (!process::stop_signal_received()) launcher_.poll(100, *this);
+    }
     counts_.in_flight = 0;
     launcher_.close();
     process::restore_default_signals();
@@ -111,6 +126,8 @@ class Engine final : public LaunchSink {
     summary.restarts = launcher_.restarts();
     summary.stopped_agents = stopped_agents_;
     summary.not_run = not_run_;
+    summary.not_started = not_started_;
+    if (budget_stopped_) summary.budget_stop = budget_line();
     summary.seconds = seconds_since(started);
     summary.cpu_seconds = cpu_seconds_with_children() - cpu_at_start;
     return summary;
@@ -123,10 +140,12 @@ class Engine final : public LaunchSink {
     // Neither a lost message nor a failing API is the agent's failure: try the episode again.
     const auto cause = episode::cause_from_string(m.cause);
     if (!cause || !episode::stage_from_string(m.stage)) {  // a judge from another version: never score it
+      spent_usd_ += m.spent_usd;  // paid all the same, and no row keeps it
       retry(bus::episode_of(m.header), "result with unknown stage '" + m.stage + "' or cause '" + m.cause + "'");
       return;
     }
     if (episode::is_retried(*cause)) {
+      spent_usd_ += m.spent_usd;
       retry(bus::episode_of(m.header), m.detail,
             cause == episode::Cause::kProviderError ? episode::Cause::kProviderError : episode::Cause::kInfrastructure);
       return;
@@ -175,8 +194,15 @@ class Engine final : public LaunchSink {
   };
 
   void dispatch() {
-    while ((!waiting_retries_.empty() || !pending_.empty()) && launcher_.free_slots() > 0 &&
-           (plan_.parallel <= 0 || static_cast<int>(in_flight_.size()) < plan_.parallel)) {
+    while (!waiting_retries_.empty() || !pending_.empty()) {
+      // Before the slots: a budget reached while every slot is busy still stops what waits.
+      if (over_budget()) {
+        stop_launching();
+        break;
+      }
+      if (launcher_.free_slots() <= 0 || (plan_.parallel > 0 && static_cast<int>(in_flight_.size()) >= plan_.parallel)) {
+        break;
+      }
       // Retries first, oldest first: they have waited longest.
       if (!waiting_retries_.empty()) {
         const Retry r = waiting_retries_.front();
@@ -259,6 +285,7 @@ class Engine final : public LaunchSink {
     stamp_.forget_episode(row.episode_id);  // stored: no more starts of it from this invocation
     if (results_.insert(row, recording)) {
       ++completed_;
+      book_cost(row);
       if (options_.stored != nullptr) options_.stored->fetch_add(1, std::memory_order_relaxed);
       count(row);
       if (progress_ != nullptr) {
@@ -279,6 +306,64 @@ class Engine final : public LaunchSink {
     counts_.ip_sum += row.ip;
   }
 
+  // The budget's books (Budget, run_engine.h).
+  void book_cost(const EpisodeRow& row) {
+    spent_usd_ += row.usage.spent_usd;
+    if (row.status != "scored") return;
+    AgentCost& c = agent_cost_[row.agent];
+    ++c.episodes;
+    c.spent_usd += row.usage.spent_usd;
+  }
+
+  // What an episode of `agent` in flight is expected to cost: what the run's episodes of that
+  // agent have cost on average, or the estimate's figure until one has finished.
+  double expected_cost(const std::string& agent) const {
+    if (const auto it = agent_cost_.find(agent); it != agent_cost_.end() && it->second.episodes > 0) {
+      return it->second.spent_usd / static_cast<double>(it->second.episodes);
+    }
+    const auto& estimate = options_.budget.expected_episode_cost_usd;
+    const auto it = estimate.find(agent);
+    return it == estimate.end() ? 0.0 : it->second;
+  }
+
+  double in_flight_cost() const {
+    double total = 0.0;
+    for (const auto& [id, flight] : in_flight_) total += expected_cost(by_id_.at(id)->agent);
+    return total;
+  }
+
+  bool over_budget() const {
+    if (budget_stopped_) return true;
+    const double cap = options_.budget.max_cost_usd;
+    return cap > 0.0 && spent_usd_ + in_flight_cost() >= cap;
+  }
+
+  // No more starts: what waits stays unfinished (no row), for a resume with a higher cap. Called
+  // again for retries that fail later.
+  void stop_launching() {
+    if (!budget_stopped_) {
+      budget_stopped_ = true;
+      stop_spent_usd_ = spent_usd_;
+      stop_in_flight_usd_ = in_flight_cost();
+      log::info("budget reached: no new episodes" +
+                (in_flight_.empty() ? std::string() : "; waiting for the " + std::to_string(in_flight_.size()) + " in flight"));
+    }
+    not_started_ += static_cast<std::int64_t>(pending_.size() + waiting_retries_.size());
+    pending_.clear();
+    waiting_retries_.clear();
+  }
+
+  std::string budget_line() const {
+    auto usd = [](double x) {
+      char buf[48];
+      std::snprintf(buf, sizeof buf, x >= 1.0 || x == 0.0 ? "$%.2f" : "$%.4f", x);
+      return std::string(buf);
+    };
+    return "budget: " + usd(stop_spent_usd_) + " spent + " + usd(stop_in_flight_usd_) + " in flight reached --max-cost " +
+           usd(options_.budget.max_cost_usd) + "; " + std::to_string(not_started_) +
+           " episode(s) not started; run the same command again with a higher --max-cost to go on";
+  }
+
   const RunPlan& plan_;
   const std::map<std::string, tasks::Task>& tasks_;
   Launcher& launcher_;
@@ -294,6 +379,15 @@ class Engine final : public LaunchSink {
   Progress* progress_ = nullptr;
   std::int64_t completed_ = 0, errors_ = 0, retries_ = 0, not_run_ = 0;
   std::map<std::string, std::string> stopped_agents_;
+  struct AgentCost {
+    std::int64_t episodes = 0;  // scored, every invocation
+    double spent_usd = 0.0;
+  };
+  std::map<std::string, AgentCost> agent_cost_;
+  double spent_usd_ = 0.0;  // the run's, every invocation, retried attempts of this one included
+  bool budget_stopped_ = false;
+  double stop_spent_usd_ = 0.0, stop_in_flight_usd_ = 0.0;  // when the cap was reached
+  std::int64_t not_started_ = 0;
 };
 
 }  // namespace

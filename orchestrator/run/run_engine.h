@@ -41,6 +41,21 @@ struct RunSummary {
   /// not yet finished stay unfinished, so the same command resumes them once fixed.
   std::map<std::string, std::string> stopped_agents;
   std::int64_t not_run = 0;        // episodes left unfinished because their agent stopped
+  /// Set when the budget (EngineOptions::budget) stopped new episodes from starting: the one
+  /// line that says so. The episodes not started are simply not run; a resume runs them.
+  std::string budget_stop;
+  std::int64_t not_started = 0;    // episodes the budget left for a resume
+};
+
+/// --max-cost (docs/vlm.md, "Cost before spending"): no episode starts once what the run has
+/// spent (every invocation's rows in results.sqlite, and the attempts this one retried) plus what
+/// the episodes in flight are expected to cost reaches the cap. An episode in flight counts at
+/// its agent's average spent per scored episode of the run, or, until its agent has one, at the
+/// estimate's expected cost (run_estimate.h). A permission of the invocation, like
+/// allow_data_mismatch, never part of the plan.
+struct Budget {
+  double max_cost_usd = 0.0;  // 0 = no cap
+  std::map<std::string, double> expected_episode_cost_usd;  // agent spec -> US$
 };
 
 struct EngineOptions {
@@ -64,6 +79,10 @@ struct EngineOptions {
   /// another thread (`mtg bench soak` samples by it instead of querying results.sqlite, whose
   /// page cache would count in the orchestrator's memory it measures).
   std::atomic<std::int64_t>* stored = nullptr;
+  Budget budget{};
+  /// `mtg play`: once every episode is done, the services (the play page with the last verdict
+  /// and the score) stay up until a stop signal, so the person sees how the last episode went.
+  bool hold_after_last = false;
 };
 
 /// @throws mtg::Error if the processes cannot be started or never become ready.

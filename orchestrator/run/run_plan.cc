@@ -5,6 +5,8 @@
 #include <map>
 #include <random>
 
+#include "core/tasks/draw.h"
+
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/json_file.h"
@@ -22,6 +24,7 @@ nlohmann::json RunPlan::to_json() const {
                      {"scenes", scenes},
                      {"levels", levels},
                      {"limit", limit},
+                     {"draw", tasks::to_string(draw)},
                      {"repeat", repeat},
                      {"seed", seed},
                      {"parallel", parallel},
@@ -54,6 +57,8 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.scenes = j.at("scenes").get<std::set<std::string>>();
     p.levels = j.at("levels").get<std::set<int>>();
     p.limit = j.at("limit").get<int>();
+    // Plans from before stratified draws drew uniformly (and a resume never draws again).
+    p.draw = tasks::draw_kind_from_string(j.value("draw", std::string("uniform")));
     p.repeat = j.value("repeat", 1);  // absent in plans written before --repeat
     p.seed = j.at("seed").get<std::uint64_t>();
     p.parallel = j.at("parallel").get<int>();
@@ -78,6 +83,8 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     }
   } catch (const nlohmann::json::exception& e) {
     throw Error(origin + ": malformed run plan (" + e.what() + ")");
+  } catch (const Error& e) {
+    throw Error(origin + ": malformed run plan (" + e.what() + ")");
   }
   return p;
 }
@@ -99,13 +106,9 @@ RunPlan make_plan(RunPlan plan, const std::map<std::string, tasks::Task>& all_ta
   }
   std::vector<const tasks::Task*> chosen;
   for (auto& [key, group] : groups) {
-    if (plan.limit > 0 && static_cast<int>(group.size()) > plan.limit) {
-      // A seeded draw without replacement, then back in id order.
-      Rng rng(derive_seed(plan.seed, fnv1a64(key.first + "/L" + std::to_string(key.second))));
-      rng.shuffle(group);
-      group.resize(static_cast<std::size_t>(plan.limit));
-    }
-    chosen.insert(chosen.end(), group.begin(), group.end());
+    const auto drawn = tasks::draw_tasks(std::move(group), plan.limit, plan.draw,
+                                         tasks::draw_seed(plan.seed, key.first, key.second));
+    chosen.insert(chosen.end(), drawn.begin(), drawn.end());
   }
   std::sort(chosen.begin(), chosen.end(), [](const tasks::Task* a, const tasks::Task* b) { return a->id < b->id; });
   if (chosen.empty()) throw Error("no task of the requested scenes and levels in " + plan.tasks_db);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bus/episode_id.h"
+#include "core/tasks/draw.h"
 #include "core/tasks/task.h"
 
 namespace mtg::orchestrator {
@@ -30,6 +31,7 @@ struct RunPlan {
   std::set<std::string> scenes;  // empty = every scene of the task set
   std::set<int> levels = {1, 2, 3};
   int limit = 0;                 // tasks per (scene, level), drawn with the seed; 0 = all
+  tasks::DrawKind draw = tasks::DrawKind::kStratified;  // how `limit` tasks are drawn (tasks/draw.h)
   int repeat = 1;                // episodes per (task, agent), each with its own episode seed
   std::uint64_t seed = 0;
   int parallel = 4;              // attempts in flight; 0 = no cap (remote: the workers' capacities)

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "agents/vlm/model_spec.h"
 #include "core/episode/outcomes.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
@@ -143,8 +144,26 @@ RunView::Rows RunView::rows() {
 }
 
 json RunView::summary() {
-  const std::size_t finished = rows()->size();
+  const Rows all = rows();
+  const std::size_t finished = all->size();
   json s = plan_summary_;
+  // The run list's figures (issue 52): SR and IP over the scored episodes a person did not
+  // exclude, as the overview counts them; null before the first.
+  const auto marked = current_marks(read_marks(dir_));
+  std::int64_t scored = 0, successes = 0;
+  double ip = 0.0;
+  for (const EpisodeRow& r : without_excluded(*all, marked)) {
+    if (r.status != "scored") continue;
+    ++scored;
+    successes += r.success ? 1 : 0;
+    ip += r.ip;
+  }
+  s["scored"] = scored;
+  s["sr"] = scored > 0 ? json(100.0 * static_cast<double>(successes) / static_cast<double>(scored)) : json(nullptr);
+  s["ip"] = scored > 0 ? json(ip / static_cast<double>(scored)) : json(nullptr);
+  const json& provenance = plan_summary_.value("provenance", json::object());
+  s["suite"] = provenance.is_object() && provenance.contains("suite") ? provenance["suite"].value("id", std::string())
+                                                                      : std::string();
   s["name"] = name_;
   s["dir"] = fs::absolute(dir_).string();
   s["planned"] = planned_;
@@ -184,6 +203,11 @@ RunRows RunView::compare_rows() {
           task_set_identity(plan_summary_["provenance"]), per_repeat_};
 }
 
+LeaderboardRun RunView::leaderboard_run() {
+  return {name_, without_excluded(*rows(), current_marks(read_marks(dir_))),
+          suite_identity(plan_summary_.value("provenance", json(nullptr))), per_repeat_};
+}
+
 json RunView::overview() {
   const Rows all = rows();
   const std::int64_t stamp = marks_version(dir_);  // this viewer's marks or another's
@@ -207,7 +231,7 @@ json RunView::overview() {
   for (const EpisodeRow& r : *all) {
     if (!r.usage.prompt_version.empty()) prompt_versions.insert(r.usage.prompt_version);
     if (!r.worker.empty()) workers.insert(r.worker);
-    model_agents = model_agents || r.usage.model_calls > 0;
+    model_agents = model_agents || (r.usage.model_calls > 0 && vlm::is_model_spec(r.agent));
   }
   o["prompt_versions"] = prompt_versions;
   o["workers"] = workers;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "orchestrator/report/compare.h"
+#include "orchestrator/report/leaderboard.h"
 #include "orchestrator/run/marks.h"
 #include "orchestrator/run/provenance.h"
 #include "orchestrator/run/results_db.h"
@@ -66,6 +67,8 @@ class RunView {
   std::string said_of(bus::EpisodeId id) const { return index_.said_of(id); }
   /// For a comparison: the run's name, rows and task set (provenance.h, task_set_identity).
   RunRows compare_rows();
+  /// Its rows and suite for a leaderboard (report/leaderboard.h), without excluded episodes.
+  LeaderboardRun leaderboard_run();
   /// Every results row (episode order).
   std::vector<EpisodeRow> all_rows() { return *rows(); }
 

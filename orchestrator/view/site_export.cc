@@ -181,6 +181,9 @@ void write_comparisons(SiteWriter& site, const std::vector<std::unique_ptr<RunVi
     }
   }
   site.data("data/comparisons.js", keys);
+  std::vector<LeaderboardRun> boards;
+  for (const auto& v : views) boards.push_back(v->leaderboard_run());
+  site.data("data/leaderboard.js", make_leaderboard(boards));
 }
 
 ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,

@@ -149,6 +149,12 @@ void ViewServer::add_routes() {
     send_json(res, compare_runs(first, second ? &*second : nullptr, param(req, "agent").value_or(""),
                                 param(req, "baseline").value_or("")));
   }));
+  // The runs' agents ranked per suite, with ties (mtg leaderboard).
+  http_->Get("/api/leaderboard", guarded([this](const httplib::Request&, httplib::Response& res) {
+    std::vector<LeaderboardRun> runs;
+    for (const auto& r : runs_) runs.push_back(r->leaderboard_run());
+    send_json(res, make_leaderboard(runs));
+  }));
   // Every other route names a run first; an unknown one is a 404 with its name.
   auto with_run = [this](std::function<void(RunView&, const httplib::Request&, httplib::Response&)> fn) {
     return guarded([this, fn = std::move(fn)](const httplib::Request& req, httplib::Response& res) {

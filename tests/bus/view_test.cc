@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+
 #include <fstream>
 #include <map>
 #include <regex>
@@ -776,8 +778,31 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
 
   int clicks = 0, screenshots = 0;
   std::set<std::string> attempts;  // "<episode>/<attempt>" seen
+  const std::size_t episodes = [&] {
+    for (int i = 0; i < 100 && !fs::exists(fx_.root() / "play" / "plan.json"); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return planned("play");
+  }();
+  bool held = false;  // every episode played, and the page still serving its verdict and score
   while (play.running()) {
-    if (!b->wait_for("document.querySelectorAll('.actions button:not([disabled])').length > 0", 2000)) continue;
+    if (!b->wait_for("document.querySelectorAll('.actions button:not([disabled])').length > 0", 2000)) {
+      // The last episode's verdict and the final score stay on the page until the person stops
+      // mtg play: it does not end on its own (issue 52).
+      const std::string progress = b->evaluate("document.getElementById('progress').textContent");
+      if (progress.rfind(std::to_string(episodes) + " episode(s) finished", 0) == 0 &&
+          b->evaluate("document.getElementById('verdict').textContent").get<std::string>().find(": Success") !=
+              std::string::npos) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        EXPECT_TRUE(play.running()) << "mtg play ended before the person stopped it";
+        EXPECT_TRUE(b->wait_for("/succeeded \\(SR 100 %/.test(document.getElementById('progress').textContent)", 5000));
+        b->screenshot(kArtifacts / "play-final.png", true);
+        held = true;
+        play.kill(SIGINT);
+        break;
+      }
+      continue;
+    }
     const std::string task = b->evaluate("document.getElementById('task').textContent");
     if (clicks > 0 && b->evaluate("document.getElementById('status').dataset.step").get<std::string>() == "0") {
       // A new episode: the last one's verdict and the running score stay on the page.
@@ -817,6 +842,7 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
         << "key " << key << " is not offered";
     ++clicks;
   }
+  EXPECT_TRUE(held) << "the page did not keep the final verdict and score: " << log_text();
   EXPECT_EQ(play.wait(60000), 0) << log_text();
   EXPECT_EQ(log_text().find("not isolated"), std::string::npos) << log_text();
   std::ifstream agent_log(fx_.root() / "play" / "logs" / "agent-0.log");

@@ -10,10 +10,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "agents/vlm/cost_estimate.h"
+#include "agents/vlm/model_spec.h"
 #include "bus/url.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "orchestrator/run/results_db.h"
+#include "orchestrator/run/run_estimate.h"
+#include "orchestrator/run/run_plan.h"
 #include "tests/support/fake_model_server.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/browser.h"
@@ -61,9 +65,9 @@ class VlmRunTest : public ::testing::Test {
   }
 
   int mtg_run(const std::string& out, const std::vector<std::string>& agents, const std::vector<std::string>& extra,
-              int limit = 3) {
+              int limit = 3, int parallel = 3) {
     std::vector<std::string> args = {testing::bin("mtg"), "run", "--tasks", db_, "--limit", std::to_string(limit),
-                                     "--parallel", "3", "--image-size", "320x240", "--out", (fx_.root() / out).string(),
+                                     "--parallel", std::to_string(parallel), "--image-size", "320x240", "--out", (fx_.root() / out).string(),
                                      "--data", fx_.root().string(), "--profile", "none", "--no-progress",
                                      "--episode-timeout", "60"};
     for (const auto& a : agents) args.insert(args.end(), {"--agent", a});
@@ -245,6 +249,77 @@ TEST_F(VlmRunTest, TheGovernorHoldsTwoProcessesToOneBudget) {
     EXPECT_LE(in_window, 8) << "window starting at " << seen[i].at_ms << " ms";
   }
   EXPECT_GE(seen.back().at_ms - seen.front().at_ms, 4000.0 - 100.0) << "24 calls at 8 per 2 s need at least 4 s";
+}
+
+// The estimate before spending counts the tokens a real run sends: each request the server saw,
+// counted the way the estimate counts (text at 4 characters a token, each image by its
+// provider's rule; the server's own usage figure is the body's bytes / 4, base64 images
+// included, which no provider bills), against the estimate of a model that solves every task,
+// which the server's oracle model is. `mtg run --estimate` prints it and writes nothing.
+TEST_F(VlmRunTest, TheEstimateBeforeSpendingIsWithinAQuarterOfWhatARunSends) {
+  const std::vector<std::string> agents = {"openai:gpt-4o", "anthropic:claude-3-5-haiku-20241022",
+                                           "gemini:gemini-2.0-flash"};
+  ASSERT_EQ(mtg_run("estimated", agents, {"--estimate"}), 0) << slurp(fx_.root() / "estimated.log");
+  const std::string printed = slurp(fx_.root() / "estimated.log");
+  EXPECT_THAT(printed, HasSubstr("cost before spending: 9 episode(s) of 3 model agent(s)"));
+  EXPECT_THAT(printed, HasSubstr("never ends (high)"));
+  EXPECT_FALSE(fs::exists(fx_.root() / "estimated")) << "--estimate writes no run folder";
+  EXPECT_TRUE(server_.requests().empty()) << "--estimate calls no model";
+
+  ASSERT_EQ(mtg_run("run", agents, {}), 0) << slurp(fx_.root() / "run.log");
+  EXPECT_THAT(slurp(fx_.root() / "run.log"), HasSubstr("cost before spending")) << "a run prints it before it starts";
+  const orchestrator::RunPlan plan = orchestrator::load_plan(fx_.root() / "run");
+  std::map<std::string, tasks::Task> by_id;
+  for (auto& t : tasks::read_tasks(db_)) by_id.emplace(t.id, t);
+  const nlohmann::json estimate = orchestrator::estimate_plan(plan, by_id, vlm::VlmOptions{});
+  ASSERT_FALSE(estimate.is_null());
+  EXPECT_EQ(estimate["stand_ins"], 0);
+  EXPECT_EQ(estimate["not_estimated"], 0);
+
+  std::map<std::string, std::int64_t> sent;  // provider -> tokens, counted as the estimate counts
+  std::map<std::string, std::int64_t> calls;
+  for (const auto& r : server_.requests()) {
+    if (r.status != 200) continue;
+    std::int64_t chars = static_cast<std::int64_t>(r.chat.system.size());
+    for (const auto& [role, text] : r.chat.turns) chars += static_cast<std::int64_t>(text.size());
+    const vlm::Provider provider = r.chat.provider == "anthropic" ? vlm::Provider::kAnthropic
+                                   : r.chat.provider == "gemini"  ? vlm::Provider::kGemini
+                                                                  : vlm::Provider::kOpenAi;
+    sent[r.chat.provider] += vlm::text_tokens(chars) + static_cast<std::int64_t>(r.chat.images) *
+                                                           vlm::image_tokens(provider, "low", plan.image_width,
+                                                                             plan.image_height);
+    ++calls[r.chat.provider];
+  }
+  ASSERT_EQ(sent.size(), 3u);
+  for (const auto& [agent, a] : estimate["agents"].items()) {
+    const std::string provider = vlm::parse_model_spec(agent).provider_name();
+    const auto estimated = a["low"]["input_tokens"].get<std::int64_t>();
+    const double seen = static_cast<double>(sent.at(provider));
+    EXPECT_NEAR(static_cast<double>(estimated), seen, 0.25 * seen) << agent << ": estimated " << estimated << " tokens";
+    EXPECT_EQ(a["low"]["calls"].get<std::int64_t>(), calls.at(provider)) << agent << ": one call per oracle key";
+    EXPECT_GE(a["high"]["input_tokens"].get<std::int64_t>(), estimated);
+  }
+}
+
+// --max-cost stops starting episodes once what was spent and what is in flight reaches it: the
+// run exits 3 saying so, the episodes not started have no row, and the same command with a
+// higher cap runs them.
+TEST_F(VlmRunTest, MaxCostStopsStartingEpisodesAndAHigherCapFinishesTheRun) {
+  const std::vector<std::string> agents = {"openai:gpt-4o"};
+  // One at a time: the first episode's expected (or, without an estimate, its real) cost is
+  // above so small a cap, so exactly one runs.
+  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "0.000001"}, 3, 1), 3) << slurp(fx_.root() / "capped.log");
+  const std::string log = slurp(fx_.root() / "capped.log");
+  EXPECT_THAT(log, HasSubstr("in flight reached --max-cost $0.0000; 2 episode(s) not started; run the same command "
+                             "again with a higher --max-cost to go on"));
+  auto rows = orchestrator::read_results(fx_.root() / "capped" / "results.sqlite");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_GT(rows[0].usage.spent_usd, 0.0);
+
+  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "1000"}, 3, 1), 0) << slurp(fx_.root() / "capped.log");
+  rows = orchestrator::read_results(fx_.root() / "capped" / "results.sqlite");
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
 }
 
 }  // namespace

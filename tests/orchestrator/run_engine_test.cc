@@ -3,6 +3,7 @@
 
 #include "orchestrator/run/run_engine.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -84,12 +85,29 @@ struct Fixture {
     tasks[t.id] = t;
     for (int i = 0; i < episodes; ++i) plan.episodes.push_back({bus::EpisodeId(i), t.id, "oracle", 7});
   }
-  RunSummary run(Launcher& launcher) {
+  RunSummary run(Launcher& launcher, const Budget& budget = {}) {
     EngineOptions options;
     options.progress = false;
+    options.budget = budget;
     return run_plan_with(plan, fx.root(), tasks, launcher, options);
   }
 };
+
+// The attempt ends with a verdict whose answers cost `spent_usd`.
+void finish_paid(ScriptedLauncher& l, std::pair<std::int64_t, int> key, double spent_usd, LaunchSink& sink) {
+  l.in_flight.erase(key);
+  mtg::episode_result_t m{};
+  m.header.episode_id = key.first;
+  m.header.attempt = key.second;
+  m.success = true;
+  m.ip = 1.0;
+  m.stage = "done";
+  m.cause = "";
+  m.model_calls = 3;
+  m.cost_usd = spent_usd;
+  m.spent_usd = spent_usd;
+  sink.on_result(m, "host", nullptr);
+}
 
 TEST(RunEngine, ARetryWithoutAFreeSlotWaitsAndGoesBeforeNewEpisodes) {
   Fixture f(3);
@@ -189,6 +207,63 @@ TEST(RunEngine, AResumeRunsAgainTheEpisodesGivenUpAndKeepsTheScoredOnes) {
   ScriptedLauncher idle([](ScriptedLauncher&, LaunchSink&) {});
   EXPECT_EQ(f.run(idle).already_done, 3);
   EXPECT_TRUE(idle.launched.empty()) << "a scored episode never runs again";
+}
+
+// --max-cost: an episode in flight counts at the estimate's figure until one has finished, then at
+// the run's average; once spent plus in flight reaches the cap nothing more starts, what waits is
+// left without a row, and a resume with a higher cap runs it.
+TEST(RunEngine, ABudgetStopsNewEpisodesAndAResumeWithAHigherCapRunsTheRest) {
+  Fixture f(6);
+  auto paying = [](ScriptedLauncher& l, LaunchSink& sink) {
+    if (!l.in_flight.empty()) finish_paid(l, *l.in_flight.begin(), 0.25, sink);
+  };
+  ScriptedLauncher first(paying);
+  first.capacity = 2;
+  Budget budget;
+  budget.max_cost_usd = 1.0;
+  budget.expected_episode_cost_usd = {{"oracle", 0.30}};
+  // 0 and 1 start at 0.30 each; then each finished one costs 0.25 and the average takes over:
+  // 0 done (0.25 + 0.25 in flight) starts 2; 1 done (0.50 + 0.25) starts 3, and 0.50 + 0.50
+  // reaches the cap: 4 and 5 are not started.
+  const RunSummary capped = f.run(first, budget);
+  const std::vector<std::pair<std::int64_t, int>> order = {{0, 0}, {1, 0}, {2, 0}, {3, 0}};
+  EXPECT_EQ(first.launched, order);
+  EXPECT_EQ(capped.completed, 4) << "what was in flight finished";
+  EXPECT_EQ(capped.not_started, 2);
+  EXPECT_EQ(capped.budget_stop,
+            "budget: $0.5000 spent + $0.5000 in flight reached --max-cost $1.00; 2 episode(s) not started; run the "
+            "same command again with a higher --max-cost to go on");
+  EXPECT_EQ(read_results(f.fx.root() / "results.sqlite").size(), 4u) << "no row for an episode not started";
+
+  // The same cap again: what the run spent (results.sqlite) already reaches it.
+  ScriptedLauncher again(paying);
+  const RunSummary still = f.run(again, budget);
+  EXPECT_TRUE(again.launched.empty());
+  EXPECT_EQ(still.not_started, 2);
+  EXPECT_THAT(still.budget_stop, ::testing::HasSubstr("$1.00 spent + $0.00 in flight reached --max-cost $1.00"));
+
+  // A higher cap runs the rest, and says nothing about a budget.
+  budget.max_cost_usd = 2.0;
+  ScriptedLauncher rest(paying);
+  const RunSummary finished = f.run(rest, budget);
+  EXPECT_EQ(finished.already_done, 4);
+  EXPECT_EQ(finished.completed, 2);
+  EXPECT_TRUE(finished.budget_stop.empty());
+  EXPECT_EQ(finished.not_started, 0);
+  EXPECT_EQ(read_results(f.fx.root() / "results.sqlite").size(), 6u);
+}
+
+// Without a cap, or with one never reached, the engine runs everything as before.
+TEST(RunEngine, ACapNeverReachedChangesNothing) {
+  Fixture f(3);
+  ScriptedLauncher l([](ScriptedLauncher& l2, LaunchSink& sink) {
+    if (!l2.in_flight.empty()) finish_paid(l2, *l2.in_flight.begin(), 0.25, sink);
+  });
+  Budget budget;
+  budget.max_cost_usd = 100.0;
+  const RunSummary summary = f.run(l, budget);
+  EXPECT_EQ(summary.completed, 3);
+  EXPECT_TRUE(summary.budget_stop.empty());
 }
 
 }  // namespace

@@ -31,7 +31,9 @@ function show(desk) {
   if (desk.waiting) {
     current = null;
     status.textContent = desk.episodes_done > 0
-      ? 'Episode finished. Waiting for the next one…' : 'Waiting for the first episode…';
+      ? 'Episode finished. The next one shows here when there is one; once every episode is played, ' +
+        'this page keeps your score until you stop mtg play (Ctrl-C where it runs).'
+      : 'Waiting for the first episode…';
     task.textContent = '';
     box.replaceChildren();
     return;

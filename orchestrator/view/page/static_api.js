@@ -79,6 +79,7 @@
       if (!files[key]) throw new Error('this comparison is not in the export (mtg view compares any two): ' + key);
       return load(files[key]);
     }
+    if (parts[1] === 'leaderboard') return load('data/leaderboard.js');
     const runs = await load('data/runs.js');
     if (parts.length === 2) return runs.map((r) => r.summary);
     const run = runs.find((r) => r.summary.name === parts[2]);

@@ -61,13 +61,44 @@ async function showRuns() {
   if (runs.length === 1) { location.replace('#/run/' + enc(runs[0].name)); return; }
   crumbs('runs');
   const t = el('table', {class: 'runs'}, el('tr', {}, el('th', {class: 'l'}, 'run'), el('th', {class: 'l'}, 'agents'),
-    el('th', {}, 'episodes'), el('th', {class: 'l'}, 'folder')));
+    el('th', {}, 'episodes'), el('th', {}, 'SR %'), el('th', {}, 'IP'), el('th', {class: 'l'}, 'suite'),
+    el('th', {class: 'l'}, 'folder')));
+  const figure = (v) => (v === null || v === undefined ? '–' : v.toFixed(1));
   for (const r of runs) {
     t.append(el('tr', {class: 'clickable run-row', onclick: () => { location.hash = '#/run/' + enc(r.name); }},
       el('td', {class: 'l'}, r.name), el('td', {class: 'l'}, r.agents.join(', ')),
-      el('td', {}, r.finished + ' / ' + r.planned + (r.live ? ' (running)' : '')), el('td', {class: 'l muted'}, r.dir)));
+      el('td', {}, r.finished + ' / ' + r.planned + (r.live ? ' (running)' : '')),
+      el('td', {class: 'run-sr'}, figure(r.sr)), el('td', {class: 'run-ip'}, figure(r.ip)),
+      el('td', {class: 'l'}, r.suite || ''), el('td', {class: 'l muted'}, r.dir)));
   }
-  show(el('h2', {}, 'Runs'), t);
+  show(el('h2', {}, 'Runs'), t, el('p', {}, link('#/leaderboard', 'Leaderboard'),
+    ' — the agents of these runs ranked per suite, with the groups no paired test separates'));
+}
+
+// ---- leaderboard (mtg leaderboard) ----
+async function showLeaderboard() {
+  const lb = await api('/api/leaderboard');
+  crumbs(link('#/', 'runs'), 'leaderboard');
+  const ci = (c) => (c ? ' [' + c[0].toFixed(1) + ', ' + c[1].toFixed(1) + ']' : '');
+  const parts = [el('h2', {}, 'Leaderboard')];
+  for (const board of lb.boards) {
+    parts.push(el('h3', {class: 'board-suite'}, 'Suite ' + board.suite));
+    const t = el('table', {class: 'leaderboard'}, el('tr', {}, el('th', {}, 'rank'), el('th', {class: 'l'}, 'agent'),
+      el('th', {}, 'episodes'), el('th', {}, 'SR % [95 % CI]'), el('th', {}, 'IP [95 % CI]'), el('th', {class: 'l'}, 'group')));
+    for (const e of board.entrants) {
+      const rank = e.rank_best === e.rank_worst ? String(e.rank_best) : e.rank_best + '–' + e.rank_worst;
+      t.append(el('tr', {class: 'entrant'}, el('td', {}, rank), el('td', {class: 'l'}, e.label),
+        el('td', {}, String(e.episodes)), el('td', {}, (e.sr === null ? '–' : e.sr.toFixed(1)) + ci(e.sr_ci)),
+        el('td', {}, (e.ip === null ? '–' : e.ip.toFixed(1)) + ci(e.ip_ci)), el('td', {class: 'l'}, (e.groups || []).join(''))));
+    }
+    parts.push(t);
+    for (const g of board.groups) {
+      if (g.length > 1) parts.push(el('p', {class: 'tied'}, 'Tied (no paired test separates them, Holm ' +
+        Math.round(100 * board.alpha) + ' %): ' + g.join(', ')));
+    }
+    for (const n of board.notes || []) parts.push(el('p', {class: 'muted'}, n));
+  }
+  show(...parts);
 }
 
 // ---- overview ----
@@ -700,6 +731,7 @@ async function route() {
   const parts = path.split('/').filter(Boolean).map(decodeURIComponent);
   try {
     if (parts.length === 0) await showRuns();
+    else if (parts[0] === 'leaderboard') await showLeaderboard();
     else if (parts[0] === 'compare') await showCompare(params);
     else if (parts[0] === 'comparison') await showComparison(params);
     else if (parts[0] === 'run' && parts.length === 2) await showOverview(parts[1], params);

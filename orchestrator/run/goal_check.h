@@ -1,0 +1,23 @@
+#pragma once
+// Every task's goal resolves in its scene as this machine loads it (`mtg run` before anything is
+// written, `mtg suite verify`): a goal that names an object or platform the scene lacks would
+// otherwise give an error row per episode after the run started.
+
+#include <string>
+#include <vector>
+
+#include "core/tasks/task.h"
+
+namespace mtg::orchestrator {
+
+enum class MissingScene {
+  kFail,  ///< a scene that does not load is an error
+  kSkip,  ///< ... ends the check early, said in one log line (a coordinator whose workers hold the data)
+};
+
+/// @throws mtg::Error naming `origin`, the task and why ("<origin>: task X: its goal does not
+/// hold in scene S: ..."), or the scene that cannot be loaded (with MissingScene::kFail).
+void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, const std::string& data_dir,
+                 const std::string& origin, MissingScene missing);
+
+}  // namespace mtg::orchestrator
