@@ -675,7 +675,7 @@ TEST_F(ViewerTest, TheExportedSiteOpensFromFileAndAnswersAsTheServerDoes) {
       "/api/runs/run/episodes/" + id + "/neighbours?sort=steps&order=desc",
       "/api/runs/run/report?agent=random", "/api/runs/run/sankey.svg?agent=random", "/api/runs/run/sankey.svg",
       "/api/runs/run/episodes/" + id + "/truth", "/api/runs/run/episodes?q=startplace",
-      "/api/compare?a=run&baseline=oracle", "/api/compare?a=run&baseline=random"};
+      "/api/compare?a=run&baseline=oracle", "/api/compare?a=run&baseline=random", "/api/leaderboard"};
   auto b = browser();
   auto answers = [&](const std::string& page, bool exported) {
     b->navigate(page);
@@ -709,6 +709,15 @@ TEST_F(ViewerTest, TheExportedSiteOpensFromFileAndAnswersAsTheServerDoes) {
   // The pages themselves, from file://: the overview's Sankey, the episode with every image.
   b->navigate("file://" + (site / "index.html").string() + "#/run/run");
   ASSERT_TRUE(b->wait_for("document.querySelectorAll('#sankey path.flow').length > 0", 20000));
+  // The run list's figures, and the leaderboard (issue 52): the oracle alone in first place.
+  double successes = 0;
+  for (const auto& r : rows) successes += r.success ? 1 : 0;
+  EXPECT_DOUBLE_EQ(served[0][0]["sr"].get<double>(), 100.0 * successes / static_cast<double>(rows.size())) << served[0].dump();
+  EXPECT_EQ(served[0][0]["scored"], static_cast<int>(rows.size()));
+  b->navigate("file://" + (site / "index.html").string() + "#/leaderboard");
+  ASSERT_TRUE(b->wait_for("document.querySelectorAll('table.leaderboard tr.entrant').length === 2", 20000));
+  EXPECT_EQ(b->evaluate("document.querySelector('table.leaderboard tr.entrant td:nth-child(2)').textContent"), "oracle");
+  b->screenshot(kArtifacts / "exported-leaderboard.png");
   b->navigate("file://" + (site / "index.html").string() + "#/run/run/episode/" + id);
   ASSERT_TRUE(b->wait_for("document.getElementById('verdict') && document.querySelectorAll('.step img').length > 0", 20000));
   b->evaluate("document.querySelectorAll('.step img').forEach((i) => { i.loading = 'eager'; })");
@@ -815,7 +824,8 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
       if (!fs::exists(kArtifacts / "play-verdict.png")) b->screenshot(kArtifacts / "play-verdict.png", true);
     }
     ASSERT_TRUE(plan_of_text.count(task)) << "the page shows a task the set does not have: " << task;
-    attempts.insert(b->evaluate("document.getElementById('status').dataset.episode").get<std::string>());
+    const std::string attempts_key = b->evaluate("document.getElementById('status').dataset.episode").get<std::string>();
+    attempts.insert(attempts_key);
     const auto step = std::stoul(b->evaluate("document.getElementById('status').dataset.step").get<std::string>());
     const auto& plan = plan_of_text[task];
     ASSERT_LT(step, plan.size()) << "more steps than the oracle plan of: " << task;
@@ -841,6 +851,13 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
                     .get<bool>())
         << "key " << key << " is not offered";
     ++clicks;
+    if (step + 1 == plan.size()) {
+      // The reply to the ending action carries this episode's verdict, not the one before's.
+      const std::string episode = attempts_key.substr(0, attempts_key.find('/'));
+      // Read as soon as the answer to the click is on the page, before any later poll could fix it.
+      ASSERT_TRUE(b->wait_for("!document.getElementById('status').textContent.startsWith('Sent ')", 30000));
+      EXPECT_EQ(b->evaluate("document.getElementById('verdict').dataset.episode").get<std::string>(), episode);
+    }
   }
   EXPECT_TRUE(held) << "the page did not keep the final verdict and score: " << log_text();
   EXPECT_EQ(play.wait(60000), 0) << log_text();
@@ -864,7 +881,13 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
   std::ifstream report(fx_.root() / "play" / "report.json");
   const json j = json::parse(report);
   EXPECT_EQ(j["by_agent"]["human"]["sr"], 100.0);
-  EXPECT_GT(j["usage"]["human"]["images"].get<int>(), 0) << "the person saw images: " << j["usage"].dump();
+  // A person's answers are no model calls: no usage (tokens, price) for the human agent (issue 52).
+  EXPECT_FALSE(j.contains("usage") && j["usage"].contains("human")) << j["usage"].dump();
+  EXPECT_EQ(log_text().find(" tokens, "), std::string::npos) << "the closing summary counts no tokens for a person";
+  // The person did see the images a model sees: the recorded answers count them.
+  int images = 0;
+  for (const auto& r : rows) images += r.usage.images_sent;
+  EXPECT_GT(images, 0);
 }
 
 }  // namespace

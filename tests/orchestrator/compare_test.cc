@@ -5,22 +5,14 @@
 #include "core/util/error.h"
 #include "orchestrator/report/compare.h"
 #include "orchestrator/report/report.h"
+#include "tests/support/result_rows.h"
 
 namespace mtg::orchestrator {
 namespace {
 
 EpisodeRow row(std::uint32_t episode, const std::string& task, const std::string& agent, int level, bool success,
                double ip) {
-  EpisodeRow r;
-  r.episode_id = bus::EpisodeId(episode);
-  r.task_id = task;
-  r.agent = agent;
-  r.level = level;
-  r.success = success;
-  r.ip = success ? 100.0 : ip;
-  r.stage = success ? "done" : "start";
-  r.cause = success ? "" : "navigation";
-  return r;
+  return testing::scored_row(episode, task, agent, level, success, ip);
 }
 
 // 12 tasks of Level 1: A succeeds on 10, B on 3; A alone on 8, B alone on 1.

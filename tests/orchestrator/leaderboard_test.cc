@@ -14,6 +14,7 @@
 #include "orchestrator/run/marks.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_plan.h"
+#include "tests/support/result_rows.h"
 
 namespace mtg::orchestrator {
 namespace {
@@ -21,16 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 EpisodeRow row(std::uint32_t episode, const std::string& task, const std::string& agent, bool success) {
-  EpisodeRow r;
-  r.episode_id = bus::EpisodeId(episode);
-  r.task_id = task;
-  r.agent = agent;
-  r.level = 1;
-  r.success = success;
-  r.ip = success ? 100.0 : 0.0;
-  r.stage = success ? "done" : "start";
-  r.cause = success ? "" : "navigation";
-  return r;
+  return testing::scored_row(episode, task, agent, 1, success);
 }
 
 // Twenty tasks: A succeeds on all, B on all but t19, D on t0..t10 and t19 (12), C on none.

@@ -43,6 +43,10 @@ class ScriptedLauncher final : public Launcher {
   // The attempt ends with a verdict (success) or is lost without one.
   void finish(std::pair<std::int64_t, int> key, LaunchSink& sink) {
     in_flight.erase(key);
+    sink.on_result(success(key), "host", nullptr);
+  }
+  // A successful verdict on the attempt `key`.
+  static mtg::episode_result_t success(std::pair<std::int64_t, int> key) {
     mtg::episode_result_t m{};
     m.header.episode_id = key.first;
     m.header.attempt = key.second;
@@ -50,7 +54,7 @@ class ScriptedLauncher final : public Launcher {
     m.ip = 1.0;
     m.stage = "done";
     m.cause = "";
-    sink.on_result(m, "host", nullptr);
+    return m;
   }
   void lose(std::pair<std::int64_t, int> key, LaunchSink& sink) {
     in_flight.erase(key);
@@ -96,13 +100,7 @@ struct Fixture {
 // The attempt ends with a verdict whose answers cost `spent_usd`.
 void finish_paid(ScriptedLauncher& l, std::pair<std::int64_t, int> key, double spent_usd, LaunchSink& sink) {
   l.in_flight.erase(key);
-  mtg::episode_result_t m{};
-  m.header.episode_id = key.first;
-  m.header.attempt = key.second;
-  m.success = true;
-  m.ip = 1.0;
-  m.stage = "done";
-  m.cause = "";
+  mtg::episode_result_t m = ScriptedLauncher::success(key);
   m.model_calls = 3;
   m.cost_usd = spent_usd;
   m.spent_usd = spent_usd;

@@ -143,14 +143,19 @@ struct WalkFixture {
     const auto generated = tasks::generate_tasks(built.scene, built.graph, options);
     task = generated.set.tasks.at(0);
   }
+  // The task's oracle walk with 320x240 images (or none).
+  WalkedEpisode walk(bool render = true) const {
+    WalkOptions w;
+    w.image_width = 320;
+    w.image_height = 240;
+    w.render = render;
+    return walk_oracle(built.graph, task, w);
+  }
 };
 
 TEST(CostEstimateTest, TheOracleWalkAsksWhatTheSceneGraphServiceWouldShow) {
   WalkFixture f;
-  WalkOptions w;
-  w.image_width = 320;
-  w.image_height = 240;
-  const WalkedEpisode walked = walk_oracle(f.built.graph, f.task, w);
+  const WalkedEpisode walked = f.walk();
   ASSERT_EQ(walked.observations.size(), f.task.oracle.size()) << "one question per key, the final 0 included";
   EXPECT_EQ(walked.replies, f.task.oracle);
   const mtg::observation_t& first = walked.observations.front();
@@ -164,8 +169,7 @@ TEST(CostEstimateTest, TheOracleWalkAsksWhatTheSceneGraphServiceWouldShow) {
     for (const auto& img : obs.images) platform_view = platform_view || img.role == "view_marked";
   }
   EXPECT_TRUE(platform_view);
-  w.render = false;
-  const WalkedEpisode text_only = walk_oracle(f.built.graph, f.task, w);
+  const WalkedEpisode text_only = f.walk(false);
   EXPECT_EQ(text_only.observations.size(), walked.observations.size());
   for (const auto& obs : text_only.observations) EXPECT_TRUE(obs.images.empty());
 }
@@ -173,10 +177,7 @@ TEST(CostEstimateTest, TheOracleWalkAsksWhatTheSceneGraphServiceWouldShow) {
 // The estimate's arithmetic of the history is what Conversation really sends, call by call.
 TEST(CostEstimateTest, TheCountedCallsAreTheMessagesTheConversationSends) {
   WalkFixture f;
-  WalkOptions w;
-  w.image_width = 320;
-  w.image_height = 240;
-  const WalkedEpisode walked = walk_oracle(f.built.graph, f.task, w);
+  const WalkedEpisode walked = f.walk();
   const PromptSet prompts = PromptSet::builtin();
   for (const auto& [history_steps, history_images] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 0}}) {
     VlmSettings s;

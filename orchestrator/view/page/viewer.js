@@ -82,7 +82,8 @@ async function showLeaderboard() {
   const ci = (c) => (c ? ' [' + c[0].toFixed(1) + ', ' + c[1].toFixed(1) + ']' : '');
   const parts = [el('h2', {}, 'Leaderboard')];
   for (const board of lb.boards) {
-    parts.push(el('h3', {class: 'board-suite'}, 'Suite ' + board.suite));
+    // A suite's id, or a task set's identity for runs drawn from a set (not comparable across versions).
+    parts.push(el('h3', {class: 'board-suite'}, board.suite.includes('@') ? 'Suite ' + board.suite : 'Runs on ' + board.suite));
     const t = el('table', {class: 'leaderboard'}, el('tr', {}, el('th', {}, 'rank'), el('th', {class: 'l'}, 'agent'),
       el('th', {}, 'episodes'), el('th', {}, 'SR % [95 % CI]'), el('th', {}, 'IP [95 % CI]'), el('th', {class: 'l'}, 'group')));
     for (const e of board.entrants) {
