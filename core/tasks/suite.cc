@@ -130,6 +130,11 @@ void write_suite(const fs::path& file, Suite& s) {
 
 Suite read_suite(const fs::path& file) {
   const std::string where = file.string();
+  std::error_code ec;
+  if (const auto bytes = fs::file_size(file, ec); !ec && bytes > kMaxSuiteBytes) {
+    throw Error(where + ": " + std::to_string(bytes >> 20) + " MiB is more than a suite may hold (" +
+                std::to_string(kMaxSuiteBytes >> 20) + " MiB)");
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(where + ": cannot read the suite (" + (fs::exists(file) ? "not readable" : "no such file") + ")");
   std::ostringstream text;

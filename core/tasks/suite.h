@@ -26,6 +26,9 @@
 namespace mtg::tasks {
 
 inline constexpr const char* kSuiteFormat = "mtg-suite/1";
+/// The largest suite file read (the standard suite of 1,200 tasks is 1.2 MiB): a larger one is
+/// refused before it is read, not parsed into memory.
+inline constexpr std::uintmax_t kMaxSuiteBytes = std::uintmax_t{256} << 20;
 /// The terms of data derived from ReplicaCAD (its NOTICE.md): a suite carries them.
 inline constexpr const char* kReplicaCadLicense =
     "CC BY-NC 4.0: the tasks are derived from ReplicaCAD (Szot et al., Habitat 2.0, NeurIPS 2021) and carry its "

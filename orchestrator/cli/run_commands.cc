@@ -202,11 +202,16 @@ std::pair<int, int> parse_image_size(const std::string& text) {
 
 // Every agent is known, and a model agent's key, settings, prompts, prices and cache are usable:
 // one clear line now rather than adapters that never become ready. With workers the keys and
-// files are on their hosts; each worker checks its own when it joins.
-void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions& vlm, bool remote) {
+// files are on their hosts; each worker checks its own when it joins. An estimate needs no key.
+void check_agents(const std::vector<std::string>& agents, const vlm::VlmOptions& vlm, bool remote, bool estimate_only) {
   for (const std::string& spec : agents) {
     if (vlm::is_model_spec(spec)) {
-      if (!remote) (void)vlm::ModelSetup::make(spec, vlm.resolve());
+      // An estimate calls no model: it needs the spec and the price table, not a key.
+      if (estimate_only) {
+        (void)vlm::parse_model_spec(spec);
+      } else if (!remote) {
+        (void)vlm::ModelSetup::make(spec, vlm.resolve());
+      }
     } else if (spec == agents::kHumanAgent) {
       if (remote) throw Error("the human agent plays on this machine (mtg play), not on workers");
     } else if (!agents::is_builtin_agent(spec)) {
@@ -236,7 +241,8 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir, const tasks:
     if (!drawn.empty()) {
       std::string names;
       for (const auto& d : drawn) names += (names.empty() ? "" : ", ") + d;
-      throw Error("--suite runs exactly the suite's tasks; " + names + (drawn.size() == 1 ? " goes" : " go") + " with --tasks");
+      throw Error("a suite runs exactly its tasks (" + o.suite + "); " + names + (drawn.size() == 1 ? " goes" : " go") +
+                  " with a task set (--tasks tasks.sqlite)");
     }
   }
   if (o.given.count("--parallel") && o.parallel < 1) throw Error("--parallel must be at least 1, not " + std::to_string(o.parallel));
@@ -436,7 +442,13 @@ std::unique_ptr<orchestrator::remote::SlurmWorkers> submit_slurm_workers(const R
 
 }  // namespace
 
-int run_run(const RunOptions& o) {
+int run_run(const RunOptions& options) {
+  // A suite given as --tasks is run as the suite it is: exactly its tasks, named in the provenance.
+  RunOptions o = options;
+  if (!o.tasks.empty() && tasks::is_suite_file(o.tasks)) {
+    o.suite = o.tasks;
+    o.tasks.clear();
+  }
   if (o.out.empty()) throw Error("--out <run dir> is required");
   if (o.given.count("--slurm")) {
     if (o.slurm_workers < 1) throw Error("--slurm-workers must be at least 1, not " + std::to_string(o.slurm_workers));
@@ -462,7 +474,7 @@ int run_run(const RunOptions& o) {
   // Until the folder holds its copy, a new suite run reads the suite given.
   const std::string task_source = !resuming && suite ? o.suite : plan.tasks_db;
   // Everything is checked before anything is written: a typo must not spoil the folder.
-  check_agents(plan.agents, o.vlm, plan.remote);
+  check_agents(plan.agents, o.vlm, plan.remote, o.estimate);
   const auto tasks = load_tasks(task_source);
   if (!resuming) plan = orchestrator::make_plan(std::move(plan), tasks);
   const auto fingerprints = fingerprints_of(plan, task_source, tasks);

@@ -107,7 +107,7 @@ TEST_F(SuiteRunTest, BadSuitesAndOtherDatasetsAreRefusedInOneLineWithNothingWrit
   std::string future = good;
   future.replace(future.find("mtg-suite/1"), 11, "mtg-suite/2");
   refused(future, {}, "not one this mtg reads");
-  refused(good, {"--limit", "2"}, "--suite runs exactly the suite's tasks; --limit goes with --tasks");
+  refused(good, {"--limit", "2"}, "--limit goes with a task set (--tasks tasks.sqlite)");
   // Another dataset: one of the scene's files changed. The line names it.
   const tasks::Suite suite = tasks::read_suite(suite_file());
   ASSERT_FALSE(suite.dataset.at("two_tables").files.empty());
