@@ -35,7 +35,8 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::string& log
     ::prctl(PR_SET_PDEATHSIG, parent_death_signal);
     if (::getppid() != parent) ::_exit(1);  // the parent died before prctl took effect
     if (!log_file.empty()) {
-      const int fd = ::open(log_file.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+      // Not through a link planted at the log's name (the parent checked the folder before).
+      const int fd = ::open(log_file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW, 0644);
       if (fd >= 0) {
         ::dup2(fd, 1);
         ::dup2(fd, 2);

@@ -1,12 +1,13 @@
 #include "core/graph/topdown_png.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <map>
 
+#include "core/render/png_writer.h"
 #include "core/util/error.h"
+#include "core/util/file_bytes.h"
 
 namespace mtg::graph {
 namespace {
@@ -134,7 +135,8 @@ void write_topdown_png(const SceneGraph& g, const std::filesystem::path& file,
   }
   cv::putText(canvas.image(), g.scene + ": green = navigable platform, red = not navigable, blue strips = standing areas, orange = items",
               cv::Point(10, 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1, cv::LINE_AA);
-  if (!cv::imwrite(file.string(), canvas.image())) throw Error(file.string() + ": cannot write PNG");
+  // Through a rename, never through a link planted at the name (cv::imwrite followed it).
+  write_file_bytes_atomically(file, render::encode_png(canvas.image()));
 }
 
 }  // namespace mtg::graph

@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 
 namespace mtg::store {
@@ -13,6 +14,12 @@ Database::Database(const std::filesystem::path& file, Mode mode) : file_(file) {
   int flags = SQLITE_OPEN_READONLY;
   if (mode == Mode::kReadWrite) flags = SQLITE_OPEN_READWRITE;
   if (mode == Mode::kCreate) flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  if (mode != Mode::kReadOnly) {
+    // A database is written in place, with its journals beside it: a link planted at any of
+    // those names (a dangling marks.sqlite) would have SQLite create or write what it names.
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"}) require_plain_file(file.string() + suffix);
+    flags |= SQLITE_OPEN_NOFOLLOW;
+  }
   if (sqlite3_open_v2(file.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);

@@ -1,6 +1,7 @@
 #include "core/util/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -61,6 +62,34 @@ void require_replaceable(const fs::path& target) {
                      : fs::is_socket(st)         ? "a socket"
                                                  : "not a regular file";
   throw Error(target.string() + ": is " + what + "; give the path of a file to write");
+}
+
+void require_plain_file(const fs::path& target) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(target, ec);
+  if (ec || !fs::exists(st) || fs::is_regular_file(st)) return;
+  if (fs::is_symlink(st)) {
+    throw Error(target.string() + ": is a symbolic link; refusing to write through it (remove it, or give another path)");
+  }
+  require_replaceable(target);  // names what else it is
+  throw Error(target.string() + ": is not a regular file; give the path of a file to write");
+}
+
+int open_plain_file(const fs::path& file, int flags, unsigned mode) {
+  require_plain_file(file);
+  // O_NOFOLLOW closes the gap between the check and the open: a link made meanwhile fails it.
+  const int fd = ::open(file.c_str(), flags | O_NOFOLLOW | O_CLOEXEC, static_cast<mode_t>(mode));
+  if (fd < 0) {
+    const int error = errno;
+    if (error == ELOOP) throw Error(file.string() + ": is a symbolic link; refusing to write through it");
+    throw Error(file.string() + ": cannot open (" + std::strerror(error) + ")");
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw Error(file.string() + ": is not a regular file; give the path of a file to write");
+  }
+  return fd;
 }
 
 PartialFile::PartialFile(fs::path target, Stale stale) : target_(std::move(target)) {

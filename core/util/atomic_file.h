@@ -19,6 +19,17 @@ namespace mtg {
 /// a folder): a writer that renames over it would replace it.
 void require_replaceable(const std::filesystem::path& target);
 
+/// Throws mtg::Error naming `target` when the name is a symbolic link (a writer that opens it
+/// would write through it, wherever it points: a planted link in a shared folder) or exists and is
+/// not a regular file. For outputs written in place (locks, appended logs, databases), which no
+/// rename can protect.
+void require_plain_file(const std::filesystem::path& target);
+
+/// Opens `file` for writing in place (`flags`: O_WRONLY or O_RDWR, with O_CREAT, O_APPEND as
+/// needed) without following a link at its name, and only if it is a regular file; close-on-exec.
+/// @throws mtg::Error naming the file.
+int open_plain_file(const std::filesystem::path& file, int flags, unsigned mode = 0644);
+
 /// Calls `write(stream)` on a binary stream to a partial file, then renames it to `file`.
 /// @throws mtg::Error naming `file` when it cannot be written.
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& write);

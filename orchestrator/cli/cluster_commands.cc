@@ -1,3 +1,4 @@
+#include "orchestrator/run/run_folder_check.h"
 #include "orchestrator/cli/cluster_commands.h"
 
 #include <fcntl.h>
@@ -33,6 +34,7 @@
 namespace mtg::cli {
 
 int run_gather(const GatherCliOptions& o) {
+  orchestrator::check_run_folder(o.run);  // it writes episodes/ and results.sqlite: never through a link
   orchestrator::remote::GatherOptions g;
   g.run = o.run;
   for (const auto& f : o.from) g.from.emplace_back(f);

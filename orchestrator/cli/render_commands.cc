@@ -73,7 +73,9 @@ void write_inspection(const RenderOptions& o, render::ImageRenderer& renderer, c
     for (int v = 0; v < ids.image.height; ++v) {
       for (int u = 0; u < ids.image.width; ++u) png.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(ids.image.at(u, v) + 1);
     }
-    if (!cv::imwrite(o.ids, png)) throw Error("mtg render: cannot write " + o.ids);
+    std::vector<std::uint8_t> bytes;
+    if (!cv::imencode(".png", png, bytes)) throw Error("mtg render: cannot encode " + o.ids);
+    write_file_bytes_atomically(o.ids, bytes);
     std::printf("wrote %s (%dx%d id pass, 16-bit: object index + 1)\n", o.ids.c_str(), png.cols, png.rows);
   }
   if (o.marks_json.empty()) return;

@@ -44,6 +44,7 @@
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
 #include "orchestrator/run/page_relay.h"
+#include "orchestrator/run/run_folder_check.h"
 #include "orchestrator/run/run_lock.h"
 #include "orchestrator/run/run_namespace.h"
 #include "orchestrator/run/run_plan.h"
@@ -459,6 +460,8 @@ int run_run(const RunOptions& options) {
   }
   const fs::path dir = fs::absolute(o.out).lexically_normal();
   if (fs::exists(dir) && !fs::is_directory(dir)) throw Error("--out " + dir.string() + " is a file, not a run folder");
+  // Before anything else, a resume included: no name the run writes is a planted link.
+  orchestrator::check_run_folder(dir);
   RunPlan plan;
   const bool resuming = fs::exists(dir / "plan.json");
   // A suite is checked whole (format, digest, every task) before anything else.
@@ -599,6 +602,7 @@ nlohmann::json write_reports_if_possible(const fs::path& dir, const std::string&
 int run_report(const ReportOptions& o) {
   const fs::path dir(o.run);
   if (!fs::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
+  if (!o.json) orchestrator::check_run_folder(dir);  // it writes report.*, and card.* with --card
   // --json only reads; otherwise the files are written where the folder allows it.
   const nlohmann::json report =
       o.json ? report_of(dir) : write_reports_if_possible(dir, o.html);
@@ -692,7 +696,9 @@ int run_replay(const ReplayOptions& o) {
   const fs::path src = fs::absolute(o.run).lexically_normal();
   RunPlan plan = orchestrator::load_plan(src);
   const fs::path dir = o.out.empty() ? src / "replay" : fs::absolute(o.out).lexically_normal();
-  if (fs::exists(dir / "results.sqlite")) fs::remove_all(dir);  // a replay always starts afresh
+  orchestrator::check_run_folder(src);
+  if (fs::exists(dir / "results.sqlite")) fs::remove_all(dir);  // a replay always starts afresh (links removed, not followed)
+  orchestrator::check_run_folder(dir);
   fs::create_directories(dir);
   const std::string spec = "replay:" + src.string();
   plan.run_id = plan.run_id + "-replay";
@@ -734,6 +740,7 @@ int run_replay(const ReplayOptions& o) {
 
 int run_rejudge(const std::string& run) {
   const fs::path dir = fs::absolute(run).lexically_normal();
+  orchestrator::check_run_folder(dir);
   const auto report = orchestrator::rejudge_run(dir);
   const fs::path out = dir / "rejudge.sqlite";
   fs::remove(out);

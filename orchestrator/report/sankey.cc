@@ -1,6 +1,5 @@
 #include "orchestrator/report/sankey.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -9,7 +8,9 @@
 #include <sstream>
 
 #include "core/episode/outcomes.h"
+#include "core/render/png_writer.h"
 #include "core/util/error.h"
+#include "core/util/file_bytes.h"
 #include "core/util/text.h"
 
 namespace mtg::orchestrator {
@@ -235,7 +236,8 @@ void sankey_png(const nlohmann::json& graph, const std::string& title, const std
   }
   cv::putText(image, title + "   (task level -> stage reached -> cause -> outcome)", cv::Point(16, 24),
               cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  if (!cv::imwrite(file.string(), image)) throw Error(file.string() + ": cannot write PNG");
+  // Through a rename like every other output: cv::imwrite wrote through a link planted at the name.
+  write_file_bytes_atomically(file, render::encode_png(image));
 }
 
 }  // namespace mtg::orchestrator

@@ -2,9 +2,13 @@
 
 #include <chrono>
 #include <ctime>
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <fstream>
 
 #include "core/tasks/task_db.h"
+#include "core/util/atomic_file.h"
 #include "core/util/build_info.h"
 #include "core/util/error.h"
 #include "core/util/host_name.h"
@@ -51,9 +55,12 @@ std::string task_set_identity(const nlohmann::json& p) {
 }
 
 void append_session(const fs::path& run_dir, const nlohmann::json& entry) {
-  std::ofstream out(run_dir / "sessions.jsonl", std::ios::app);
-  out << entry.dump() << '\n';
-  if (!out.flush()) throw Error("cannot write " + (run_dir / "sessions.jsonl").string());
+  const fs::path file = run_dir / "sessions.jsonl";
+  const int fd = open_plain_file(file, O_WRONLY | O_CREAT | O_APPEND);  // never through a planted link
+  const std::string line = entry.dump() + '\n';
+  const bool written = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
+  ::close(fd);
+  if (!written) throw Error("cannot write " + file.string());
 }
 
 nlohmann::json read_sessions(const fs::path& run_dir) {

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "core/util/host_name.h"
 
@@ -27,9 +28,10 @@ std::string read_holder(int fd) {
 RunLock::RunLock(const std::filesystem::path& dir, const std::string& what) {
   std::filesystem::create_directories(dir);
   const std::filesystem::path file = dir / ".lock";
-  // Close-on-exec: the run's services must not keep the lock after the run itself is gone.
-  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw Error(file.string() + ": cannot open the run's lock (" + std::strerror(errno) + ")");
+  // Close-on-exec: the run's services must not keep the lock after the run itself is gone. Not
+  // through a link: in a shared folder anyone may plant one at .lock, and the holder's line
+  // would be written into whatever it names (issue 55).
+  fd_ = open_plain_file(file, O_RDWR | O_CREAT);
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int error = errno;
     const std::string holder = error == EWOULDBLOCK ? read_holder(fd_) : std::string();
@@ -52,7 +54,7 @@ RunLock::~RunLock() {
 }
 
 bool run_in_progress(const std::filesystem::path& dir) {
-  const int fd = ::open((dir / ".lock").c_str(), O_RDONLY | O_CLOEXEC);
+  const int fd = ::open((dir / ".lock").c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   if (fd < 0) return false;
   const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
   ::close(fd);  // a shared lock taken here goes with it

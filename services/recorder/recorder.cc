@@ -10,6 +10,7 @@
 #include "bus/channels.h"
 #include "bus/event_log.h"
 #include "bus/header.h"
+#include "core/util/atomic_file.h"
 #include "core/util/error.h"
 #include "mtg/recorded_t.hpp"
 
@@ -32,7 +33,7 @@ std::uintmax_t repair(const std::filesystem::path& path) {
 }  // namespace
 
 Recorder::Recorder(bus::Bus& bus, bus::HeaderStamper& stamp, const std::filesystem::path& path, std::string run_id)
-    : bus_(bus), stamp_(stamp), path_(path), run_id_(std::move(run_id)), repaired_(repair(path)),
+    : bus_(bus), stamp_(stamp), path_(path), run_id_(std::move(run_id)), repaired_((require_plain_file(path), repair(path))),
       log_(path.string(), "a") {
   if (!log_.good()) throw Error(path_.string() + ": cannot open the recording for writing");
   // A bigger buffer than stdio's 4 KiB: an observation alone filled that, so nearly every message
