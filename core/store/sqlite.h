@@ -37,6 +37,9 @@ class Statement {
 
   std::int64_t column_int(int index) const;
   double column_double(int index) const;
+  /// Whether the value is stored as a number (integer or real): not text, a blob or NULL, which
+  /// column_int and column_double would read as 0 without a word.
+  bool column_is_number(int index) const;
   std::string column_text(int index) const;
   std::string column_blob(int index) const;
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/stats/paired.h"
@@ -30,8 +31,10 @@ struct Pair {
 // (task, repeat) -> scored episode. The repeat comes from the plan's layout when known, so an
 // episode given up or never run does not shift the later tries of its task; else the k-th row of
 // a task (scored or not) is repeat k.
-std::map<std::pair<std::string, std::int64_t>, const EpisodeRow*> by_task_and_repeat(const CompareSide& side) {
-  std::map<std::pair<std::string, std::int64_t>, const EpisodeRow*> out;
+using PairKey = std::pair<std::string, std::int64_t>;  // task id, repeat
+
+std::map<PairKey, const EpisodeRow*> by_task_and_repeat(const CompareSide& side) {
+  std::map<PairKey, const EpisodeRow*> out;
   std::map<std::string, std::int64_t> seen;
   for (const EpisodeRow& r : side.rows) {  // rows come in episode order
     if (r.agent != side.agent) continue;
@@ -40,6 +43,37 @@ std::map<std::pair<std::string, std::int64_t>, const EpisodeRow*> by_task_and_re
     out[{r.task_id, side.per_repeat > 0 ? r.episode_id.value() / side.per_repeat : counted}] = &r;
   }
   return out;
+}
+
+// A side's excluded episodes of its agent: how many, why, and the (task, repeat) each held. The
+// repeat is known from the plan's layout only (per_repeat); without it a task's excluded episode
+// is matched to every repeat.
+struct Excluded {
+  std::int64_t episodes = 0;
+  std::map<std::string, std::int64_t> reasons;
+  std::set<PairKey> keys;
+  std::set<std::string> tasks;  // when the repeat is unknown
+};
+
+Excluded excluded_of(const CompareSide& side) {
+  Excluded out;
+  for (const ExcludedRow& x : side.excluded) {
+    if (x.row.agent != side.agent || x.row.status != "scored") continue;
+    ++out.episodes;
+    ++out.reasons[x.reason];
+    if (side.per_repeat > 0) {
+      out.keys.insert({x.row.task_id, x.row.episode_id.value() / side.per_repeat});
+    } else {
+      out.tasks.insert(x.row.task_id);
+    }
+  }
+  return out;
+}
+
+bool holds(const Excluded& e, const PairKey& key) { return e.keys.count(key) != 0 || e.tasks.count(key.first) != 0; }
+
+nlohmann::json excluded_json(const Excluded& e) {
+  return {{"episodes", e.episodes}, {"reasons", e.reasons}};
 }
 
 double round1(double v) { return std::round(v * 10.0) / 10.0; }
@@ -113,6 +147,16 @@ nlohmann::json compare_one(const CompareSide& a, const CompareSide& b) {
   c["pairs"] = static_cast<std::int64_t>(all.size());
   c["unpaired_a"] = static_cast<std::int64_t>(left.size() - all.size());
   c["unpaired_b"] = static_cast<std::int64_t>(right.size() - all.size());
+  // Exclusions in plain sight (issue 55): what a person took out of each side, and which
+  // episodes of one side are unpaired because their partner on the other was taken out.
+  const Excluded out_a = excluded_of(a), out_b = excluded_of(b);
+  c["excluded_a"] = excluded_json(out_a);
+  c["excluded_b"] = excluded_json(out_b);
+  std::int64_t a_lost = 0, b_lost = 0;
+  for (const auto& [key, row] : left) a_lost += right.count(key) == 0 && holds(out_b, key) ? 1 : 0;
+  for (const auto& [key, row] : right) b_lost += left.count(key) == 0 && holds(out_a, key) ? 1 : 0;
+  c["unpaired_a_excluded_in_b"] = a_lost;
+  c["unpaired_b_excluded_in_a"] = b_lost;
   const std::string seed_key = a.agent + " vs " + b.agent + "/";  // not the runs' names (see compare.h)
   for (const auto& [level, pairs] : by_level) c["levels"][level] = level_json(pairs, seed_key + level);
   c["levels"]["all"] = level_json(all, seed_key + "all");
@@ -204,8 +248,8 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
     const auto agents_b = agents_of(b->rows);
     for (const std::string& x : agents_a) {
       if (!has(agents_b, x) || (!agent.empty() && x != agent)) continue;
-      baselines.push_back({a.name, x, a.rows, a.per_repeat});
-      candidates.push_back({b->name, x, b->rows, b->per_repeat});
+      baselines.push_back({a.name, x, a.rows, a.per_repeat, a.excluded});
+      candidates.push_back({b->name, x, b->rows, b->per_repeat, b->excluded});
     }
     if (baselines.empty()) {
       throw Error(agent.empty() ? "no agent ran in both " + a.name + " and " + b->name
@@ -220,8 +264,8 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
     }
     for (const std::string& x : agents_a) {
       if (x == base || (!agent.empty() && x != agent)) continue;
-      baselines.push_back({a.name, base, a.rows, a.per_repeat});
-      candidates.push_back({a.name, x, a.rows, a.per_repeat});
+      baselines.push_back({a.name, base, a.rows, a.per_repeat, a.excluded});
+      candidates.push_back({a.name, x, a.rows, a.per_repeat, a.excluded});
     }
   }
   nlohmann::json out = compare_sides(baselines, candidates);
@@ -232,9 +276,19 @@ nlohmann::json compare_runs(const RunRows& a, const RunRows* b, const std::strin
   return out;
 }
 
+RunRows run_rows(std::string name, const std::vector<EpisodeRow>& all, const std::map<bus::EpisodeId, EpisodeMarks>& marks,
+                 std::string task_set, std::int64_t per_repeat) {
+  RunRows out{std::move(name), without_excluded(all, marks), {}, std::move(task_set), per_repeat};
+  for (const EpisodeRow& r : all) {
+    const auto m = marks.find(r.episode_id);
+    if (m != marks.end() && m->second.excluded) out.excluded.push_back({r, m->second.exclusion_reason});
+  }
+  return out;
+}
+
 RunRows load_run_rows(const std::filesystem::path& dir, const std::string& name) {
   if (!std::filesystem::exists(dir / "results.sqlite")) throw Error(dir.string() + ": not a run folder (no results.sqlite)");
-  RunRows out{name, without_excluded(read_results(dir / "results.sqlite"), current_marks(read_marks(dir))), "", 0};
+  RunRows out = run_rows(name, read_results(dir / "results.sqlite"), current_marks(read_marks(dir)), "", 0);
   if (std::filesystem::exists(dir / "plan.json")) {
     const RunPlan plan = load_plan(dir);
     out.task_set = task_set_identity(plan.provenance);
@@ -253,10 +307,25 @@ std::string compare_text(const nlohmann::json& comparison) {
       << c["a"]["run"].get<std::string>() << "/" << c["a"]["agent"].get<std::string>() << ": " << c["pairs"]
       << " paired episodes";
     if (c["unpaired_a"].get<std::int64_t>() + c["unpaired_b"].get<std::int64_t>() > 0) {
-      o << " (" << c["unpaired_a"] << " of A and " << c["unpaired_b"] << " of B without a partner, left out)";
+      o << " (" << c["unpaired_a"] << " of A and " << c["unpaired_b"] << " of B without a partner, left out";
+      const std::int64_t a_lost = c.value("unpaired_a_excluded_in_b", std::int64_t{0});
+      const std::int64_t b_lost = c.value("unpaired_b_excluded_in_a", std::int64_t{0});
+      if (a_lost > 0) o << "; " << a_lost << " of A's because B's episode was excluded";
+      if (b_lost > 0) o << "; " << b_lost << " of B's because A's episode was excluded";
+      o << ")";
     }
     o << "; differences are B - A, 95 % intervals, p after Holm over " << family << " comparison"
       << (family == 1 ? "" : "s") << "\n";
+    for (const char* side : {"a", "b"}) {
+      const nlohmann::json x = c.value(std::string("excluded_") + side, nlohmann::json::object());
+      if (x.value("episodes", std::int64_t{0}) == 0) continue;
+      o << "  excluded by a person from " << (side[0] == 'a' ? "A" : "B") << ": " << x["episodes"] << " episode(s)";
+      std::string why;
+      for (const auto& [reason, n] : x["reasons"].items()) {
+        why += (why.empty() ? "" : "; ") + std::to_string(n.get<std::int64_t>()) + " \"" + reason + "\"";
+      }
+      o << " (" << why << "), outside every figure below\n";
+    }
     char line[512];
     std::snprintf(line, sizeof line, "  %-6s %6s %7s %7s  %-24s %8s   %6s %6s  %-24s %8s\n", "level", "pairs", "SR A",
                   "SR B", "SR B-A [95 % CI]", "McNemar", "IP A", "IP B", "IP B-A [95 % CI]", "perm.");

@@ -59,7 +59,9 @@ void check_mark(const MarkEntry& e) {
   const bool tagging = e.action == MarkAction::kTag || e.action == MarkAction::kUntag;
   if (tagging && e.tag.empty()) throw Error("mark: a tag is required to " + std::string(to_string(e.action)));
   if (!tagging && !e.tag.empty()) throw Error(std::string("mark: a tag goes with tag or untag, not ") + to_string(e.action));
-  if ((e.action == MarkAction::kExclude || e.action == MarkAction::kInclude) && e.reason.empty()) {
+  // A reason of " " says nothing: it is as missing as an empty one (issue 55).
+  const bool blank = e.reason.find_first_not_of(" \t\r\n") == std::string::npos;
+  if ((e.action == MarkAction::kExclude || e.action == MarkAction::kInclude) && blank) {
     throw Error(std::string("mark: a reason is required to ") + to_string(e.action) + " an episode");
   }
   check_text("who", e.who);

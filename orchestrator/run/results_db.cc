@@ -2,7 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <set>
 
 #include "core/util/error.h"
@@ -39,6 +41,27 @@ constexpr const char* kColumns =
     "invalid_actions, input_tokens, output_tokens, cost_usd, latency_ms, wall_ms, subtask_ip, detail, status, "
     "spent_usd, images_sent, model_calls, cache_hits, prompt_version, worker";
 
+// A value no judge writes (NaN, an infinity, a level of 99, text in a number column) is damage: it
+// would print "[-nan, -nan]" or an 80-digit figure, or make a row of a level that does not exist.
+// One line naming the row, rather than figures computed from it (issue 55).
+void check_row(const store::Statement& q, const EpisodeRow& r, const std::filesystem::path& file) {
+  const auto bad = [&](const std::string& what) {
+    throw Error(file.string() + ": episode " + std::to_string(r.episode_id.value()) + ": " + what +
+                "; the results are damaged (no judge writes that)");
+  };
+  constexpr int kNumbers[] = {0, 3, 6, 7, 8, 11, 12};  // episode_id, level, attempt, success, ip, steps, invalid_actions
+  constexpr const char* kNames[] = {"episode_id", "level", "attempt", "success", "ip", "steps", "invalid_actions"};
+  for (std::size_t i = 0; i < std::size(kNumbers); ++i) {
+    if (!q.column_is_number(kNumbers[i])) bad(std::string(kNames[i]) + " is not a number");
+  }
+  if (r.level < 1 || r.level > 4) bad("level " + std::to_string(r.level) + " is not 1 to 4");
+  if (!std::isfinite(r.ip) || r.ip < 0.0 || r.ip > 100.0) bad("ip " + std::to_string(r.ip) + " is not between 0 and 100");
+  if (r.steps < 0 || r.invalid_actions < 0 || r.attempt < 0) bad("a negative count");
+  if (!std::isfinite(r.usage.cost_usd) || !std::isfinite(r.usage.spent_usd) || r.usage.cost_usd < 0 || r.usage.spent_usd < 0) {
+    bad("a cost that is not a finite amount");
+  }
+}
+
 std::vector<EpisodeRow> select_rows(store::Database& db) {
   store::Statement q(db, std::string("SELECT ") + kColumns + " FROM episodes ORDER BY episode_id");
   std::vector<EpisodeRow> out;
@@ -71,6 +94,7 @@ std::vector<EpisodeRow> select_rows(store::Database& db) {
     r.usage.cache_hits = q.column_int(24);
     r.usage.prompt_version = q.column_text(25);
     r.worker = q.column_text(26);
+    check_row(q, r, db.file());
     out.push_back(std::move(r));
   }
   return out;

@@ -199,8 +199,8 @@ void RunView::add_mark(const MarkEntry& entry) {
 }
 
 RunRows RunView::compare_rows() {
-  return {name_, without_excluded(*rows(), current_marks(read_marks(dir_))),
-          task_set_identity(plan_summary_["provenance"]), per_repeat_};
+  return run_rows(name_, *rows(), current_marks(read_marks(dir_)), task_set_identity(plan_summary_["provenance"]),
+                  per_repeat_);
 }
 
 LeaderboardRun RunView::leaderboard_run() {

@@ -2,6 +2,8 @@
 // worked out by hand.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "core/util/error.h"
 #include "orchestrator/report/compare.h"
 #include "orchestrator/report/report.h"
@@ -87,16 +89,50 @@ TEST(Compare, HolmAdjustsAcrossTheAgentsCompared) {
 
 TEST(Compare, RunsOnDifferentTaskSetsPairWithAWarning) {
   const auto rows = twelve_tasks();
-  const RunRows a{"one", rows, "/t/a.sqlite (config 1)"}, b{"two", rows, "/t/b.sqlite (config 2)"};
+  const RunRows a{"one", rows, {}, "/t/a.sqlite (config 1)"}, b{"two", rows, {}, "/t/b.sqlite (config 2)"};
   const nlohmann::json c = compare_runs(a, &b, "A", "");
   ASSERT_TRUE(c.contains("warning"));
   EXPECT_NE(c["warning"].get<std::string>().find("ran different task sets"), std::string::npos);
   EXPECT_NE(compare_text(c).find("warning: one and two ran different task sets"), std::string::npos);
-  const RunRows same{"two", rows, a.task_set};
+  const RunRows same{"two", rows, {}, a.task_set};
   EXPECT_FALSE(compare_runs(a, &same, "A", "").contains("warning"));
   EXPECT_THROW(compare_runs(a, &b, "nobody", ""), Error);
   EXPECT_THROW(compare_runs(a, &b, "", "A"), Error) << "a baseline agent is for one run";
   EXPECT_EQ(compare_runs(a, nullptr, "", "")["comparisons"][0]["a"]["agent"], "A") << "the run's first agent";
+}
+
+// Nine of B's episodes excluded by a person (issue 55): the comparison says so, with the reason,
+// and puts the nine A episodes left without a partner down to B's exclusions, not to A.
+TEST(Compare, ExclusionsAreSaidPerSideWithReasonsAndTheUnpairedPutDownToThem) {
+  std::vector<EpisodeRow> all;
+  for (std::uint32_t t = 0; t < 12; ++t) {
+    all.push_back(row(2 * t, "s/L1/" + std::to_string(t), "A", 1, true, 0));
+    all.push_back(row(2 * t + 1, "s/L1/" + std::to_string(t), "B", 1, false, 0));
+  }
+  std::map<bus::EpisodeId, EpisodeMarks> marks;
+  for (std::uint32_t t = 0; t < 9; ++t) {
+    EpisodeMarks m;
+    m.excluded = true;
+    m.exclusion_reason = t < 6 ? "renderer glitch" : "typo in the task";
+    marks[bus::EpisodeId(2 * t + 1)] = m;
+  }
+  const RunRows run = run_rows("r", all, marks, "", 0);
+  ASSERT_EQ(run.excluded.size(), 9u);
+  const nlohmann::json c = compare_runs(run, nullptr, "", "A");
+  const auto& one = c["comparisons"][0];
+  EXPECT_EQ(one["pairs"], 3);
+  EXPECT_EQ(one["excluded_a"]["episodes"], 0);
+  EXPECT_EQ(one["excluded_b"]["episodes"], 9);
+  EXPECT_EQ(one["excluded_b"]["reasons"]["renderer glitch"], 6);
+  EXPECT_EQ(one["excluded_b"]["reasons"]["typo in the task"], 3);
+  EXPECT_EQ(one["unpaired_a"], 9);
+  EXPECT_EQ(one["unpaired_a_excluded_in_b"], 9) << "A's unpaired episodes lost their partner to B's exclusions";
+  EXPECT_EQ(one["unpaired_b_excluded_in_a"], 0);
+  const std::string text = compare_text(c);
+  EXPECT_NE(text.find("excluded by a person from B: 9 episode(s) (6 \"renderer glitch\"; 3 \"typo in the task\")"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("9 of A's because B's episode was excluded"), std::string::npos) << text;
 }
 
 TEST(Compare, SidesWithoutACommonTaskAreRefusedByName) {

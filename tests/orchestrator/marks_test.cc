@@ -27,6 +27,8 @@ TEST(Marks, AChangeNamesItsPersonAndAnExclusionItsReason) {
   EXPECT_THROW(check_mark(entry(1, MarkAction::kFlag, "t")), Error) << "a tag only with tag or untag";
   EXPECT_THROW(check_mark(entry(1, MarkAction::kExclude, "", std::string(kMarkTextLimit + 1, 'x'))), Error);
   EXPECT_THROW(check_mark(entry(1, MarkAction::kExclude, "", "two\nlines")), Error);
+  EXPECT_THROW(check_mark(entry(1, MarkAction::kExclude, "", " ")), Error) << "a blank reason says nothing";
+  EXPECT_THROW(check_mark(entry(1, MarkAction::kInclude, "", " \t")), Error);
   EXPECT_EQ(mark_action_from_string("exclude"), MarkAction::kExclude);
   EXPECT_EQ(mark_action_from_string("delete"), std::nullopt);
 }

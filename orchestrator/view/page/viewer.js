@@ -286,7 +286,17 @@ async function showComparison(params) {
       count > list.length ? el('div', {class: 'muted'}, '… the first ' + list.length + ' shown') : null);
     parts.push(el('h2', {}, 'B ' + x.b.run + ' / ' + x.b.agent + ' against A ' + x.a.run + ' / ' + x.a.agent),
       el('p', {}, x.pairs + ' paired episodes' + (x.unpaired_a + x.unpaired_b ? ' (' + x.unpaired_a + ' of A and ' +
-        x.unpaired_b + ' of B without a partner, left out)' : '') + '.'),
+        x.unpaired_b + ' of B without a partner, left out' +
+        (x.unpaired_a_excluded_in_b ? '; ' + x.unpaired_a_excluded_in_b + " of A's because B's episode was excluded" : '') +
+        (x.unpaired_b_excluded_in_a ? '; ' + x.unpaired_b_excluded_in_a + " of B's because A's episode was excluded" : '') +
+        ')' : '') + '.'),
+      ...['a', 'b'].map((side) => {
+        const e = x['excluded_' + side];
+        if (!e || !e.episodes) return null;
+        const why = Object.entries(e.reasons).map(([r, n]) => n + ' "' + r + '"').join('; ');
+        return el('p', {class: 'excluded-line'}, 'Excluded by a person from ' + side.toUpperCase() + ': ' + e.episodes +
+          ' episode(s) (' + why + '), outside every figure here.');
+      }),
       t, el('p', {class: 'verdict-line'}, verdict('sr', 'SR')), el('p', {class: 'verdict-line'}, verdict('ip', 'IP')),
       flips(x.regressions, x.regression_count, 'regressions (A succeeded, B failed): click one for both side by side'),
       flips(x.improvements, x.improvement_count, 'improvements (B succeeded, A failed)'));
