@@ -235,7 +235,22 @@ void AuditServer::add_routes() {
                 }
                 send_json(res, {{"ok", true}, {"answered", now.size()}, {"next", next}});
               }));
-  http_->Get(R"(/api/audit/images/([0-9_]+\.png))", guarded([this](const httplib::Request& req, httplib::Response& res) {
+  // An image only once its observation is revealed to this rater: the later ones show where the
+  // episode went, which would answer the earlier questions (issue 55). Names are
+  // <item>_<observation>_<n>.png (audit_builder.cc).
+  http_->Get(R"(/api/audit/images/((\d+)_(\d+)_\d+\.png))", guarded([this](const httplib::Request& req, httplib::Response& res) {
+    int index = -1, observation = -1;
+    try {
+      index = std::stoi(std::string(req.matches[2]));
+      observation = std::stoi(std::string(req.matches[3]));
+    } catch (const std::exception&) {
+    }
+    const auto item = index >= 0 ? store_.item(index) : std::nullopt;
+    if (!item) return send_error(res, 404, "no image " + std::string(req.matches[1]));
+    const bool answered = store_.answers(rater_).count(index) != 0;
+    const int revealed = answered ? static_cast<int>(item->page["observations"].size()) - 1
+                                  : store_.progress(index, rater_).revealed;
+    if (observation > revealed) return send_error(res, 403, "image " + std::string(req.matches[1]) + " is not revealed yet");
     const std::filesystem::path file = store_.images_dir() / std::string(req.matches[1]);
     std::ifstream in(file, std::ios::binary);
     if (!in) return send_error(res, 404, "no image " + std::string(req.matches[1]));
@@ -243,9 +258,8 @@ void AuditServer::add_routes() {
     bytes << in.rdbuf();
     res.set_content(bytes.str(), "image/png");
   }));
-  http_->Get("/api/audit/report", guarded([this](const httplib::Request&, httplib::Response& res) {
-    send_json(res, make_report(store_.items(), store_.all_answers()).to_json());
-  }));
+  // No report here: it lists every rater's misses with the right keys, and this page is a rater's.
+  // `mtg audit report DIR` prints it where the audit is run (issue 55).
   http_->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
     if (res.body.empty()) send_error(res, res.status, "no such page: " + req.path);
   });
