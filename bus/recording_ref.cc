@@ -97,9 +97,30 @@ std::vector<RecordingRef> read_recording_refs(const fs::path& results_file) {
   return out;
 }
 
+std::string recording_file_name(EpisodeId episode, int attempt) {
+  return "E" + to_string(episode) + "-a" + std::to_string(attempt) + ".lcmlog";
+}
+
+std::string recording_misfit(const fs::path& file, const RecordingRef& ref) {
+  if (file.filename() != recording_file_name(ref.episode, ref.attempt)) {
+    return "is not named " + recording_file_name(ref.episode, ref.attempt) + ", as the attempt's recording is";
+  }
+  if (ref.bytes <= 0 || ref.bytes > kMaxRecordingBytes) {
+    return "is said to have " + std::to_string(ref.bytes) + " bytes, outside 1 to " + std::to_string(kMaxRecordingBytes);
+  }
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(file, ec);
+  if (!ec && fs::is_symlink(st)) return "is a symbolic link, not the recording itself";
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st)) return "is not a regular file";
+  return "";
+}
+
 std::string check_recording(const fs::path& file, const RecordingRef& ref) {
   const std::string what = "the recording of episode " + to_string(ref.episode) + " (attempt " +
                            std::to_string(ref.attempt) + ") " + file.string();
+  // Before a byte is read: a reference to another file, or to more bytes than a recording holds,
+  // is damage whatever the file holds.
+  if (const std::string misfit = recording_misfit(file, ref); !misfit.empty()) return what + " " + misfit;
   std::error_code ec;
   const auto size = fs::file_size(file, ec);
   if (ec) {

@@ -36,6 +36,18 @@ struct RecordingRef {
 
 using mtg::sha256_hex;  // core/util/sha256.h
 
+/// An attempt's recording is named "E<id>-a<attempt>.lcmlog", in the run folder's episodes/, a
+/// worker's <dir>/<run id>/episodes/ or the shared folder's <run id>/: a reference to any other
+/// name is refused (issue 55: a key holder once made the coordinator keep /etc/passwd).
+std::string recording_file_name(EpisodeId episode, int attempt);
+/// The most bytes one attempt's recording may have (a rendered 15-step episode is a few MiB).
+inline constexpr std::int64_t kMaxRecordingBytes = std::int64_t{1} << 30;
+
+/// "" when `file` may hold the recording `ref` names: named recording_file_name(ref.episode,
+/// ref.attempt), not a link (its name, not what a link names), a regular file, and a stored size
+/// between 1 byte and kMaxRecordingBytes; else why not, in words.
+std::string recording_misfit(const std::filesystem::path& file, const RecordingRef& ref);
+
 /// The reference to the recording `bytes` of an attempt, kept at `location` on `host`.
 RecordingRef reference_to(EpisodeId episode, int attempt, std::string location, std::string host, bool shared,
                           std::span<const std::uint8_t> bytes);

@@ -83,6 +83,11 @@ GatherReport gather_recordings(const GatherOptions& o) {
   // Read once, kept only if its bytes are the referenced ones.
   const auto keep_from = [&](const bus::RecordingRef& ref, const fs::path& source) {
     try {
+      // Only the attempt's own file, never more than its stored size (issue 55).
+      std::error_code ec;
+      if (!bus::recording_misfit(source, ref).empty() || fs::file_size(source, ec) != static_cast<std::uintmax_t>(ref.bytes)) {
+        return false;
+      }
       return fs::is_regular_file(source) && keep(ref, read_file_bytes(source));
     } catch (const Error&) {
       return false;  // unreadable: looked for elsewhere

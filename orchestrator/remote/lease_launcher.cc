@@ -382,6 +382,27 @@ void LeaseLauncher::arrived(const AttemptKey& key) {
 
 std::optional<bus::RecordingRef> LeaseLauncher::reference_of(const AttemptKey& key, const Arrival& a, std::string& why) {
   bus::RecordingRef ref = bus::from_message(*a.ref);
+  // A reference fits its run or is refused (issue 55: a key holder once had /etc/passwd kept as
+  // a recording): this very attempt's, at the path the run's layout gives it, in the shared
+  // folder's <run id>/ or a worker's <dir>/<run id>/episodes/, of a plausible size.
+  const fs::path location(ref.location);
+  const fs::path folder = location.parent_path();
+  std::string misfit;
+  if (ref.episode != key.first || ref.attempt != key.second) {
+    misfit = "names another attempt";
+  } else if (!location.is_absolute() || location.lexically_normal() != location) {
+    misfit = "is not an absolute path without . or ..";
+  } else if (ref.shared ? folder != options_.recordings.run_folder(run_.run_id).lexically_normal()
+                        : folder.filename() != "episodes" || folder.parent_path().filename() != run_.run_id) {
+    misfit = ref.shared ? "is not in this run's shared folder " + options_.recordings.run_folder(run_.run_id).string()
+                        : "is not in a worker's <dir>/" + run_.run_id + "/episodes/";
+  } else {
+    misfit = bus::recording_misfit(location, ref);
+  }
+  if (!misfit.empty()) {
+    why = "the recording reference of " + lease_id(key.first, key.second) + " (" + ref.location + ") " + misfit;
+    return std::nullopt;
+  }
   if (ref.shared) {
     // What a shared folder holds is checked here by size (its bytes are checked by whoever reads
     // it: reading every recording here is what the shared folder saves).

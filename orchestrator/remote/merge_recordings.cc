@@ -3,6 +3,7 @@
 #include <iterator>
 #include <vector>
 
+#include "bus/recording_ref.h"
 #include "core/util/file_bytes.h"
 #include "core/util/error.h"
 #include "orchestrator/remote/episode_log.h"
@@ -13,7 +14,7 @@ namespace mtg::orchestrator::remote {
 namespace fs = std::filesystem;
 
 fs::path episode_log_path(const fs::path& run_dir, bus::EpisodeId episode_id, int attempt) {
-  return run_dir / "episodes" / ("E" + to_string(episode_id) + "-a" + std::to_string(attempt) + ".lcmlog");
+  return run_dir / "episodes" / bus::recording_file_name(episode_id, attempt);
 }
 
 fs::path store_episode_log(const fs::path& run_dir, bus::EpisodeId episode_id, int attempt,

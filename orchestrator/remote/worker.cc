@@ -536,7 +536,7 @@ class Worker final : public LaunchSink {
   // that goes instead of it.
   mtg::recording_ref_t keep_recording(bus::EpisodeId id, int attempt, const std::string& lid,
                                       const std::vector<std::uint8_t>& log) {
-    const fs::path file = recordings_folder_ / ("E" + to_string(id) + "-a" + std::to_string(attempt) + ".lcmlog");
+    const fs::path file = recordings_folder_ / bus::recording_file_name(id, attempt);
     write_file_bytes_atomically(file, log);
     mtg::recording_ref_t m = bus::to_message(bus::reference_to(id, attempt, fs::absolute(file).lexically_normal().string(),
                                                                host_, recordings_.kind == RecordingsPlace::Kind::kShared, log));
@@ -548,15 +548,23 @@ class Worker final : public LaunchSink {
   // `mtg gather`: the recordings this host keeps (under its own folder, nothing else) go out in
   // chunks, once; the gatherer asks again for what it misses.
   void on_recording_request(const mtg::recording_request_t& m) {
-    const fs::path mine = fs::weakly_canonical(fs::absolute(options_.dir));
+    // Only the run named, and only its attempts' own files: <dir>/<run id>/episodes/E<id>-a<n>.lcmlog
+    // (issue 55: a request once got any *.lcmlog under the folder, other runs' too).
+    if (m.header.run_id.empty() || m.header.run_id.find('/') != std::string::npos || m.header.run_id == "." ||
+        m.header.run_id == "..") {
+      return;
+    }
+    // As keep_recording names them (absolute, lexically normal), so the two compare as paths.
+    const fs::path theirs = (fs::absolute(options_.dir) / m.header.run_id / "episodes").lexically_normal();
     const std::size_t n = std::min({m.locations.size(), m.episode_ids.size(), m.attempts.size()});
     int sent = 0;
     for (std::size_t i = 0; i < n; ++i) {
+      const fs::path asked(m.locations[i]);
+      const fs::path file = theirs / bus::recording_file_name(bus::EpisodeId(m.episode_ids[i]), m.attempts[i]);
       std::error_code ec;
-      const fs::path file = fs::weakly_canonical(fs::path(m.locations[i]), ec);
-      const fs::path rel = file.lexically_relative(mine);
-      if (ec || rel.empty() || *rel.begin() == ".." || file.extension() != ".lcmlog" || !fs::is_regular_file(file)) {
-        continue;  // not a recording of this host's folder
+      if (fs::absolute(asked).lexically_normal() != file || fs::is_symlink(fs::symlink_status(file, ec)) ||
+          !fs::is_regular_file(fs::symlink_status(file, ec))) {
+        continue;  // not a recording of that run's attempt on this host
       }
       // Asked again while still queued (the gatherer repeats what has not arrived): once is enough.
       if (!gather_queued_.insert(m.locations[i]).second) continue;

@@ -10,9 +10,15 @@
 #include <string>
 #include <vector>
 
+#include "bus/recording_ref.h"
 #include "core/store/sqlite.h"
+#include "core/util/file_bytes.h"
+#include "core/util/host_name.h"
+#include "orchestrator/run/results_db.h"
+#include "orchestrator/run/run_plan.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "tests/support/result_rows.h"
 #include "tests/support/run_fixture.h"
 
 namespace mtg {
@@ -125,6 +131,50 @@ TEST(LinkGuard, ADatabaseIsNeverOpenedForWritingThroughALink) {
   }
   EXPECT_THROW(require_plain_file("/dev/null"), Error);
   EXPECT_NO_THROW(require_plain_file(dir / "absent"));
+  fs::remove_all(dir);
+}
+
+// A key holder's reference to a file that is not the attempt's recording (issue 55: /etc/passwd,
+// with its real size and hash, was once kept as four episodes' recordings and copied by gather).
+TEST(RecordingRefs, AReferenceToAnotherFileIsNeverReadKeptNorCopied) {
+  const fs::path dir = fs::temp_directory_path() / ("mtg_forged_ref_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "run");
+  const fs::path secret = dir / "secret.txt";
+  std::ofstream(secret, std::ios::binary) << "root:x:0:0:root:/root:/bin/bash\n";
+  const auto bytes = read_file_bytes(secret);
+  const bus::RecordingRef forged =
+      bus::reference_to(bus::EpisodeId(0), 0, secret.string(), host_name(), false, bytes);  // the real size and hash
+  EXPECT_NE(bus::check_recording(secret, forged).find("is not named E0-a0.lcmlog"), std::string::npos)
+      << bus::check_recording(secret, forged);
+  // Named as a recording but a link to the file: refused too.
+  fs::create_directories(dir / "w" / "r-1" / "episodes");
+  const fs::path link = dir / "w" / "r-1" / "episodes" / "E0-a0.lcmlog";
+  fs::create_symlink(secret, link);
+  bus::RecordingRef linked = forged;
+  linked.location = link.string();
+  EXPECT_NE(bus::check_recording(link, linked).find("symbolic link"), std::string::npos);
+  // A size no recording has (a 3 GB sparse file) is refused before a byte is read.
+  bus::RecordingRef huge = linked;
+  huge.bytes = std::int64_t{3} << 30;
+  EXPECT_NE(bus::recording_misfit(dir / "E0-a0.lcmlog", huge).find("bytes, outside"), std::string::npos);
+
+  // gather finds the forged reference in a run folder and copies nothing.
+  orchestrator::RunPlan plan;
+  plan.run_id = "r-1";
+  plan.agents = {"oracle"};
+  plan.episodes.push_back({bus::EpisodeId(0), "s/L1/000000", "oracle", 0});
+  orchestrator::save_plan(plan, dir / "run");
+  {
+    orchestrator::ResultsDb db(dir / "run" / "results.sqlite");
+    ASSERT_TRUE(db.insert(testing::scored_row(0, "s/L1/000000", "oracle", 1, true), &forged));
+  }
+  testing::ChildProcess gather({testing::bin("mtg"), "gather", (dir / "run").string(), "--no-bus", "--from",
+                                (dir / "w").string()},
+                               (dir / "gather.log").string());
+  EXPECT_EQ(gather.wait(60000), 1) << contents(dir / "gather.log");
+  EXPECT_NE(contents(dir / "gather.log").find("1 missing"), std::string::npos) << contents(dir / "gather.log");
+  EXPECT_FALSE(fs::exists(dir / "run" / "episodes" / "E0-a0.lcmlog")) << "the secret was copied as a recording";
   fs::remove_all(dir);
 }
 
