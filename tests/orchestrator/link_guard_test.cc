@@ -41,14 +41,6 @@ class LinkGuardTest : public testing::RunFixture {
     std::ofstream(v, std::ios::binary) << "precious " << name << "\n";
     return v;
   }
-  std::string last_line() const {
-    std::istringstream in(log_text());
-    std::string line, last;
-    while (std::getline(in, line)) {
-      if (!line.empty()) last = line;
-    }
-    return last;
-  }
 };
 
 TEST_F(LinkGuardTest, ALinkAtAnyNameARunWritesIsRefusedAndItsTargetUntouched) {

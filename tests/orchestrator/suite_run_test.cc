@@ -40,16 +40,6 @@ class SuiteRunTest : public testing::RunFixture {
             "--out",             (fx_.root() / out).string(), "--data", fx_.root().string(), "--profile", "none",
             "--episode-timeout", "5",       "--no-progress"};
   }
-
-  // The last line of the log: what a failed command said.
-  std::string last_line() const {
-    std::istringstream in(log_text());
-    std::string line, last;
-    while (std::getline(in, line)) {
-      if (!line.empty()) last = line;
-    }
-    return last;
-  }
 };
 
 TEST_F(SuiteRunTest, ASuiteRunsExactlyItsTasksFromItsOwnCopy) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -59,6 +60,15 @@ class RunFixture : public ::testing::Test {
   std::string log_text() const {
     std::ifstream in(log());
     return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  // The log's last line that is not empty: what a refused command said.
+  std::string last_line() const {
+    std::istringstream in(log_text());
+    std::string line, last;
+    while (std::getline(in, line)) {
+      if (!line.empty()) last = line;
+    }
+    return last;
   }
 
   std::vector<EpisodeRow> results(const std::string& out) {
