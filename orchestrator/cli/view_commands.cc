@@ -42,6 +42,13 @@ int run_export(const ExportOptions& o) {
               "in %.1f s\nopen %s/index.html (no server needed)\n",
               stats.episodes, stats.runs, o.out.c_str(), stats.attempts, stats.images, stats.image_refs,
               static_cast<double>(stats.bytes) / (1 << 20), seconds, o.out.c_str());
+  // The site shows the damage; the command says it too, and does not claim a whole export.
+  for (const std::string& line : stats.damage) std::fprintf(stderr, "mtg export: %s\n", line.c_str());
+  if (!stats.damage.empty()) {
+    std::fprintf(stderr, "mtg export: %zu damaged or missing stretch(es) of recording, named above and on the pages\n",
+                 stats.damage.size());
+    return 1;
+  }
   return 0;
 }
 

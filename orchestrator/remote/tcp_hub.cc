@@ -86,15 +86,33 @@ namespace {
 // read-only (all flock needs), and made world-readable by whoever creates it first.
 class PortChoiceLock {
  public:
+  // Not through a link (anyone may plant one in /tmp), only a regular file, and never waited on
+  // for long: a process of another user holding it forever must not hang a run (issue 55).
   PortChoiceLock() {
     const char* path = "/tmp/mtg-hub-ports.lock";
-    fd_ = ::open(path, O_RDONLY | O_CLOEXEC);
+    fd_ = ::open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
     if (fd_ < 0 && errno == ENOENT) {
-      fd_ = ::open(path, O_RDONLY | O_CREAT | O_CLOEXEC, 0644);
+      fd_ = ::open(path, O_RDONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
       if (fd_ >= 0) ::fchmod(fd_, 0644);
+      if (fd_ < 0 && errno == EEXIST) fd_ = ::open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);  // made meanwhile
     }
-    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0) {
-      log::warn(std::string("no lock on ") + path + " (" + std::strerror(errno) +
+    struct stat st {};
+    if (fd_ >= 0 && (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode))) {
+      ::close(fd_);
+      fd_ = -1;
+      errno = EINVAL;
+    }
+    bool held = false;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(kWaitSeconds);
+    while (fd_ >= 0 && !held) {
+      held = ::flock(fd_, LOCK_EX | LOCK_NB) == 0;
+      if (held || errno != EWOULDBLOCK || std::chrono::steady_clock::now() >= give_up) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (!held) {
+      log::warn(std::string("no lock on ") + path + " (" +
+                (fd_ < 0 ? std::string(std::strerror(errno)) + "; a link or not a regular file is not used"
+                         : "held by another process for " + std::to_string(kWaitSeconds) + " s") +
                 "): a hub started at the same moment by another run could take the same port");
     }
   }
@@ -105,6 +123,7 @@ class PortChoiceLock {
   PortChoiceLock& operator=(const PortChoiceLock&) = delete;
 
  private:
+  static constexpr int kWaitSeconds = 10;  // a hub starts listening within a few seconds
   int fd_ = -1;
 };
 

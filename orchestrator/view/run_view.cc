@@ -203,6 +203,11 @@ RunRows RunView::compare_rows() {
                   per_repeat_);
 }
 
+std::vector<std::string> RunView::damage_read_through() {
+  index_.refresh();
+  return index_.damage(!run_in_progress(dir_));
+}
+
 LeaderboardRun RunView::leaderboard_run() {
   return {name_, without_excluded(*rows(), current_marks(read_marks(dir_))),
           suite_identity(plan_summary_.value("provenance", json(nullptr))), per_repeat_};

@@ -69,6 +69,9 @@ class RunView {
   RunRows compare_rows();
   /// Its rows and suite for a leaderboard (report/leaderboard.h), without excluded episodes.
   LeaderboardRun leaderboard_run();
+  /// What the recordings hold of damage (missing, altered or unreadable stretches), once they are
+  /// read to their end now: the indexer thread may not have got there yet.
+  std::vector<std::string> damage_read_through();
   /// Every results row (episode order).
   std::vector<EpisodeRow> all_rows() { return *rows(); }
 

@@ -217,6 +217,9 @@ ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
   for (std::size_t r = 0; r < views.size(); ++r) {
     RunView& view = *views[r];
     const std::string dir = "data/r" + std::to_string(r) + "/";
+    // The recordings read to their end first, so the pages and the command name the same damage
+    // (the indexer thread may not have got there yet).
+    const std::vector<std::string> damage = view.damage_read_through();
     json overview = view.overview();
     // A snapshot: the exported page never polls; and where the run lived here is nobody's business.
     overview["live"] = false;
@@ -250,6 +253,9 @@ ExportStats write_site(const std::vector<fs::path>& runs, const fs::path& out,
     }
     site.data(dir + "rows.js", list);
     site.data(dir + "marks.js", view.marks());  // shown, not changed: a site has no server to keep them
+    // What the viewer names (damaged stretches, missing or altered recordings): said by the
+    // command too, not only on the exported page (issue 55).
+    for (const std::string& line : damage) site.stats.damage.push_back(view.name() + ": " + line);
     ++site.stats.runs;
   }
   site.data("data/runs.js", index);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace mtg::orchestrator::view {
@@ -22,6 +23,7 @@ struct ExportStats {
   std::size_t image_refs = 0;    // images the pages show
   std::uintmax_t bytes = 0;      // everything written
   std::size_t truths_missing = 0;  // attempts whose goal could not be read (no truth.key)
+  std::vector<std::string> damage;  // per run, what the viewer names as damaged or missing
 };
 
 /// Exports `runs` into `out`, which must not exist or be empty. `progress(done, total)` is

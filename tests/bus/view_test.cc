@@ -230,6 +230,11 @@ TEST_F(ViewerTest, ADamagedRecordingIsReadPastItsDamageAndTheOverviewSaysWhere) 
   }
   EXPECT_GE(same, static_cast<int>(rows.size()) - 1);
   b->screenshot(kArtifacts / "damaged-recording.png");
+  // mtg export writes the site and names the damage as the viewer does, exiting 1 (issue 55).
+  EXPECT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "run").string(), "--out", (fx_.root() / "site").string()}), 1);
+  EXPECT_NE(log_text().find("mtg export: run: bus-0.lcmlog: "), std::string::npos) << log_text();
+  EXPECT_TRUE(fs::exists(fx_.root() / "site" / "index.html"));
+  EXPECT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "whole").string(), "--out", (fx_.root() / "site2").string()}), 0);
 }
 
 // A finished run whose recording was cut off inside its last episode (a disk that filled, a copy
