@@ -544,12 +544,15 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   sights->add_option("--profile", sights_opts->profile, "scene profile (default replica_cad)");
   sights->add_option("--count", sights_opts->count, "objects drawn (default 200)");
   sights->add_option("--seed", sights_opts->seed, "seed of the draw (default 0)");
-  sights->add_option("--out", sights_opts->out, "folder for images/, sights.json and labels/");
+  sights->add_option("--out", sights_opts->out, "folder for images/, sights.json and labels/ (what raters get)");
+  sights->add_option("--key", sights_opts->key,
+                     "where the answers (objects, nouns, pixels) go, outside the raters' folder (default <out>-key.json)");
   auto sights_report_opts = std::make_shared<SightsReportOptions>();
   CLI::App* sights_report =
       sights->add_subcommand("report", "The visibility rule against the answers in DIR/labels: agreement, best thresholds, kappa");
   sights_report->add_option("dir", sights_report_opts->dir, "the draw's folder")->required();
   sights_report->add_flag("--json", sights_report_opts->json, "print one JSON object");
+  sights_report->add_option("--key", sights_report_opts->key, "the draw's key (default <dir>-key.json)");
   commands.push_back({sights_report, [sights_report_opts] { return run_sights_report(*sights_report_opts); }});
   commands.push_back({sights, [sights_opts] { return run_sights_draw(*sights_opts); }});
   commands.push_back({audit, [audit_opts] {

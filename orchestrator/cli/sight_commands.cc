@@ -95,6 +95,14 @@ std::string case_id(std::size_t k) {
   return buf;
 }
 
+// Where a draw's key lives: the one given, else beside the raters' folder, "<folder>-key.json".
+fs::path key_path(const std::string& given, const fs::path& folder) {
+  if (!given.empty()) return given;
+  fs::path f = fs::absolute(folder).lexically_normal();
+  if (!f.has_filename()) f = f.parent_path();
+  return f.parent_path() / (f.filename().string() + "-key.json");
+}
+
 }  // namespace
 
 int run_sights_draw(const SightsDrawOptions& o) {
@@ -102,6 +110,14 @@ int run_sights_draw(const SightsDrawOptions& o) {
   if (o.count < 1) throw Error("mtg audit sights: --count must be at least 1, not " + std::to_string(o.count));
   const fs::path out(o.out);
   if (fs::exists(out / "sights.json")) throw Error("mtg audit sights: " + o.out + " holds a draw already (sights.json)");
+  // The answers (which object, its noun, its pixels) stay out of the folder raters are given
+  // (issue 55: sights.json once held them beside the raters' labels).
+  const fs::path key = key_path(o.key, out);
+  const fs::path folder = fs::absolute(out).lexically_normal();
+  const fs::path inside = fs::absolute(key).lexically_normal().lexically_relative(folder);
+  if (!inside.empty() && *inside.begin() != "..") {
+    throw Error("mtg audit sights: --key " + key.string() + " lies inside the raters' folder " + o.out + "; put it elsewhere");
+  }
   fs::create_directories(out / "images");
   fs::create_directories(out / "labels");
   render::ImageRenderer renderer(o.profile);
@@ -113,7 +129,7 @@ int run_sights_draw(const SightsDrawOptions& o) {
     all.insert(all.end(), c.begin(), c.end());
   }
   const std::vector<std::size_t> drawn = render::stratified_draw(all, static_cast<std::size_t>(o.count), o.seed);
-  nlohmann::json cases = nlohmann::json::array();
+  nlohmann::json cases = nlohmann::json::array(), shown = nlohmann::json::array();
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     render::SightCase& c = all[drawn[k]];
     c.id = case_id(k);
@@ -133,24 +149,33 @@ int run_sights_draw(const SightsDrawOptions& o) {
     nlohmann::json j = render::to_json(c);
     j["image"] = "images/" + c.id + ".png";
     cases.push_back(j);
+    shown.push_back({{"id", c.id}, {"image", j["image"]}});
   }
-  const nlohmann::json doc = {{"format", "mtg-sights/1"}, {"scenes", o.scenes}, {"seed", o.seed},
+  const nlohmann::json doc = {{"format", "mtg-sights/2"}, {"scenes", o.scenes}, {"seed", o.seed},
                               {"question", "Look at the tip of the magenta arrow. Can you see an object there clearly "
                                            "enough to say what it is? If so, name it in one or two words."},
-                              {"cases", cases}};
+                              {"cases", shown}};
+  write_file_atomically(key.string(), [&](std::ostream& os) {
+    os << nlohmann::json({{"format", "mtg-sights-key/1"}, {"cases", cases}}).dump(1) << "\n";
+  });
   write_file_atomically((out / "sights.json").string(), [&](std::ostream& os) { os << doc.dump(1) << "\n"; });
-  std::printf("drew %zu of %zu objects into %s (images/, sights.json); answers go to %s/labels/<rater>.json as "
-              "{\"rater\", \"labels\": [{\"id\", \"seen\", \"name\"}]}\n",
-              drawn.size(), all.size(), o.out.c_str(), o.out.c_str());
+  std::printf("drew %zu of %zu objects into %s (images/, sights.json: ids and images only); answers go to "
+              "%s/labels/<rater>.json as {\"rater\", \"labels\": [{\"id\", \"seen\", \"name\"}]}; the key is %s, "
+              "outside the raters' folder\n",
+              drawn.size(), all.size(), o.out.c_str(), o.out.c_str(), key.c_str());
   return 0;
 }
 
 int run_sights_report(const SightsReportOptions& o) {
   const fs::path dir(o.dir);
   const nlohmann::json doc = read_json_file((dir / "sights.json").string());
+  // Draws before mtg-sights/2 kept the answers in sights.json itself; later ones in their key.
+  const bool keyed = doc.value("format", std::string()) != "mtg-sights/1";
+  const fs::path key = key_path(o.key, dir);
+  const nlohmann::json key_doc = keyed ? read_json_file(key.string()) : doc;
   std::vector<render::SightCase> cases;
   std::map<std::string, std::size_t> index;
-  for (const nlohmann::json& j : doc.at("cases")) {
+  for (const nlohmann::json& j : key_doc.at("cases")) {
     cases.push_back(render::sight_case_from_json(j));
     index[cases.back().id] = cases.size() - 1;
   }

@@ -17,10 +17,12 @@ struct SightsDrawOptions {
   int count = 200;
   std::uint64_t seed = 0;
   std::string out;
+  std::string key;        // where the answers go ("" = <out>-key.json beside the folder, not in it)
 };
 
 struct SightsReportOptions {
   std::string dir;        // holds sights.json and labels/*.json
+  std::string key;        // the draw's key ("" = <dir>-key.json; draws before mtg-sights/2 hold it in sights.json)
   bool json = false;
 };
 

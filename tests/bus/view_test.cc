@@ -22,6 +22,7 @@
 #include "core/tasks/task_db.h"
 #include "tests/support/browser.h"
 #include "tests/support/run_fixture.h"
+#include "tests/support/shipped_data.h"
 
 namespace mtg {
 namespace {
@@ -1003,6 +1004,44 @@ TEST_F(AuditTest, APersonAnswersFromThePageAndTheReportCountsIt) {
   ASSERT_GT(port_in_log(fx_.root() / "again.log", 60000), 0);
   std::ifstream said(fx_.root() / "again.log");
   EXPECT_NE(std::string((std::istreambuf_iterator<char>(said)), {}).find("answers kept"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mtg
+
+namespace mtg {
+namespace {
+
+// `mtg audit sights` gives raters images and ids only: which object each arrow points at, its
+// noun and its pixels go to a key outside their folder (issue 55), and the report reads it there.
+TEST(AuditSights, TheRatersFolderHoldsNoAnswerAndTheReportReadsTheKey) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  const fs::path dir = fs::temp_directory_path() / ("mtg_sights_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path out = dir / "draw", log = dir / "log.txt";
+  auto run = [&](const std::vector<std::string>& args) { return testing::ChildProcess(args, log.string()).wait(300000); };
+  const std::string data = testing::shipped_dataset()->root.string();
+  ASSERT_EQ(run({testing::bin("mtg"), "--log-level", "warn", "audit", "sights", "--scene", "apt_0", "--count", "3", "--data",
+                 data, "--out", out.string()}),
+            0);
+  std::ifstream in(out / "sights.json");
+  const std::string shown((std::istreambuf_iterator<char>(in)), {});
+  for (const char* answer : {"\"object\"", "\"noun\"", "visible_pixels", "\"platform\""}) {
+    EXPECT_EQ(shown.find(answer), std::string::npos) << answer << " is in the raters' sights.json: " << shown;
+  }
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    EXPECT_EQ(e.path().filename().string().find("key"), std::string::npos) << e.path();
+  }
+  ASSERT_TRUE(fs::exists(dir / "draw-key.json"));
+  std::ofstream(out / "labels" / "r.json") << R"({"rater": "r", "labels": [{"id": "s001", "seen": true, "name": "cup"}]})";
+  EXPECT_EQ(run({testing::bin("mtg"), "audit", "sights", "report", out.string()}), 0);
+  // A key asked for inside the raters' folder is refused before anything is drawn.
+  EXPECT_EQ(run({testing::bin("mtg"), "audit", "sights", "--scene", "apt_0", "--count", "3", "--data", data, "--out",
+                 (dir / "again").string(), "--key", (dir / "again" / "k.json").string()}),
+            1);
+  EXPECT_FALSE(fs::exists(dir / "again" / "images"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
