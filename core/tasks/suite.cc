@@ -84,6 +84,8 @@ Suite draw_suite(std::string name, const std::vector<Task>& tasks, SuiteDraw dra
   return s;
 }
 
+nlohmann::json suite_spread(const Suite& s) { return to_json(spread_of(pointers(s.tasks))); }
+
 std::string Suite::id() const { return name + "@" + digest.substr(0, kIdDigits); }
 
 nlohmann::json suite_content(const Suite& s) {
@@ -93,7 +95,7 @@ nlohmann::json suite_content(const Suite& s) {
           {"license", s.license},
           {"generator", s.generator},
           {"draw", draw_json(s.draw)},
-          {"spread", to_json(spread_of(pointers(s.tasks)))},
+          {"spread", suite_spread(s)},
           {"dataset", scene::to_json(s.dataset)},
           {"tasks", std::move(tasks)}};
 }

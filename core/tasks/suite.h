@@ -69,6 +69,9 @@ struct Suite {
 Suite draw_suite(std::string name, const std::vector<Task>& tasks, SuiteDraw draw, nlohmann::json generator,
                  const std::map<std::string, scene::DatasetFingerprint>& dataset);
 
+/// How spread its tasks are (spread_of, as JSON): content's "spread".
+nlohmann::json suite_spread(const Suite& suite);
+
 /// The part the digest covers, as JSON (keys sorted when dumped).
 nlohmann::json suite_content(const Suite& suite);
 /// SHA-256 of suite_content(suite).dump().

@@ -128,7 +128,7 @@ int run_suite_make(const SuiteMakeOptions& o) {
               tasks::to_string(suite.draw.kind), static_cast<unsigned long long>(suite.draw.seed), o.out.c_str());
   print_counts(suite);
   std::printf("spread (per level, the biggest stratum's share of its scene's tasks, in the most lopsided scene):\n");
-  print_spread(tasks::suite_content(suite)["spread"]);
+  print_spread(tasks::suite_spread(suite));
   std::printf("digest %s\n", suite.digest.c_str());
   return 0;
 }
