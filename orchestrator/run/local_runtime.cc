@@ -25,6 +25,8 @@
 #include "mtg/recorded_t.hpp"
 #include "mtg/run_control_t.hpp"
 #include "mtg/state_update_t.hpp"
+#include "orchestrator/run/hang_rule.h"
+#include "orchestrator/run/process_memory.h"
 
 namespace mtg::orchestrator {
 
@@ -311,23 +313,47 @@ void LocalRuntime::check_timeouts(LaunchSink& sink) {
   }
 }
 
-// Services beat every second, but a beat waits for the work in hand (a model's reply, a large
-// scene's first frame): silence counts as a hang only past most of the episode time-out, so the
-// attempts it holds are retried on its successor before they time out against it.
-double LocalRuntime::hang_after_s() const { return std::max(3.0, 0.8 * config_.episode_timeout_s); }
-
 void LocalRuntime::kill_hung() {
   const auto now = Clock::now();
+  const HangLimits limits = hang_limits(config_.episode_timeout_s);
   auto check = [&](const std::string& name) {
     const pid_t pid = supervisor_.pid(name);
     const auto beat = last_beat_.find(static_cast<int>(pid));
     if (pid <= 0 || beat == last_beat_.end()) return;  // not started, or not ready yet (wait_ready's)
     const double silent = std::chrono::duration<double>(now - beat->second).count();
-    if (silent <= hang_after_s()) return;
-    log::warn(name + " (pid " + std::to_string(pid) + ") sent no heartbeat for " +
-              std::to_string(static_cast<int>(silent)) + " s: it hangs; killed, to be restarted");
+    Watch& watch = watched_[static_cast<int>(pid)];
+    if (silent <= 1.5) {  // beating: nothing to look at (a beat a second; /proc is read only for the silent)
+      watch = Watch{};
+      return;
+    }
+    // Look at the main thread at most twice a second while it is silent.
+    if (watch.looked == Clock::time_point{} || now - watch.looked >= std::chrono::milliseconds(500)) {
+      const auto activity = main_thread_activity(pid);
+      if (!activity) return;  // gone: handle_deaths sees it
+      // The first look of a silence has nothing to compare the CPU time with: only the state counts.
+      const bool first = watch.looked == Clock::time_point{};
+      if (made_progress(first ? ThreadActivity{'?', activity->cpu_seconds} : watch.last, *activity)) watch.progress = now;
+      watch.last = *activity;
+      watch.looked = now;
+    }
+    const Quiet quiet{silent, std::chrono::duration<double>(now - std::max(watch.progress, beat->second)).count(),
+                      watch.last.state == 'T' || watch.last.state == 't'};
+    const Silence verdict = classify(quiet, limits);
+    const std::string who = name + " (pid " + std::to_string(pid) + ")";
+    const std::string secs = std::to_string(static_cast<int>(silent));
+    if (verdict == Silence::kSlow && !watch.said_slow) {
+      watch.said_slow = true;
+      log::warn(who + " sent no heartbeat for " + secs + " s but its main thread is working: slow, not hung; left " +
+                "alone for up to " + std::to_string(static_cast<int>(limits.runaway_after_s)) + " s of silence");
+    }
+    if (verdict != Silence::kHung && verdict != Silence::kRunaway) return;
+    log::warn(who + " sent no heartbeat for " + secs + " s " +
+              (verdict == Silence::kHung ? std::string("and did no work (") + watch.last.state + "): it hangs"
+                                         : std::string("while working all along: taken for looping")) +
+              "; killed, to be restarted");
     ::kill(pid, SIGKILL);
     last_beat_.erase(beat);
+    watched_.erase(static_cast<int>(pid));
   };
   for (const std::string& name : names_) check(name);
   if (recorder_beats()) check("recorder");

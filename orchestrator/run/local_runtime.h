@@ -24,6 +24,7 @@
 #include "bus/bus.h"
 #include "bus/header.h"
 #include "bus/private_network.h"
+#include "orchestrator/run/hang_rule.h"
 #include "orchestrator/run/launcher.h"
 #include "orchestrator/run/supervisor.h"
 
@@ -105,9 +106,8 @@ class LocalRuntime final : public Launcher {
   void wait_ready(const std::vector<std::string>& names, double timeout_s);
   void handle_deaths(LaunchSink& sink);
   void check_timeouts(LaunchSink& sink);
-  /// Kills the processes silent for longer than hang_after_s() (handle_deaths restarts them).
+  /// Kills the processes hung or looping by the hang rule (hang_rule.h); handle_deaths restarts them.
   void kill_hung();
-  double hang_after_s() const;
   void fail(bus::EpisodeId episode_id, const std::string& why, LaunchSink& sink);
   /// Hands the flight's result to the sink and forgets the flight.
   void finish(std::map<bus::EpisodeId, Flight>::iterator flight);
@@ -127,6 +127,14 @@ class LocalRuntime final : public Launcher {
   int first_attempt_ = 0;                            // of this invocation (RuntimeConfig::attempts_per_invocation)
   // The last heartbeat of each process by pid: one heard is ready (wait_ready), one silent too long hangs.
   std::map<int, std::chrono::steady_clock::time_point> last_beat_;
+  /// What the hang rule saw of a silent process's main thread, by pid.
+  struct Watch {
+    Clock::time_point looked{};    // when /proc was last read (epoch: not yet in this silence)
+    Clock::time_point progress{};  // the last sign of work
+    ThreadActivity last{};
+    bool said_slow = false;
+  };
+  std::map<int, Watch> watched_;
   std::map<bus::EpisodeId, Flight> in_flight_;
   LaunchSink* sink_ = nullptr;  // during poll()
   bool open_ = false;

@@ -15,8 +15,8 @@ namespace fs = std::filesystem;
 
 // The fields of /proc/<pid>/stat after the parenthesised name (which may itself hold spaces and
 // parentheses): the state is [0], so field k of proc(5) is [k - 3]. Empty when the process is gone.
-std::vector<std::string> stat_fields(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+std::vector<std::string> stat_fields(const std::string& file) {
+  std::ifstream in(file);
   std::string stat((std::istreambuf_iterator<char>(in)), {});
   const auto close = stat.rfind(')');
   if (close == std::string::npos) return {};
@@ -24,6 +24,12 @@ std::vector<std::string> stat_fields(pid_t pid) {
   std::vector<std::string> out;
   for (std::string field; rest >> field;) out.push_back(field);
   return out;
+}
+
+std::vector<std::string> stat_fields(pid_t pid) { return stat_fields("/proc/" + std::to_string(pid) + "/stat"); }
+
+double cpu_seconds_of(const std::vector<std::string>& f) {
+  return (std::stod(f[11]) + std::stod(f[12])) / static_cast<double>(::sysconf(_SC_CLK_TCK));  // utime, stime
 }
 
 pid_t parent_of(pid_t pid) {
@@ -58,7 +64,14 @@ std::string role_of(pid_t pid) {
 double process_cpu_seconds(pid_t pid) {
   const auto f = stat_fields(pid);
   if (f.size() < 13) return 0.0;
-  return (std::stod(f[11]) + std::stod(f[12])) / static_cast<double>(::sysconf(_SC_CLK_TCK));  // utime, stime
+  return cpu_seconds_of(f);
+}
+
+std::optional<ThreadActivity> main_thread_activity(pid_t pid) {
+  const std::string id = std::to_string(pid);
+  const auto f = stat_fields("/proc/" + id + "/task/" + id + "/stat");
+  if (f.size() < 13 || f[0].empty()) return std::nullopt;
+  return ThreadActivity{f[0][0], cpu_seconds_of(f)};
 }
 
 std::vector<ProcessMemory> process_tree_memory(pid_t root) {

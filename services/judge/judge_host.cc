@@ -1,6 +1,10 @@
 #include "services/judge/judge_host.h"
 
+#include <chrono>
+#include <cstdint>
+
 #include "bus/channels.h"
+#include "bus/process/faults.h"
 #include "bus/convert.h"
 #include "core/tasks/task.h"
 #include "core/util/error.h"
@@ -24,7 +28,24 @@ JudgeHost::JudgeHost(bus::Bus& bus, bus::HeaderStamper& stamp, graph::SceneCache
                                       });
 }
 
+namespace {
+
+// Test hook (MTG_FAULTS="judge_busy:<ms>", once per MTG_FAULT_MARKS folder): the main thread works
+// for that long without returning to its loop, as a judge on a machine at load 13 may, so the hang
+// rule's "slow, not hung" can be seen end to end.
+void work_without_beating() {
+  const int ms = process::fault_setting("judge_busy");
+  if (ms <= 0 || !process::first_time_fault("judge_busy")) return;
+  log::warn("fault injection: working " + std::to_string(ms) + " ms without a heartbeat");
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+  volatile std::uint64_t spins = 0;
+  while (std::chrono::steady_clock::now() < until) spins = spins + 1;
+}
+
+}  // namespace
+
 void JudgeHost::on_start(const mtg::episode_start_t& start, const mtg::episode_truth_t& truth) {
+  work_without_beating();
   const std::vector<mtg::state_update_t> early_states = early_states_.take(start.header);
   const std::vector<mtg::agent_action_t> early_actions = early_actions_.take(start.header);
   if (!episodes_.is_new_attempt(start.header)) return;  // a duplicate or an older attempt

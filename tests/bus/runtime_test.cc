@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <cmath>
@@ -422,6 +423,43 @@ TEST_F(RuntimeTest, AHungServiceIsKilledAndRestartedAndNoEpisodeIsLost) {
   EXPECT_EQ(hung, calm);
   EXPECT_THAT(log_text(), ::testing::HasSubstr("judge (pid " + std::to_string(judge) + ") sent no heartbeat"));
   ::kill(judge, SIGKILL);  // had it survived, it is not left behind stopped
+}
+
+TEST_F(RuntimeTest, ASlowServiceIsLeftAloneWhileItWorks) {
+  // The judge works 17.5 s without a heartbeat (past the 16 s after which a silent service that does
+  // no work is taken for hung, within the 20 s episode time-out): it is slow, not hung, and keeps
+  // its pid; the run's verdicts are those of a calm run.
+  auto args = run_args("slow", {"oracle"}, 4, 2);
+  args[std::distance(args.begin(), std::find(args.begin(), args.end(), "--episode-timeout")) + 1] = "20";
+  ASSERT_EQ(mtg(run_args("calm", {"oracle"}, 4, 2)), 0) << log_text();
+  std::map<std::int64_t, std::string> calm;
+  for (const auto& r : results("calm")) calm[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
+  const fs::path marks = fx_.root() / "slow-marks";
+  fs::create_directories(marks);
+  ::setenv("MTG_FAULTS", "judge_busy:17500", 1);
+  ::setenv("MTG_FAULT_MARKS", marks.c_str(), 1);
+  testing::ChildProcess run(args, log());
+  ::unsetenv("MTG_FAULTS");
+  ::unsetenv("MTG_FAULT_MARKS");
+  pid_t judge = 0;
+  for (int i = 0; i < 600 && judge <= 0; ++i) {
+    judge = testing::descendant_pid(run.pid(), "mtg_judge");
+    if (judge <= 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_GT(judge, 0) << "no mtg_judge under the run";
+  ASSERT_EQ(run.wait(120000), 0) << log_text();
+  ASSERT_TRUE(fs::exists(marks / "judge_busy")) << "the fault did not happen: " << log_text();
+  std::map<std::int64_t, std::string> slow;
+  for (const auto& r : results("slow")) {
+    EXPECT_EQ(r.status, "scored") << r.task_id << ": " << r.detail;
+    slow[r.episode_id.value()] = orchestrator::verdict_fingerprint(r);
+  }
+  EXPECT_EQ(slow, calm);
+  const std::string text = log_text();
+  EXPECT_THAT(text, ::testing::HasSubstr("judge (pid " + std::to_string(judge) + ") sent no heartbeat"));
+  EXPECT_THAT(text, ::testing::HasSubstr("slow, not hung"));
+  EXPECT_THAT(text, ::testing::Not(::testing::HasSubstr("it hangs")));
+  EXPECT_THAT(text, ::testing::Not(::testing::HasSubstr("restarting it")));
 }
 
 // Kills one service (found in the run's process tree) once the run is under way.
