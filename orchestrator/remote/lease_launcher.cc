@@ -100,6 +100,7 @@ void LeaseLauncher::subscribe() {
       if (worker_errors_.insert(why).second) log::warn(why + " (" + m.lease_id + ")");
       return;
     }
+    if (!from_holder(key, m.header.sender, "recording reference")) return;
     if (delivered_.count(key) == 0) {
       Arrival& a = arrivals_[key];
       a.worker = m.header.sender;
@@ -116,6 +117,7 @@ void LeaseLauncher::subscribe() {
   bus_.subscribe<mtg::record_chunk_t>(bus::kRecord, [this](const std::string&, const mtg::record_chunk_t& m) {
     if (m.header.run_id != run_.run_id) return;
     const AttemptKey key{bus::episode_of(m.header), m.header.attempt};
+    if (!from_holder(key, m.header.sender, "recording chunk")) return;
     if (delivered_.count(key) == 0) {
       Arrival& a = arrivals_[key];
       a.worker = m.header.sender;
@@ -308,6 +310,18 @@ void LeaseLauncher::on_renew(bus::EpisodeId id, int attempt, const std::string& 
     send_lease("revoke", id, attempt, worker);
   }
   if (it == leases_.end()) stamp_.forget_episode(id);
+}
+
+bool LeaseLauncher::from_holder(const AttemptKey& key, const std::string& sender, const char* what) {
+  // A recording comes from the worker the attempt was leased to: another key holder's (or a
+  // worker's for an attempt it does not hold) is not collected, whatever it names.
+  const auto lease = leases_.find(key.first);
+  if (lease != leases_.end() && lease->second.attempt == key.second && lease->second.worker == sender) return true;
+  if (delivered_.count(key) != 0) return true;  // a resend after the release was lost: arrived() answers it
+  const std::string why = std::string("a ") + what + " of " + lease_id(key.first, key.second) + " from " + sender +
+                          ", which does not hold its lease; ignored";
+  if (worker_errors_.insert(why).second) log::warn(why);
+  return false;
 }
 
 void LeaseLauncher::arrived(const AttemptKey& key) {

@@ -111,6 +111,8 @@ class LeaseLauncher final : public Launcher {
   void flush_book();
   void end_lease(const std::string& action, bus::EpisodeId id, int attempt, const std::string& worker);
   std::string lease_id(bus::EpisodeId episode_id, int attempt) const;
+  /// Whether `sender` holds the lease of `key` (or the attempt was delivered before); warns once when not.
+  bool from_holder(const AttemptKey& key, const std::string& sender, const char* what);
 
   RuntimeConfig run_;
   std::filesystem::path dir_;

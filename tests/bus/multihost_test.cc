@@ -19,10 +19,12 @@
 #include "bus/header.h"
 #include "bus/recording_ref.h"
 #include "bus/url.h"
+#include "core/util/sha256.h"
 #include "mtg/episode_result_t.hpp"
 #include "mtg/heartbeat_t.hpp"
 #include "mtg/lease_t.hpp"
 #include "mtg/observation_t.hpp"
+#include "mtg/recording_ref_t.hpp"
 #include "mtg/run_control_t.hpp"
 #include "mtg/run_info_t.hpp"
 #include "orchestrator/run/run_plan.h"
@@ -237,6 +239,107 @@ TEST_F(MultiHostTest, RecordingsKeptInASharedFolderOrOnTheWorkersReadAsAMergedOn
     EXPECT_EQ(status, 0) << text;
   }
 
+}
+
+// A key holder forges signed recording references (issue 55: /etc/passwd, with its real size and
+// hash, was once kept as four episodes' recordings and copied by gather). Impersonating the worker
+// each attempt is leased to, it names a secret file, a 3 GB sparse file named like a recording
+// outside the run's shared folder, and a path through ".."; as a key holder that holds no lease, the
+// secret again. None is kept: every stored reference is the attempt's own file in the shared
+// folder, the verdicts are a run's without the forger, and gather and rejudge read only those.
+TEST_F(MultiHostTest, AKeyHolderForgingRecordingReferencesGetsNoFileKept) {
+  ASSERT_EQ(mtg(run_args("one", 3, 4, 0)), 0) << log_text();
+  const auto single = fingerprints(results("one"));
+  make_hosts(2);
+  for (int i = 0; i < 2; ++i) start_worker(i);
+  const fs::path shared = fx_.root() / "shared-forged";
+  const fs::path secret = fx_.root() / "secret.txt";
+  std::ofstream(secret, std::ios::binary) << "root:x:0:0:root:/root:/bin/bash\n";
+  const std::string secret_text = testing_multihost::read_text(secret);
+  bus::Bus forger(kSharedUrl);
+  forger.authenticate(std::make_shared<const bus::Authenticator>(bus::Authenticator::read_secret(fx_.root() / "bus.key")));
+  std::set<std::string> granted;
+  std::map<std::string, int> sent;  // variant -> forged references sent
+  std::string run_id;
+  forger.subscribe<mtg::lease_t>(std::string(bus::kLease) + "_.*", [&](const std::string&, const mtg::lease_t& m) {
+    if (m.action != "grant" || m.header.run_id.empty() || !granted.insert(m.lease_id).second) return;
+    run_id = m.header.run_id;
+    const std::int64_t episode = m.header.episode_id;
+    mtg::recording_ref_t ref{};
+    ref.header = m.header;  // this build's schema, the attempt the grant names
+    ref.header.seq = 0;
+    ref.header.episode_id = episode;
+    ref.header.attempt = m.header.attempt;
+    ref.header.sender = m.worker;  // as the worker holding the lease
+    ref.lease_id = m.lease_id;
+    ref.host = "host0";
+    ref.shared = true;
+    ref.bytes = static_cast<std::int64_t>(secret_text.size());
+    ref.sha256 = sha256_hex(secret_text);
+    const std::string name = "E" + std::to_string(episode) + "-a" + std::to_string(m.header.attempt) + ".lcmlog";
+    std::string variant;
+    switch (episode % 4) {
+      case 0:
+        variant = "secret";
+        ref.location = secret.string();
+        break;
+      case 1: {
+        variant = "sparse";
+        const fs::path elsewhere = fx_.root() / "elsewhere" / run_id;
+        fs::create_directories(elsewhere);
+        ref.location = (elsewhere / name).string();
+        std::ofstream(ref.location, std::ios::binary).close();
+        fs::resize_file(ref.location, std::uintmax_t{3} << 30);
+        ref.bytes = std::int64_t{3} << 30;
+        break;
+      }
+      case 2:
+        variant = "dotdot";
+        ref.location = (shared / run_id).string() + "/../" + run_id + "/" + name;
+        break;
+      default:
+        variant = "not the holder";
+        ref.header.sender = "forger-0";
+        ref.location = secret.string();
+        break;
+    }
+    forger.publish(bus::kRecordRef, ref);
+    ++sent[variant];
+  });
+  std::vector<std::string> args = run_args("forged-refs", 3, 4, 2);
+  args.insert(args.end(), {"--recordings", "shared:" + shared.string()});
+  testing::ChildProcess run(args, log());
+  while (run.running()) forger.handle_once(20);
+  ASSERT_EQ(run.wait(1000), 0) << log_text();
+  EXPECT_EQ(fingerprints(results("forged-refs")), single);
+  for (const char* v : {"secret", "sparse", "dotdot", "not the holder"}) EXPECT_GT(sent[v], 0) << v;
+  const std::string text = log_text();
+  EXPECT_NE(text.find("is not in this run's shared folder"), std::string::npos) << text;
+  EXPECT_NE(text.find("is not an absolute path without . or .."), std::string::npos) << text;
+  EXPECT_NE(text.find("which does not hold its lease; ignored"), std::string::npos) << text;
+  const fs::path dir = fx_.root() / "forged-refs";
+  const auto refs = bus::read_recording_refs(dir / "results.sqlite");
+  ASSERT_EQ(refs.size(), single.size());
+  for (const auto& r : refs) {
+    const std::string name = "E" + to_string(r.episode) + "-a" + std::to_string(r.attempt) + ".lcmlog";
+    EXPECT_EQ(bus::resolve(r, dir), shared / run_id / name) << r.location;
+    EXPECT_NE(testing_multihost::read_text(bus::resolve(r, dir)), secret_text);
+  }
+  // gather copies the run's own files only; rejudge reads them all.
+  const fs::path gathered = fx_.root() / "gather-forged.txt";
+  testing::ChildProcess gather({testing::bin("mtg"), "gather", dir.string(), "--no-bus"}, gathered.string());
+  EXPECT_EQ(gather.wait(60000), 0) << testing_multihost::read_text(gathered);
+  if (fs::exists(dir / "episodes")) {
+    for (const auto& f : fs::directory_iterator(dir / "episodes")) {
+      EXPECT_NE(testing_multihost::read_text(f.path()), secret_text) << f.path();
+    }
+  }
+  const fs::path rejudged = fx_.root() / "rejudge-forged.txt";
+  testing::ChildProcess rejudge({testing::bin("mtg"), "rejudge", dir.string()}, rejudged.string());
+  EXPECT_EQ(rejudge.wait(60000), 0) << testing_multihost::read_text(rejudged);
+  EXPECT_NE(testing_multihost::read_text(rejudged).find(std::to_string(single.size()) + " identical, 0 differ"),
+            std::string::npos)
+      << testing_multihost::read_text(rejudged);
 }
 
 // A fresh `mtg status` believes only what answers its own challenge: a dead worker's heartbeats,

@@ -23,6 +23,7 @@
 #include "core/episode/reply_parser.h"
 #include "core/scene/dataset.h"
 #include "core/scene/scene_loader.h"
+#include "core/tasks/suite.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
 #include "mtg/action_list_t.hpp"
@@ -254,6 +255,18 @@ int task_json(const std::uint8_t* data, std::size_t size) {
   return 0;
 }
 
+// A suite file (mtg-suite/1): refused in one line, or read whole with its digest holding.
+int suite_file(const std::uint8_t* data, std::size_t size) {
+  const fs::path file = scratch() / "suite.json";
+  write_file(file, data, size);
+  try {
+    const tasks::Suite suite = tasks::read_suite(file);
+    if (tasks::suite_digest(suite) != suite.digest) finding("a suite read although its digest does not hold");
+  } catch (const Error&) {
+  }
+  return 0;
+}
+
 // A dataset of one table and one box; the input is its scene instance file.
 int scene_file(const std::uint8_t* data, std::size_t size) {
   static const fs::path root = [] {
@@ -301,7 +314,7 @@ const std::vector<NamedTarget>& targets() {
       {"lcm_messages", &lcm_messages},   {"packed_observations", &packed_observations},
       {"sealed_answers", &sealed_answers}, {"recording", &recording},
       {"task_json", &task_json},         {"scene_file", &scene_file},
-      {"reply_parser", &reply_parser}};
+      {"reply_parser", &reply_parser},   {"suite_file", &suite_file}};
   return all;
 }
 
