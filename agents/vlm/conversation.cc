@@ -1,10 +1,10 @@
 #include "agents/vlm/conversation.h"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "agents/vlm/encoding.h"
+#include "core/render/codec_module.h"
 #include "core/episode/rules.h"
 #include "core/util/error.h"
 
@@ -39,12 +39,12 @@ std::vector<OutgoingImage> images_to_send(const mtg::observation_t& obs, const V
     const int longest = std::max(img.width, img.height);
     std::vector<std::uint8_t> bytes;
     if (settings.image_max_side > 0 && longest > settings.image_max_side) {
-      const cv::Mat decoded = cv::imdecode(img.data, cv::IMREAD_COLOR);
+      const cv::Mat decoded = render::decode_color_image(img.data);
       if (decoded.empty()) throw Error("observation image '" + img.role + "' (" + img.encoding + ") cannot be decoded");
       const double f = static_cast<double>(settings.image_max_side) / longest;
       cv::Mat small;
       cv::resize(decoded, small, cv::Size(), f, f, cv::INTER_AREA);
-      cv::imencode(img.encoding == "jpeg" ? ".jpg" : ".png", small, bytes);
+      render::encode_with_imgcodecs(img.encoding == "jpeg" ? ".jpg" : ".png", small, bytes);
       o.sent.width = small.cols;
       o.sent.height = small.rows;
     }

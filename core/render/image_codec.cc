@@ -1,8 +1,8 @@
 #include "core/render/image_codec.h"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/render/codec_module.h"
 #include "core/render/png_writer.h"
 #include "core/util/error.h"
 #include "core/util/parallel.h"
@@ -24,7 +24,7 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& 
     out = encode_png(image);  // our settings (png_writer.h); OpenCV's filter choice is slow
     ok = !out.empty();
   } else {
-    ok = cv::imencode(".jpg", image, out, {cv::IMWRITE_JPEG_QUALITY, 90});
+    ok = encode_with_imgcodecs(".jpg", image, out, {kJpegQualityFlag, 90});
   }
   if (!ok) throw Error("render: encoding a " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                        " image as " + encoding + " failed");

@@ -146,6 +146,9 @@ Suite read_suite(const fs::path& file) {
     j = nlohmann::json::parse(text.str());
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(where + ": not a whole suite file (not JSON, or cut short: byte " + std::to_string(e.byte) + ")");
+  } catch (const nlohmann::json::exception& e) {
+    // A number too large for a double (out_of_range.406), found by scripts/fuzz.
+    throw Error(where + ": not a suite file (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("format")) throw Error(where + ": not a suite (no \"format\")");
   if (!j["format"].is_string() || j["format"].get<std::string>() != kSuiteFormat) {

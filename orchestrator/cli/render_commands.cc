@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -14,6 +13,7 @@
 #include "bus/observation_packing.h"
 #include "bus/recording.h"
 #include "core/episode/goals.h"
+#include "core/render/codec_module.h"
 #include "core/render/image_renderer.h"
 #include "core/render/mark_layout.h"
 #include "core/render/view.h"
@@ -74,7 +74,7 @@ void write_inspection(const RenderOptions& o, render::ImageRenderer& renderer, c
       for (int u = 0; u < ids.image.width; ++u) png.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(ids.image.at(u, v) + 1);
     }
     std::vector<std::uint8_t> bytes;
-    if (!cv::imencode(".png", png, bytes)) throw Error("mtg render: cannot encode " + o.ids);
+    if (!render::encode_with_imgcodecs(".png", png, bytes)) throw Error("mtg render: cannot encode " + o.ids);
     write_file_bytes_atomically(o.ids, bytes);
     std::printf("wrote %s (%dx%d id pass, 16-bit: object index + 1)\n", o.ids.c_str(), png.cols, png.rows);
   }

@@ -4,10 +4,10 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "core/render/codec_module.h"
 #include "core/render/image_codec.h"
 #include "core/render/mark_layout.h"
 #include "core/render/overlay.h"
@@ -88,7 +88,7 @@ unsigned link_program() {
 // Decodes an embedded texture (PNG/JPEG bytes) to RGBA, no larger than max_size on either edge.
 cv::Mat decode_texture(const scene::Texture& t, int max_size) {
   std::vector<std::uint8_t> bytes = without_color_profile(t.encoded);  // no libpng warning per texture
-  cv::Mat bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, bytes.data()), cv::IMREAD_COLOR);
+  cv::Mat bgr = decode_color_image(bytes);
   if (bgr.empty()) return bgr;
   const int edge = std::max(bgr.cols, bgr.rows);
   if (edge > max_size) {
