@@ -11,9 +11,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string hash_of(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return kMissingFile;
+std::string read_and_hash(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string() + ": cannot read it to fingerprint the dataset");
   std::uint64_t h = kFnvOffset;
@@ -24,6 +22,21 @@ std::string hash_of(const fs::path& file) {
     h = fnv1a64(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(buffer.data()), n), h);
   }
   return to_hex(h);
+}
+
+// The file's hash from the cache when it holds this very version, else read (and remembered when
+// the file did not change while it was read).
+std::string hash_of(const fs::path& file, FileHashCache* cache) {
+  const auto before = FileStamp::of(file);
+  if (!before) return kMissingFile;
+  if (cache == nullptr) return read_and_hash(file);
+  std::error_code ec;
+  const fs::path key = fs::absolute(file, ec).lexically_normal();
+  if (ec) return read_and_hash(file);
+  if (auto kept = cache->find(key, *before)) return *kept;
+  std::string hash = read_and_hash(file);
+  if (FileStamp::of(file) == before) cache->remember(key, *before, hash);
+  return hash;
 }
 
 std::string key_of(const fs::path& data_root, const fs::path& file) {
@@ -52,6 +65,12 @@ DatasetFingerprint DatasetFingerprint::from_json(const nlohmann::json& j) {
   return f;
 }
 
+FileHashes::FileHashes() : cache_(FileHashCache::open_default()) {}
+
+FileHashes::FileHashes(std::unique_ptr<FileHashCache> cache) : cache_(std::move(cache)) {}
+
+FileHashes::~FileHashes() = default;
+
 std::string FileHashes::of(const fs::path& file) {
   std::promise<std::string> mine;
   std::shared_future<std::string> hash;
@@ -65,7 +84,7 @@ std::string FileHashes::of(const fs::path& file) {
   }
   if (first) {  // this thread reads it; any other that asks meanwhile waits on `hash`
     try {
-      mine.set_value(hash_of(file));
+      mine.set_value(hash_of(file, cache_.get()));
     } catch (...) {
       mine.set_exception(std::current_exception());
     }
@@ -75,14 +94,18 @@ std::string FileHashes::of(const fs::path& file) {
 
 DatasetFingerprint fingerprint_files(const fs::path& data_root, const std::set<fs::path>& files, FileHashes* hashes) {
   DatasetFingerprint f;
-  for (const fs::path& file : files) f.files[key_of(data_root, file)] = hashes ? hashes->of(file) : hash_of(file);
+  FileHashes own;
+  FileHashes& reader = hashes ? *hashes : own;
+  for (const fs::path& file : files) f.files[key_of(data_root, file)] = reader.of(file);
   return f;
 }
 
 std::string first_difference(const DatasetFingerprint& expected, const fs::path& data_root, FileHashes* hashes) {
+  FileHashes own;
+  FileHashes& reader = hashes ? *hashes : own;
   for (const auto& [path, hash] : expected.files) {
     const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : data_root / path;
-    const std::string here = hashes ? hashes->of(file) : hash_of(file);
+    const std::string here = reader.of(file);
     if (here == hash) continue;
     if (here == kMissingFile) return path + " is missing here";
     if (hash == kMissingFile) return path + " is here but was missing where the tasks were made";

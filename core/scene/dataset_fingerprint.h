@@ -6,15 +6,19 @@
 // otherwise score the oracle's tasks as failures without a word.
 //
 // The hashes are FNV-1a 64 of the file contents: they catch a different or missing file, not a
-// forgery (core/util/hash.h).
+// forgery (core/util/hash.h). Unchanged files' hashes are remembered between commands
+// (file_hash_cache.h); the digest is the same as reading every file.
 
 #include <filesystem>
 #include <future>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+
+#include "core/scene/file_hash_cache.h"
 
 namespace mtg::scene {
 
@@ -34,14 +38,26 @@ struct DatasetFingerprint {
 
 /// The hashes of files read so far, for fingerprints of several scenes at once (the shipped
 /// apartments share two thirds of their bytes): each file is read once, by whichever thread asks
-/// first, while the others wait for it. Thread-safe.
+/// first, while the others wait for it; files unchanged since an earlier command are not read at
+/// all (file_hash_cache.h). Thread-safe.
 class FileHashes {
  public:
+  /// With the cache the environment names (FileHashCache::open_default).
+  FileHashes();
+  /// With `cache` (nullptr: every file is read).
+  explicit FileHashes(std::unique_ptr<FileHashCache> cache);
+  ~FileHashes();
+  FileHashes(const FileHashes&) = delete;
+  FileHashes& operator=(const FileHashes&) = delete;
+  /// Files whose hash came from the cache so far.
+  std::int64_t cached() const { return cache_ ? cache_->hits() : 0; }
+
   /// The file's hex content hash, or kMissingFile. @throws mtg::Error naming a file that exists
   /// but cannot be read (to every caller that asks for it).
   std::string of(const std::filesystem::path& file);
 
  private:
+  std::unique_ptr<FileHashCache> cache_;
   std::mutex mutex_;
   std::map<std::filesystem::path, std::shared_future<std::string>> hashes_;
 };

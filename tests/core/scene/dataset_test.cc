@@ -1,5 +1,9 @@
 #include "core/scene/dataset.h"
 
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <thread>
 #include <vector>
@@ -89,6 +93,79 @@ TEST(DatasetFingerprint, SharedFileHashesGiveTheSameFingerprintsFromAnyThread) {
   for (auto& t : threads) t.join();
   for (const auto& f : shared) EXPECT_EQ(f.files, alone.files);
   EXPECT_EQ(first_difference(alone, fx.root(), &hashes), "");
+}
+
+
+// The hashes of unchanged files come from the cache, and nothing else does: a file rewritten to
+// the same size with its old modification time is read again (its change time moved), a damaged
+// or linked cache is left alone and every hash is still right.
+TEST(FileHashCache, RemembersOnlyTheVersionItReadAndNeverGivesAWrongHash) {
+  namespace fs = std::filesystem;
+  testing::FixtureDataset fx;
+  std::set<fs::path> files;
+  for (int i = 0; i < 4; ++i) {
+    fx.add_raw_file("part_" + std::to_string(i) + ".bin", std::string(5000, static_cast<char>('a' + i)));
+    files.insert(fx.root() / ("objects/part_" + std::to_string(i) + ".bin"));
+  }
+  const fs::path cache_file = fx.root() / "cache" / "file-hashes.sqlite";
+  fs::create_directories(cache_file.parent_path());
+  const auto with_cache = [&] { return std::make_unique<FileHashCache>(cache_file, std::chrono::nanoseconds(0)); };
+  const auto read_all = [&] {
+    FileHashes none(nullptr);
+    return fingerprint_files(fx.root(), files, &none);
+  };
+  const DatasetFingerprint truth = read_all();
+  {
+    FileHashes first(with_cache());
+    EXPECT_EQ(fingerprint_files(fx.root(), files, &first).files, truth.files);
+    EXPECT_EQ(first.cached(), 0);
+  }
+  {
+    FileHashes second(with_cache());
+    EXPECT_EQ(fingerprint_files(fx.root(), files, &second).files, truth.files);
+    EXPECT_EQ(second.cached(), 4) << "every unchanged file from the cache";
+  }
+  // Same size, other bytes, the old modification time put back.
+  const fs::path part0 = fx.root() / "objects/part_0.bin";
+  const auto old_time = fs::last_write_time(part0);
+  std::ofstream(part0, std::ios::binary | std::ios::trunc) << std::string(5000, 'z');
+  fs::last_write_time(part0, old_time);
+  const DatasetFingerprint changed = read_all();
+  ASSERT_NE(changed.files.at("objects/part_0.bin"), truth.files.at("objects/part_0.bin"));
+  {
+    FileHashes third(with_cache());
+    EXPECT_EQ(fingerprint_files(fx.root(), files, &third).files, changed.files);
+    EXPECT_EQ(third.cached(), 3) << "the rewritten file was read again";
+  }
+  // A file changed just now is not remembered: two writes within one clock tick show one time.
+  {
+    FileHashCache settling(cache_file, std::chrono::hours(1));
+    const auto stamp = FileStamp::of(part0);
+    ASSERT_TRUE(stamp.has_value());
+    settling.remember(fs::absolute(part0), *stamp, "0123456789abcdef");
+    EXPECT_EQ(settling.find(fs::absolute(part0), *stamp), changed.files.at("objects/part_0.bin"));
+  }
+  // Damaged: refused, nothing read from it, every hash still right.
+  fs::remove(cache_file.string() + "-wal");
+  fs::remove(cache_file.string() + "-shm");
+  std::ofstream(cache_file, std::ios::binary | std::ios::trunc) << "not a database at all, just some bytes here";
+  EXPECT_THROW(FileHashCache{cache_file}, Error);
+  // A link planted at its name: not followed, its target untouched.
+  const fs::path target = fx.root() / "precious.txt";
+  std::ofstream(target) << "keep me";
+  fs::remove(cache_file);
+  fs::create_symlink(target, cache_file);
+  EXPECT_THROW(FileHashCache{cache_file}, Error);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(std::ifstream(target).rdbuf()), {}), "keep me");
+  ::setenv("MTG_CACHE_DIR", cache_file.parent_path().c_str(), 1);
+  {
+    FileHashes through_env;  // the planted link turns the cache off; the hashes are read
+    EXPECT_EQ(fingerprint_files(fx.root(), files, &through_env).files, changed.files);
+    EXPECT_EQ(through_env.cached(), 0);
+  }
+  ::setenv("MTG_CACHE_DIR", "off", 1);
+  EXPECT_EQ(FileHashCache::open_default(), nullptr);
+  ::unsetenv("MTG_CACHE_DIR");
 }
 
 }  // namespace
