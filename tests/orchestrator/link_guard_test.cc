@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -98,6 +101,63 @@ TEST_F(LinkGuardTest, ANewRunFolderWithAPlantedLockIsRefusedBeforeAnything) {
   EXPECT_EQ(mtg(run_args("evalrun", {"oracle"}, 1, 2)), 1) << log_text();
   EXPECT_NE(last_line().find("logs: is a symbolic link"), std::string::npos) << log_text();
   EXPECT_TRUE(fs::is_empty(fx_.root() / "elsewhere"));
+}
+
+// The probe's own steps (issue 55): an ordinary user in a world-writable sticky folder makes a run
+// folder and plants links in it, then root writes there. A run (.lock, report.png) and an export
+// refuse in one line naming the link; a task set and a suite replace the link with their file; no
+// target changes.
+TEST_F(LinkGuardTest, LinksPlantedByAnotherUserInAStickyFolderAreNeverWrittenThrough) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to act as another user";
+  const fs::path sticky = fx_.root() / "shared-tmp";
+  fs::create_directories(sticky);
+  fs::permissions(sticky, fs::perms::all | fs::perms::sticky_bit);
+  fs::permissions(fx_.root(), fs::perms::others_exec, fs::perm_options::add);  // the other user reaches it
+  const auto as_nobody = [&](const std::vector<std::string>& argv) {
+    std::vector<std::string> full = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"};
+    full.insert(full.end(), argv.begin(), argv.end());
+    return mtg(full);
+  };
+  const fs::path lock_target = victim("root-lock");
+  const fs::path png_target = victim("root-png");
+  const fs::path tasks_target = victim("root-tasks");
+  const fs::path suite_target = victim("root-suite");
+  const fs::path index_target = victim("root-index");
+  ASSERT_EQ(as_nobody({"/bin/mkdir", (sticky / "evalrun").string(), (sticky / "site").string()}), 0) << log_text();
+  ASSERT_EQ(as_nobody({"/bin/ln", "-s", lock_target.string(), (sticky / "evalrun" / ".lock").string()}), 0);
+  ASSERT_EQ(as_nobody({"/bin/ln", "-s", png_target.string(), (sticky / "evalrun" / "report.png").string()}), 0);
+  ASSERT_EQ(as_nobody({"/bin/ln", "-s", tasks_target.string(), (sticky / "tasks.sqlite").string()}), 0);
+  ASSERT_EQ(as_nobody({"/bin/ln", "-s", suite_target.string(), (sticky / "suite.json").string()}), 0);
+  ASSERT_EQ(as_nobody({"/bin/ln", "-s", index_target.string(), (sticky / "site" / "index.html").string()}), 0);
+
+  auto args = run_args("unused", {"oracle"}, 1, 2);
+  args[std::distance(args.begin(), std::find(args.begin(), args.end(), "--out")) + 1] = (sticky / "evalrun").string();
+  EXPECT_EQ(mtg(args), 1) << log_text();
+  EXPECT_NE(last_line().find("evalrun/.lock: is a symbolic link"), std::string::npos) << log_text();
+  EXPECT_FALSE(fs::exists(sticky / "evalrun" / "plan.json"));
+
+  // Whole-file outputs go through the atomic writer: the link itself is replaced by root's file,
+  // what it pointed at is not touched.
+  EXPECT_EQ(mtg({testing::bin("mtg"), "tasks", "--data", fx_.root().string(), "--scene", "two_tables", "--levels",
+                 "1,2", "--out", (sticky / "tasks.sqlite").string()}),
+            0)
+      << log_text();
+  EXPECT_FALSE(fs::is_symlink(sticky / "tasks.sqlite"));
+  EXPECT_EQ(mtg({testing::bin("mtg"), "suite", "make", "--tasks", tasks_db_, "--levels", "2", "--per-level", "1",
+                 "--seed", "0", "--name", "s", "--out", (sticky / "suite.json").string()}),
+            0)
+      << log_text();
+  EXPECT_FALSE(fs::is_symlink(sticky / "suite.json"));
+
+  ASSERT_EQ(mtg(run_args("done", {"oracle"}, 1, 2)), 0) << log_text();
+  EXPECT_EQ(mtg({testing::bin("mtg"), "export", (fx_.root() / "done").string(), "--out", (sticky / "site").string()}), 1)
+      << log_text();
+
+  for (const auto& [target, name] : std::vector<std::pair<fs::path, std::string>>{
+           {lock_target, "root-lock"}, {png_target, "root-png"}, {tasks_target, "root-tasks"},
+           {suite_target, "root-suite"}, {index_target, "root-index"}}) {
+    EXPECT_EQ(contents(target), "precious " + name + "\n") << target;
+  }
 }
 
 // A dangling link at a database's name (a mark in `mtg view` opens marks.sqlite): SQLite would
