@@ -13,6 +13,7 @@
 #include "core/tasks/generator.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "core/util/parallel.h"
 #include "core/util/stopwatch.h"
 
@@ -142,13 +143,13 @@ void apply_overrides(GenerationJob& job, const nlohmann::json& o) {
   for (const auto& [key, value] : o.items()) {
     try {
       if (key == "levels") job.options.levels = parse_levels(value.get<std::string>());
-      else if (key == "seed") job.options.seed = value.get<std::uint64_t>();
+      else if (key == "seed") job.options.seed = json_integer<std::uint64_t>(value, "generator config: seed");
       else if (key == "ambiguity") job.options.ambiguity = ambiguity_from_string(value.get<std::string>());
-      else if (key == "l3_count") job.options.level3_count = value.get<int>();
-      else if (key == "l3_chain") job.options.level3_chain = value.get<int>();
-      else if (key == "l4_max_moves") job.options.level4_max_moves = value.get<int>();
+      else if (key == "l3_count") job.options.level3_count = json_integer<int>(value, "generator config: l3_count");
+      else if (key == "l3_chain") job.options.level3_chain = json_integer<int>(value, "generator config: l3_chain");
+      else if (key == "l4_max_moves") job.options.level4_max_moves = json_integer<int>(value, "generator config: l4_max_moves");
       else if (key == "l4_templates") job.options.level4_templates = value.get<std::string>();
-      else if (key == "step_limit") job.options.rules.step_limit = value.get<int>();
+      else if (key == "step_limit") job.options.rules.step_limit = json_integer<int>(value, "generator config: step_limit");
       else if (key == "profile") job.profile = value.get<std::string>();
       else throw Error("generator config: unknown key '" + key + "'");
     } catch (const nlohmann::json::exception&) {

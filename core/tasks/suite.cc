@@ -9,6 +9,7 @@
 #include "core/util/atomic_file.h"
 #include "core/util/build_info.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "core/util/sha256.h"
 
 namespace mtg::tasks {
@@ -26,10 +27,11 @@ nlohmann::json draw_json(const SuiteDraw& d) {
 
 SuiteDraw draw_from_json(const nlohmann::json& j) {
   SuiteDraw d;
-  d.per_level = j.at("per_level").get<int>();
-  d.seed = j.at("seed").get<std::uint64_t>();
+  d.per_level = json_integer<int>(j.at("per_level"), "draw per_level");
+  d.seed = json_integer<std::uint64_t>(j.at("seed"), "draw seed");
   d.kind = draw_kind_from_string(j.at("kind").get<std::string>());
-  d.levels = j.at("levels").get<std::set<int>>();
+  if (!j.at("levels").is_array()) throw Error("draw levels: not an array");
+  for (const auto& level : j.at("levels")) d.levels.insert(json_integer<int>(level, "draw level"));
   d.scenes = j.at("scenes").get<std::set<std::string>>();
   d.sizing = j.value("sizing", nlohmann::json(nullptr));
   return d;

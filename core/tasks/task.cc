@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "core/util/hash.h"
 
 namespace mtg::tasks {
@@ -34,7 +35,7 @@ Identification identification_from_json(const nlohmann::json& j) {
     if (!j.contains(key)) throw Error(std::string("identification: missing field '") + key + "'");
   }
   Identification id;
-  id.part = j["part"].get<int>();
+  id.part = json_integer<int>(j["part"], "identification part");
   id.role = j["role"].get<std::string>();
   id.object = j["object"].get<std::string>();
   id.platform = j["platform"].get<std::string>();
@@ -59,7 +60,7 @@ OraclePlacement oracle_placement_from_json(const nlohmann::json& j) {
     if (!j.contains(key)) throw Error(std::string("oracle placement: missing field '") + key + "'");
   }
   OraclePlacement p;
-  p.part = j["part"].get<int>();
+  p.part = json_integer<int>(j["part"], "oracle placement part");
   p.object = j["object"].get<std::string>();
   p.platform = j["platform"].get<std::string>();
   p.position = {j["x"].get<double>(), j["y"].get<double>(), j["z"].get<double>()};

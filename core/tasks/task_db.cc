@@ -11,6 +11,7 @@
 #include "core/tasks/suite.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "core/util/json_writer.h"
 #include "core/util/parallel.h"
 #include "core/util/zlib_bytes.h"
@@ -177,7 +178,7 @@ Task task_from_json(const nlohmann::json& j) {
   try {
     t.id = j["id"].get<std::string>();
     t.scene = j["scene"].get<std::string>();
-    t.level = j["level"].get<int>();
+    t.level = json_integer<int>(j["level"], "level");
     t.type = j["type"].get<std::string>();
     t.text = j["text"].get<std::string>();
     t.item = j["item"].get<std::string>();
@@ -187,11 +188,13 @@ Task task_from_json(const nlohmann::json& j) {
     t.direction = j["direction"].get<std::string>();
     t.goal = j["goal"];
     t.oracle = j["oracle"].get<std::vector<std::string>>();
-    t.step_limit = j["step_limit"].get<int>();
+    t.step_limit = json_integer<int>(j["step_limit"], "step_limit");
     t.template_id = j["template_id"].get<std::string>();
   } catch (const nlohmann::json::exception& e) {
     const std::string id = j["id"].is_string() ? j["id"].get<std::string>() : std::string("?");
     throw Error("task " + id + ": a field has the wrong type (" + e.what() + ")");
+  } catch (const Error& e) {
+    throw Error("task " + (j["id"].is_string() ? j["id"].get<std::string>() : std::string("?")) + ": " + e.what());
   }
   // A database is input like any other: a step limit of 10^8 or a 4 MB text would make planning
   // and prompts take gigabytes before anything said why.
@@ -210,6 +213,8 @@ Task task_from_json(const nlohmann::json& j) {
   } catch (const nlohmann::json::exception& e) {
     // Found by scripts/fuzz: a look-alike record with a field of the wrong type ended the program.
     throw Error("task " + t.id + ": its identify or placements records are malformed (" + e.what() + ")");
+  } catch (const Error& e) {
+    throw Error("task " + t.id + ": " + e.what());
   }
   return t;
 }

@@ -2,6 +2,10 @@
 // Exit codes: 0 success, 1 bad input or failure (one line on stderr), 2 usage error.
 
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <exception>
 #include <filesystem>
@@ -28,6 +32,17 @@
 #include "orchestrator/run/page_relay.h"
 #include "orchestrator/run/run_namespace.h"
 
+// Two programs from this file (docs/build.md, "Libraries loaded at start"): `mtg_cli`, every
+// command, and `mtg`, the front a user runs. The front knows every option (so --help, and every
+// refusal of a command line, answer from it at once) but links no library of ours: once a
+// command line parses, it runs mtg_cli beside it with the same arguments (exec: the same
+// process, the same pid). mtg_cli loads 74 libraries at start; the front 5.
+#ifdef MTG_CLI_FRONT
+#define MTG_COMMAND(...) (void)commands
+#else
+#define MTG_COMMAND(...) commands.push_back(__VA_ARGS__)
+#endif
+
 namespace mtg::cli {
 namespace {
 
@@ -43,7 +58,20 @@ struct Command {
 using Commands = std::vector<Command>;
 
 // "mtg <subcommand>: <message>", once: a message that already names its command keeps its name.
-std::string where(const CLI::App& app, const std::string& message) {
+#ifdef MTG_CLI_FRONT
+// Runs mtg_cli, the program beside this one, in this process with these arguments.
+int run_beside(char** argv) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path cli = self.parent_path() / "mtg_cli";
+  if (!ec) ::execv(cli.c_str(), argv);
+  std::cerr << "mtg: cannot run " << (ec ? std::string("mtg_cli (no /proc/self/exe)") : cli.string()) << ": "
+            << std::strerror(ec ? ec.value() : errno) << " (it is built beside mtg; rebuild with scripts/build)\n";
+  return 1;
+}
+#endif
+
+[[maybe_unused]] std::string where(const CLI::App& app, const std::string& message) {
   std::string who = "mtg";
   for (const CLI::App* sub = &app; !sub->get_subcommands().empty();) {
     sub = sub->get_subcommands().front();
@@ -78,9 +106,9 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
   scene_graph->add_option("--png", graph_opts->png, "write a top-down map (PNG) here");
   scene_graph->add_option("--profile", graph_opts->profile,
                           "scene profile: replica_cad (default), none, or a JSON file");
-  commands.push_back({scene_list, [list_opts] { return run_scene_list(*list_opts); }});
-  commands.push_back({scene_info, [info_opts] { return run_scene_info(*info_opts); }});
-  commands.push_back({scene_graph, [graph_opts] { return run_scene_graph(*graph_opts); }});
+  MTG_COMMAND({scene_list, [list_opts] { return run_scene_list(*list_opts); }});
+  MTG_COMMAND({scene_info, [info_opts] { return run_scene_info(*info_opts); }});
+  MTG_COMMAND({scene_graph, [graph_opts] { return run_scene_graph(*graph_opts); }});
   auto remix_opts = std::make_shared<SceneRemixOptions>();
   CLI::App* scene_remix = scene->add_subcommand(
       "remix", "Write a scene with its items put elsewhere (a held-out arrangement), as a dataset folder");
@@ -90,7 +118,7 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
   scene_remix->add_option("--seed", remix_opts->seed, "seed of the arrangement (default 1)");
   scene_remix->add_option("--name", remix_opts->name, "the new scene's name (default <scene>_remix_<seed>)");
   scene_remix->add_option("--out", remix_opts->out, "dataset folder to write or add to")->required();
-  commands.push_back({scene_remix, [remix_opts] { return run_scene_remix(*remix_opts); }});
+  MTG_COMMAND({scene_remix, [remix_opts] { return run_scene_remix(*remix_opts); }});
 }
 
 // mtg render | images
@@ -126,8 +154,8 @@ void add_render_commands(CLI::App& app, Commands& commands) {
   images->add_option("run", images_opts->run, "run folder")->required();
   images->add_option("--out", images_opts->out, "folder for the image files")->required();
   images->add_option("--episode", images_opts->episode, "only this episode id");
-  commands.push_back({render, [render_opts] { return run_render(*render_opts); }, true});
-  commands.push_back({images, [images_opts] { return run_images(*images_opts); }, true});
+  MTG_COMMAND({render, [render_opts] { return run_render(*render_opts); }, true});
+  MTG_COMMAND({images, [images_opts] { return run_images(*images_opts); }, true});
 }
 
 // mtg tasks [stats DB]
@@ -160,12 +188,12 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks_stats->add_option("db", stats_opts->db, "task database")->required();
   tasks_stats->add_flag("--json", stats_opts->json, "print one JSON object");
   // Before its parent: when `tasks stats` is given, both are parsed.
-  commands.push_back({tasks_stats, [stats_opts] { return run_task_stats(*stats_opts); }});
-  commands.push_back({tasks, [tasks_opts] { return run_tasks(*tasks_opts); }});
+  MTG_COMMAND({tasks_stats, [stats_opts] { return run_task_stats(*stats_opts); }});
+  MTG_COMMAND({tasks, [tasks_opts] { return run_tasks(*tasks_opts); }});
 }
 
 // mtg run | worker | status
-void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
+void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
   auto run_opts = std::make_shared<RunOptions>();
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts->tasks, "task database (tasks.sqlite)");
@@ -264,7 +292,7 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
                      "the shared bus's key file: only messages signed with it are shown (default $MTG_BUS_KEY)");
   status->add_option("--listen", status_opts->listen_s, "seconds to listen (default 2.5)");
   status->add_flag("--json", status_opts->json, "print one JSON object");
-  commands.push_back({run, [run, run_opts, argv]() -> int {
+  MTG_COMMAND({run, [run, run_opts, argv]() -> int {
                         for (const CLI::Option* opt : run->get_options()) {
                           if (opt->count() > 0) run_opts->given.insert(opt->get_name());
                         }
@@ -286,14 +314,14 @@ void add_run_commands(CLI::App& app, Commands& commands, char** argv) {
   gather->add_option("--bus-key", gather_opts->bus_key,
                      "its key file (default $MTG_BUS_KEY, else the run folder's bus.key)");
   gather->add_option("--wait", gather_opts->wait_s, "seconds without a new recording before giving up (default 30)");
-  commands.push_back({gather, [gather_opts] { return run_gather(*gather_opts); }});
+  MTG_COMMAND({gather, [gather_opts] { return run_gather(*gather_opts); }});
   auto hub_opts = std::make_shared<HubOptions>();
   CLI::App* hub = app.add_subcommand("hub", "The shared bus without multicast: LCM's TCP hub (join with --bus tcpq://HOST:PORT)");
   hub->add_option("--port", hub_opts->port, "TCP port (default 7700)");
   hub->add_flag("--quiet", hub_opts->quiet, "without the once-a-second throughput line");
-  commands.push_back({hub, [hub_opts]() -> int { run_hub(*hub_opts); }});
-  commands.push_back({worker, [worker_opts] { return run_worker(*worker_opts); }});
-  commands.push_back({status, [status_opts] { return run_status(*status_opts); }});
+  MTG_COMMAND({hub, [hub_opts]() -> int { run_hub(*hub_opts); }});
+  MTG_COMMAND({worker, [worker_opts] { return run_worker(*worker_opts); }});
+  MTG_COMMAND({status, [status_opts] { return run_status(*status_opts); }});
 }
 
 // mtg suite make | info | verify
@@ -316,7 +344,7 @@ void add_suite_commands(CLI::App& app, Commands& commands) {
   make->add_option("--draw", make_opts->draw, "stratified (default) or uniform")->check(CLI::IsMember({"stratified", "uniform"}));
   make->add_option("--name", make_opts->name, "the suite's name (letters, digits, . _ -)")->required();
   make->add_option("--out", make_opts->out, "the suite file to write")->required();
-  commands.push_back({make, [make, make_opts]() -> int {
+  MTG_COMMAND({make, [make, make_opts]() -> int {
                         for (const CLI::Option* opt : make->get_options()) {
                           if (opt->count() > 0) make_opts->given.insert(opt->get_name());
                         }
@@ -326,13 +354,13 @@ void add_suite_commands(CLI::App& app, Commands& commands) {
   CLI::App* info = suite->add_subcommand("info", "What a suite holds: identity, draw, counts, spread, dataset, license");
   info->add_option("file", info_opts->file, "suite file")->required();
   info->add_flag("--json", info_opts->json, "print one JSON object");
-  commands.push_back({info, [info_opts] { return run_suite_info(*info_opts); }});
+  MTG_COMMAND({info, [info_opts] { return run_suite_info(*info_opts); }});
   auto verify_opts = std::make_shared<SuiteVerifyOptions>();
   CLI::App* verify = suite->add_subcommand("verify", "Check a suite's digest, the dataset here against it, and every goal");
   verify->add_option("file", verify_opts->file, "suite file")->required();
   verify->add_option("--data", verify_opts->data_dir, "dataset root (default: search order)");
   verify->add_option("--profile", verify_opts->profile, "scene profile (default replica_cad)");
-  commands.push_back({verify, [verify_opts] { return run_suite_verify(*verify_opts); }});
+  MTG_COMMAND({verify, [verify_opts] { return run_suite_verify(*verify_opts); }});
 }
 
 // mtg vlm ask
@@ -350,11 +378,11 @@ void add_vlm_commands(CLI::App& app, Commands& commands) {
   vlm_ask->add_option("--bus", ask_opts->bus_url, "share the rate governor on this LCM URL");
   vlm_ask->add_flag("--json", ask_opts->json, "one JSON line per call");
   mtg::vlm::add_vlm_options(*vlm_ask, ask_opts->vlm, false);
-  commands.push_back({vlm_ask, [ask_opts] { return run_vlm_ask(*ask_opts); }});
+  MTG_COMMAND({vlm_ask, [ask_opts] { return run_vlm_ask(*ask_opts); }});
 }
 
 // mtg report | replay | rejudge
-void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
+void add_result_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
   auto report_opts = std::make_shared<ReportOptions>();
   CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
   report->add_option("run", report_opts->run, "run folder")->required();
@@ -371,14 +399,14 @@ void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
   compare->add_option("--agent", compare_opts->agent, "compare this agent only");
   compare->add_option("--baseline", compare_opts->baseline, "one run: the agent the others are compared with (default: its first)");
   compare->add_flag("--json", compare_opts->json, "print one JSON object");
-  commands.push_back({compare, [compare_opts] { return run_compare(*compare_opts); }});
+  MTG_COMMAND({compare, [compare_opts] { return run_compare(*compare_opts); }});
   auto leaderboard_opts = std::make_shared<LeaderboardOptions>();
   CLI::App* leaderboard = app.add_subcommand(
       "leaderboard", "Rank the agents of several runs per suite, with what paired tests can tell apart");
   leaderboard->add_option("runs", leaderboard_opts->runs, "run folders")->required();
   leaderboard->add_flag("--json", leaderboard_opts->json, "print one JSON object");
   leaderboard->add_option("--markdown", leaderboard_opts->markdown, "also write the boards as Markdown to this file");
-  commands.push_back({leaderboard, [leaderboard_opts] { return run_leaderboard(*leaderboard_opts); }});
+  MTG_COMMAND({leaderboard, [leaderboard_opts] { return run_leaderboard(*leaderboard_opts); }});
   auto replay_opts = std::make_shared<ReplayOptions>();
   CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
   replay->add_option("run", replay_opts->run, "run folder")->required();
@@ -388,14 +416,14 @@ void add_result_commands(CLI::App& app, Commands& commands, char** argv) {
   auto rejudge_run = std::make_shared<std::string>();
   CLI::App* rejudge = app.add_subcommand("rejudge", "Re-score a run from its recorded actions (no agent)");
   rejudge->add_option("run", *rejudge_run, "run folder")->required();
-  commands.push_back({report, [report_opts] { return run_report(*report_opts); }});
-  commands.push_back({replay, [replay_opts, argv]() -> int {
+  MTG_COMMAND({report, [report_opts] { return run_report(*report_opts); }});
+  MTG_COMMAND({replay, [replay_opts, argv]() -> int {
                         if (replay_opts->url.empty()) {
                           if (const auto isolated = orchestrator::run_in_own_namespace(argv)) return *isolated;
                         }
                         return run_replay(*replay_opts);
                       }});
-  commands.push_back({rejudge, [rejudge_run] { return run_rejudge(*rejudge_run); }});
+  MTG_COMMAND({rejudge, [rejudge_run] { return run_rejudge(*rejudge_run); }});
 }
 
 // mtg bench ... (what scripts/bench prints)
@@ -447,7 +475,7 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1, 256));
   bench_pool_cmd->add_option("--rounds", bench_pool->rounds, "times each pool runs, alternating (default 2)")
       ->check(CLI::Range(1, 100));
-  commands.push_back({bench_pool_cmd, [bench_pool] { return run_bench_pool(*bench_pool); }});
+  MTG_COMMAND({bench_pool_cmd, [bench_pool] { return run_bench_pool(*bench_pool); }});
   auto bench_soak = std::make_shared<BenchSoakOptions>();
   CLI::App* bench_soak_cmd = bench->add_subcommand("soak", "A long run: every process's memory as episodes go by, episodes/s, bytes recorded");
   bench_soak_cmd->add_option("--episodes", bench_soak->episodes, "episodes in all (default 1,000,000)");
@@ -461,28 +489,28 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_soak_cmd->add_flag("--render", bench_soak->render, "observations carry images");
   bench_soak_cmd->add_option("--every", bench_soak->every_s, "seconds between rows (default 60)");
   bench_soak_cmd->add_option("--json", bench_soak->json, "also write every sample to this file");
-  commands.push_back({bench_soak_cmd, [bench_soak] { return run_bench_soak(*bench_soak); }});
-  commands.push_back({bench_scene_load, [bench_load] { return run_bench_scene_load(*bench_load); }});
-  commands.push_back({bench_tasks_cmd, [bench_tasks] { return run_bench_tasks(*bench_tasks); }});
-  commands.push_back({bench_scene_graph, [bench_graph] { return run_bench_scene_graph(*bench_graph); }});
-  commands.push_back({bench_runtime_cmd, [bench_runtime] { return run_bench_runtime(*bench_runtime); }});
-  commands.push_back({bench_render_cmd, [bench_render] { return run_bench_render(*bench_render); }});
+  MTG_COMMAND({bench_soak_cmd, [bench_soak] { return run_bench_soak(*bench_soak); }});
+  MTG_COMMAND({bench_scene_load, [bench_load] { return run_bench_scene_load(*bench_load); }});
+  MTG_COMMAND({bench_tasks_cmd, [bench_tasks] { return run_bench_tasks(*bench_tasks); }});
+  MTG_COMMAND({bench_scene_graph, [bench_graph] { return run_bench_scene_graph(*bench_graph); }});
+  MTG_COMMAND({bench_runtime_cmd, [bench_runtime] { return run_bench_runtime(*bench_runtime); }});
+  MTG_COMMAND({bench_render_cmd, [bench_render] { return run_bench_render(*bench_render); }});
 }
 
 // mtg view | play
-void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
+void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
   auto view_opts = std::make_shared<ViewOptions>();
   CLI::App* view = app.add_subcommand("view", "Look inside runs in the browser: results, Sankey, every step");
   view->add_option("runs", view_opts->runs, "run folders")->required();
   view->add_option("--host", view_opts->host, "address to listen on (default 127.0.0.1: this machine only)");
   view->add_option("--port", view_opts->port, "port (default 8770; 0 = any free port)");
-  commands.push_back({view, [view_opts] { return run_view(*view_opts); }});
+  MTG_COMMAND({view, [view_opts] { return run_view(*view_opts); }});
 
   auto export_opts = std::make_shared<ExportOptions>();
   CLI::App* exp = app.add_subcommand("export", "Write runs as a static site (no server, opens from file://, offline)");
   exp->add_option("runs", export_opts->runs, "run folders")->required();
   exp->add_option("--out", export_opts->out, "a new or empty folder")->required();
-  commands.push_back({exp, [export_opts] { return run_export(*export_opts); }});
+  MTG_COMMAND({exp, [export_opts] { return run_export(*export_opts); }});
 
   auto play_opts = std::make_shared<PlayOptions>();
   CLI::App* play = app.add_subcommand("play", "Play episodes yourself in the browser (the human agent)");
@@ -501,7 +529,7 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   play->add_option("--step-limit", play_opts->step_limit, "steps per episode, at least (default 15)");
   play->add_option("--host", play_opts->host, "address of the play page (default 127.0.0.1)");
   play->add_option("--port", play_opts->port, "port of the play page (default 8780)");
-  commands.push_back({play, [play_opts, argv]() -> int {
+  MTG_COMMAND({play, [play_opts, argv]() -> int {
                         // Like mtg run, a bus of its own; the page is relayed from the host's
                         // network into the namespace (page_relay.h).
                         if (play_opts->url.empty() && !orchestrator::inside_run_namespace()) {
@@ -534,7 +562,7 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   CLI::App* audit_report = audit->add_subcommand("report", "Validity per level (95 % interval) and identification accuracy");
   audit_report->add_option("dir", audit_report_opts->dir, "the audit's folder")->required();
   audit_report->add_flag("--json", audit_report_opts->json, "print one JSON object");
-  commands.push_back({audit_report, [audit_report_opts] { return run_audit_report(*audit_report_opts); }});
+  MTG_COMMAND({audit_report, [audit_report_opts] { return run_audit_report(*audit_report_opts); }});
   auto sights_opts = std::make_shared<SightsDrawOptions>();
   CLI::App* sights = audit->add_subcommand(
       "sights", "Objects drawn from platform views with an arrow each, for people to say whether they see and can name them");
@@ -553,9 +581,9 @@ void add_view_commands(CLI::App& app, Commands& commands, char** argv) {
   sights_report->add_option("dir", sights_report_opts->dir, "the draw's folder")->required();
   sights_report->add_flag("--json", sights_report_opts->json, "print one JSON object");
   sights_report->add_option("--key", sights_report_opts->key, "the draw's key (default <dir>-key.json)");
-  commands.push_back({sights_report, [sights_report_opts] { return run_sights_report(*sights_report_opts); }});
-  commands.push_back({sights, [sights_opts] { return run_sights_draw(*sights_opts); }});
-  commands.push_back({audit, [audit_opts] {
+  MTG_COMMAND({sights_report, [sights_report_opts] { return run_sights_report(*sights_report_opts); }});
+  MTG_COMMAND({sights, [sights_opts] { return run_sights_draw(*sights_opts); }});
+  MTG_COMMAND({audit, [audit_opts] {
                         if (audit_opts->tasks.empty() || audit_opts->out.empty()) {
                           throw mtg::Error("mtg audit: --tasks <task database> and --out <folder> are required");
                         }
@@ -596,7 +624,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-
+#ifdef MTG_CLI_FRONT
+  (void)commands;
+  return mtg::cli::run_beside(argv);
+#else
   try {
     const bool level_given = app.get_option("--log-level")->count() > 0;
     for (const mtg::cli::Command& c : commands) {
@@ -616,4 +647,5 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+#endif
 }
