@@ -38,7 +38,7 @@
 // command line parses, it runs mtg_cli beside it with the same arguments (exec: the same
 // process, the same pid). mtg_cli loads 74 libraries at start; the front 5.
 #ifdef MTG_CLI_FRONT
-#define MTG_COMMAND(...) (void)commands
+#define MTG_COMMAND(...) (void)0
 #else
 #define MTG_COMMAND(...) commands.push_back(__VA_ARGS__)
 #endif
@@ -55,7 +55,20 @@ struct Command {
   // notes ("loaded scene", "renderer: ...") stay off the terminal unless --log-level asks.
   bool quiet_by_default = false;
 };
-using Commands = std::vector<Command>;
+// The commands, and the option structs CLI11 writes into while it parses: kept here so they
+// outlive the parse (the front drops the runners, which held them before).
+struct Commands {
+  std::vector<Command> list;
+  std::vector<std::shared_ptr<void>> options;
+  void push_back(Command c) { list.push_back(std::move(c)); }
+};
+
+template <class Options>
+std::shared_ptr<Options> options(Commands& commands) {
+  auto o = std::make_shared<Options>();
+  commands.options.push_back(o);
+  return o;
+}
 
 // "mtg <subcommand>: <message>", once: a message that already names its command keeps its name.
 #ifdef MTG_CLI_FRONT
@@ -86,10 +99,10 @@ int run_beside(char** argv) {
 void add_scene_commands(CLI::App& app, Commands& commands) {
   CLI::App* scene = app.add_subcommand("scene", "Inspect scenes of the dataset");
   scene->require_subcommand(1);
-  auto list_opts = std::make_shared<SceneListOptions>();
+  auto list_opts = options<SceneListOptions>(commands);
   CLI::App* scene_list = scene->add_subcommand("list", "List the scenes found in the dataset");
   scene_list->add_option("--data", list_opts->data_dir, "dataset root (default: search order)");
-  auto info_opts = std::make_shared<SceneInfoOptions>();
+  auto info_opts = options<SceneInfoOptions>(commands);
   CLI::App* scene_info = scene->add_subcommand("info", "Load a scene and summarise it");
   scene_info->add_option("--scene", info_opts->scene, "scene name, e.g. apt_0")->required();
   scene_info->add_option("--data", info_opts->data_dir, "dataset root (default: search order)");
@@ -98,7 +111,7 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
                        "print the files the scene is made from, relative to the dataset root (to copy a scene)")
       ->excludes("--json");
 
-  auto graph_opts = std::make_shared<SceneGraphOptions>();
+  auto graph_opts = options<SceneGraphOptions>(commands);
   CLI::App* scene_graph = scene->add_subcommand("graph", "Build the scene graph of a scene");
   scene_graph->add_option("--scene", graph_opts->scene, "scene name, e.g. apt_0")->required();
   scene_graph->add_option("--data", graph_opts->data_dir, "dataset root (default: search order)");
@@ -109,7 +122,7 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
   MTG_COMMAND({scene_list, [list_opts] { return run_scene_list(*list_opts); }});
   MTG_COMMAND({scene_info, [info_opts] { return run_scene_info(*info_opts); }});
   MTG_COMMAND({scene_graph, [graph_opts] { return run_scene_graph(*graph_opts); }});
-  auto remix_opts = std::make_shared<SceneRemixOptions>();
+  auto remix_opts = options<SceneRemixOptions>(commands);
   CLI::App* scene_remix = scene->add_subcommand(
       "remix", "Write a scene with its items put elsewhere (a held-out arrangement), as a dataset folder");
   scene_remix->add_option("--scene", remix_opts->scene, "scene name, e.g. apt_0")->required();
@@ -123,7 +136,7 @@ void add_scene_commands(CLI::App& app, Commands& commands) {
 
 // mtg render | images
 void add_render_commands(CLI::App& app, Commands& commands) {
-  auto render_opts = std::make_shared<RenderOptions>();
+  auto render_opts = options<RenderOptions>(commands);
   CLI::App* render = app.add_subcommand("render", "Render one view of a scene as the agent sees it");
   render->add_option("--scene", render_opts->scene, "scene name, e.g. apt_0")->required();
   render->add_option("--data", render_opts->data_dir, "dataset root (default: search order)");
@@ -149,7 +162,7 @@ void add_render_commands(CLI::App& app, Commands& commands) {
   render->add_option("--part", render_opts->part, "the task's part (Level 3: 0, 1, ...; default 0)");
   render->add_flag("--holding", render_opts->holding, "once the part's item is picked, at its destination");
 
-  auto images_opts = std::make_shared<ImagesOptions>();
+  auto images_opts = options<ImagesOptions>(commands);
   CLI::App* images = app.add_subcommand("images", "Write the images the agents saw in a run to files");
   images->add_option("run", images_opts->run, "run folder")->required();
   images->add_option("--out", images_opts->out, "folder for the image files")->required();
@@ -160,7 +173,7 @@ void add_render_commands(CLI::App& app, Commands& commands) {
 
 // mtg tasks [stats DB]
 void add_task_commands(CLI::App& app, Commands& commands) {
-  auto tasks_opts = std::make_shared<TasksOptions>();
+  auto tasks_opts = options<TasksOptions>(commands);
   CLI::App* tasks = app.add_subcommand("tasks", "Generate task sets (Levels 1-4) into SQLite/JSONL");
   tasks->require_subcommand(0, 1);
   tasks->add_option("--scene", tasks_opts->scenes, "scene name (repeat for several)");
@@ -183,7 +196,7 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks->add_option("--step-limit", tasks_opts->step_limit, "episode step limit (default 15)");
   tasks->add_option("--voter", tasks_opts->voters, "model agent voting live on Level 4 candidates (repeatable)");
   mtg::vlm::add_vlm_options(*tasks, tasks_opts->vlm, true);
-  auto stats_opts = std::make_shared<TaskStatsOptions>();
+  auto stats_opts = options<TaskStatsOptions>(commands);
   CLI::App* tasks_stats = tasks->add_subcommand("stats", "Counts per level, type and scene of a task database");
   tasks_stats->add_option("db", stats_opts->db, "task database")->required();
   tasks_stats->add_flag("--json", stats_opts->json, "print one JSON object");
@@ -194,7 +207,7 @@ void add_task_commands(CLI::App& app, Commands& commands) {
 
 // mtg run | worker | status
 void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
-  auto run_opts = std::make_shared<RunOptions>();
+  auto run_opts = options<RunOptions>(commands);
   CLI::App* run = app.add_subcommand("run", "Run a benchmark: episodes of a task set with agents, over LCM");
   run->add_option("--tasks", run_opts->tasks, "task database (tasks.sqlite)");
   run->add_option("--suite", run_opts->suite,
@@ -264,7 +277,7 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
   run->add_option("--recorder", run_opts->recorder, "mtg (default) or lcm-logger (drops bursts on a busy machine)");
   mtg::vlm::add_vlm_options(*run, run_opts->vlm, true);
   // mtg worker / mtg status
-  auto worker_opts = std::make_shared<WorkerCliOptions>();
+  auto worker_opts = options<WorkerCliOptions>(commands);
   CLI::App* worker = app.add_subcommand("worker", "Run the episodes a coordinator (mtg run --remote) leases to this host");
   worker->add_option("--bus", worker_opts->worker.bus_url,
                      "the shared LCM URL: udpm://<group>:<port>?ttl=1, or tcpq://<hub host>:<port> (mtg hub)")
@@ -285,7 +298,7 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
   worker->add_option("--chunk-bytes", worker_opts->worker.chunk_bytes, "recording chunk size (default 32768)");
   worker->add_flag("--once", worker_opts->worker.once, "exit after one run");
   mtg::vlm::add_vlm_options(*worker, worker_opts->vlm, false);
-  auto status_opts = std::make_shared<StatusOptions>();
+  auto status_opts = options<StatusOptions>(commands);
   CLI::App* status = app.add_subcommand("status", "Hosts, episodes in flight, rates and SR/IP of the runs on a bus");
   status->add_option("--bus", status_opts->bus_url, "LCM URL (default $MTG_LCM_URL or the loopback group)");
   status->add_option("--bus-key", status_opts->bus_key,
@@ -304,7 +317,7 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
                         }
                         return run_run(*run_opts);
                       }});
-  auto gather_opts = std::make_shared<GatherCliOptions>();
+  auto gather_opts = options<GatherCliOptions>(commands);
   CLI::App* gather = app.add_subcommand(
       "gather", "Bring a multi-host run's recordings kept on its workers (--recordings worker) into the run folder");
   gather->add_option("run", gather_opts->run, "run folder")->required();
@@ -315,7 +328,7 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
                      "its key file (default $MTG_BUS_KEY, else the run folder's bus.key)");
   gather->add_option("--wait", gather_opts->wait_s, "seconds without a new recording before giving up (default 30)");
   MTG_COMMAND({gather, [gather_opts] { return run_gather(*gather_opts); }});
-  auto hub_opts = std::make_shared<HubOptions>();
+  auto hub_opts = options<HubOptions>(commands);
   CLI::App* hub = app.add_subcommand("hub", "The shared bus without multicast: LCM's TCP hub (join with --bus tcpq://HOST:PORT)");
   hub->add_option("--port", hub_opts->port, "TCP port (default 7700)");
   hub->add_flag("--quiet", hub_opts->quiet, "without the once-a-second throughput line");
@@ -328,7 +341,7 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
 void add_suite_commands(CLI::App& app, Commands& commands) {
   CLI::App* suite = app.add_subcommand("suite", "Frozen samples of tasks to run and cite (docs/suites.md)");
   suite->require_subcommand(1);
-  auto make_opts = std::make_shared<SuiteMakeOptions>();
+  auto make_opts = options<SuiteMakeOptions>(commands);
   CLI::App* make = suite->add_subcommand("make", "Draw a stratified sample of a task set into one self-contained suite file");
   make->add_option("--tasks", make_opts->tasks, "task database to draw from")->required();
   make->add_option("--scene", make_opts->scenes, "only this scene (repeat for several; default all of the set)");
@@ -350,12 +363,12 @@ void add_suite_commands(CLI::App& app, Commands& commands) {
                         }
                         return run_suite_make(*make_opts);
                       }});
-  auto info_opts = std::make_shared<SuiteInfoOptions>();
+  auto info_opts = options<SuiteInfoOptions>(commands);
   CLI::App* info = suite->add_subcommand("info", "What a suite holds: identity, draw, counts, spread, dataset, license");
   info->add_option("file", info_opts->file, "suite file")->required();
   info->add_flag("--json", info_opts->json, "print one JSON object");
   MTG_COMMAND({info, [info_opts] { return run_suite_info(*info_opts); }});
-  auto verify_opts = std::make_shared<SuiteVerifyOptions>();
+  auto verify_opts = options<SuiteVerifyOptions>(commands);
   CLI::App* verify = suite->add_subcommand("verify", "Check a suite's digest, the dataset here against it, and every goal");
   verify->add_option("file", verify_opts->file, "suite file")->required();
   verify->add_option("--data", verify_opts->data_dir, "dataset root (default: search order)");
@@ -367,7 +380,7 @@ void add_suite_commands(CLI::App& app, Commands& commands) {
 void add_vlm_commands(CLI::App& app, Commands& commands) {
   CLI::App* vlm = app.add_subcommand("vlm", "Talk to a model agent directly");
   vlm->require_subcommand(1);
-  auto ask_opts = std::make_shared<VlmAskOptions>();
+  auto ask_opts = options<VlmAskOptions>(commands);
   CLI::App* vlm_ask = vlm->add_subcommand("ask", "Send one prompt (and images); check a key, a URL, the cache");
   vlm_ask->add_option("--agent", ask_opts->agent, "openai:<model>, anthropic:<model>, gemini:<model>, "
                       "openai-compatible:<url>:<model>")->required();
@@ -383,7 +396,7 @@ void add_vlm_commands(CLI::App& app, Commands& commands) {
 
 // mtg report | replay | rejudge
 void add_result_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
-  auto report_opts = std::make_shared<ReportOptions>();
+  auto report_opts = options<ReportOptions>(commands);
   CLI::App* report = app.add_subcommand("report", "Tables, failure taxonomy and Sankey of a run");
   report->add_option("run", report_opts->run, "run folder")->required();
   report->add_option("--html", report_opts->html, "write the HTML report here");
@@ -391,7 +404,7 @@ void add_result_commands(CLI::App& app, Commands& commands, [[maybe_unused]] cha
   report->add_flag("--card", report_opts->card,
                    "also write the result card (card.md, card.json): suite, agents, SR/IP with intervals, cost, "
                    "provenance, how to cite");
-  auto compare_opts = std::make_shared<CompareOptions>();
+  auto compare_opts = options<CompareOptions>(commands);
   CLI::App* compare = app.add_subcommand(
       "compare", "Paired comparison on the same tasks: the agents of a run, or an agent in two runs (B against A)");
   compare->add_option("run_a", compare_opts->run_a, "run folder (A, the baseline)")->required();
@@ -400,20 +413,20 @@ void add_result_commands(CLI::App& app, Commands& commands, [[maybe_unused]] cha
   compare->add_option("--baseline", compare_opts->baseline, "one run: the agent the others are compared with (default: its first)");
   compare->add_flag("--json", compare_opts->json, "print one JSON object");
   MTG_COMMAND({compare, [compare_opts] { return run_compare(*compare_opts); }});
-  auto leaderboard_opts = std::make_shared<LeaderboardOptions>();
+  auto leaderboard_opts = options<LeaderboardOptions>(commands);
   CLI::App* leaderboard = app.add_subcommand(
       "leaderboard", "Rank the agents of several runs per suite, with what paired tests can tell apart");
   leaderboard->add_option("runs", leaderboard_opts->runs, "run folders")->required();
   leaderboard->add_flag("--json", leaderboard_opts->json, "print one JSON object");
   leaderboard->add_option("--markdown", leaderboard_opts->markdown, "also write the boards as Markdown to this file");
   MTG_COMMAND({leaderboard, [leaderboard_opts] { return run_leaderboard(*leaderboard_opts); }});
-  auto replay_opts = std::make_shared<ReplayOptions>();
+  auto replay_opts = options<ReplayOptions>(commands);
   CLI::App* replay = app.add_subcommand("replay", "Re-drive the services from a run's recording; compare results");
   replay->add_option("run", replay_opts->run, "run folder")->required();
   replay->add_option("--out", replay_opts->out, "replay folder (default <run>/replay)");
   replay->add_option("--url", replay_opts->url, "LCM URL");
   replay->add_option("--parallel", replay_opts->parallel, "episodes at once (default 4)");
-  auto rejudge_run = std::make_shared<std::string>();
+  auto rejudge_run = options<std::string>(commands);
   CLI::App* rejudge = app.add_subcommand("rejudge", "Re-score a run from its recorded actions (no agent)");
   rejudge->add_option("run", *rejudge_run, "run folder")->required();
   MTG_COMMAND({report, [report_opts] { return run_report(*report_opts); }});
@@ -430,24 +443,24 @@ void add_result_commands(CLI::App& app, Commands& commands, [[maybe_unused]] cha
 void add_bench_commands(CLI::App& app, Commands& commands) {
   CLI::App* bench = app.add_subcommand("bench", "Measure performance (used by scripts/bench)");
   bench->require_subcommand(1);
-  auto bench_load = std::make_shared<BenchSceneLoadOptions>();
+  auto bench_load = options<BenchSceneLoadOptions>(commands);
   CLI::App* bench_scene_load = bench->add_subcommand("scene-load", "Cold and warm scene loading");
   bench_scene_load->add_option("--scene", bench_load->scene, "scene name");
   bench_scene_load->add_option("--data", bench_load->data_dir, "dataset root");
   bench_scene_load->add_option("--repeat", bench_load->repeat, "warm repetitions");
 
-  auto bench_graph = std::make_shared<BenchSceneGraphOptions>();
+  auto bench_graph = options<BenchSceneGraphOptions>(commands);
   CLI::App* bench_scene_graph = bench->add_subcommand("scene-graph", "Scene-graph build time per apartment");
   bench_scene_graph->add_option("--scene", bench_graph->scenes, "scene names (repeatable)");
   bench_scene_graph->add_option("--data", bench_graph->data_dir, "dataset root");
   bench_scene_graph->add_option("--repeat", bench_graph->repeat, "warm repetitions");
 
-  auto bench_tasks = std::make_shared<BenchTasksOptions>();
+  auto bench_tasks = options<BenchTasksOptions>(commands);
   CLI::App* bench_tasks_cmd = bench->add_subcommand("tasks", "Task generation time per apartment and in all");
   bench_tasks_cmd->add_option("--scene", bench_tasks->scenes, "scene names (repeatable)");
   bench_tasks_cmd->add_option("--data", bench_tasks->data_dir, "dataset root");
   bench_tasks_cmd->add_option("--out", bench_tasks->out, "where the benchmark's task database goes");
-  auto bench_runtime = std::make_shared<BenchRuntimeOptions>();
+  auto bench_runtime = options<BenchRuntimeOptions>(commands);
   CLI::App* bench_runtime_cmd = bench->add_subcommand("runtime", "Oracle episodes per second over the bus, per-step latency");
   bench_runtime_cmd->add_option("--scene", bench_runtime->scene, "scene name");
   bench_runtime_cmd->add_option("--data", bench_runtime->data_dir, "dataset root");
@@ -457,13 +470,13 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_runtime_cmd->add_option("--rounds", bench_runtime->rounds, "times each parallelism runs, alternating (default 3)")
       ->check(CLI::PositiveNumber);
 
-  auto bench_render = std::make_shared<BenchRenderOptions>();
+  auto bench_render = options<BenchRenderOptions>(commands);
   CLI::App* bench_render_cmd = bench->add_subcommand("render", "Renderer: ms per annotated observation, episodes with images");
   bench_render_cmd->add_option("--scene", bench_render->scene, "scene name");
   bench_render_cmd->add_option("--data", bench_render->data_dir, "dataset root");
   bench_render_cmd->add_option("--rounds", bench_render->rounds, "passes over every navigable platform");
   bench_render_cmd->add_option("--episodes", bench_render->episodes, "oracle episodes rendered end to end");
-  auto bench_pool = std::make_shared<BenchPoolOptions>();
+  auto bench_pool = options<BenchPoolOptions>(commands);
   CLI::App* bench_pool_cmd =
       bench->add_subcommand("pool", "Rendered episodes over the bus with pools of 1, 2, ... renderers");
   bench_pool_cmd->add_option("--scene", bench_pool->scene, "scene name");
@@ -476,7 +489,7 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
   bench_pool_cmd->add_option("--rounds", bench_pool->rounds, "times each pool runs, alternating (default 2)")
       ->check(CLI::Range(1, 100));
   MTG_COMMAND({bench_pool_cmd, [bench_pool] { return run_bench_pool(*bench_pool); }});
-  auto bench_soak = std::make_shared<BenchSoakOptions>();
+  auto bench_soak = options<BenchSoakOptions>(commands);
   CLI::App* bench_soak_cmd = bench->add_subcommand("soak", "A long run: every process's memory as episodes go by, episodes/s, bytes recorded");
   bench_soak_cmd->add_option("--episodes", bench_soak->episodes, "episodes in all (default 1,000,000)");
   bench_soak_cmd->add_option("--scene", bench_soak->scene, "scene whose tasks (Levels 1-4) are generated");
@@ -499,20 +512,20 @@ void add_bench_commands(CLI::App& app, Commands& commands) {
 
 // mtg view | play
 void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char** argv) {
-  auto view_opts = std::make_shared<ViewOptions>();
+  auto view_opts = options<ViewOptions>(commands);
   CLI::App* view = app.add_subcommand("view", "Look inside runs in the browser: results, Sankey, every step");
   view->add_option("runs", view_opts->runs, "run folders")->required();
   view->add_option("--host", view_opts->host, "address to listen on (default 127.0.0.1: this machine only)");
   view->add_option("--port", view_opts->port, "port (default 8770; 0 = any free port)");
   MTG_COMMAND({view, [view_opts] { return run_view(*view_opts); }});
 
-  auto export_opts = std::make_shared<ExportOptions>();
+  auto export_opts = options<ExportOptions>(commands);
   CLI::App* exp = app.add_subcommand("export", "Write runs as a static site (no server, opens from file://, offline)");
   exp->add_option("runs", export_opts->runs, "run folders")->required();
   exp->add_option("--out", export_opts->out, "a new or empty folder")->required();
   MTG_COMMAND({exp, [export_opts] { return run_export(*export_opts); }});
 
-  auto play_opts = std::make_shared<PlayOptions>();
+  auto play_opts = options<PlayOptions>(commands);
   CLI::App* play = app.add_subcommand("play", "Play episodes yourself in the browser (the human agent)");
   CLI::Option* play_tasks = play->add_option("--tasks", play_opts->tasks, "task database (tasks.sqlite)");
   play->add_option("--suite", play_opts->suite, "a suite file (mtg suite make): play its tasks")->excludes(play_tasks);
@@ -539,7 +552,7 @@ void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char*
                         return run_play(*play_opts);
                       }});
 
-  auto audit_opts = std::make_shared<AuditCommandOptions>();
+  auto audit_opts = options<AuditCommandOptions>(commands);
   CLI::App* audit = app.add_subcommand("audit", "Judge sampled tasks from what the agent sees, in the browser (Table 2)");
   audit->require_subcommand(0, 1);
   CLI::Option* audit_tasks = audit->add_option("--tasks", audit_opts->tasks, "task database (tasks.sqlite)");
@@ -558,12 +571,12 @@ void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char*
   audit->add_option("--port", audit_opts->port, "port of the page (default 8790; 0 = any free port)");
   audit->add_flag("--prepare-only", audit_opts->prepare_only, "make the audit's folder and exit");
   audit->add_option("--rater", audit_opts->rater, "who answers (default rater): several people judge the same draw");
-  auto audit_report_opts = std::make_shared<AuditReportOptions>();
+  auto audit_report_opts = options<AuditReportOptions>(commands);
   CLI::App* audit_report = audit->add_subcommand("report", "Validity per level (95 % interval) and identification accuracy");
   audit_report->add_option("dir", audit_report_opts->dir, "the audit's folder")->required();
   audit_report->add_flag("--json", audit_report_opts->json, "print one JSON object");
   MTG_COMMAND({audit_report, [audit_report_opts] { return run_audit_report(*audit_report_opts); }});
-  auto sights_opts = std::make_shared<SightsDrawOptions>();
+  auto sights_opts = options<SightsDrawOptions>(commands);
   CLI::App* sights = audit->add_subcommand(
       "sights", "Objects drawn from platform views with an arrow each, for people to say whether they see and can name them");
   sights->require_subcommand(0, 1);
@@ -575,7 +588,7 @@ void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char*
   sights->add_option("--out", sights_opts->out, "folder for images/, sights.json and labels/ (what raters get)");
   sights->add_option("--key", sights_opts->key,
                      "where the answers (objects, nouns, pixels) go, outside the raters' folder (default <out>-key.json)");
-  auto sights_report_opts = std::make_shared<SightsReportOptions>();
+  auto sights_report_opts = options<SightsReportOptions>(commands);
   CLI::App* sights_report =
       sights->add_subcommand("report", "The visibility rule against the answers in DIR/labels: agreement, best thresholds, kappa");
   sights_report->add_option("dir", sights_report_opts->dir, "the draw's folder")->required();
@@ -630,7 +643,7 @@ int main(int argc, char** argv) {
 #else
   try {
     const bool level_given = app.get_option("--log-level")->count() > 0;
-    for (const mtg::cli::Command& c : commands) {
+    for (const mtg::cli::Command& c : commands.list) {
       if (!c.app->parsed()) continue;
       mtg::log::set_level(mtg::log::parse_level(c.quiet_by_default && !level_given ? "warn" : log_level));
       return c.run();
