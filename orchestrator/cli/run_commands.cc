@@ -41,6 +41,7 @@
 #include "orchestrator/run/provenance.h"
 #include "orchestrator/report/report.h"
 #include "orchestrator/run/rejudge.h"
+#include "core/graph/scene_cache.h"
 #include "orchestrator/run/run_estimate.h"
 #include "orchestrator/run/results_db.h"
 #include "orchestrator/run/run_engine.h"
@@ -340,13 +341,14 @@ void check_dataset(const RunPlan& plan, const std::string& task_source,
 
 // Every planned task's goal resolves here before anything is written (goal_check.h). Without the
 // dataset here (a coordinator whose workers hold it) the workers check each episode as it starts.
-void check_goals(const RunPlan& plan, const std::string& task_source, const std::map<std::string, tasks::Task>& tasks) {
+void check_goals(const RunPlan& plan, const std::string& task_source, const std::map<std::string, tasks::Task>& tasks,
+                 graph::SceneCache& scenes) {
   std::set<std::string> planned;
   for (const auto& e : plan.episodes) planned.insert(e.task_id);
   std::vector<const tasks::Task*> list;
   for (const std::string& id : planned) list.push_back(&tasks.at(id));
   orchestrator::check_goals(list, plan.profile, plan.data_dir, task_source,
-                            plan.remote ? orchestrator::MissingScene::kSkip : orchestrator::MissingScene::kFail);
+                            plan.remote ? orchestrator::MissingScene::kSkip : orchestrator::MissingScene::kFail, &scenes);
 }
 
 // A resume runs the plan on disk: options that would change what it evaluates are refused, with
@@ -494,8 +496,10 @@ int run_run(const RunOptions& options) {
   const auto fingerprints =
       fingerprints_of(plan, from_suite ? suite->dataset : tasks::read_dataset_fingerprints(task_source), tasks);
   if (!plan.remote) check_dataset(plan, task_source, fingerprints);
-  check_goals(plan, task_source, tasks);
-  if (o.estimate) return orchestrator::print_estimate(plan, tasks, o.vlm, dir);
+  // Loaded once for the goals and the estimate, and let go before the run's processes load their own.
+  std::optional<graph::SceneCache> scenes(std::in_place, plan.profile);
+  check_goals(plan, task_source, tasks, *scenes);
+  if (o.estimate) return orchestrator::print_estimate(plan, tasks, o.vlm, dir, &*scenes);
   if (!resuming) {
     const bool model_agent = std::any_of(plan.agents.begin(), plan.agents.end(),
                                          [](const std::string& a) { return vlm::is_model_spec(a); });
@@ -540,7 +544,8 @@ int run_run(const RunOptions& options) {
   if (const char* socket = std::getenv(orchestrator::kPlaySocketEnv); socket != nullptr && orchestrator::inside_run_namespace()) {
     engine.play_socket = socket;
   }
-  engine.budget = orchestrator::announce_estimate(o.max_cost_usd, plan, tasks, o.vlm, dir);
+  engine.budget = orchestrator::announce_estimate(o.max_cost_usd, plan, tasks, o.vlm, dir, &*scenes);
+  scenes.reset();
   if (o.given.count("--slurm")) slurm.workers = submit_slurm_workers(o, plan, dir, engine.remote);
   const auto summary = orchestrator::run_plan(plan, dir, tasks, engine);
   slurm.workers.reset();  // cancel what is left of the array

@@ -35,7 +35,8 @@ std::set<bus::EpisodeId> scored_in(const fs::path& run_dir) {
 }  // namespace
 
 nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks,
-                             const vlm::VlmOptions& model_options, const fs::path& run_dir) {
+                             const vlm::VlmOptions& model_options, const fs::path& run_dir,
+                             graph::SceneCache* shared) {
   if (std::none_of(plan.agents.begin(), plan.agents.end(), [](const std::string& a) { return vlm::is_model_spec(a); })) {
     return nullptr;
   }
@@ -65,7 +66,8 @@ nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, ta
 
   // Each task once (every agent asks the same questions), in the plan's order; a large run
   // walks a sample of each scene and level, which is what its figures depend on.
-  graph::SceneCache scenes(plan.profile);
+  graph::SceneCache own(plan.profile);
+  graph::SceneCache& scenes = shared != nullptr ? *shared : own;
   std::map<std::string, vlm::EpisodePrompts> walked;                     // task id -> its questions
   std::map<Stratum, std::vector<const vlm::EpisodePrompts*>> by_stratum;  // map values do not move
   std::map<std::string, std::string> not_here;                           // scene -> why it does not load
@@ -124,8 +126,8 @@ nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, ta
 }
 
 int print_estimate(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks, const vlm::VlmOptions& model_options,
-                   const fs::path& run_dir) {
-  const nlohmann::json estimate = estimate_plan(plan, tasks, model_options, run_dir);
+                   const fs::path& run_dir, graph::SceneCache* scenes) {
+  const nlohmann::json estimate = estimate_plan(plan, tasks, model_options, run_dir, scenes);
   if (estimate.is_null()) {
     std::printf("no model agent in this run: nothing to estimate (built-in agents call no model)\n");
   } else {
@@ -135,7 +137,8 @@ int print_estimate(const RunPlan& plan, const std::map<std::string, tasks::Task>
 }
 
 Budget announce_estimate(double max_cost_usd, const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks,
-                         const vlm::VlmOptions& model_options, const fs::path& run_dir) {
+                         const vlm::VlmOptions& model_options, const fs::path& run_dir,
+                         graph::SceneCache* scenes) {
   if (!(max_cost_usd >= 0.0) || !std::isfinite(max_cost_usd)) {
     throw Error("--max-cost must be 0 (no cap) or more US dollars, not " + std::to_string(max_cost_usd));
   }
@@ -143,7 +146,7 @@ Budget announce_estimate(double max_cost_usd, const RunPlan& plan, const std::ma
   budget.max_cost_usd = max_cost_usd;
   nlohmann::json estimate;
   try {
-    estimate = estimate_plan(plan, tasks, model_options, run_dir);
+    estimate = estimate_plan(plan, tasks, model_options, run_dir, scenes);
   } catch (const std::exception& e) {
     // The run does not depend on it; the cap still counts what is spent.
     log::warn(std::string("no cost estimate: ") + e.what() +

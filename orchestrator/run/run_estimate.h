@@ -11,6 +11,7 @@
 #include <string>
 
 #include "agents/vlm/options.h"
+#include "core/graph/scene_cache.h"
 #include "core/tasks/task.h"
 #include "orchestrator/run/run_engine.h"
 #include "orchestrator/run/run_plan.h"
@@ -23,15 +24,18 @@ namespace mtg::orchestrator {
 /// of a scene that does not load here, take a walked task's figures of the same scene and level
 /// (or any walked task's) in turn.
 /// @throws mtg::Error when the model settings, prompts or prices cannot be read.
+/// Scenes are loaded through `scenes` when given (loaded once per command), else through a cache
+/// of its own.
 nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks,
-                             const vlm::VlmOptions& model_options, const std::filesystem::path& run_dir = {});
+                             const vlm::VlmOptions& model_options, const std::filesystem::path& run_dir = {},
+                             graph::SceneCache* scenes = nullptr);
 
 inline constexpr std::size_t kWalksPerStratum = 64;
 
 /// `mtg run --estimate`: prints the estimate of what a run (or a resume of `run_dir`) would
 /// spend, or that there is nothing to estimate. Writes nothing. Returns the exit status (0).
 int print_estimate(const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks, const vlm::VlmOptions& model_options,
-                   const std::filesystem::path& run_dir = {});
+                   const std::filesystem::path& run_dir = {}, graph::SceneCache* scenes = nullptr);
 
 /// `mtg run` before its first model call: prints the estimate (plans with model agents only)
 /// and returns the engine's budget, --max-cost (0 = none) with each agent's expected episode
@@ -39,7 +43,8 @@ int print_estimate(const RunPlan& plan, const std::map<std::string, tasks::Task>
 /// then counts an episode in flight at its agent's running average once one has finished.
 /// @throws mtg::Error for a negative cap.
 Budget announce_estimate(double max_cost_usd, const RunPlan& plan, const std::map<std::string, tasks::Task>& tasks,
-                         const vlm::VlmOptions& model_options, const std::filesystem::path& run_dir);
+                         const vlm::VlmOptions& model_options, const std::filesystem::path& run_dir,
+                         graph::SceneCache* scenes = nullptr);
 
 /// Each agent's expected cost of one episode in an estimate (estimate_plan).
 std::map<std::string, double> expected_episode_costs(const nlohmann::json& estimate);
