@@ -70,6 +70,25 @@ TEST(Startup, CommandsThatTouchNoImageLoadNoImageCodecs) {
   EXPECT_TRUE(fs::exists(fs::path(testing::bin("mtg")).parent_path() / "libmtg_imgcodecs.so"));
 }
 
+// The front copied alone still answers --help, and a command says in one line what is missing.
+TEST(Startup, TheFrontWithoutMtgCliSaysWhatIsMissing) {
+  testing::FixtureDataset fx;
+  const fs::path alone = fx.root() / "alone" / "mtg";
+  fs::create_directories(alone.parent_path());
+  fs::copy_file(testing::bin("mtg"), alone);
+  const fs::path log = fx.root() / "alone.log";
+  {
+    testing::ChildProcess p({alone.string(), "--help"}, log.string());
+    EXPECT_EQ(p.wait(30000), 0) << read_text(log);
+  }
+  testing::ChildProcess p({alone.string(), "scene", "list"}, log.string());
+  EXPECT_EQ(p.wait(30000), 1) << read_text(log);
+  EXPECT_NE(read_text(log).find("mtg: cannot run " + (alone.parent_path() / "mtg_cli").string() +
+                                ": No such file or directory"),
+            std::string::npos)
+      << read_text(log);
+}
+
 TEST(Startup, TheLoadedCodecsDecodeAndEncodeAsOpenCvDoes) {
   cv::Mat image(48, 64, CV_8UC3);
   cv::randu(image, 0, 255);
