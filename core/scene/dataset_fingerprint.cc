@@ -1,6 +1,7 @@
 #include "core/scene/dataset_fingerprint.h"
 
 #include <fstream>
+#include <optional>
 #include <vector>
 
 #include "core/util/error.h"
@@ -94,15 +95,15 @@ std::string FileHashes::of(const fs::path& file) {
 
 DatasetFingerprint fingerprint_files(const fs::path& data_root, const std::set<fs::path>& files, FileHashes* hashes) {
   DatasetFingerprint f;
-  FileHashes own;
-  FileHashes& reader = hashes ? *hashes : own;
+  std::optional<FileHashes> own;  // opens the hash cache: only when no reader is given
+  FileHashes& reader = hashes ? *hashes : own.emplace();
   for (const fs::path& file : files) f.files[key_of(data_root, file)] = reader.of(file);
   return f;
 }
 
 std::string first_difference(const DatasetFingerprint& expected, const fs::path& data_root, FileHashes* hashes) {
-  FileHashes own;
-  FileHashes& reader = hashes ? *hashes : own;
+  std::optional<FileHashes> own;  // opens the hash cache: only when no reader is given
+  FileHashes& reader = hashes ? *hashes : own.emplace();
   for (const auto& [path, hash] : expected.files) {
     const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : data_root / path;
     const std::string here = reader.of(file);
