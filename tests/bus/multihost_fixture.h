@@ -30,6 +30,7 @@
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
+#include "tests/support/text_file.h"
 
 namespace mtg {
 namespace testing_multihost {
@@ -39,10 +40,7 @@ using orchestrator::EpisodeRow;
 
 constexpr const char* kSharedUrl = "udpm://239.255.77.1:7701?ttl=1";  // the hosts' multicast group
 
-inline std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::read_text;
 
 inline std::string script(const std::string& name) { return (fs::path(MTG_SOURCE_DIR) / "scripts" / name).string(); }
 

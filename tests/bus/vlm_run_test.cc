@@ -22,6 +22,7 @@
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/browser.h"
 #include "tests/support/process.h"
+#include "tests/support/text_file.h"
 
 // Last: httplib.h brings in <resolv.h>, whose `_res` macro breaks Eigen's headers.
 #include <httplib.h>
@@ -34,13 +35,6 @@ using ::testing::HasSubstr;
 using testing::Behaviour;
 
 constexpr const char* kKey = "sk-test-SECRET-b7f3e9-DO-NOT-LEAK";
-
-std::string slurp(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class VlmRunTest : public ::testing::Test {
  protected:
@@ -92,7 +86,7 @@ class VlmRunTest : public ::testing::Test {
     testing::ChildProcess view({testing::bin("mtg"), "view", (fx_.root() / "run").string(), "--port", "0"},
                                (fx_.root() / "view.log").string());
     const int port = testing::port_in_log((fx_.root() / "view.log").string(), 10000);
-    ASSERT_GT(port, 0) << slurp(fx_.root() / "view.log");
+    ASSERT_GT(port, 0) << testing::read_text(fx_.root() / "view.log");
     httplib::Client http("127.0.0.1", port);
     const auto list = http.Get("/api/runs/run/episodes?limit=100");
     ASSERT_TRUE(list && list->status == 200);
@@ -161,7 +155,7 @@ class VlmRunTest : public ::testing::Test {
 TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
   const std::vector<std::string> agents = {"openai:gpt-4o", "anthropic:claude-3-5-haiku-20241022",
                                            "gemini:gemini-2.0-flash"};
-  ASSERT_EQ(mtg_run("run", agents, {}), 0) << slurp(fx_.root() / "run.log");
+  ASSERT_EQ(mtg_run("run", agents, {}), 0) << testing::read_text(fx_.root() / "run.log");
   const auto rows = orchestrator::read_results(fx_.root() / "run" / "results.sqlite");
   ASSERT_EQ(rows.size(), 9u);
   for (const auto& r : rows) {
@@ -188,14 +182,14 @@ TEST_F(VlmRunTest, ThreeProvidersPlayWholeEpisodesAndACachedRerunCallsNobody) {
   // The key is nowhere in what the run wrote: recording, logs, results, plan, reports.
   for (const auto& entry : fs::recursive_directory_iterator(fx_.root() / "run")) {
     if (entry.is_regular_file()) {
-      EXPECT_EQ(slurp(entry.path()).find(kKey), std::string::npos) << "the API key leaked into " << entry.path();
+      EXPECT_EQ(testing::read_text(entry.path()).find(kKey), std::string::npos) << "the API key leaked into " << entry.path();
     }
   }
-  EXPECT_EQ(slurp(fx_.root() / "run.log").find(kKey), std::string::npos);
+  EXPECT_EQ(testing::read_text(fx_.root() / "run.log").find(kKey), std::string::npos);
 
   // A rerun answers from the cache alone: no HTTP call, the same verdicts, nothing spent.
   const std::size_t calls = seen.size();
-  ASSERT_EQ(mtg_run("rerun", agents, {"--cache-only"}), 0) << slurp(fx_.root() / "rerun.log");
+  ASSERT_EQ(mtg_run("rerun", agents, {"--cache-only"}), 0) << testing::read_text(fx_.root() / "rerun.log");
   EXPECT_EQ(server_.requests().size(), calls);
   const auto again = orchestrator::read_results(fx_.root() / "rerun" / "results.sqlite");
   ASSERT_EQ(again.size(), rows.size());
@@ -214,7 +208,7 @@ TEST_F(VlmRunTest, ARejectedKeyStopsTheAgentWithAClearMessageAndScoresNothing) {
                     std::string(R"({"error":{"message":"Incorrect API key provided: )") + kKey + R"(","code":"invalid_api_key"}})",
                     {}, 0, ""}));
   EXPECT_EQ(mtg_run("denied", {"openai:gpt-4o"}, {"--no-render"}), 1);
-  const std::string log = slurp(fx_.root() / "denied.log");
+  const std::string log = testing::read_text(fx_.root() / "denied.log");
   EXPECT_THAT(log, HasSubstr("authentication failed"));
   EXPECT_THAT(log, HasSubstr("run the same command again to resume"));
   EXPECT_EQ(log.find(kKey), std::string::npos) << "the server echoed the key; the adapter must redact it";
@@ -237,8 +231,8 @@ TEST_F(VlmRunTest, TheGovernorHoldsTwoProcessesToOneBudget) {
   };
   auto a = asker("a");
   auto b = asker("b");
-  EXPECT_EQ(a->wait(60000), 0) << slurp(fx_.root() / "a.log");
-  EXPECT_EQ(b->wait(60000), 0) << slurp(fx_.root() / "b.log");
+  EXPECT_EQ(a->wait(60000), 0) << testing::read_text(fx_.root() / "a.log");
+  EXPECT_EQ(b->wait(60000), 0) << testing::read_text(fx_.root() / "b.log");
   const auto seen = server_.requests();
   ASSERT_EQ(seen.size(), 24u);
   EXPECT_EQ(server_.answered_429(), 0) << "the governor let too many through";
@@ -259,15 +253,15 @@ TEST_F(VlmRunTest, TheGovernorHoldsTwoProcessesToOneBudget) {
 TEST_F(VlmRunTest, TheEstimateBeforeSpendingIsWithinAQuarterOfWhatARunSends) {
   const std::vector<std::string> agents = {"openai:gpt-4o", "anthropic:claude-3-5-haiku-20241022",
                                            "gemini:gemini-2.0-flash"};
-  ASSERT_EQ(mtg_run("estimated", agents, {"--estimate"}), 0) << slurp(fx_.root() / "estimated.log");
-  const std::string printed = slurp(fx_.root() / "estimated.log");
+  ASSERT_EQ(mtg_run("estimated", agents, {"--estimate"}), 0) << testing::read_text(fx_.root() / "estimated.log");
+  const std::string printed = testing::read_text(fx_.root() / "estimated.log");
   EXPECT_THAT(printed, HasSubstr("cost before spending: 9 episode(s) of 3 model agent(s)"));
   EXPECT_THAT(printed, HasSubstr("never ends (high)"));
   EXPECT_FALSE(fs::exists(fx_.root() / "estimated")) << "--estimate writes no run folder";
   EXPECT_TRUE(server_.requests().empty()) << "--estimate calls no model";
 
-  ASSERT_EQ(mtg_run("run", agents, {}), 0) << slurp(fx_.root() / "run.log");
-  EXPECT_THAT(slurp(fx_.root() / "run.log"), HasSubstr("cost before spending")) << "a run prints it before it starts";
+  ASSERT_EQ(mtg_run("run", agents, {}), 0) << testing::read_text(fx_.root() / "run.log");
+  EXPECT_THAT(testing::read_text(fx_.root() / "run.log"), HasSubstr("cost before spending")) << "a run prints it before it starts";
   const orchestrator::RunPlan plan = orchestrator::load_plan(fx_.root() / "run");
   std::map<std::string, tasks::Task> by_id;
   for (auto& t : tasks::read_tasks(db_)) by_id.emplace(t.id, t);
@@ -308,15 +302,15 @@ TEST_F(VlmRunTest, MaxCostStopsStartingEpisodesAndAHigherCapFinishesTheRun) {
   const std::vector<std::string> agents = {"openai:gpt-4o"};
   // One at a time: the first episode's expected (or, without an estimate, its real) cost is
   // above so small a cap, so exactly one runs.
-  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "0.000001"}, 3, 1), 3) << slurp(fx_.root() / "capped.log");
-  const std::string log = slurp(fx_.root() / "capped.log");
+  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "0.000001"}, 3, 1), 3) << testing::read_text(fx_.root() / "capped.log");
+  const std::string log = testing::read_text(fx_.root() / "capped.log");
   EXPECT_THAT(log, HasSubstr("in flight reached --max-cost $0.0000; 2 episode(s) not started; run the same command "
                              "again with a higher --max-cost to go on"));
   auto rows = orchestrator::read_results(fx_.root() / "capped" / "results.sqlite");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_GT(rows[0].usage.spent_usd, 0.0);
 
-  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "1000"}, 3, 1), 0) << slurp(fx_.root() / "capped.log");
+  ASSERT_EQ(mtg_run("capped", agents, {"--max-cost", "1000"}, 3, 1), 0) << testing::read_text(fx_.root() / "capped.log");
   rows = orchestrator::read_results(fx_.root() / "capped" / "results.sqlite");
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;

@@ -23,18 +23,12 @@
 #include "core/util/error.h"
 #include "tests/support/result_rows.h"
 #include "tests/support/run_fixture.h"
+#include "tests/support/text_file.h"
 
 namespace mtg {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string contents(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class LinkGuardTest : public testing::RunFixture {
  protected:
@@ -60,17 +54,17 @@ TEST_F(LinkGuardTest, ALinkAtAnyNameARunWritesIsRefusedAndItsTargetUntouched) {
     const bool existed = fs::exists(fs::symlink_status(at));
     if (existed) fs::rename(at, kept);
     const fs::path target = victim(fs::path(name).filename().string());
-    const std::string before = contents(target);
+    const std::string before = testing::read_text(target);
     fs::create_symlink(target, at);
     EXPECT_EQ(mtg(run_args("run", {"oracle"}, 1, 2)), 1) << log_text();
     EXPECT_NE(last_line().find(at.string() + ": is a symbolic link"), std::string::npos) << log_text();
-    EXPECT_EQ(contents(target), before) << "the run wrote through the link at " << name;
+    EXPECT_EQ(testing::read_text(target), before) << "the run wrote through the link at " << name;
     fs::remove(at);
     if (existed) fs::rename(kept, at);
   }
   // The same for the commands that write into a finished run's folder.
   const fs::path target = victim("report");
-  const std::string before = contents(target);
+  const std::string before = testing::read_text(target);
   fs::rename(dir / "report.png", fx_.root() / "kept.png");
   fs::create_symlink(target, dir / "report.png");
   EXPECT_EQ(mtg({testing::bin("mtg"), "report", dir.string()}), 1) << log_text();
@@ -79,7 +73,7 @@ TEST_F(LinkGuardTest, ALinkAtAnyNameARunWritesIsRefusedAndItsTargetUntouched) {
   EXPECT_EQ(mtg({testing::bin("mtg"), "replay", dir.string()}), 1) << log_text();
   EXPECT_EQ(mtg({testing::bin("mtg"), "gather", dir.string(), "--no-bus"}), 1) << log_text();
   EXPECT_NE(last_line().find("report.png: is a symbolic link"), std::string::npos) << log_text();
-  EXPECT_EQ(contents(target), before);
+  EXPECT_EQ(testing::read_text(target), before);
   fs::remove(dir / "report.png");
   fs::rename(fx_.root() / "kept.png", dir / "report.png");
   // With nothing planted, the folder resumes as before.
@@ -92,7 +86,7 @@ TEST_F(LinkGuardTest, ANewRunFolderWithAPlantedLockIsRefusedBeforeAnything) {
   const fs::path target = victim("lock");
   fs::create_symlink(target, dir / ".lock");
   EXPECT_EQ(mtg(run_args("evalrun", {"oracle"}, 1, 2)), 1) << log_text();
-  EXPECT_EQ(contents(target), "precious lock\n");
+  EXPECT_EQ(testing::read_text(target), "precious lock\n");
   EXPECT_FALSE(fs::exists(dir / "plan.json")) << "nothing is written before the check";
   // A folder the run writes into, planted as a link to elsewhere.
   fs::remove(dir / ".lock");
@@ -156,7 +150,7 @@ TEST_F(LinkGuardTest, LinksPlantedByAnotherUserInAStickyFolderAreNeverWrittenThr
   for (const auto& [target, name] : std::vector<std::pair<fs::path, std::string>>{
            {lock_target, "root-lock"}, {png_target, "root-png"}, {tasks_target, "root-tasks"},
            {suite_target, "root-suite"}, {index_target, "root-index"}}) {
-    EXPECT_EQ(contents(target), "precious " + name + "\n") << target;
+    EXPECT_EQ(testing::read_text(target), "precious " + name + "\n") << target;
   }
 }
 
@@ -224,8 +218,8 @@ TEST(RecordingRefs, AReferenceToAnotherFileIsNeverReadKeptNorCopied) {
   testing::ChildProcess gather({testing::bin("mtg"), "gather", (dir / "run").string(), "--no-bus", "--from",
                                 (dir / "w").string()},
                                (dir / "gather.log").string());
-  EXPECT_EQ(gather.wait(60000), 1) << contents(dir / "gather.log");
-  EXPECT_NE(contents(dir / "gather.log").find("1 missing"), std::string::npos) << contents(dir / "gather.log");
+  EXPECT_EQ(gather.wait(60000), 1) << testing::read_text(dir / "gather.log");
+  EXPECT_NE(testing::read_text(dir / "gather.log").find("1 missing"), std::string::npos) << testing::read_text(dir / "gather.log");
   EXPECT_FALSE(fs::exists(dir / "run" / "episodes" / "E0-a0.lcmlog")) << "the secret was copied as a recording";
   fs::remove_all(dir);
 }

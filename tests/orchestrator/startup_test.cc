@@ -15,16 +15,12 @@
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
+#include "tests/support/text_file.h"
 
 namespace mtg {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // The libraries the dynamic loader opened for `argv` (LD_DEBUG=files), and its exit status.
 std::pair<int, std::string> loaded_by(const std::vector<std::string>& argv, const fs::path& log) {
@@ -32,7 +28,7 @@ std::pair<int, std::string> loaded_by(const std::vector<std::string>& argv, cons
   testing::ChildProcess p(argv, log.string());
   ::unsetenv("LD_DEBUG");
   const int status = p.wait(120000);
-  return {status, read_text(log)};
+  return {status, testing::read_text(log)};
 }
 
 TEST(Startup, CommandsThatTouchNoImageLoadNoImageCodecs) {
@@ -79,14 +75,14 @@ TEST(Startup, TheFrontWithoutMtgCliSaysWhatIsMissing) {
   const fs::path log = fx.root() / "alone.log";
   {
     testing::ChildProcess p({alone.string(), "--help"}, log.string());
-    EXPECT_EQ(p.wait(30000), 0) << read_text(log);
+    EXPECT_EQ(p.wait(30000), 0) << testing::read_text(log);
   }
   testing::ChildProcess p({alone.string(), "scene", "list"}, log.string());
-  EXPECT_EQ(p.wait(30000), 1) << read_text(log);
-  EXPECT_NE(read_text(log).find("mtg: cannot run " + (alone.parent_path() / "mtg_cli").string() +
+  EXPECT_EQ(p.wait(30000), 1) << testing::read_text(log);
+  EXPECT_NE(testing::read_text(log).find("mtg: cannot run " + (alone.parent_path() / "mtg_cli").string() +
                                 ": No such file or directory"),
             std::string::npos)
-      << read_text(log);
+      << testing::read_text(log);
 }
 
 TEST(Startup, TheLoadedCodecsDecodeAndEncodeAsOpenCvDoes) {

@@ -20,6 +20,7 @@
 #include "orchestrator/run/results_db.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
+#include "tests/support/text_file.h"
 
 namespace mtg::testing {
 
@@ -57,10 +58,7 @@ class RunFixture : public ::testing::Test {
   }
 
   std::string log() const { return (fx_.root() / "mtg.log").string(); }
-  std::string log_text() const {
-    std::ifstream in(log());
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string log_text() const { return read_text(log()); }
   // The log's last line that is not empty: what a refused command said.
   std::string last_line() const {
     std::istringstream in(log_text());

@@ -15,6 +15,7 @@
 #include "core/util/error.h"
 #include "tests/support/fixture_dataset.h"
 #include "tests/support/shipped_data.h"
+#include "tests/support/text_file.h"
 
 namespace mtg::scene {
 namespace {
@@ -156,7 +157,7 @@ TEST(FileHashCache, RemembersOnlyTheVersionItReadAndNeverGivesAWrongHash) {
   fs::remove(cache_file);
   fs::create_symlink(target, cache_file);
   EXPECT_THROW(FileHashCache{cache_file}, Error);
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(std::ifstream(target).rdbuf()), {}), "keep me");
+  EXPECT_EQ(testing::read_text(target), "keep me");
   ::setenv("MTG_CACHE_DIR", cache_file.parent_path().c_str(), 1);
   {
     FileHashes through_env;  // the planted link turns the cache off; the hashes are read

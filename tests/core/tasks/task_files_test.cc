@@ -11,18 +11,12 @@
 #include "core/util/host_name.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/process.h"
+#include "tests/support/text_file.h"
 
 namespace mtg {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Files next to `file` whose names start with its name and ".partial".
 std::vector<std::string> partials_of(const fs::path& file) {
@@ -55,13 +49,13 @@ class TaskFiles : public ::testing::Test {
 // the file is what one run alone writes.
 TEST_F(TaskFiles, TwoRunsGivenTheSameOutputBothFinishWithTheBytesOfOne) {
   const fs::path alone = fx_.root() / "alone.sqlite", both = fx_.root() / "both.sqlite";
-  ASSERT_EQ(run_alone(alone), 0) << read_file(fx_.root() / "log.txt");
+  ASSERT_EQ(run_alone(alone), 0) << testing::read_text(fx_.root() / "log.txt");
   testing::ChildProcess first(tasks_to(both), (fx_.root() / "first.txt").string());
   testing::ChildProcess second(tasks_to(both), (fx_.root() / "second.txt").string());
-  EXPECT_EQ(first.wait(120000), 0) << read_file(fx_.root() / "first.txt");
-  EXPECT_EQ(second.wait(120000), 0) << read_file(fx_.root() / "second.txt");
-  EXPECT_EQ(read_file(both), read_file(alone));
-  EXPECT_EQ(read_file(both.string() + ".jsonl"), read_file(alone.string() + ".jsonl"));
+  EXPECT_EQ(first.wait(120000), 0) << testing::read_text(fx_.root() / "first.txt");
+  EXPECT_EQ(second.wait(120000), 0) << testing::read_text(fx_.root() / "second.txt");
+  EXPECT_EQ(testing::read_text(both), testing::read_text(alone));
+  EXPECT_EQ(testing::read_text(both.string() + ".jsonl"), testing::read_text(alone.string() + ".jsonl"));
   EXPECT_TRUE(partials_of(both).empty()) << ::testing::PrintToString(partials_of(both));
 }
 
@@ -79,7 +73,7 @@ TEST_F(TaskFiles, AKilledRunsPartialGoesWithTheNextRunAndALiveRunsStays) {
   for (const fs::path& p : {killed, fs::path(killed.string() + "-journal"), live, fs::path(out.string() + ".partial")}) {
     std::ofstream(p) << "left over";
   }
-  ASSERT_EQ(run_alone(out), 0) << read_file(fx_.root() / "log.txt");
+  ASSERT_EQ(run_alone(out), 0) << testing::read_text(fx_.root() / "log.txt");
   EXPECT_TRUE(fs::exists(out));
   EXPECT_EQ(partials_of(out), std::vector<std::string>{live.filename().string()});
 }
