@@ -143,8 +143,11 @@ std::vector<graph::ObjectId> objects_from_json(const graph::SceneGraph& g, const
   return out;
 }
 
-constexpr SetPredicate::Op kAllOps[] = {SetPredicate::Op::kAllOn, SetPredicate::Op::kNoneOn, SetPredicate::Op::kNear,
-                                        SetPredicate::Op::kTogether, SetPredicate::Op::kAnyPairNear};
+constexpr SetPredicate::Op kAllOps[] = {SetPredicate::Op::kAllOn,    SetPredicate::Op::kNoneOn,
+                                        SetPredicate::Op::kNear,     SetPredicate::Op::kTogether,
+                                        SetPredicate::Op::kAnyPairNear, SetPredicate::Op::kCountOn,
+                                        SetPredicate::Op::kApart,    SetPredicate::Op::kAllNear,
+                                        SetPredicate::Op::kNoneNear};
 
 }  // namespace
 
@@ -174,8 +177,16 @@ const char* to_string(SetPredicate::Op op) {
     case SetPredicate::Op::kNear: return "near";
     case SetPredicate::Op::kTogether: return "together";
     case SetPredicate::Op::kAnyPairNear: return "any_pair_near";
+    case SetPredicate::Op::kCountOn: return "count_on";
+    case SetPredicate::Op::kApart: return "apart";
+    case SetPredicate::Op::kAllNear: return "all_near";
+    case SetPredicate::Op::kNoneNear: return "none_near";
   }
   return "?";
+}
+
+bool uses_objects2(SetPredicate::Op op) {
+  return op == SetPredicate::Op::kAnyPairNear || op == SetPredicate::Op::kAllNear || op == SetPredicate::Op::kNoneNear;
 }
 
 double footprint_gap(const geom::Ring& a, const geom::Ring& b) {
@@ -293,6 +304,28 @@ bool predicate_satisfied(const graph::SceneGraph& g, const WorldState& s, const 
         return listed(p.platforms, on(a)) &&
                std::any_of(p.objects2.begin(), p.objects2.end(), [&](graph::ObjectId b) { return near(a, b); });
       });
+    case SetPredicate::Op::kCountOn: {
+      const auto n = std::count_if(p.objects.begin(), p.objects.end(),
+                                   [&](graph::ObjectId o) { return listed(p.platforms, on(o)); });
+      return n >= p.min && n <= p.max;
+    }
+    case SetPredicate::Op::kApart: {
+      std::vector<graph::PlatformId> used;
+      for (const graph::ObjectId o : p.objects) {
+        const graph::PlatformId at = on(o);
+        if (!at.valid() || listed(used, at)) return false;
+        used.push_back(at);
+      }
+      return true;
+    }
+    case SetPredicate::Op::kAllNear:
+      return std::all_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId a) {
+        return std::any_of(p.objects2.begin(), p.objects2.end(), [&](graph::ObjectId b) { return near(a, b); });
+      });
+    case SetPredicate::Op::kNoneNear:
+      return std::none_of(p.objects.begin(), p.objects.end(), [&](graph::ObjectId a) {
+        return std::any_of(p.objects2.begin(), p.objects2.end(), [&](graph::ObjectId b) { return near(a, b); });
+      });
   }
   return false;
 }
@@ -356,6 +389,10 @@ nlohmann::json to_json(const graph::SceneGraph& g, const OutcomeGoal& goal) {
     for (const graph::PlatformId q : p.platforms) platforms.push_back(g.platforms[q].name);
     nlohmann::json jp = {{"op", to_string(p.op)}, {"objects", names(p.objects)}, {"platforms", platforms}};
     if (!p.objects2.empty()) jp["objects2"] = names(p.objects2);
+    if (p.op == SetPredicate::Op::kCountOn) {
+      jp["min"] = p.min;
+      jp["max"] = p.max;
+    }
     all.push_back(std::move(jp));
   }
   return {{"all", all}};
@@ -373,6 +410,19 @@ OutcomeGoal outcome_goal_from_json(const graph::SceneGraph& g, const nlohmann::j
     p.op = *known;
     p.objects = objects_from_json(g, jp, "objects");
     p.objects2 = objects_from_json(g, jp, "objects2");
+    if (p.op == SetPredicate::Op::kCountOn) {
+      for (auto [field, value] : {std::pair{"min", &p.min}, std::pair{"max", &p.max}}) {
+        if (!jp.contains(field) || !jp[field].is_number_integer() || jp[field].get<long long>() < 0 ||
+            jp[field].get<long long>() > 1000) {
+          throw Error(std::string("outcome goal: a count_on predicate needs an integer '") + field + "' from 0 to 1000");
+        }
+        *value = jp[field].get<int>();
+      }
+      if (p.min > p.max) throw Error("outcome goal: count_on's 'min' is above its 'max'");
+    }
+    if (uses_objects2(p.op) && p.objects2.empty()) {
+      throw Error(std::string("outcome goal: a ") + op + " predicate needs 'objects2'");
+    }
     for (const auto& name : jp.value("platforms", std::vector<std::string>{})) {
       const graph::PlatformId q = g.find_platform(name);
       if (!q.valid()) throw Error("outcome goal: platform '" + name + "' is not in scene " + g.scene);

@@ -18,7 +18,7 @@
 // surface_part or direction goal about it does not hold: no task is won without acting.
 //
 // Outcome goals (Level 4) are conjunctions of set predicates (all_on, none_on, near, together,
-// any_pair_near).
+// any_pair_near, count_on, apart, all_near, none_near).
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -79,13 +79,25 @@ geom::Region goal_region_P(const graph::SceneGraph& g, const WorldState& s, cons
 ///   together       all objects stand on one platform
 ///   any_pair_near  some object of `objects` and some of `objects2` stand side by side (within
 ///                  around_distance) on one of `platforms`: "one cup next to one plate"
+///   count_on       between `min` and `max` of `objects` (both counts included) stand on one of
+///                  `platforms`: "leave exactly two books on the shelf"
+///   apart          no two of `objects` stand on one platform, and none is held: "spread out"
+///   all_near       every object of `objects` stands side by side with some object of
+///                  `objects2` (on its platform): "the cups next to the teapot"
+///   none_near      no object of `objects` stands side by side with any of `objects2`: "clear
+///                  the space around the lamp"
 struct SetPredicate {
-  enum class Op { kAllOn, kNoneOn, kNear, kTogether, kAnyPairNear };
+  enum class Op { kAllOn, kNoneOn, kNear, kTogether, kAnyPairNear, kCountOn, kApart, kAllNear, kNoneNear };
   Op op = Op::kAllOn;
   std::vector<graph::ObjectId> objects;
   std::vector<graph::PlatformId> platforms;  // all_on: any of these; none_on: none of these
-  std::vector<graph::ObjectId> objects2;     // any_pair_near: the second group
+  std::vector<graph::ObjectId> objects2;     // any_pair_near, all_near, none_near: the second group
+  int min = 0;                               // count_on
+  int max = 0;                               // count_on
 };
+/// Whether the predicate's second object list is part of what it asks (any_pair_near, all_near,
+/// none_near).
+bool uses_objects2(SetPredicate::Op op);
 const char* to_string(SetPredicate::Op op);
 
 struct OutcomeGoal {

@@ -22,31 +22,79 @@ namespace {
 using episode::SetPredicate;
 using episode::WorldState;
 
-// Each kind's name and the placeholders its templates may and must use: the one table of kinds.
+// Each kind's name, the placeholders its templates may and must use, and what the scene must
+// offer for it to make any task (said where a kind makes none): the one table of kinds.
 struct KindSpec {
   OutcomeKind kind;
   const char* name;
   std::set<std::string> allowed;
   std::vector<std::set<std::string>> required;  // each: at least one of these
+  const char* needs;
 };
 
 const std::vector<KindSpec>& kinds() {
   using K = OutcomeKind;
   static const std::vector<KindSpec> k = {
       {K::kGatherCategory, "gather_category", {"source", "target", "category", "categories", "count"},
-       {{"source"}, {"target"}, {"category", "categories"}}},
-      {K::kConsolidate, "consolidate", {"target", "category", "categories", "count"}, {{"target"}, {"category", "categories"}}},
-      {K::kClearPlatform, "clear_platform", {"source", "count"}, {{"source"}}},
+       {{"source"}, {"target"}, {"category", "categories"}}, "two to max-moves items of one noun on one platform"},
+      {K::kConsolidate, "consolidate", {"target", "category", "categories", "count", "sources"},
+       {{"target"}, {"category", "categories"}, {"sources"}}, "two to max-moves items of one noun in the home"},
+      {K::kClearPlatform, "clear_platform", {"source", "count"}, {{"source"}},
+       "a platform holding one to max-moves items"},
       {K::kClearCategory, "clear_category", {"source", "category", "categories", "count"},
-       {{"source"}, {"category", "categories"}}},
-      {K::kArrangeOn, "arrange_on", {"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}}},
-      {K::kTogether, "together", {"object", "object2"}, {{"object"}, {"object2"}}},
-      {K::kSetUp, "set_up", {"target", "category", "category2"}, {{"target"}, {"category"}, {"category2"}}},
-      {K::kPutAway, "put_away", {"object", "furniture"}, {{"object"}, {"furniture"}}},
+       {{"source"}, {"category", "categories"}}, "a platform holding items of two nouns"},
+      {K::kArrangeOn, "arrange_on", {"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}},
+       "two items a text can name"},
+      {K::kTogether, "together", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on two platforms"},
+      {K::kSetUp, "set_up", {"target", "category", "category2", "source", "source2"},
+       {{"target"}, {"category"}, {"category2"}, {"source"}, {"source2"}}, "items of two nouns off one platform"},
+      {K::kPutAway, "put_away", {"object", "furniture"}, {{"object"}, {"furniture"}},
+       "furniture with two navigable layers, one of them inside"},
       {K::kSort, "sort", {"source", "target", "target2", "category", "categories", "category2", "categories2"},
-       {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}}},
-      {K::kMoveLayer, "move_layer", {"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}}},
-      {K::kPair, "pair", {"object", "object2"}, {{"object"}, {"object2"}}},
+       {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}},
+       "a platform holding items of two nouns, at most max-moves in all"},
+      {K::kMoveLayer, "move_layer", {"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}},
+       "furniture with two navigable layers"},
+      {K::kPair, "pair", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items"},
+      {K::kSwap, "swap", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on two platforms"},
+      {K::kLeaveExactly, "leave_exactly", {"source", "categories", "kept"}, {{"source"}, {"categories"}, {"kept"}},
+       "two or more items of one noun on one platform"},
+      {K::kBringSome, "bring_some", {"source", "target", "categories", "moved"},
+       {{"source"}, {"target"}, {"categories"}, {"moved"}}, "two or more items of one noun on one platform"},
+      {K::kKeepOne, "keep_one", {"source", "target", "category", "categories"},
+       {{"source"}, {"target"}, {"category", "categories"}}, "three or more items of one noun on one platform"},
+      {K::kSplit, "split", {"source", "target", "target2", "categories"},
+       {{"source"}, {"target"}, {"target2"}, {"categories"}}, "two to max-moves items of one noun on one platform"},
+      {K::kSpreadOut, "spread_out", {"source", "categories"}, {{"source"}, {"categories"}},
+       "two or more items of one noun on one platform"},
+      {K::kSeparate, "separate", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on one platform"},
+      {K::kJoinKind, "join_kind", {"object", "categories", "target"}, {{"object"}, {"categories"}, {"target"}},
+       "an item away from a platform holding two of its noun"},
+      {K::kGroupAround, "group_around", {"source", "categories", "object"}, {{"source"}, {"categories"}, {"object"}},
+       "two or more items of one noun on one platform, and a nameable item elsewhere"},
+      {K::kClearAround, "clear_around", {"object"}, {{"object"}},
+       "a nameable item with one to max-moves items standing next to it"},
+      {K::kTwoPairs, "two_pairs", {"object", "object2", "object3", "object4"},
+       {{"object"}, {"object2"}, {"object3"}, {"object4"}}, "four nameable items"},
+      {K::kMoveAll, "move_all", {"source", "target", "count"}, {{"source"}, {"target"}},
+       "a platform holding one to max-moves items"},
+      {K::kKeepOnly, "keep_only", {"source", "categories"}, {{"source"}, {"categories"}},
+       "a platform holding two or more items of one noun and a few others"},
+      {K::kThinOut, "thin_out", {"source", "categories", "kept"}, {{"source"}, {"categories"}, {"kept"}},
+       "two or more items of one noun on one platform"},
+      {K::kLayOut, "lay_out", {"target", "category", "category2", "category3", "source", "source2", "source3"},
+       {{"target"}, {"category"}, {"category2"}, {"category3"}, {"source"}, {"source2"}, {"source3"}},
+       "items of three nouns"},
+      {K::kPutInside, "put_inside", {"source", "categories", "furniture"}, {{"source"}, {"categories"}, {"furniture"}},
+       "furniture with a navigable inside, and two or more items of one noun elsewhere"},
+      {K::kBesideKind, "beside_kind", {"object", "category", "target"}, {{"object"}, {"category"}, {"target"}},
+       "a nameable item and an item of another noun elsewhere"},
+      {K::kAllButOne, "all_but_one", {"source", "category", "object"}, {{"source"}, {"category"}, {"object"}},
+       "two or more items of one noun on one platform, one of them nameable"},
+      {K::kFillEmpty, "fill_empty", {"source", "target", "moved"}, {{"source"}, {"target"}, {"moved"}},
+       "an empty platform and one holding three or more items"},
+      {K::kGatherTwo, "gather_two", {"source", "source2", "target", "categories"},
+       {{"source"}, {"source2"}, {"target"}, {"categories"}}, "items of one noun on two platforms, at most max-moves"},
   };
   return k;
 }
@@ -115,8 +163,13 @@ SceneFacts facts(const graph::SceneGraph& g, const WorldState& s, Ambiguity rule
   return f;
 }
 
-// Object-level placeholders are drawn this many times per platform-level binding.
-constexpr std::size_t kSamples = 6;
+// Object-level placeholders are drawn this many times per platform-level binding (kinds that
+// draw objects; the others take every binding their scene offers).
+constexpr std::size_t kSamples = 100;
+// Kinds whose bindings are fewer per platform (one object here, one elsewhere) draw more often.
+constexpr std::size_t kManySamples = 300;
+// Two objects to one of every platform: the most bindings of all.
+constexpr std::size_t kFewSamples = 60;
 
 struct Move {
   ObjectId object;
@@ -193,6 +246,23 @@ struct NamedObject {
   std::vector<Identification> lookalikes;
 };
 
+// "one book", "two books": a count of a noun as a text says it.
+std::string counted(int n, const std::string& singular, const std::string& plural_words) {
+  static const char* words[] = {"no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten"};
+  const std::string number = n >= 0 && n <= 10 ? words[n] : std::to_string(n);
+  return number + " " + (n == 1 ? singular : plural_words);
+}
+
+// "shelf_1", "shelf_1 and table_2", "shelf_1, table_2 and bed_0".
+std::string listed(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += i + 1 == names.size() ? " and " : ", ";
+    out += names[i];
+  }
+  return out;
+}
+
 class Instantiator {
  public:
   Instantiator(const graph::SceneGraph& g, const WorldState& s, const TaskOptions& options,
@@ -201,27 +271,54 @@ class Instantiator {
       : g_(g), s_(s), options_(options), seeing_(seeing), dropped_(dropped), memo_(memo),
         f_(facts(g, s, options.ambiguity)) {}
 
-  void run(const OutcomeTemplate& t, std::vector<OutcomeTask>& out) {
-    tmpl_ = &t;
+  /// Every task of one kind, each worded by one of `phrasings` (all of that kind), chosen by its
+  /// goal with the seed. Returns how many bindings reached the checks (a kind without any is
+  /// stopped by its precondition).
+  std::size_t run(OutcomeKind kind, const std::vector<const OutcomeTemplate*>& phrasings,
+                  std::vector<OutcomeTask>& out) {
+    kind_ = kind;
+    phrasings_ = &phrasings;
     out_ = &out;
-    switch (t.kind) {
-      case OutcomeKind::kGatherCategory: return gather_category();
-      case OutcomeKind::kConsolidate: return consolidate();
-      case OutcomeKind::kClearPlatform: return clear_platform();
-      case OutcomeKind::kClearCategory: return clear_category();
-      case OutcomeKind::kArrangeOn: return arrange_on();
-      case OutcomeKind::kTogether: return together();
-      case OutcomeKind::kSetUp: return set_up();
-      case OutcomeKind::kPutAway: return put_away();
-      case OutcomeKind::kSort: return sort();
-      case OutcomeKind::kMoveLayer: return move_layer();
-      case OutcomeKind::kPair: return pair();
+    candidates_ = 0;
+    switch (kind) {
+      case OutcomeKind::kGatherCategory: gather_category(); break;
+      case OutcomeKind::kConsolidate: consolidate(); break;
+      case OutcomeKind::kClearPlatform: clear_platform(); break;
+      case OutcomeKind::kClearCategory: clear_category(); break;
+      case OutcomeKind::kArrangeOn: arrange_on(); break;
+      case OutcomeKind::kTogether: together(); break;
+      case OutcomeKind::kSetUp: set_up(); break;
+      case OutcomeKind::kPutAway: put_away(); break;
+      case OutcomeKind::kSort: sort(); break;
+      case OutcomeKind::kMoveLayer: move_layer(); break;
+      case OutcomeKind::kPair: pair(); break;
+      case OutcomeKind::kSwap: swap(); break;
+      case OutcomeKind::kLeaveExactly: leave_count(false); break;
+      case OutcomeKind::kThinOut: leave_count(true); break;
+      case OutcomeKind::kBringSome: bring_some(); break;
+      case OutcomeKind::kKeepOne: keep_one(); break;
+      case OutcomeKind::kSplit: split(); break;
+      case OutcomeKind::kSpreadOut: spread_out(); break;
+      case OutcomeKind::kSeparate: separate(); break;
+      case OutcomeKind::kJoinKind: join_kind(); break;
+      case OutcomeKind::kGroupAround: group_around(); break;
+      case OutcomeKind::kClearAround: clear_around(); break;
+      case OutcomeKind::kTwoPairs: two_pairs(); break;
+      case OutcomeKind::kMoveAll: move_all(); break;
+      case OutcomeKind::kKeepOnly: keep_only(); break;
+      case OutcomeKind::kLayOut: lay_out(); break;
+      case OutcomeKind::kPutInside: put_inside(); break;
+      case OutcomeKind::kBesideKind: beside_kind(); break;
+      case OutcomeKind::kAllButOne: all_but_one(); break;
+      case OutcomeKind::kFillEmpty: fill_empty(); break;
+      case OutcomeKind::kGatherTwo: gather_two(); break;
     }
+    return candidates_;
   }
 
  private:
   Rng rng_for(const std::string& binding) const {
-    return Rng(derive_seed(options_.seed, fnv1a64("L4/" + tmpl_->id + "/" + binding)));
+    return Rng(derive_seed(options_.seed, fnv1a64(std::string("L4/") + to_string(kind_) + "/" + binding)));
   }
   std::string pname(PlatformId p) const { return g_.platforms[p].name; }
   // "books", "pairs of shoes": a category's plural as the text writes it.
@@ -232,18 +329,20 @@ class Instantiator {
   // Furniture by its instance name, as the platform names the agent reads spell it.
   std::string furniture_name(ObjectId f) const { return g_.objects[f].name; }
 
-  // What category words select, read from the scene rather than from the goal: every item of
-  // the category on `platform` (at any depth), or anywhere in the scene for none.
+  // What category words select, read from the scene rather than from the goal: every item the
+  // word names (its own noun, or one the word covers: "every bottle" takes in the spice jars) on
+  // `platform` (at any depth), or anywhere in the scene for none.
   std::vector<ObjectId> called(const std::string& cat, PlatformId platform = {}) const {
     std::vector<ObjectId> out;
+    auto named = [&](ObjectId o) { return g_.called(cat, category_key(g_.objects[o], options_.ambiguity)); };
     if (platform.valid()) {
       for (const ObjectId o : episode::pickable_on(g_, s_, platform)) {
-        if (category_key(g_.objects[o], options_.ambiguity) == cat) out.push_back(o);
+        if (named(o)) out.push_back(o);
       }
       return out;
     }
     for (const ObjectId i : g_.objects.ids()) {
-      if (g_.objects[i].pickable() && category_key(g_.objects[i], options_.ambiguity) == cat) out.push_back(i);
+      if (g_.objects[i].pickable() && named(i)) out.push_back(i);
     }
     return out;
   }
@@ -254,7 +353,13 @@ class Instantiator {
     std::optional<NamedObject> named;
     bool occluded = false;
   };
-  ObjectNaming name_object(ObjectId o) const {
+  // Naming reads the arrival view, the same for every binding: once per object.
+  const ObjectNaming& name_object(ObjectId o) {
+    auto it = naming_.find(o);
+    if (it == naming_.end()) it = naming_.emplace(o, name_fresh(o)).first;
+    return it->second;
+  }
+  ObjectNaming name_fresh(ObjectId o) const {
     const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
     if (!platform.valid()) return {};
     const auto ref = refer(g_, {&s_}, o, platform, options_.ambiguity, seeing_);
@@ -271,12 +376,12 @@ class Instantiator {
   std::optional<std::vector<NamedObject>> name_objects(std::initializer_list<ObjectId> objects) {
     std::vector<NamedObject> out;
     for (const ObjectId o : objects) {
-      ObjectNaming naming = name_object(o);
+      const ObjectNaming& naming = name_object(o);
       if (!naming.named) {
         dropped_.add(naming.occluded ? "occluded" : "unidentifiable", 4);
         return std::nullopt;
       }
-      out.push_back(std::move(*naming.named));
+      out.push_back(*naming.named);
     }
     return out;
   }
@@ -297,6 +402,11 @@ class Instantiator {
     }
     return {cats.begin(), cats.end()};
   }
+  // Whether every object stands directly on `platform` (none on another item): a plan moves
+  // them one by one.
+  bool all_direct(const std::vector<ObjectId>& objs, PlatformId platform) const {
+    return std::all_of(objs.begin(), objs.end(), [&](ObjectId o) { return s_.objects[o].parent == platform; });
+  }
   // Navigable platforms other than `except`, in a seeded order.
   std::vector<PlatformId> shuffled_targets(Rng& rng, const std::set<PlatformId>& except) const {
     std::vector<PlatformId> out;
@@ -313,19 +423,23 @@ class Instantiator {
     }
     return out;
   }
+  static std::vector<ObjectId> minus(std::vector<ObjectId> a, const std::vector<ObjectId>& b) {
+    a.erase(std::remove_if(a.begin(), a.end(), [&](ObjectId o) { return std::find(b.begin(), b.end(), o) != b.end(); }),
+            a.end());
+    return a;
+  }
 
-  // Fills the template, plans, verifies the goal with the judge's predicate, and keeps the task.
+  // Fills a phrasing, plans, verifies the goal with the judge's predicate, and keeps the task.
   // `selects` holds what the text's words pick out, one set per object list of the goal's
   // predicates (objects, then objects2 where used), computed from the words: the goal must ask
   // for exactly those objects, or the text would not say which ones it wants.
   bool emit(const std::map<std::string, std::string>& values, episode::OutcomeGoal goal,
             const std::vector<Move>& moves, const std::vector<std::vector<ObjectId>>& selects,
             std::vector<Identification> lookalikes = {}) {
-    // "All the canisters ... put them" said of one canister misleads: plural words need two.
-    const char* plurals[] = {"categories", "categories2"};
-    for (std::size_t k = 0; k < 2; ++k) {
-      if (values.count(plurals[k]) != 0 && k < selects.size() && selects[k].size() < 2) return false;
-    }
+    ++candidates_;
+    // A goal already made (by this kind or an earlier one) is not made twice.
+    std::string key = to_json(g_, goal).dump();
+    if (made_.count(key) != 0) return false;
     if (!words_match(goal, selects)) {
       dropped_.add("vague", 4);
       return false;
@@ -341,13 +455,26 @@ class Instantiator {
     auto plan = plan_moves(g_, s_, moves, options_, memo_);
     if (!plan || !episode::outcome_satisfied(g_, plan->after, goal, options_.goals)) return false;
     OutcomeTask task;
-    task.tmpl = tmpl_;
-    task.text = tmpl_->text;
-    for (const auto& [key, value] : values) replace_all(task.text, "{" + key + "}", value);
+    // The phrasing is drawn by the goal, so the same goal reads the same however the kinds run,
+    // among those whose every placeholder is bound (a kind leaves "{categories}" unbound for one
+    // item: "all the canisters ... put them" said of one canister misleads).
+    std::vector<const OutcomeTemplate*> usable;
+    for (const OutcomeTemplate* t : *phrasings_) {
+      const auto used = placeholders_of(t->text);
+      if (std::all_of(used.begin(), used.end(), [&](const std::string& ph) { return values.count(ph) != 0; })) {
+        usable.push_back(t);
+      }
+    }
+    if (usable.empty()) return false;
+    Rng pick(derive_seed(options_.seed, fnv1a64("L4 phrasing/" + key)));
+    task.tmpl = usable[pick.uniform_index(usable.size())];
+    task.text = task.tmpl->text;
+    for (const auto& [name, value] : values) replace_all(task.text, "{" + name + "}", value);
     task.goal = std::move(goal);
     task.oracle = std::move(plan->keys);
     task.identify = std::move(lookalikes);
     out_->push_back(std::move(task));
+    made_.insert(std::move(key));
     return true;
   }
 
@@ -373,7 +500,7 @@ class Instantiator {
     std::size_t k = 0;
     for (const SetPredicate& p : goal.all) {
       for (const auto* list : {&p.objects, &p.objects2}) {
-        if (list == &p.objects2 && p.op != SetPredicate::Op::kAnyPairNear) continue;
+        if (list == &p.objects2 && !episode::uses_objects2(p.op)) continue;
         if (k >= selects.size() || !same(*list, selects[k++])) return false;
       }
     }
@@ -392,6 +519,21 @@ class Instantiator {
   static SetPredicate all_on(std::vector<ObjectId> objects, std::vector<PlatformId> platforms) {
     return {SetPredicate::Op::kAllOn, std::move(objects), std::move(platforms), {}};
   }
+  static SetPredicate none_on(std::vector<ObjectId> objects, std::vector<PlatformId> platforms) {
+    return {SetPredicate::Op::kNoneOn, std::move(objects), std::move(platforms), {}};
+  }
+  static SetPredicate count_on(std::vector<ObjectId> objects, std::vector<PlatformId> platforms, int min, int max) {
+    return {SetPredicate::Op::kCountOn, std::move(objects), std::move(platforms), {}, min, max};
+  }
+  static SetPredicate with(SetPredicate::Op op, std::vector<ObjectId> objects, std::vector<ObjectId> objects2 = {}) {
+    return {op, std::move(objects), {}, std::move(objects2)};
+  }
+  // Moves of each object to the first of `targets` that takes it.
+  static std::vector<Move> moves_to(const std::vector<ObjectId>& objs, const std::vector<PlatformId>& targets) {
+    std::vector<Move> out;
+    for (const ObjectId o : objs) out.push_back({o, targets, {}});
+    return out;
+  }
 
   void gather_category() {
     for (const PlatformId src : f_.navigable) {
@@ -400,22 +542,27 @@ class Instantiator {
         if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
         Rng rng = rng_for(pname(src) + "/" + cat);
         try_targets(rng, {src}, [&](PlatformId dst) {
-          std::vector<Move> moves;
-          for (const ObjectId o : objs) moves.push_back({o, {dst}, {}});
           return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
                        {"categories", plural_text(cat)}, {"count", std::to_string(objs.size())}},
-                      {{all_on(objs, {dst})}}, moves, {called(cat, src)});
+                      {{all_on(objs, {dst})}}, moves_to(objs, {dst}), {called(cat, src)});
         });
       }
     }
   }
 
+  // Every item of a noun in the home; the text says where they stand, so a person can find them
+  // all without searching every platform.
   void consolidate() {
     for (const auto& entry : f_.by_category) {
       // Named, not a structured binding: clang before 16 (scripts/fuzz's) cannot capture those.
       const auto& cat = entry.first;
       const auto& objs = entry.second;
       if (objs.size() < 2 || static_cast<int>(objs.size()) > max_moves()) continue;
+      std::vector<std::string> sources;
+      for (const PlatformId p : f_.navigable) {
+        if (!of_category_on(cat, p).empty()) sources.push_back(pname(p));
+      }
+      if (sources.size() < 2) continue;  // from one platform it is gather_category
       Rng rng = rng_for(cat);
       try_targets(rng, {}, [&](PlatformId dst) {
         std::vector<Move> moves;
@@ -423,7 +570,8 @@ class Instantiator {
           if (episode::furniture_platform_of(g_, s_, o) != dst) moves.push_back({o, {dst}, {}});
         }
         return emit({{"target", pname(dst)}, {"category", category_text(cat)},
-                     {"categories", plural_text(cat)}, {"count", std::to_string(objs.size())}},
+                     {"categories", plural_text(cat)}, {"count", std::to_string(objs.size())},
+                     {"sources", listed(sources)}},
                     {{all_on(objs, {dst})}}, moves, {called(cat)});
       });
     }
@@ -439,11 +587,8 @@ class Instantiator {
         if (s_.objects[o].parent == src) direct.push_back(o);
       }
       Rng rng = rng_for(pname(src));
-      const auto targets = shuffled_targets(rng, {src});
-      std::vector<Move> moves;
-      for (const ObjectId o : direct) moves.push_back({o, targets, {}});
-      emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}},
-           {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {episode::pickable_on(g_, s_, src)});
+      emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}}, {{none_on(objs, {src})}},
+           moves_to(direct, shuffled_targets(rng, {src})), {episode::pickable_on(g_, s_, src)});
     }
   }
 
@@ -452,28 +597,26 @@ class Instantiator {
       for (const std::string& cat : categories_on(src)) {
         const auto objs = of_category_on(cat, src);
         if (objs.size() == f_.items_on.at(src).size() || static_cast<int>(objs.size()) > max_moves()) continue;
-        bool direct = true;
-        for (const ObjectId o : objs) direct = direct && s_.objects[o].parent == src;
-        if (!direct) continue;
+        if (!all_direct(objs, src)) continue;
         Rng rng = rng_for(pname(src) + "/" + cat);
-        const auto targets = shuffled_targets(rng, {src});
-        std::vector<Move> moves;
-        for (const ObjectId o : objs) moves.push_back({o, targets, {}});
-        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural_text(cat)},
-              {"count", std::to_string(objs.size())}},
-             {{{SetPredicate::Op::kNoneOn, objs, {src}, {}}}}, moves, {called(cat, src)});
+        std::map<std::string, std::string> values = {{"source", pname(src)}, {"category", category_text(cat)}};
+        if (objs.size() >= 2) {
+          values["categories"] = plural_text(cat);
+          values["count"] = std::to_string(objs.size());
+        }
+        emit(values, {{none_on(objs, {src})}}, moves_to(objs, shuffled_targets(rng, {src})), {called(cat, src)});
       }
     }
   }
 
   void arrange_on() {
     for (const PlatformId dst : f_.navigable) {
-      auto pool = items_not_on({dst});
+      const auto pool = items_not_on({dst});
       if (pool.size() < 2) continue;
       Rng rng = rng_for(pname(dst));
-      rng.shuffle(pool);
-      for (std::size_t k = 0; k + 1 < pool.size() && k < 2 * kSamples; k += 2) {
-        const ObjectId a = pool[k], b = pool[k + 1];
+      for (std::size_t k = 0; k < kFewSamples; ++k) {
+        const ObjectId a = pool[rng.uniform_index(pool.size())], b = pool[rng.uniform_index(pool.size())];
+        if (a == b) continue;
         const auto named = name_objects({a, b});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}, {"target", pname(dst)}},
@@ -488,57 +631,62 @@ class Instantiator {
       auto elsewhere = items_not_on({src});
       if (here.empty() || elsewhere.empty()) continue;
       Rng rng = rng_for(pname(src));
-      for (std::size_t k = 0; k < kSamples; ++k) {
+      for (std::size_t k = 0; k < kManySamples; ++k) {
         const ObjectId a = here[rng.uniform_index(here.size())];
         const ObjectId b = elsewhere[rng.uniform_index(elsewhere.size())];
         const auto named = name_objects({a, b});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{{SetPredicate::Op::kTogether, {a, b}, {}, {}}}}, {{b, {src}, {}}}, {united(*named)}, lookalikes(*named));
+             {{with(SetPredicate::Op::kTogether, {a, b})}}, {{b, {src}, {}}}, {united(*named)}, lookalikes(*named));
       }
     }
   }
 
+  // "A cup from shelf_1 next to a plate from table_2 on the counter": the text scopes each noun to
+  // the platform it comes from, and any of those will do.
   void set_up() {
     for (const PlatformId dst : f_.navigable) {
       Rng rng = rng_for(pname(dst));
-      std::map<std::string, std::vector<ObjectId>> cats;
-      for (const ObjectId o : items_not_on({dst})) {
-        cats[f_.category_of.at(o)].push_back(o);
-        for (const std::string& word : g_.words_covering(f_.category_of.at(o))) cats[word].push_back(o);
+      std::vector<std::pair<PlatformId, std::string>> scoped;  // (source, noun) with items
+      for (const PlatformId src : f_.navigable) {
+        if (src == dst) continue;
+        for (const std::string& cat : categories_on(src)) scoped.emplace_back(src, cat);
       }
-      if (cats.size() < 2) continue;
-      std::vector<std::string> names;
-      for (const auto& [c, objs] : cats) names.push_back(c);
+      if (scoped.size() < 2) continue;
       for (std::size_t k = 0; k < kSamples; ++k) {
-        rng.shuffle(names);
+        const auto& [src1, cat1] = scoped[rng.uniform_index(scoped.size())];
+        const auto& [src2, cat2] = scoped[rng.uniform_index(scoped.size())];
         // "One cup next to one mug" is no pair a person can tell from any other.
-        if (g_.called(names[0], names[1]) || g_.called(names[1], names[0])) continue;
-        const auto& first = cats.at(names[0]);
-        const auto& second = cats.at(names[1]);
+        if (g_.called(cat1, cat2) || g_.called(cat2, cat1)) continue;
+        const auto first = called(cat1, src1), second = called(cat2, src2);
         const ObjectId a = first[rng.uniform_index(first.size())];
         const ObjectId b = second[rng.uniform_index(second.size())];
-        // "one cup next to one plate": any cup and any plate will do, so the goal says so.
-        SetPredicate pair{SetPredicate::Op::kAnyPairNear, called(names[0]), {dst}, called(names[1])};
-        emit({{"target", pname(dst)}, {"category", category_text(names[0])}, {"category2", category_text(names[1])}},
-             {{pair}}, {{a, {dst}, {}}, {b, {dst}, a}}, {called(names[0]), called(names[1])});
+        SetPredicate pair{SetPredicate::Op::kAnyPairNear, first, {dst}, second};
+        emit({{"target", pname(dst)}, {"category", category_text(cat1)}, {"category2", category_text(cat2)},
+              {"source", pname(src1)}, {"source2", pname(src2)}},
+             {{pair}}, {{a, {dst}, {}}, {b, {dst}, a}}, {first, second});
       }
     }
+  }
+
+  std::vector<PlatformId> inside_of(ObjectId f) const {
+    std::vector<PlatformId> inner;
+    for (const PlatformId p : g_.objects[f].platforms) {
+      const graph::Platform& pl = g_.platforms[p];
+      if (pl.navigable && pl.interior) inner.push_back(p);
+    }
+    return inner;
   }
 
   void put_away() {
     for (const ObjectId f : f_.multilayer) {
-      std::vector<PlatformId> inner;
-      for (const PlatformId p : g_.objects[f].platforms) {
-        const graph::Platform& pl = g_.platforms[p];
-        if (pl.navigable && pl.interior) inner.push_back(p);
-      }
+      const std::vector<PlatformId> inner = inside_of(f);
       if (inner.empty()) continue;
       const std::set<PlatformId> own(g_.objects[f].platforms.begin(), g_.objects[f].platforms.end());
       auto pool = items_not_on(own);
       if (pool.empty()) continue;
       Rng rng = rng_for(g_.objects[f].name);
-      for (std::size_t k = 0; k < kSamples; ++k) {
+      for (std::size_t k = 0; k < kManySamples; ++k) {
         const ObjectId a = pool[rng.uniform_index(pool.size())];
         const auto named = name_objects({a});
         if (!named) continue;
@@ -553,19 +701,21 @@ class Instantiator {
       const auto cats = categories_on(src);
       for (std::size_t i = 0; i < cats.size(); ++i) {
         for (std::size_t j = i + 1; j < cats.size(); ++j) {
+          if (g_.called(cats[i], cats[j]) || g_.called(cats[j], cats[i])) continue;  // "bottles" and "spice jars"
           const auto a = of_category_on(cats[i], src), b = of_category_on(cats[j], src);
-          if (static_cast<int>(a.size() + b.size()) > max_moves()) continue;
+          if (static_cast<int>(a.size() + b.size()) > max_moves() || !all_direct(a, src) || !all_direct(b, src)) continue;
           Rng rng = rng_for(pname(src) + "/" + cats[i] + "/" + cats[j]);
           const auto targets = shuffled_targets(rng, {src});
           if (targets.size() < 2) continue;
           const PlatformId t1 = targets[0], t2 = targets[1];
-          std::vector<Move> moves;
-          for (const ObjectId o : a) moves.push_back({o, {t1}, {}});
-          for (const ObjectId o : b) moves.push_back({o, {t2}, {}});
-          emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
-                {"category", category_text(cats[i])}, {"categories", plural_text(cats[i])},
-                {"category2", category_text(cats[j])}, {"categories2", plural_text(cats[j])}},
-               {{all_on(a, {t1}), all_on(b, {t2})}}, moves, {called(cats[i], src), called(cats[j], src)});
+          std::vector<Move> moves = moves_to(a, {t1});
+          for (const Move& m : moves_to(b, {t2})) moves.push_back(m);
+          std::map<std::string, std::string> values = {{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)},
+                                                       {"category", category_text(cats[i])},
+                                                       {"category2", category_text(cats[j])}};
+          if (a.size() >= 2) values["categories"] = plural_text(cats[i]);
+          if (b.size() >= 2) values["categories2"] = plural_text(cats[j]);
+          emit(values, {{all_on(a, {t1}), all_on(b, {t2})}}, moves, {called(cats[i], src), called(cats[j], src)});
         }
       }
     }
@@ -591,11 +741,9 @@ class Instantiator {
         }
         rng.shuffle(others);
         for (const PlatformId to : others) {
-          std::vector<Move> moves;
-          for (const ObjectId o : direct) moves.push_back({o, {to}, {}});
           if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", furniture_name(f)},
                     {"count", std::to_string(objs.size())}},
-                   {{all_on(objs, {to})}}, moves, {episode::pickable_on(g_, s_, from)})) {
+                   {{all_on(objs, {to})}}, moves_to(direct, {to}), {episode::pickable_on(g_, s_, from)})) {
             break;
           }
         }
@@ -609,15 +757,456 @@ class Instantiator {
       auto elsewhere = items_not_on({dst});
       if (here.empty() || elsewhere.empty()) continue;
       Rng rng = rng_for(pname(dst));
-      for (std::size_t k = 0; k < kSamples; ++k) {
+      for (std::size_t k = 0; k < kManySamples; ++k) {
         const ObjectId anchor = here[rng.uniform_index(here.size())];
         const ObjectId a = elsewhere[rng.uniform_index(elsewhere.size())];
-        if (s_.objects[anchor].parent != dst) continue;  // needs its free spaces
         const auto named = name_objects({a, anchor});
         if (!named) continue;
         emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{{SetPredicate::Op::kNear, {a, anchor}, {}, {}}}}, {{a, {dst}, anchor}}, {united(*named)},
+             {{with(SetPredicate::Op::kNear, {a, anchor})}}, {{a, {dst}, anchor}}, {united(*named)},
              lookalikes(*named));
+      }
+    }
+  }
+
+  // Each of two items goes where the other stood.
+  void swap() {
+    for (const PlatformId p : f_.navigable) {
+      const auto& here = f_.items_on.at(p);
+      auto elsewhere = items_not_on({p});
+      if (here.empty() || elsewhere.empty()) continue;
+      Rng rng = rng_for(pname(p));
+      for (std::size_t k = 0; k < kManySamples; ++k) {
+        const ObjectId a = here[rng.uniform_index(here.size())];
+        const ObjectId b = elsewhere[rng.uniform_index(elsewhere.size())];
+        const PlatformId q = episode::furniture_platform_of(g_, s_, b);
+        if (s_.objects[a].parent != p || s_.objects[b].parent != q) continue;  // a stack moves as one
+        const auto named = name_objects({a, b});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+             {{all_on({a}, {q}), all_on({b}, {p})}}, {{a, {q}, {}}, {b, {p}, {}}}, {(*named)[0].selects, (*named)[1].selects},
+             lookalikes(*named));
+      }
+    }
+  }
+
+  // "Leave exactly two books on shelf_1" (count_on n..n), or with `at_most` "no more than two".
+  void leave_count(bool at_most) {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const auto targets = shuffled_targets(rng, {src});
+        for (int kept = std::max(1, m - max_moves()); kept < m; ++kept) {
+          const std::vector<ObjectId> moved(objs.begin() + kept, objs.end());
+          emit({{"source", pname(src)}, {"categories", plural_text(cat)},
+                {"kept", counted(kept, category_text(cat), plural_text(cat))}},
+               {{count_on(objs, {src}, at_most ? 0 : kept, kept)}}, moves_to(moved, targets), {called(cat, src)});
+        }
+      }
+    }
+  }
+
+  // "Put two of the books from shelf_1 on the bed": exactly that many of them end there.
+  void bring_some() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const int n = 1 + static_cast<int>(rng.uniform_index(static_cast<std::uint64_t>(std::min(m - 1, max_moves()))));
+        const std::vector<ObjectId> moved(objs.begin(), objs.begin() + n);
+        try_targets(rng, {src}, [&](PlatformId dst) {
+          return emit({{"source", pname(src)}, {"target", pname(dst)}, {"categories", plural_text(cat)},
+                       {"moved", counted(n, category_text(cat), plural_text(cat))}},
+                      {{count_on(objs, {dst}, n, n)}}, moves_to(moved, {dst}), {called(cat, src)});
+        });
+      }
+    }
+  }
+
+  // "Keep one book on shelf_1 and take the other books to the bed".
+  void keep_one() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 3 || m - 1 > max_moves() || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const std::vector<ObjectId> moved(objs.begin() + 1, objs.end());
+        try_targets(rng, {src}, [&](PlatformId dst) {
+          return emit({{"source", pname(src)}, {"target", pname(dst)}, {"category", category_text(cat)},
+                       {"categories", plural_text(cat)}},
+                      {{count_on(objs, {src}, 1, 1), count_on(objs, {dst}, m - 1, m - 1)}}, moves_to(moved, {dst}),
+                      {called(cat, src), called(cat, src)});
+        });
+      }
+    }
+  }
+
+  // "Split the books on shelf_1 between the bed and the desk": all leave, each target gets some.
+  void split() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || m > max_moves() || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const auto targets = shuffled_targets(rng, {src});
+        for (std::size_t k = 0; k + 1 < targets.size() && k < 4; k += 2) {
+          const PlatformId t1 = targets[k], t2 = targets[k + 1];
+          std::vector<Move> moves;
+          for (int i = 0; i < m; ++i) moves.push_back({objs[static_cast<std::size_t>(i)], {i % 2 == 0 ? t1 : t2}, {}});
+          if (emit({{"source", pname(src)}, {"target", pname(t1)}, {"target2", pname(t2)}, {"categories", plural_text(cat)}},
+                   {{all_on(objs, {t1, t2}), count_on(objs, {t1}, 1, m), count_on(objs, {t2}, 1, m)}}, moves,
+                   {called(cat, src), called(cat, src), called(cat, src)})) {
+            break;
+          }
+        }
+      }
+    }
+  }
+
+  // "Spread the books from shelf_1 out: no two on one surface".
+  void spread_out() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || m - 1 > max_moves() || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const auto targets = shuffled_targets(rng, {src});
+        // Disjoint candidate targets per moved item, so no two can land together.
+        std::vector<Move> moves;
+        for (int i = 1; i < m; ++i) {
+          std::vector<PlatformId> mine;
+          for (std::size_t t = static_cast<std::size_t>(i - 1); t < targets.size(); t += static_cast<std::size_t>(m - 1)) {
+            mine.push_back(targets[t]);
+          }
+          moves.push_back({objs[static_cast<std::size_t>(i)], mine, {}});
+        }
+        emit({{"source", pname(src)}, {"categories", plural_text(cat)}}, {{with(SetPredicate::Op::kApart, objs)}}, moves,
+             {called(cat, src)});
+      }
+    }
+  }
+
+  // Two items standing on one platform end on different ones.
+  void separate() {
+    for (const PlatformId p : f_.navigable) {
+      const auto& here = f_.items_on.at(p);
+      if (here.size() < 2) continue;
+      Rng rng = rng_for(pname(p));
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        const ObjectId a = here[rng.uniform_index(here.size())];
+        const ObjectId b = here[rng.uniform_index(here.size())];
+        if (a == b || s_.objects[b].parent != p) continue;
+        const auto named = name_objects({a, b});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+             {{with(SetPredicate::Op::kApart, {a, b})}}, {{b, shuffled_targets(rng, {p}), {}}}, {united(*named)},
+             lookalikes(*named));
+      }
+    }
+  }
+
+  // "Put the cup from the desk with the other cups on the counter".
+  void join_kind() {
+    for (const PlatformId dst : f_.navigable) {
+      std::map<std::string, int> here;
+      for (const ObjectId o : f_.items_on.at(dst)) here[f_.category_of.at(o)] += 1;
+      std::vector<ObjectId> pool;
+      for (const ObjectId o : items_not_on({dst})) {
+        const auto it = here.find(f_.category_of.at(o));
+        if (it != here.end() && it->second >= 2) pool.push_back(o);
+      }
+      if (pool.empty()) continue;
+      Rng rng = rng_for(pname(dst));
+      rng.shuffle(pool);
+      for (std::size_t k = 0; k < pool.size() && k < kSamples; ++k) {
+        const ObjectId a = pool[k];
+        const std::string& cat = f_.category_of.at(a);
+        if (called(cat, dst).size() < 2) continue;  // "the other cups" there, by the same words
+        const auto named = name_objects({a});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"categories", plural_text(cat)}, {"target", pname(dst)}},
+             {{all_on({a}, {dst})}}, {{a, {dst}, {}}}, {united(*named)}, lookalikes(*named));
+      }
+    }
+  }
+
+  // "Put the books from shelf_1 next to the lamp on the desk".
+  void group_around() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || m > max_moves() || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        auto anchors = items_not_on({src});
+        rng.shuffle(anchors);
+        for (std::size_t k = 0; k < anchors.size() && k < 3; ++k) {
+          const ObjectId anchor = anchors[k];
+          if (g_.called(cat, f_.category_of.at(anchor))) continue;
+          const PlatformId dst = episode::furniture_platform_of(g_, s_, anchor);
+          const auto named = name_objects({anchor});
+          if (!named) continue;
+          std::vector<Move> moves;
+          for (const ObjectId o : objs) moves.push_back({o, {dst}, anchor});
+          if (emit({{"source", pname(src)}, {"categories", plural_text(cat)}, {"object", (*named)[0].words}},
+                   {{with(SetPredicate::Op::kAllNear, objs, {anchor})}}, moves, {called(cat, src), united(*named)},
+                   lookalikes(*named))) {
+            break;
+          }
+        }
+      }
+    }
+  }
+
+  // What stands side by side with `anchor` on its platform, directly on it.
+  std::vector<ObjectId> next_to(ObjectId anchor, PlatformId p) const {
+    std::vector<ObjectId> out;
+    for (const ObjectId o : f_.items_on.at(p)) {
+      if (o != anchor && s_.objects[o].parent == p &&
+          episode::footprint_gap(s_.objects[o].footprint, s_.objects[anchor].footprint) <= options_.goals.around_distance) {
+        out.push_back(o);
+      }
+    }
+    return out;
+  }
+
+  // "Clear the space around the lamp from the desk": what stands next to it goes elsewhere, the
+  // lamp stays.
+  void clear_around() {
+    for (const PlatformId p : f_.navigable) {
+      for (const ObjectId anchor : f_.items_on.at(p)) {
+        if (s_.objects[anchor].parent != p) continue;
+        const auto near = next_to(anchor, p);
+        if (near.empty() || static_cast<int>(near.size()) > max_moves()) continue;
+        const auto named = name_objects({anchor});
+        if (!named) continue;
+        Rng rng = rng_for(g_.objects[anchor].name);
+        emit({{"object", (*named)[0].words}},
+             {{with(SetPredicate::Op::kNoneNear, near, {anchor}), all_on({anchor}, {p})}},
+             moves_to(near, shuffled_targets(rng, {p})), {near, united(*named), united(*named)}, lookalikes(*named));
+      }
+    }
+  }
+
+  // Two "next to" pairs at once.
+  void two_pairs() {
+    const auto pool = items_not_on({});
+    if (pool.size() < 4) return;
+    for (const PlatformId p : f_.navigable) {
+      const auto& here = f_.items_on.at(p);
+      if (here.empty()) continue;
+      Rng rng = rng_for(pname(p));
+      for (std::size_t k = 0; k < kManySamples; ++k) {
+        const ObjectId b = here[rng.uniform_index(here.size())];
+        const ObjectId a = pool[rng.uniform_index(pool.size())];
+        const ObjectId d = pool[rng.uniform_index(pool.size())];
+        const ObjectId c = pool[rng.uniform_index(pool.size())];
+        const std::set<ObjectId> distinct{a, b, c, d};
+        if (distinct.size() < 4) continue;
+        const PlatformId pa = episode::furniture_platform_of(g_, s_, a), pc = episode::furniture_platform_of(g_, s_, c),
+                         pd = episode::furniture_platform_of(g_, s_, d);
+        if (pa == p || pc == pd) continue;
+        const auto named = name_objects({a, b, c, d});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}, {"object3", (*named)[2].words},
+              {"object4", (*named)[3].words}},
+             {{with(SetPredicate::Op::kNear, {a, b}), with(SetPredicate::Op::kNear, {c, d})}},
+             {{a, {p}, b}, {c, {pd}, d}},
+             {united({(*named)[0], (*named)[1]}), united({(*named)[2], (*named)[3]})}, lookalikes(*named));
+      }
+    }
+  }
+
+  // "Move everything on shelf_1 onto the bed".
+  void move_all() {
+    for (const PlatformId src : f_.navigable) {
+      const auto& objs = f_.items_on.at(src);
+      if (objs.empty() || static_cast<int>(objs.size()) > max_moves() || !all_direct(objs, src)) continue;
+      Rng rng = rng_for(pname(src));
+      try_targets(rng, {src}, [&](PlatformId dst) {
+        return emit({{"source", pname(src)}, {"target", pname(dst)}, {"count", std::to_string(objs.size())}},
+                    {{all_on(objs, {dst})}}, moves_to(objs, {dst}), {episode::pickable_on(g_, s_, src)});
+      });
+    }
+  }
+
+  // "Leave only the books on shelf_1": the rest goes, the books stay.
+  void keep_only() {
+    for (const PlatformId src : f_.navigable) {
+      const auto& all = f_.items_on.at(src);
+      if (!all_direct(all, src)) continue;
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const auto others = minus(all, objs);
+        if (objs.size() < 2 || others.empty() || static_cast<int>(others.size()) > max_moves()) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        emit({{"source", pname(src)}, {"categories", plural_text(cat)}},
+             {{none_on(others, {src}), all_on(objs, {src})}}, moves_to(others, shuffled_targets(rng, {src})),
+             {minus(episode::pickable_on(g_, s_, src), called(cat, src)), called(cat, src)});
+      }
+    }
+  }
+
+  // "Put a cup from shelf_1, a plate from the counter and a bowl from the desk on the table".
+  void lay_out() {
+    for (const PlatformId dst : f_.navigable) {
+      std::vector<std::pair<PlatformId, std::string>> scoped;
+      for (const PlatformId src : f_.navigable) {
+        if (src == dst) continue;
+        for (const std::string& cat : categories_on(src)) scoped.emplace_back(src, cat);
+      }
+      if (scoped.size() < 3) continue;
+      Rng rng = rng_for(pname(dst));
+      for (std::size_t k = 0; k < kSamples; ++k) {
+        std::vector<std::pair<PlatformId, std::string>> three;
+        for (int i = 0; i < 3; ++i) three.push_back(scoped[rng.uniform_index(scoped.size())]);
+        bool distinct = true;
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) {
+            if (i != j && g_.called(three[static_cast<std::size_t>(i)].second, three[static_cast<std::size_t>(j)].second)) {
+              distinct = false;
+            }
+          }
+        }
+        if (!distinct) continue;
+        std::vector<std::vector<ObjectId>> groups;
+        std::vector<Move> moves;
+        std::vector<SetPredicate> preds;
+        for (const auto& [src, cat] : three) {
+          groups.push_back(called(cat, src));
+          moves.push_back({groups.back()[rng.uniform_index(groups.back().size())], {dst}, {}});
+          preds.push_back(count_on(groups.back(), {dst}, 1, static_cast<int>(groups.back().size())));
+        }
+        emit({{"target", pname(dst)}, {"category", category_text(three[0].second)},
+              {"category2", category_text(three[1].second)}, {"category3", category_text(three[2].second)},
+              {"source", pname(three[0].first)}, {"source2", pname(three[1].first)}, {"source3", pname(three[2].first)}},
+             {preds}, moves, groups);
+      }
+    }
+  }
+
+  // "Put the books from the desk inside cabinet_2" (any of its inside layers).
+  void put_inside() {
+    std::vector<ObjectId> furniture;
+    for (const ObjectId i : g_.objects.ids()) {
+      if (!inside_of(i).empty()) furniture.push_back(i);
+    }
+    for (const ObjectId f : furniture) {
+      const std::vector<PlatformId> inner = inside_of(f);
+      const std::set<PlatformId> own(g_.objects[f].platforms.begin(), g_.objects[f].platforms.end());
+      Rng rng = rng_for(g_.objects[f].name);
+      std::vector<std::pair<PlatformId, std::string>> scoped;
+      for (const PlatformId src : f_.navigable) {
+        if (own.count(src) != 0) continue;
+        for (const std::string& cat : categories_on(src)) {
+          const auto objs = of_category_on(cat, src);
+          if (objs.size() >= 2 && static_cast<int>(objs.size()) <= max_moves() && all_direct(objs, src)) {
+            scoped.emplace_back(src, cat);
+          }
+        }
+      }
+      rng.shuffle(scoped);
+      for (std::size_t k = 0; k < scoped.size() && k < kSamples; ++k) {
+        const auto& [src, cat] = scoped[k];
+        const auto objs = of_category_on(cat, src);
+        emit({{"source", pname(src)}, {"categories", plural_text(cat)}, {"furniture", furniture_name(f)}},
+             {{all_on(objs, inner)}}, moves_to(objs, inner), {called(cat, src)});
+      }
+    }
+  }
+
+  // "Put the cup from the desk next to a plate on the counter" (any of them).
+  void beside_kind() {
+    for (const PlatformId dst : f_.navigable) {
+      const auto cats = categories_on(dst);
+      auto pool = items_not_on({dst});
+      if (cats.empty() || pool.empty()) continue;
+      Rng rng = rng_for(pname(dst));
+      for (std::size_t k = 0; k < kManySamples; ++k) {
+        const ObjectId a = pool[rng.uniform_index(pool.size())];
+        const std::string& cat = cats[rng.uniform_index(cats.size())];
+        if (g_.called(cat, f_.category_of.at(a)) || g_.called(f_.category_of.at(a), cat)) continue;
+        const auto group = called(cat, dst);
+        const auto named = name_objects({a});
+        if (!named) continue;
+        emit({{"object", (*named)[0].words}, {"category", category_text(cat)}, {"target", pname(dst)}},
+             {{SetPredicate{SetPredicate::Op::kAnyPairNear, {a}, {dst}, group}}}, {{a, {dst}, group.front()}},
+             {united(*named), group}, lookalikes(*named));
+      }
+    }
+  }
+
+  // "Take every book off shelf_1 except the leftmost book".
+  void all_but_one() {
+    for (const PlatformId src : f_.navigable) {
+      for (const std::string& cat : categories_on(src)) {
+        const auto objs = of_category_on(cat, src);
+        const int m = static_cast<int>(objs.size());
+        if (m < 2 || m - 1 > max_moves() || !all_direct(objs, src)) continue;
+        Rng rng = rng_for(pname(src) + "/" + cat);
+        const ObjectId keep = objs[rng.uniform_index(objs.size())];
+        const auto named = name_objects({keep});
+        if (!named) continue;
+        const auto others = minus(objs, {keep});
+        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"object", (*named)[0].words}},
+             {{none_on(others, {src}), all_on({keep}, {src})}}, moves_to(others, shuffled_targets(rng, {src})),
+             {minus(called(cat, src), (*named)[0].selects), united(*named)}, lookalikes(*named));
+      }
+    }
+  }
+
+  // "Put two of the things on the desk onto the empty stool".
+  void fill_empty() {
+    std::vector<PlatformId> empty;
+    for (const PlatformId p : f_.navigable) {
+      if (episode::everything_on(g_, s_, p).empty()) empty.push_back(p);
+    }
+    if (empty.empty()) return;
+    for (const PlatformId src : f_.navigable) {
+      const auto& objs = f_.items_on.at(src);
+      if (objs.size() < 3 || !all_direct(objs, src)) continue;
+      Rng rng = rng_for(pname(src));
+      const int n = 1 + static_cast<int>(rng.uniform_index(2));
+      std::vector<PlatformId> targets = empty;
+      rng.shuffle(targets);
+      for (std::size_t k = 0; k < targets.size() && k < 3; ++k) {
+        const PlatformId dst = targets[k];
+        const std::vector<ObjectId> moved(objs.begin(), objs.begin() + n);
+        if (emit({{"source", pname(src)}, {"target", pname(dst)}, {"moved", n == 1 ? "one of the things" : "two of the things"}},
+                 {{count_on(objs, {dst}, n, n)}}, moves_to(moved, {dst}), {episode::pickable_on(g_, s_, src)})) {
+          break;
+        }
+      }
+    }
+  }
+
+  // "Bring the books from shelf_1 and the desk to the bed".
+  void gather_two() {
+    for (const PlatformId a : f_.navigable) {
+      for (const std::string& cat : categories_on(a)) {
+        for (const PlatformId b : f_.navigable) {
+          if (!(a < b)) continue;
+          const auto here = of_category_on(cat, a), there = of_category_on(cat, b);
+          if (there.empty() || static_cast<int>(here.size() + there.size()) > max_moves()) continue;
+          if (!all_direct(here, a) || !all_direct(there, b)) continue;
+          std::vector<ObjectId> objs = here;
+          objs.insert(objs.end(), there.begin(), there.end());
+          std::vector<ObjectId> words = called(cat, a);
+          for (const ObjectId o : called(cat, b)) words.push_back(o);
+          Rng rng = rng_for(pname(a) + "/" + pname(b) + "/" + cat);
+          try_targets(rng, {a, b}, [&](PlatformId dst) {
+            return emit({{"source", pname(a)}, {"source2", pname(b)}, {"target", pname(dst)}, {"categories", plural_text(cat)}},
+                        {{all_on(objs, {dst})}}, moves_to(objs, {dst}), {words});
+          });
+        }
       }
     }
   }
@@ -641,9 +1230,42 @@ class Instantiator {
   DropCounts& dropped_;
   episode::PlacementMemo* memo_;
   SceneFacts f_;
-  const OutcomeTemplate* tmpl_ = nullptr;
+  OutcomeKind kind_ = OutcomeKind::kGatherCategory;
+  const std::vector<const OutcomeTemplate*>* phrasings_ = nullptr;
   std::vector<OutcomeTask>* out_ = nullptr;
+  std::size_t candidates_ = 0;
+  std::map<ObjectId, ObjectNaming> naming_;
+  std::set<std::string> made_;  // goals kept so far (their JSON)
 };
+
+// No kind above `share` of the tasks: the largest kinds are cut to the greatest cap C for which
+// sum(min(size, C)) * share >= C, keeping a seeded choice of each in its order.
+std::vector<OutcomeTask> balance_kinds(std::vector<OutcomeTask> tasks, double share, std::uint64_t seed) {
+  if (share <= 0.0 || share >= 1.0 || tasks.empty()) return tasks;
+  std::map<OutcomeKind, std::vector<std::size_t>> of_kind;
+  for (std::size_t i = 0; i < tasks.size(); ++i) of_kind[tasks[i].tmpl->kind].push_back(i);
+  auto kept_with = [&](std::size_t cap) {
+    std::size_t n = 0;
+    for (const auto& entry : of_kind) n += std::min(entry.second.size(), cap);
+    return n;
+  };
+  std::size_t cap = 0;
+  for (const auto& entry : of_kind) cap = std::max(cap, entry.second.size());
+  while (cap > 0 && static_cast<double>(cap) > share * static_cast<double>(kept_with(cap))) --cap;
+  std::vector<bool> keep(tasks.size(), true);
+  for (const auto& [kind, indices] : of_kind) {
+    if (indices.size() <= cap) continue;
+    std::vector<std::size_t> order = indices;
+    Rng rng(derive_seed(seed, fnv1a64(std::string("L4 balance/") + to_string(kind))));
+    rng.shuffle(order);
+    for (std::size_t k = cap; k < order.size(); ++k) keep[order[k]] = false;
+  }
+  std::vector<OutcomeTask> out;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (keep[i]) out.push_back(std::move(tasks[i]));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -698,17 +1320,30 @@ std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const epi
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,
                                            std::vector<std::string>& warnings, DropCounts& dropped,
                                            episode::PlacementMemo* memo, const render::VisibilityOracle* seeing) {
+  // Each kind runs once, in the order its first template comes; every binding is worded by one of
+  // the kind's phrasings (so adding phrasings adds wording, not work).
+  std::vector<std::pair<OutcomeKind, std::vector<const OutcomeTemplate*>>> by_kind;
+  for (const OutcomeTemplate& t : templates) {
+    auto it = std::find_if(by_kind.begin(), by_kind.end(), [&](const auto& k) { return k.first == t.kind; });
+    if (it == by_kind.end()) it = by_kind.insert(by_kind.end(), {t.kind, {}});
+    it->second.push_back(&t);
+  }
   std::vector<OutcomeTask> all;
   Instantiator inst(g, initial, options, seeing, dropped, memo);
-  for (const OutcomeTemplate& t : templates) inst.run(t, all);
-  // One task per goal: the first template that produced it keeps it.
-  std::vector<OutcomeTask> out;
-  std::set<std::string> seen;
-  for (OutcomeTask& t : all) {
-    if (seen.insert(to_json(g, t.goal).dump()).second) out.push_back(std::move(t));
+  for (const auto& [kind, phrasings] : by_kind) {
+    const std::size_t before = all.size();
+    const std::size_t candidates = inst.run(kind, phrasings, all);
+    if (all.size() == before) {
+      const KindSpec& spec = *spec_named(to_string(kind));
+      warnings.push_back("level 4: no " + std::string(spec.name) + " task on " + g.scene +
+                         (candidates == 0 ? ": it needs " + std::string(spec.needs)
+                                          : ": all " + std::to_string(candidates) + " candidates were dropped"));
+    }
   }
+  // One task per goal (the instantiator keeps the first that made it).
+  std::vector<OutcomeTask> out = std::move(all);
   if (out.empty() && !templates.empty()) warnings.push_back("level 4: no template applies to scene " + g.scene);
-  return out;
+  return balance_kinds(std::move(out), options.level4_max_kind_share, options.seed);
 }
 
 }  // namespace mtg::tasks

@@ -116,6 +116,7 @@ nlohmann::json TaskOptions::to_json() const {
           {"level3_count", level3_count},
           {"level3_chain", level3_chain},
           {"level4_max_moves", level4_max_moves},
+          {"level4_max_kind_share", level4_max_kind_share},
           {"level4_templates", level4_templates},
           {"step_limit", rules.step_limit},
           {"min_region_size", rules.min_region_size},

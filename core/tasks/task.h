@@ -19,7 +19,9 @@ namespace mtg::tasks {
 
 /// mtg-tasks/2: no goal holds before its step, references for look-alikes, stacks against
 /// clearance, robust placements, Level 4 objects named unambiguously (docs/tasks.md).
-inline constexpr const char* kGeneratorVersion = "mtg-tasks/2";
+/// mtg-tasks/3: Level 4 of 31 outcome kinds, with the predicates count_on, apart, all_near and
+/// none_near, every required object on a platform the text names, no kind above a fifth.
+inline constexpr const char* kGeneratorVersion = "mtg-tasks/3";
 
 /// How a task's text picks out an object that has look-alikes (referring.h). The scene-graph
 /// service shows each such object in a close-up at the first observation; tests resolve the
@@ -91,6 +93,7 @@ struct TaskOptions {
   int level3_count = 10000;     // per scene (the paper's figure)
   int level3_chain = 2;         // sub-tasks per Level 3 task
   int level4_max_moves = 3;     // objects an outcome task may require to move
+  double level4_max_kind_share = 0.2;  // no outcome kind above this share of Level 4 (1: no cap)
   double min_margin = 0.005;    // m the oracle's placement lies inside its goal, at least
   double min_goal_area = 4e-4;  // m² of positions for the item's centre that meet the goal and fit
   std::string level4_templates = "builtin";  // or a path to a template JSON file

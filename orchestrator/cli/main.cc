@@ -191,6 +191,8 @@ void add_task_commands(CLI::App& app, Commands& commands) {
   tasks->add_option("--l3-count", tasks_opts->level3_count, "Level 3 tasks per scene (default 10000)");
   tasks->add_option("--l3-chain", tasks_opts->level3_chain, "sub-tasks per Level 3 task (default 2)");
   tasks->add_option("--l4-max-moves", tasks_opts->level4_max_moves, "objects a Level 4 task may move (default 3)");
+  tasks->add_option("--l4-max-share", tasks_opts->level4_max_kind_share,
+                    "largest share of Level 4 one outcome kind may hold (default 0.2; 1: no cap)");
   tasks->add_option("--l4-templates", tasks_opts->level4_templates, "Level 4 template library (builtin or a file)");
   tasks->add_option("--votes", tasks_opts->votes, "recorded Level 4 feasibility votes (JSONL)");
   tasks->add_option("--step-limit", tasks_opts->step_limit, "episode step limit (default 15)");

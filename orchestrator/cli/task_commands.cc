@@ -37,6 +37,10 @@ int run_tasks(const TasksOptions& o) {
   job.options.level3_count = o.level3_count;
   job.options.level3_chain = o.level3_chain;
   job.options.level4_max_moves = o.level4_max_moves;
+  if (!(o.level4_max_kind_share > 0.0 && o.level4_max_kind_share <= 1.0)) {
+    throw Error("--l4-max-share must be above 0 and at most 1");
+  }
+  job.options.level4_max_kind_share = o.level4_max_kind_share;
   job.options.level4_templates = o.level4_templates;
   job.options.rules.step_limit = o.step_limit;
   if (!o.votes.empty()) job.votes = tasks::load_votes(o.votes);

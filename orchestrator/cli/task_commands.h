@@ -23,6 +23,7 @@ struct TasksOptions {
   int jobs = 0;  // threads (0: the machine's cores); the output does not depend on it
   int level3_chain = 2;
   int level4_max_moves = 3;
+  double level4_max_kind_share = 0.2;
   std::string level4_templates = "builtin";
   std::string votes;                // recorded Level 4 votes (JSONL)
   std::vector<std::string> voters;  // model agents voting live on Level 4 candidates
