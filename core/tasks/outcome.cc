@@ -1337,7 +1337,8 @@ std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const epi
       const KindSpec& spec = *spec_named(to_string(kind));
       warnings.push_back("level 4: no " + std::string(spec.name) + " task on " + g.scene +
                          (candidates == 0 ? ": it needs " + std::string(spec.needs)
-                                          : ": all " + std::to_string(candidates) + " candidates were dropped"));
+                                          : ": its " + std::to_string(candidates) + " candidate" + (candidates == 1 ? " was" : "s were") +
+                                                " dropped (see the drop counts)"));
     }
   }
   // One task per goal (the instantiator keeps the first that made it).

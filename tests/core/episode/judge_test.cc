@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include "core/episode/goals.h"
 #include "core/episode/outcomes.h"
 #include "core/episode/rules.h"
 #include "core/episode/transcript.h"
+#include "core/episode/world_state.h"
 #include "core/tasks/atomic.h"
+#include "core/util/error.h"
 #include "tests/support/graph_fixtures.h"
 
 namespace mtg::episode {
@@ -155,6 +158,56 @@ TEST(Outcomes, EveryNameReadsBackAsItsValue) {
   }
   EXPECT_FALSE(cause_from_string("wrong_itme").has_value());
   EXPECT_FALSE(stage_from_string("").has_value());
+}
+
+// The Level 4 set predicates on two_tables: box_1, box_2, box_3 on table_0 (x = -0.3, 0, 0.3),
+// table_4 empty at x = 3. Each new predicate holds exactly when its words say.
+TEST(OutcomePredicates, CountApartAndNearMeanWhatTheySay) {
+  testing::FixtureDataset fx;
+  const auto built = testing::two_tables(fx);
+  const graph::SceneGraph& g = built.graph;
+  const graph::ObjectId b1 = g.find_object("box_1"), b2 = g.find_object("box_2"), b3 = g.find_object("box_3");
+  const graph::PlatformId t0 = g.navigable[0], t4 = g.navigable[1];
+  WorldState s = initial_state(g);
+  const auto holds = [&](const SetPredicate& p) { return predicate_satisfied(g, s, p); };
+  using Op = SetPredicate::Op;
+  const SetPredicate two_on_t0{Op::kCountOn, {b1, b2, b3}, {t0}, {}, 2, 2};
+  const SetPredicate at_most_one_on_t0{Op::kCountOn, {b1, b2, b3}, {t0}, {}, 0, 1};
+  const SetPredicate apart{Op::kApart, {b1, b3}, {}, {}};
+  const SetPredicate b1_near_b2{Op::kAllNear, {b1}, {}, {b2}};
+  const SetPredicate nothing_near_b2{Op::kNoneNear, {b1, b3}, {}, {b2}};
+  EXPECT_FALSE(holds(two_on_t0));  // three stand there
+  EXPECT_FALSE(holds(at_most_one_on_t0));
+  EXPECT_FALSE(holds(apart));  // same table
+  EXPECT_FALSE(holds(b1_near_b2)) << "0.3 m apart, 0.1 m boxes: a 0.2 m gap is more than 0.10 m";
+  EXPECT_TRUE(holds(nothing_near_b2));
+  // Move box_1 to table_4, far from everything.
+  pick(g, s, b1);
+  EXPECT_FALSE(holds(apart)) << "a held object stands nowhere";
+  place_held(g, s, t4, {3.0, 0.0});
+  EXPECT_TRUE(holds(two_on_t0));
+  EXPECT_FALSE(holds(at_most_one_on_t0));
+  EXPECT_TRUE(holds(apart));
+  EXPECT_FALSE(holds(b1_near_b2)) << "on another table";
+  // Put box_1 back beside box_2 (0.12 m centre to centre: a 0.02 m gap).
+  pick(g, s, b1);
+  place_held(g, s, t0, {0.12, 0.0});
+  EXPECT_TRUE(holds(b1_near_b2));
+  EXPECT_FALSE(holds(nothing_near_b2));
+  EXPECT_FALSE(holds(apart));
+  // Goals read back from their JSON with their counts; a count_on without them is refused.
+  OutcomeGoal goal{{two_on_t0, apart, b1_near_b2, nothing_near_b2}};
+  const OutcomeGoal back = outcome_goal_from_json(g, to_json(g, goal));
+  ASSERT_EQ(back.all.size(), 4u);
+  EXPECT_EQ(back.all[0].min, 2);
+  EXPECT_EQ(back.all[0].max, 2);
+  EXPECT_EQ(to_json(g, back), to_json(g, goal));
+  nlohmann::json broken = to_json(g, goal);
+  broken["all"][0].erase("max");
+  EXPECT_THROW(outcome_goal_from_json(g, broken), Error);
+  broken = to_json(g, goal);
+  broken["all"][2].erase("objects2");
+  EXPECT_THROW(outcome_goal_from_json(g, broken), Error);
 }
 
 }  // namespace
