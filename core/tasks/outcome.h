@@ -1,27 +1,19 @@
 #pragma once
 // Level 4, outcome-based tasks: our own template library (templates/outcome_templates.json,
 // compiled in) instantiated against the scene graph. Each template has a kind that fixes what its
-// placeholders bind to and the goal predicate the judge checks:
+// placeholders bind to and the goal predicates the judge checks; the 31 kinds, their goals and
+// what they need of a scene are tabled in docs/tasks.md ("Level 4") and in outcome.cc's kinds().
 //
-//   gather_category  every {category} on {source} ends on {target}       all_on
-//   consolidate      every {category} in the home ends on {target}       all_on
-//   clear_platform   nothing pickable stays on {source}                  none_on
-//   clear_category   no {category} stays on {source}                     none_on
-//   arrange_on       {object} and {object2} end on {target}              all_on
-//   together         {object} and {object2} end on one platform          together
-//   set_up           one {category} and one {category2} side by side on {target}   any_pair_near
-//   put_away         {object} ends on an inner layer of {furniture}      all_on
-//   sort             {category} from {source} to {target}, {category2} to {target2}  all_on x2
-//   move_layer       everything on {layer} of {furniture} ends on {layer2}          all_on
-//   pair             {object} ends next to {object2}                     near
-//
-// Every template is instantiated against every platform (or furniture) that meets its kind's
-// requirements; object-level placeholders are drawn with the seed. An object placeholder reads
-// "<noun> from <platform>", with a reference when the object has look-alikes there ("leftmost
-// book from shelf_2"); a category placeholder means every item of that category in its scope,
-// and the goal must ask for exactly the objects the words pick out (checked for every task). The default feasibility check
-// is rule-based: a greedy plan (the agent's own keys, played with the episode rules) must reach
-// the goal within the step limit; recorded votes (feasibility.h) can veto tasks afterwards.
+// Each kind runs once over every binding its scene offers (object-level placeholders drawn with
+// the seed) and words each task with one of its phrasings, drawn by the goal among those whose
+// placeholders are all bound. An object placeholder reads "<noun> from <platform>", with a
+// reference when the object has look-alikes there ("leftmost book from shelf_2"); a category
+// placeholder means every item its word names (covers included) in its scope, and the goal must
+// ask for exactly the objects the words pick out (checked for every task). Every object the
+// oracle picks stands on a platform the text names. The default feasibility check is rule-based:
+// a greedy plan (the agent's own keys, played with the episode rules) must reach the goal; the
+// step limit is set to fit it with room; recorded votes (feasibility.h) can veto tasks afterwards.
+// No kind keeps more than `level4_max_kind_share` of the tasks.
 
 #include <string>
 #include <vector>

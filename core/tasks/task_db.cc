@@ -518,6 +518,16 @@ nlohmann::json task_db_stats(const fs::path& file) {
       total += n;
     }
   }
+  // The Level 4 catalogue: per scene and outcome kind, its tasks and the phrasings they use.
+  nlohmann::json outcome_kinds = nlohmann::json::object();
+  {
+    store::Statement q(db, "SELECT scene, type, COUNT(*), COUNT(DISTINCT template_id) FROM tasks WHERE level = 4 "
+                           "GROUP BY scene, type ORDER BY scene, type");
+    while (q.step()) {
+      outcome_kinds[q.column_text(0)][q.column_text(1)] = {{"tasks", q.column_int(2)}, {"templates", q.column_int(3)}};
+    }
+  }
+  j["outcome_kinds"] = outcome_kinds;
   nlohmann::json meta = nlohmann::json::object();
   {
     store::Statement q(db, "SELECT key, value FROM meta ORDER BY key");

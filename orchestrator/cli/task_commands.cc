@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <utility>
@@ -154,6 +155,22 @@ int run_task_stats(const TaskStatsOptions& o) {
     const long l1 = counts["1"].get<long>(), l2 = counts["2"].get<long>();
     std::printf("  %-8s L1 %ld  L2 %ld  L3 %ld  L4 %ld  (L1 share of L1+L2: %.1f %%)\n", scene.c_str(), l1, l2,
                 counts["3"].get<long>(), counts["4"].get<long>(), l1 + l2 > 0 ? 100.0 * l1 / (l1 + l2) : 0.0);
+  }
+  // Level 4's catalogue: kinds present, tasks and phrasings used, the largest kind's share.
+  const nlohmann::json catalogue = stats.value("outcome_kinds", nlohmann::json::object());
+  for (const auto& [scene, kinds] : catalogue.items()) {
+    long total = 0, largest = 0, templates = 0;
+    for (const auto& [kind, c] : kinds.items()) {
+      total += c["tasks"].get<long>();
+      largest = std::max(largest, c["tasks"].get<long>());
+      templates += c["templates"].get<long>();
+    }
+    std::printf("  %-8s Level 4: %zu kinds, %ld phrasings used, largest kind %.1f %% of %ld\n", scene.c_str(), kinds.size(),
+                templates, total > 0 ? 100.0 * static_cast<double>(largest) / static_cast<double>(total) : 0.0, total);
+    for (const auto& [kind, c] : kinds.items()) {
+      std::printf("  %-8s   %-28s %6ld  (%ld phrasings)\n", scene.c_str(), kind.c_str(), c["tasks"].get<long>(),
+                  c["templates"].get<long>());
+    }
   }
   // Breadth beside the drops (docs/tasks.md, "Breadth").
   for (const auto& [scene, c] : stats["coverage"].items()) {
