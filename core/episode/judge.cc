@@ -18,6 +18,7 @@ EpisodeJudge::EpisodeJudge(const graph::SceneGraph& g, TaskGoal goal, int level,
   wrong_item_picks_.assign(n, 0);
   placed_elsewhere_.assign(n, false);
   placed_on_dest_.assign(n, false);
+  for (const SetPredicate& p : goal_.outcome.all) held_at_start_.push_back(predicate_satisfied(g_, replica_, p, options_));
 }
 
 std::vector<JudgeEvent> EpisodeJudge::observe(const StateUpdate& u) {
@@ -72,9 +73,20 @@ std::vector<JudgeEvent> EpisodeJudge::observe(const StateUpdate& u) {
 double EpisodeJudge::current_ip(bool final) const {
   if (goal_.is_outcome) {
     if (!final || goal_.outcome.all.empty()) return 0.0;
-    int ok = 0;
-    for (const auto& p : goal_.outcome.all) ok += predicate_satisfied(g_, replica_, p, options_) ? 1 : 0;
-    return 100.0 * ok / static_cast<double>(goal_.outcome.all.size());
+    // Points for what the agent brought about: the predicates that did not hold at the start and
+    // hold now, out of those plus every one that held at the start and was broken ("leave the
+    // books where they are" earns nothing by itself, so doing nothing scores 0).
+    int made = 0, asked = 0;
+    for (std::size_t k = 0; k < goal_.outcome.all.size(); ++k) {
+      const bool now = predicate_satisfied(g_, replica_, goal_.outcome.all[k], options_);
+      if (!held_at_start_[k]) {
+        ++asked;
+        made += now ? 1 : 0;
+      } else if (!now) {
+        ++asked;
+      }
+    }
+    return asked == 0 ? 0.0 : 100.0 * made / static_cast<double>(asked);
   }
   if (goal_.parts.empty()) return 0.0;
   double sum = 0.0;

@@ -65,6 +65,7 @@ class EpisodeJudge {
   int level_;
   GoalOptions options_;
   WorldState replica_;
+  std::vector<bool> held_at_start_;  // per outcome predicate, in the initial state
   std::vector<int> reached_;           // per part: milestones matched in order (0..3)
   std::vector<int> wrong_item_picks_;  // per part: other items picked
   std::vector<bool> placed_elsewhere_; // per part: the item was put on another platform

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <optional>
 #include <ostream>
+#include <set>
 
 #include "core/store/sqlite.h"
 #include "core/tasks/coverage.h"
@@ -519,12 +521,18 @@ nlohmann::json task_db_stats(const fs::path& file) {
     }
   }
   // The Level 4 catalogue: per scene and outcome kind, its tasks and the phrasings they use.
+  std::map<std::string, std::map<std::string, std::pair<std::int64_t, std::set<std::string>>>> kinds;
+  if (levels["4"].get<std::int64_t>() > 0) {
+    for_each_task(file, {4}, [&](Task t) {
+      auto& entry = kinds[t.scene][t.type];
+      entry.first += 1;
+      entry.second.insert(t.template_id);
+    });
+  }
   nlohmann::json outcome_kinds = nlohmann::json::object();
-  {
-    store::Statement q(db, "SELECT scene, type, COUNT(*), COUNT(DISTINCT template_id) FROM tasks WHERE level = 4 "
-                           "GROUP BY scene, type ORDER BY scene, type");
-    while (q.step()) {
-      outcome_kinds[q.column_text(0)][q.column_text(1)] = {{"tasks", q.column_int(2)}, {"templates", q.column_int(3)}};
+  for (const auto& [scene, of_type] : kinds) {
+    for (const auto& [type, entry] : of_type) {
+      outcome_kinds[scene][type] = {{"tasks", entry.first}, {"templates", entry.second.size()}};
     }
   }
   j["outcome_kinds"] = outcome_kinds;
