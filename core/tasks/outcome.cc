@@ -8,12 +8,10 @@
 #include "core/episode/placement.h"
 #include "core/episode/rules.h"
 #include "core/tasks/identify.h"
-#include "core/tasks/outcome_templates_embedded.h"
+#include "core/tasks/outcome_kinds.h"
 #include "core/tasks/phrasing.h"
 #include "core/tasks/referring.h"
-#include "core/util/error.h"
 #include "core/util/hash.h"
-#include "core/util/json_file.h"
 #include "core/util/rng.h"
 
 namespace mtg::tasks {
@@ -21,101 +19,6 @@ namespace {
 
 using episode::SetPredicate;
 using episode::WorldState;
-
-// Each kind's name, the placeholders its templates may and must use, and what the scene must
-// offer for it to make any task (said where a kind makes none): the one table of kinds.
-struct KindSpec {
-  OutcomeKind kind;
-  const char* name;
-  std::set<std::string> allowed;
-  std::vector<std::set<std::string>> required;  // each: at least one of these
-  const char* needs;
-};
-
-const std::vector<KindSpec>& kinds() {
-  using K = OutcomeKind;
-  static const std::vector<KindSpec> k = {
-      {K::kGatherCategory, "gather_category", {"source", "target", "category", "categories", "count"},
-       {{"source"}, {"target"}, {"category", "categories"}}, "two to max-moves items of one noun on one platform"},
-      {K::kConsolidate, "consolidate", {"target", "category", "categories", "count", "sources"},
-       {{"target"}, {"category", "categories"}, {"sources"}}, "two to max-moves items of one noun in the home"},
-      {K::kClearPlatform, "clear_platform", {"source", "count"}, {{"source"}},
-       "a platform holding one to max-moves items"},
-      {K::kClearCategory, "clear_category", {"source", "category", "categories", "count"},
-       {{"source"}, {"category", "categories"}}, "a platform holding items of two nouns"},
-      {K::kArrangeOn, "arrange_on", {"object", "object2", "target"}, {{"object"}, {"object2"}, {"target"}},
-       "two items a text can name"},
-      {K::kTogether, "together", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on two platforms"},
-      {K::kSetUp, "set_up", {"target", "category", "category2", "source", "source2"},
-       {{"target"}, {"category"}, {"category2"}, {"source"}, {"source2"}}, "items of two nouns off one platform"},
-      {K::kPutAway, "put_away", {"object", "furniture"}, {{"object"}, {"furniture"}},
-       "furniture with two navigable layers, one of them inside"},
-      {K::kSort, "sort", {"source", "target", "target2", "category", "categories", "category2", "categories2"},
-       {{"source"}, {"target"}, {"target2"}, {"category", "categories"}, {"category2", "categories2"}},
-       "a platform holding items of two nouns, at most max-moves in all"},
-      {K::kMoveLayer, "move_layer", {"layer", "layer2", "furniture", "count"}, {{"layer"}, {"layer2"}, {"furniture"}},
-       "furniture with two navigable layers"},
-      {K::kPair, "pair", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items"},
-      {K::kSwap, "swap", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on two platforms"},
-      {K::kLeaveExactly, "leave_exactly", {"source", "categories", "kept"}, {{"source"}, {"categories"}, {"kept"}},
-       "two or more items of one noun on one platform"},
-      {K::kBringSome, "bring_some", {"source", "target", "categories", "moved"},
-       {{"source"}, {"target"}, {"categories"}, {"moved"}}, "two or more items of one noun on one platform"},
-      {K::kKeepOne, "keep_one", {"source", "target", "category", "categories"},
-       {{"source"}, {"target"}, {"category", "categories"}}, "three or more items of one noun on one platform"},
-      {K::kSplit, "split", {"source", "target", "target2", "categories"},
-       {{"source"}, {"target"}, {"target2"}, {"categories"}}, "two to max-moves items of one noun on one platform"},
-      {K::kSpreadOut, "spread_out", {"source", "categories"}, {{"source"}, {"categories"}},
-       "two or more items of one noun on one platform"},
-      {K::kSeparate, "separate", {"object", "object2"}, {{"object"}, {"object2"}}, "two nameable items on one platform"},
-      {K::kJoinKind, "join_kind", {"object", "categories", "target"}, {{"object"}, {"categories"}, {"target"}},
-       "an item away from a platform holding two of its noun"},
-      {K::kGroupAround, "group_around", {"source", "categories", "object"}, {{"source"}, {"categories"}, {"object"}},
-       "two or more items of one noun on one platform, and a nameable item elsewhere"},
-      {K::kClearAround, "clear_around", {"object"}, {{"object"}},
-       "a nameable item with one to max-moves items standing next to it"},
-      {K::kTwoPairs, "two_pairs", {"object", "object2", "object3", "object4"},
-       {{"object"}, {"object2"}, {"object3"}, {"object4"}}, "four nameable items"},
-      {K::kMoveAll, "move_all", {"source", "target", "count"}, {{"source"}, {"target"}},
-       "a platform holding one to max-moves items"},
-      {K::kKeepOnly, "keep_only", {"source", "categories"}, {{"source"}, {"categories"}},
-       "a platform holding two or more items of one noun and a few others"},
-      {K::kThinOut, "thin_out", {"source", "categories", "kept"}, {{"source"}, {"categories"}, {"kept"}},
-       "two or more items of one noun on one platform"},
-      {K::kLayOut, "lay_out", {"target", "category", "category2", "category3", "source", "source2", "source3"},
-       {{"target"}, {"category"}, {"category2"}, {"category3"}, {"source"}, {"source2"}, {"source3"}},
-       "items of three nouns"},
-      {K::kPutInside, "put_inside", {"source", "categories", "furniture"}, {{"source"}, {"categories"}, {"furniture"}},
-       "furniture with a navigable inside, and two or more items of one noun elsewhere"},
-      {K::kBesideKind, "beside_kind", {"object", "category", "target"}, {{"object"}, {"category"}, {"target"}},
-       "a nameable item and an item of another noun elsewhere"},
-      {K::kAllButOne, "all_but_one", {"source", "category", "object"}, {{"source"}, {"category"}, {"object"}},
-       "two or more items of one noun on one platform, one of them nameable"},
-      {K::kFillEmpty, "fill_empty", {"source", "target", "moved"}, {{"source"}, {"target"}, {"moved"}},
-       "an empty platform and one holding three or more items"},
-      {K::kGatherTwo, "gather_two", {"source", "source2", "target", "categories"},
-       {{"source"}, {"source2"}, {"target"}, {"categories"}}, "items of one noun on two platforms, at most max-moves"},
-  };
-  return k;
-}
-
-const KindSpec* spec_named(const std::string& name) {
-  for (const KindSpec& k : kinds()) {
-    if (name == k.name) return &k;
-  }
-  return nullptr;
-}
-
-std::set<std::string> placeholders_of(const std::string& text) {
-  std::set<std::string> out;
-  for (std::size_t pos = 0; (pos = text.find('{', pos)) != std::string::npos;) {
-    const std::size_t end = text.find('}', pos);
-    if (end == std::string::npos) break;
-    out.insert(text.substr(pos + 1, end - pos - 1));
-    pos = end + 1;
-  }
-  return out;
-}
 
 using graph::ObjectId;
 using graph::PlatformId;
@@ -246,11 +149,22 @@ struct NamedObject {
   std::vector<Identification> lookalikes;
 };
 
+// Values with "{count}" bound where it counts two or more ("take all 1 things" reads wrong; the
+// phrasings without it serve one item).
+std::map<std::string, std::string> with_count(std::map<std::string, std::string> values, std::size_t n) {
+  if (n >= 2) values["count"] = std::to_string(n);
+  return values;
+}
+
+// "one", "two": a count as a text says it.
+std::string number_word(int n) {
+  static const char* words[] = {"no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten"};
+  return n >= 0 && n <= 10 ? words[n] : std::to_string(n);
+}
+
 // "one book", "two books": a count of a noun as a text says it.
 std::string counted(int n, const std::string& singular, const std::string& plural_words) {
-  static const char* words[] = {"no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten"};
-  const std::string number = n >= 0 && n <= 10 ? words[n] : std::to_string(n);
-  return number + " " + (n == 1 ? singular : plural_words);
+  return number_word(n) + " " + (n == 1 ? singular : plural_words);
 }
 
 // "shelf_1", "shelf_1 and table_2", "shelf_1, table_2 and bed_0".
@@ -587,7 +501,7 @@ class Instantiator {
         if (s_.objects[o].parent == src) direct.push_back(o);
       }
       Rng rng = rng_for(pname(src));
-      emit({{"source", pname(src)}, {"count", std::to_string(objs.size())}}, {{none_on(objs, {src})}},
+      emit(with_count({{"source", pname(src)}}, objs.size()), {{none_on(objs, {src})}},
            moves_to(direct, shuffled_targets(rng, {src})), {episode::pickable_on(g_, s_, src)});
     }
   }
@@ -626,21 +540,30 @@ class Instantiator {
   }
 
   void together() {
-    for (const PlatformId src : f_.navigable) {
-      const auto& here = f_.items_on.at(src);
-      auto elsewhere = items_not_on({src});
+    here_and_elsewhere([&](PlatformId src, ObjectId a, ObjectId b) {
+      const auto named = name_objects({a, b});
+      if (!named) return;
+      emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+           {{with(SetPredicate::Op::kTogether, {a, b})}}, {{b, {src}, {}}}, {united(*named)}, lookalikes(*named));
+    });
+  }
+
+  // Draws an item on each platform and one elsewhere, kManySamples times per platform.
+  template <class Take>
+  void here_and_elsewhere(Take take) {
+    for (const PlatformId p : f_.navigable) {
+      const auto& here = f_.items_on.at(p);
+      const auto elsewhere = items_not_on({p});
       if (here.empty() || elsewhere.empty()) continue;
-      Rng rng = rng_for(pname(src));
+      Rng rng = rng_for(pname(p));
       for (std::size_t k = 0; k < kManySamples; ++k) {
         const ObjectId a = here[rng.uniform_index(here.size())];
         const ObjectId b = elsewhere[rng.uniform_index(elsewhere.size())];
-        const auto named = name_objects({a, b});
-        if (!named) continue;
-        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{with(SetPredicate::Op::kTogether, {a, b})}}, {{b, {src}, {}}}, {united(*named)}, lookalikes(*named));
+        take(p, a, b);
       }
     }
   }
+
 
   // "A cup from shelf_1 next to a plate from table_2 on the counter": the text scopes each noun to
   // the platform it comes from, and any of those will do.
@@ -741,8 +664,8 @@ class Instantiator {
         }
         rng.shuffle(others);
         for (const PlatformId to : others) {
-          if (emit({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", furniture_name(f)},
-                    {"count", std::to_string(objs.size())}},
+          if (emit(with_count({{"layer", pname(from)}, {"layer2", pname(to)}, {"furniture", furniture_name(f)}},
+                              objs.size()),
                    {{all_on(objs, {to})}}, moves_to(direct, {to}), {episode::pickable_on(g_, s_, from)})) {
             break;
           }
@@ -752,43 +675,27 @@ class Instantiator {
   }
 
   void pair() {
-    for (const PlatformId dst : f_.navigable) {
-      const auto& here = f_.items_on.at(dst);
-      auto elsewhere = items_not_on({dst});
-      if (here.empty() || elsewhere.empty()) continue;
-      Rng rng = rng_for(pname(dst));
-      for (std::size_t k = 0; k < kManySamples; ++k) {
-        const ObjectId anchor = here[rng.uniform_index(here.size())];
-        const ObjectId a = elsewhere[rng.uniform_index(elsewhere.size())];
-        const auto named = name_objects({a, anchor});
-        if (!named) continue;
-        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{with(SetPredicate::Op::kNear, {a, anchor})}}, {{a, {dst}, anchor}}, {united(*named)},
-             lookalikes(*named));
-      }
-    }
+    here_and_elsewhere([&](PlatformId dst, ObjectId anchor, ObjectId a) {
+      const auto named = name_objects({a, anchor});
+      if (!named) return;
+      emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
+           {{with(SetPredicate::Op::kNear, {a, anchor})}}, {{a, {dst}, anchor}}, {united(*named)}, lookalikes(*named));
+    });
   }
+
 
   // Each of two items goes where the other stood.
   void swap() {
-    for (const PlatformId p : f_.navigable) {
-      const auto& here = f_.items_on.at(p);
-      auto elsewhere = items_not_on({p});
-      if (here.empty() || elsewhere.empty()) continue;
-      Rng rng = rng_for(pname(p));
-      for (std::size_t k = 0; k < kManySamples; ++k) {
-        const ObjectId a = here[rng.uniform_index(here.size())];
-        const ObjectId b = elsewhere[rng.uniform_index(elsewhere.size())];
-        const PlatformId q = episode::furniture_platform_of(g_, s_, b);
-        if (s_.objects[a].parent != p || s_.objects[b].parent != q) continue;  // a stack moves as one
-        const auto named = name_objects({a, b});
-        if (!named) continue;
-        emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}},
-             {{all_on({a}, {q}), all_on({b}, {p})}}, {{a, {q}, {}}, {b, {p}, {}}}, {(*named)[0].selects, (*named)[1].selects},
-             lookalikes(*named));
-      }
-    }
+    here_and_elsewhere([&](PlatformId p, ObjectId a, ObjectId b) {
+      const PlatformId q = episode::furniture_platform_of(g_, s_, b);
+      if (s_.objects[a].parent != p || s_.objects[b].parent != q) return;  // a stack moves as one
+      const auto named = name_objects({a, b});
+      if (!named) return;
+      emit({{"object", (*named)[0].words}, {"object2", (*named)[1].words}}, {{all_on({a}, {q}), all_on({b}, {p})}},
+           {{a, {q}, {}}, {b, {p}, {}}}, {(*named)[0].selects, (*named)[1].selects}, lookalikes(*named));
+    });
   }
+
 
   // "Leave exactly two books on shelf_1" (count_on n..n), or with `at_most` "no more than two".
   void leave_count(bool at_most) {
@@ -821,7 +728,7 @@ class Instantiator {
         const std::vector<ObjectId> moved(objs.begin(), objs.begin() + n);
         try_targets(rng, {src}, [&](PlatformId dst) {
           return emit({{"source", pname(src)}, {"target", pname(dst)}, {"categories", plural_text(cat)},
-                       {"moved", counted(n, category_text(cat), plural_text(cat))}},
+                       {"moved", number_word(n)}},
                       {{count_on(objs, {dst}, n, n)}}, moves_to(moved, {dst}), {called(cat, src)});
         });
       }
@@ -1032,7 +939,7 @@ class Instantiator {
       if (objs.empty() || static_cast<int>(objs.size()) > max_moves() || !all_direct(objs, src)) continue;
       Rng rng = rng_for(pname(src));
       try_targets(rng, {src}, [&](PlatformId dst) {
-        return emit({{"source", pname(src)}, {"target", pname(dst)}, {"count", std::to_string(objs.size())}},
+        return emit(with_count({{"source", pname(src)}, {"target", pname(dst)}}, objs.size()),
                     {{all_on(objs, {dst})}}, moves_to(objs, {dst}), {episode::pickable_on(g_, s_, src)});
       });
     }
@@ -1156,7 +1063,8 @@ class Instantiator {
         const auto named = name_objects({keep});
         if (!named) continue;
         const auto others = minus(objs, {keep});
-        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"object", (*named)[0].words}},
+        emit({{"source", pname(src)}, {"category", category_text(cat)}, {"categories", plural_text(cat)},
+              {"object", (*named)[0].words}},
              {{none_on(others, {src}), all_on({keep}, {src})}}, moves_to(others, shuffled_targets(rng, {src})),
              {minus(called(cat, src), (*named)[0].selects), united(*named)}, lookalikes(*named));
       }
@@ -1268,53 +1176,6 @@ std::vector<OutcomeTask> balance_kinds(std::vector<OutcomeTask> tasks, double sh
 }
 
 }  // namespace
-
-const char* to_string(OutcomeKind kind) {
-  for (const KindSpec& k : kinds()) {
-    if (k.kind == kind) return k.name;
-  }
-  return "unknown";
-}
-
-std::vector<OutcomeTemplate> load_templates(const std::string& source) {
-  nlohmann::json doc;
-  std::string origin = source;
-  if (source == "builtin") {
-    doc = nlohmann::json::parse(kOutcomeTemplatesJson);
-    origin = "built-in outcome templates";
-  } else {
-    doc = read_json_file(source);
-  }
-  const JsonField root(doc, origin);
-  const JsonField list = root.at("templates");
-  std::vector<OutcomeTemplate> out;
-  std::set<std::string> ids;
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const JsonField t = list.at(i);
-    OutcomeTemplate tmpl{t.at("id").as_string(), t.at("family").as_string(), OutcomeKind::kGatherCategory,
-                         t.at("text").as_string()};
-    if (!ids.insert(tmpl.id).second) t.at("id").fail("duplicate template id '" + tmpl.id + "'");
-    const std::string kind = t.at("kind").as_string();
-    const KindSpec* spec = spec_named(kind);
-    if (spec == nullptr) t.at("kind").fail("template " + tmpl.id + ": unknown kind '" + kind + "'");
-    tmpl.kind = spec->kind;
-    const auto used = placeholders_of(tmpl.text);
-    for (const auto& ph : used) {
-      if (spec->allowed.count(ph) == 0) {
-        t.at("text").fail("template " + tmpl.id + ": unknown placeholder {" + ph + "} for kind " + kind);
-      }
-    }
-    for (const auto& alternatives : spec->required) {
-      const bool present = std::any_of(alternatives.begin(), alternatives.end(),
-                                       [&](const std::string& ph) { return used.count(ph) != 0; });
-      if (!present) {
-        t.at("text").fail("template " + tmpl.id + ": missing placeholder {" + *alternatives.begin() + "}");
-      }
-    }
-    out.push_back(std::move(tmpl));
-  }
-  return out;
-}
 
 std::vector<OutcomeTask> generate_outcomes(const graph::SceneGraph& g, const episode::WorldState& initial,
                                            const std::vector<OutcomeTemplate>& templates, const TaskOptions& options,

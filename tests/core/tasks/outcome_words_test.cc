@@ -154,12 +154,9 @@ class Level4Checker {
     auto platform = [&](const std::string& key) { return g_.find_platform(values->at(key)); };
     // Every object on the named platforms that the category word means.
     auto meant = [&](const std::string& word_key, std::vector<std::string> scopes) {
-      std::string key;
-      for (const std::string& k : {word_key, word_key + "s"}) {
-        if (key.empty() && values->count(k) != 0) key = nouns_.key_of_word(values->at(k));
-      }
       // "category" / "categories", "category2" / "categories2": whichever the text uses.
-      for (const std::string& k : {std::string("categories") + word_key.substr(8)}) {
+      std::string key;
+      for (const std::string& k : {word_key, "categories" + word_key.substr(std::string("category").size())}) {
         if (key.empty() && values->count(k) != 0) key = nouns_.key_of_word(values->at(k));
       }
       std::vector<ObjectId> out;
@@ -195,37 +192,38 @@ class Level4Checker {
       if (k >= all.size()) return std::vector<ObjectId>{};
       return which == 1 ? all[k].objects : all[k].objects2;
     };
+    // Category words that mean one goal list each: (predicate, list, word, the platforms it is
+    // scoped to; none: the home).
+    struct WordRule {
+      std::size_t predicate;
+      int list;
+      const char* word;
+      std::vector<std::string> scopes;
+    };
+    using K = OutcomeKind;
+    static const std::map<OutcomeKind, std::vector<WordRule>> kRules = {
+        {K::kGatherCategory, {{0, 1, "category", {"source"}}}},
+        {K::kClearCategory, {{0, 1, "category", {"source"}}}},
+        {K::kConsolidate, {{0, 1, "category", {}}}},
+        {K::kSetUp, {{0, 1, "category", {"source"}}, {0, 2, "category2", {"source2"}}}},
+        {K::kSort, {{0, 1, "category", {"source"}}, {1, 1, "category2", {"source"}}}},
+        {K::kLeaveExactly, {{0, 1, "category", {"source"}}}},
+        {K::kThinOut, {{0, 1, "category", {"source"}}}},
+        {K::kBringSome, {{0, 1, "category", {"source"}}}},
+        {K::kSpreadOut, {{0, 1, "category", {"source"}}}},
+        {K::kGroupAround, {{0, 1, "category", {"source"}}}},
+        {K::kPutInside, {{0, 1, "category", {"source"}}}},
+        {K::kKeepOne, {{0, 1, "category", {"source"}}, {1, 1, "category", {"source"}}}},
+        {K::kSplit, {{0, 1, "category", {"source"}}, {1, 1, "category", {"source"}}, {2, 1, "category", {"source"}}}},
+        {K::kLayOut,
+         {{0, 1, "category", {"source"}}, {1, 1, "category2", {"source2"}}, {2, 1, "category3", {"source3"}}}},
+        {K::kBesideKind, {{0, 2, "category", {"target"}}}},
+        {K::kGatherTwo, {{0, 1, "category", {"source", "source2"}}}},
+    };
+    if (const auto rules = kRules.find(tmpl.kind); rules != kRules.end()) {
+      for (const WordRule& w : rules->second) expect_same(w.word, list(w.predicate, w.list), meant(w.word, w.scopes));
+    }
     switch (tmpl.kind) {
-      case OutcomeKind::kGatherCategory:
-      case OutcomeKind::kClearCategory:
-        expect_same("category", list(0, 1), meant("category", {"source"}));
-        break;
-      case OutcomeKind::kConsolidate:
-        expect_same("category in the home", list(0, 1), meant("category", {}));
-        break;
-      case OutcomeKind::kSetUp:
-        expect_same("category", list(0, 1), meant("category", {"source"}));
-        expect_same("category2", list(0, 2), meant("category2", {"source2"}));
-        break;
-      case OutcomeKind::kSort:
-        expect_same("category", list(0, 1), meant("category", {"source"}));
-        expect_same("category2", list(1, 1), meant("category2", {"source"}));
-        break;
-      case OutcomeKind::kLeaveExactly:
-      case OutcomeKind::kThinOut:
-      case OutcomeKind::kBringSome:
-      case OutcomeKind::kSpreadOut:
-      case OutcomeKind::kGroupAround:
-      case OutcomeKind::kPutInside:
-        expect_same("categories", list(0, 1), meant("category", {"source"}));
-        break;
-      case OutcomeKind::kKeepOne:
-        expect_same("categories", list(0, 1), meant("category", {"source"}));
-        expect_same("categories", list(1, 1), meant("category", {"source"}));
-        break;
-      case OutcomeKind::kSplit:
-        for (std::size_t k = 0; k < 3; ++k) expect_same("categories", list(k, 1), meant("category", {"source"}));
-        break;
       case OutcomeKind::kKeepOnly: {
         const auto kept = meant("category", {"source"});
         std::vector<ObjectId> others;
@@ -236,23 +234,12 @@ class Level4Checker {
         expect_same("categories", list(1, 1), kept);
         break;
       }
-      case OutcomeKind::kLayOut:
-        expect_same("category", list(0, 1), meant("category", {"source"}));
-        expect_same("category2", list(1, 1), meant("category2", {"source2"}));
-        expect_same("category3", list(2, 1), meant("category3", {"source3"}));
-        break;
-      case OutcomeKind::kBesideKind:
-        expect_same("category", list(0, 2), meant("category", {"target"}));
-        break;
       case OutcomeKind::kAllButOne: {
         std::vector<ObjectId> both = list(0, 1);
         for (const ObjectId o : list(1, 1)) both.push_back(o);
         expect_same("category", both, meant("category", {"source"}));
         break;
       }
-      case OutcomeKind::kGatherTwo:
-        expect_same("categories", list(0, 1), meant("category", {"source", "source2"}));
-        break;
       case OutcomeKind::kJoinKind:
         if (meant("category", {"target"}).size() < 2) problems.push_back("the other ones are not on the target");
         break;
