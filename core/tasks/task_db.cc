@@ -230,6 +230,7 @@ struct TaskDbWriter::Open {
   std::vector<std::string> scenes;
   nlohmann::json dropped = nlohmann::json::object();
   nlohmann::json coverage = nlohmann::json::object();
+  nlohmann::json warnings = nlohmann::json::object();
   std::map<std::string, scene::DatasetFingerprint> dataset;
   std::string hash;
   std::ofstream jsonl;
@@ -271,6 +272,7 @@ void TaskDbWriter::end_scene(const TaskSet& set) {
   o.scenes.push_back(set.scene);
   o.dropped[set.scene] = set.dropped.to_json();
   o.coverage[set.scene] = set.coverage;
+  o.warnings[set.scene] = set.warnings;
   o.dataset[set.scene] = set.dataset;
   scene_open_ = false;
 }
@@ -287,6 +289,7 @@ void TaskDbWriter::add(const TaskSet& set) {
   meta.scene = set.scene;
   meta.dropped = set.dropped;
   meta.coverage = set.coverage;
+  meta.warnings = set.warnings;
   meta.dataset = set.dataset;
   end_scene(meta);
 }
@@ -357,6 +360,7 @@ void TaskDbWriter::finish(const std::vector<Vote>& votes) {
            {"format", kFormat},
            {"dropped", o.dropped.dump()},
            {"coverage", o.coverage.dump()},
+           {"warnings", o.warnings.dump()},
            {"dataset", scene::to_json(o.dataset).dump()},
            {"generator_version", kGeneratorVersion},
            {"config_json", options_.to_json().dump()},
@@ -558,6 +562,11 @@ nlohmann::json task_db_stats(const fs::path& file) {
     for (const auto& [scene, items] : recorded.items()) j["coverage"][scene] = counts[scene].report(coverage_items_from_json(items));
     meta.erase("coverage");
   }
+  // What the generator said per scene (e.g. a Level 4 kind and the precondition that stopped it).
+  j["warnings"] = meta.contains("warnings") ? nlohmann::json::parse(meta["warnings"].get<std::string>(), nullptr, false)
+                                            : nlohmann::json::object();
+  if (!j["warnings"].is_object()) throw Error(file.string() + ": meta 'warnings' is not a JSON object");
+  meta.erase("warnings");
   meta.erase("dataset");  // file hashes: read_dataset_fingerprints
   j["meta"] = meta;
   return j;

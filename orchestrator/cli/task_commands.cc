@@ -172,6 +172,10 @@ int run_task_stats(const TaskStatsOptions& o) {
                   c["templates"].get<long>());
     }
   }
+  const nlohmann::json notes = stats.value("warnings", nlohmann::json::object());
+  for (const auto& [scene, lines] : notes.items()) {
+    for (const nlohmann::json& line : lines) std::printf("  %-8s note: %s\n", scene.c_str(), line.get<std::string>().c_str());
+  }
   // Breadth beside the drops (docs/tasks.md, "Breadth").
   for (const auto& [scene, c] : stats["coverage"].items()) {
     const long pickable = c["pickable"].get<long>();
