@@ -1,5 +1,6 @@
 #include "core/tasks/generator.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <future>
 #include <map>
@@ -209,7 +210,9 @@ void add_outcome_tasks(const graph::SceneGraph& g, OutcomeCandidates made, const
     t.identify = std::move(o.identify);
     t.oracle = o.oracle;
     t.oracle.push_back("0");
-    t.step_limit = std::max(options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4);
+    // Room beyond the oracle's plan, and for a person who moves each object the goal lists on its
+    // own (the oracle carries a stack at once): five keys a move, the end, and two to spare.
+    t.step_limit = std::max({options.rules.step_limit, static_cast<int>(t.oracle.size()) + 4, 5 * o.moved + 3});
     candidates.emplace_back(task_id(g.scene, 4, numbering.peek(4) + candidates.size()), std::move(t));
   }
   std::vector<Vote> all_votes;

@@ -386,6 +386,12 @@ class Instantiator {
     for (const auto& [name, value] : values) replace_all(task.text, "{" + name + "}", value);
     task.goal = std::move(goal);
     task.oracle = std::move(plan->keys);
+    std::set<ObjectId> listed_objects;
+    for (const SetPredicate& p : task.goal.all) listed_objects.insert(p.objects.begin(), p.objects.end());
+    for (const ObjectId o : listed_objects) {
+      const bool moved = episode::furniture_platform_of(g_, s_, o) != episode::furniture_platform_of(g_, plan->after, o);
+      task.moved += moved ? 1 : 0;
+    }
     task.identify = std::move(lookalikes);
     out_->push_back(std::move(task));
     made_.insert(std::move(key));

@@ -77,6 +77,7 @@ struct OutcomeTask {
   std::string text;
   episode::OutcomeGoal goal;
   std::vector<std::string> oracle;  // without call_end
+  int moved = 0;  // objects the goal lists that the plan moves (a stack's items each count)
   std::vector<Identification> identify;  // named objects with look-alikes
 };
 
