@@ -235,6 +235,7 @@ class ItemEnumeration {
     geom::Ring item_rel_P;
     Eigen::Isometry2d X_PW = Eigen::Isometry2d::Identity();
     std::vector<AnchorInfo> anchors;  // everything on the destination now, in its frame
+    std::set<std::string> unbindable;  // around goals some of their anchor's own spaces miss
     AtomicGoal base;
   };
   // A goal a placement may achieve, with its key and margin.
@@ -278,12 +279,32 @@ class ItemEnumeration {
     d.base.item = source_.item;
     d.base.source = ps_;
     d.base.platform = d.pd;
+    // Every offered place judged first: "next to X" is asked only where each of X's own free
+    // spaces meets it, since a person may pick any of them (issue 53).
+    std::vector<std::pair<const episode::PlaceTarget*, std::pair<Eigen::Vector2d, Judged>>> judged_places;
     for (const episode::PlaceTarget& t : *d.targets) {
       const auto xy = episode::resolve_target(g_, d.placing, d.pd, t, d.feasible);
       if (!xy) continue;
-      Judged judged = judge_at(d, *xy);
-      for (Candidate& candidate : judged.candidates) {
-        if (consider(d, t, *xy, judged, candidate)) return;
+      judged_places.push_back({&t, {*xy, judge_at(d, *xy)}});
+    }
+    d.unbindable.clear();
+    for (const auto& [t, placed] : judged_places) {
+      if (t->kind != episode::PlaceTarget::Kind::kObjectRegion) continue;
+      // Around goals about t's anchor that this one of its own spaces does not meet.
+      for (const auto& [other, other_placed] : judged_places) {
+        if (other->kind != episode::PlaceTarget::Kind::kObjectRegion || other->anchor != t->anchor) continue;
+        for (const Candidate& c : other_placed.second.candidates) {
+          if (c.goal.type != GoalType::kAround || c.goal.anchor != t->anchor || c.margin <= 0.0) continue;
+          const auto& mine = placed.second.candidates;
+          const bool met = std::any_of(mine.begin(), mine.end(),
+                                       [&](const Candidate& m) { return m.key == c.key && m.margin > 0.0; });
+          if (!met) d.unbindable.insert(c.key);
+        }
+      }
+    }
+    for (auto& [t, placed] : judged_places) {
+      for (Candidate& candidate : placed.second.candidates) {
+        if (consider(d, *t, placed.first, placed.second, candidate)) return;
       }
     }
   }
@@ -353,6 +374,8 @@ class ItemEnumeration {
       why = "stack";
     } else if (!words_match) {
       why = "unworded";
+    } else if (d.unbindable.count(candidate.key) != 0) {
+      why = "unbindable";
     } else if (episode::goal_met_from_any_side(g_, s_, goal, options_.goals)) {
       why = "trivial";
     } else if (margin < options_.min_margin) {

@@ -149,6 +149,11 @@ void apply_overrides(GenerationJob& job, const nlohmann::json& o) {
       else if (key == "l3_chain") job.options.level3_chain = json_integer<int>(value, "generator config: l3_chain");
       else if (key == "l4_max_moves") job.options.level4_max_moves = json_integer<int>(value, "generator config: l4_max_moves");
       else if (key == "l4_templates") job.options.level4_templates = value.get<std::string>();
+      else if (key == "l4_max_share") {
+        const double share = value.get<double>();
+        if (!(share > 0.0 && share <= 1.0)) throw Error("generator config: l4_max_share must be above 0 and at most 1");
+        job.options.level4_max_kind_share = share;
+      }
       else if (key == "step_limit") job.options.rules.step_limit = json_integer<int>(value, "generator config: step_limit");
       else if (key == "profile") job.profile = value.get<std::string>();
       else throw Error("generator config: unknown key '" + key + "'");

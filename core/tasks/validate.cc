@@ -144,12 +144,27 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
         // is named in words after "of the ".
         const bool numbered = !wanted.ends_with("the ");
         bool worded = false;
-        for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
+        const auto offered = episode::action_space(g, s, rules);
+        auto says = [&](const episode::ActionOption& option) {
+          return numbered ? option.description.ends_with(wanted) : option.description.find(wanted) != std::string::npos;
+        };
+        for (const episode::ActionOption& option : offered) {
           if (option.key != key) continue;
-          worded = numbered ? option.description.ends_with(wanted) : option.description.find(wanted) != std::string::npos;
+          worded = says(option);
           break;
         }
         if (!worded) fail(which + "the key '" + key + "' is not offered as '" + wanted + "'");
+        // "Next to X": a person may pick any of X's own free spaces; each that puts the item down
+        // must put it where the goal holds (one the item does not fit in is refused by the rules,
+        // and the person picks again).
+        for (const episode::ActionOption& option : offered) {
+          if (part.type != episode::GoalType::kAround || option.key == key || !says(option)) continue;
+          episode::WorldState trial = s;
+          if (!episode::apply_action(g, trial, option.key, constraints, rules).applied) continue;
+          if (!episode::goal_satisfied(g, trial, part, options.goals)) {
+            fail(which + "'" + option.description + "', one of the anchor's own spaces, is not next to it");
+          }
+        }
       }
       if (!episode::apply_action(g, s, key, constraints, rules).applied) {
         fail(which + "'" + key + "' is not applied");
