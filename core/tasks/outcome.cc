@@ -117,8 +117,18 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
         keys.resize(mark);
         continue;
       }
-      const auto targets =
-          episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size, memo);
+      // "Anywhere" is the platform itself: its objects' free spaces are worked out only for a move
+      // next to one of them.
+      std::vector<episode::PlaceTarget> targets;
+      if (m.next_to.valid()) {
+        targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size, memo);
+      } else {
+        episode::PlaceTarget any;
+        any.key = episode::kAnywhereKey;
+        any.region_P = dest.polygon_P;
+        any.aim_P = geom::centroid(dest.polygon_P);
+        targets.push_back(std::move(any));
+      }
       const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to, memo);
       for (const episode::PlaceTarget& t : targets) {
         const bool wanted = m.next_to.valid() ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
