@@ -127,7 +127,23 @@ episode::RuleOptions episode_rules(const mtg::episode_start_t& start) {
   episode::RuleOptions rules;
   if (start.step_limit > 0) rules.step_limit = start.step_limit;
   rules.object_names = start.object_names;
+  switch (start.lookalike_aid) {
+    case mtg::episode_start_t::AID_BOTH: rules.lookalike_aid = episode::LookalikeAid::kBoth; break;
+    case mtg::episode_start_t::AID_IMAGE: rules.lookalike_aid = episode::LookalikeAid::kImage; break;
+    case mtg::episode_start_t::AID_WORDS: rules.lookalike_aid = episode::LookalikeAid::kWords; break;
+    default:
+      throw Error("episode start: unknown lookalike_aid " + std::to_string(start.lookalike_aid));
+  }
   return rules;
+}
+
+std::int8_t to_message(episode::LookalikeAid aid) {
+  switch (aid) {
+    case episode::LookalikeAid::kBoth: return mtg::episode_start_t::AID_BOTH;
+    case episode::LookalikeAid::kImage: return mtg::episode_start_t::AID_IMAGE;
+    case episode::LookalikeAid::kWords: return mtg::episode_start_t::AID_WORDS;
+  }
+  return mtg::episode_start_t::AID_BOTH;
 }
 
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {

@@ -54,9 +54,12 @@ mtg::state_update_t to_message(const graph::SceneGraph& g, const episode::WorldS
                                const episode::StateUpdate& u);
 episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_update_t& m);
 
-/// The episode rules an episode start asks for (its step limit and object naming; the defaults
-/// otherwise). The scene-graph service and `mtg rejudge` must step an episode alike.
+/// The episode rules an episode start asks for (its step limit, object naming and look-alike aid;
+/// the defaults otherwise). The scene-graph service and `mtg rejudge` must step an episode alike.
+/// @throws mtg::Error on a look-alike aid it does not know.
 episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
+/// episode_start_t's code for `aid` (AID_BOTH, AID_IMAGE, AID_WORDS).
+std::int8_t to_message(episode::LookalikeAid aid);
 
 /// What the rules need of an agent's action.
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action);

@@ -9,7 +9,7 @@
 #include "core/episode/transcript.h"
 #include "core/render/close_ups.h"
 #include "core/render/view.h"
-#include "core/tasks/phrasing.h"
+#include "core/tasks/lookalike_aid.h"
 
 namespace mtg::vlm {
 namespace {
@@ -62,13 +62,13 @@ void add_view_images(const graph::SceneGraph& g, const episode::WorldState& s, c
 // The observation the scene-graph service sends in state `s` (episode_host.cc,
 // publish_observation and send_observation).
 mtg::observation_t observation_at(const graph::SceneGraph& g, const episode::WorldState& s, const tasks::Task& task,
-                                  const std::string& hint, const episode::RuleOptions& rules,
+                                  const std::string& task_text, const std::string& hint, const episode::RuleOptions& rules,
                                   const WalkOptions& options, int held_number, render::CloseUpsShown& shown) {
   mtg::observation_t obs{};
   obs.step = s.steps;
   obs.step_limit = rules.step_limit;
   obs.done = false;
-  obs.task_text = task.text;
+  obs.task_text = task_text;
   obs.hint = hint;
   obs.text = episode::observation_text(g, s, rules);
   for (const episode::ActionOption& option : episode::action_space(g, s, rules)) {
@@ -81,7 +81,8 @@ mtg::observation_t observation_at(const graph::SceneGraph& g, const episode::Wor
   if (options.render) {
     std::vector<render::ViewRequest> views =
         render::observation_views(s, options.image_width, options.image_height, rules.min_region_size);
-    render::add_close_ups(g, s, task.identify, held_number, options.image_width, options.image_height, shown, views);
+    render::add_close_ups(g, s, task.identify, held_number, options.image_width, options.image_height, shown, views,
+                          options.lookalike_aid);
     for (const render::ViewRequest& v : views) add_view_images(g, s, v, obs.images);
   }
   obs.n_images = static_cast<int32_t>(obs.images.size());
@@ -98,14 +99,16 @@ WalkedEpisode walk_oracle(const graph::SceneGraph& g, const tasks::Task& task, c
   rules.object_names = options.object_names;
   const episode::TaskConstraints constraints{episode::task_goal_from_json(g, task.goal).protected_objects()};
   episode::WorldState s = episode::initial_state(g);
-  std::string hint = tasks::lookalike_hint(task.identify, options.render);
+  rules.lookalike_aid = options.lookalike_aid;
+  const tasks::TaskWords words = tasks::task_words(task.id, task.text, task.identify, options.lookalike_aid, options.render);
+  std::string hint = words.hint;
   render::CloseUpsShown shown;
   int held_number = 0;
   std::size_t next = 0;
   // Ends with "0" or at the step limit, whatever the plan's keys do.
   while (s.phase != episode::Phase::kDone) {
     const std::string key = next < task.oracle.size() ? task.oracle[next++] : "0";
-    out.observations.push_back(observation_at(g, s, task, hint, rules, options, held_number, shown));
+    out.observations.push_back(observation_at(g, s, task, words.text, hint, rules, options, held_number, shown));
     out.replies.push_back(key);
     const episode::EpisodeStep step = episode::step_episode(g, s, {key, true, false}, constraints, rules);
     hint = step.hint;

@@ -16,6 +16,7 @@
 #include "agents/vlm/cost_estimate.h"
 #include "agents/vlm/prompt.h"
 #include "agents/vlm/settings.h"
+#include "core/episode/rules.h"
 #include "core/graph/scene_graph.h"
 #include "core/tasks/task.h"
 #include "mtg/observation_t.hpp"
@@ -26,6 +27,7 @@ struct WalkOptions {
   int step_limit = 15;        // the episode's: the larger of the plan's and the task's
   bool render = true;         // observations carry images
   bool object_names = false;  // as the plan says (episode::RuleOptions)
+  episode::LookalikeAid lookalike_aid = episode::LookalikeAid::kBoth;  // as the plan says
   int image_width = 640;
   int image_height = 480;
 };

@@ -134,6 +134,22 @@ std::string why_unavailable(const graph::SceneGraph& g, const WorldState& s, std
 
 }  // namespace
 
+const char* to_string(LookalikeAid aid) {
+  switch (aid) {
+    case LookalikeAid::kBoth: return "both";
+    case LookalikeAid::kImage: return "image";
+    case LookalikeAid::kWords: return "words";
+  }
+  return "both";
+}
+
+std::optional<LookalikeAid> lookalike_aid_from_string(std::string_view name) {
+  for (const LookalikeAid a : {LookalikeAid::kBoth, LookalikeAid::kImage, LookalikeAid::kWords}) {
+    if (name == to_string(a)) return a;
+  }
+  return std::nullopt;
+}
+
 bool is_action_key(std::string_view key) {
   if (key == "0" || key == "-1" || key == "startplace" || all_digits(key)) return true;
   return key.size() >= 2 && (key[0] == 'l' || key[0] == 'o') && all_digits(key.substr(1));

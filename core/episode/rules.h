@@ -11,6 +11,8 @@
 // a clearance lower than the held object together with what rests on it. The episode ends on
 // call_end or when the step limit is used up.
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +23,16 @@
 
 namespace mtg::episode {
 
+/// How the agent tells a task's look-alikes apart (issue 53). The paper's Level 2 agent
+/// "disambiguates using additional task-provided descriptions or images": kBoth gives the words and
+/// a close-up of each look-alike (the default); kWords the words alone, so a run measures whether a
+/// model understands "the second cup from the left"; kImage the close-ups alone, the text calling
+/// each look-alike "the cup in close-up 1" (core/tasks/lookalike_aid.h).
+enum class LookalikeAid : std::int8_t { kBoth = 0, kImage = 1, kWords = 2 };
+/// "both", "image", "words".
+const char* to_string(LookalikeAid aid);
+std::optional<LookalikeAid> lookalike_aid_from_string(std::string_view name);
+
 struct RuleOptions {
   int step_limit = 15;
   double min_region_size = 0.03;
@@ -29,6 +41,8 @@ struct RuleOptions {
   /// by its number in the image only. On is for agents that get no images (docs/episode.md,
   /// "What the agent is told").
   bool object_names = false;
+  /// Presentation only: what the observations say and show of look-alikes, never what is judged.
+  LookalikeAid lookalike_aid = LookalikeAid::kBoth;
 };
 
 struct ActionOption {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/tasks/lookalike_aid.h"
+
 namespace mtg::render {
 
 int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
@@ -14,7 +16,7 @@ int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::O
 
 void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
-                   CloseUpsShown& shown, std::vector<ViewRequest>& views, bool numbered) {
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views, episode::LookalikeAid aid, bool numbered) {
   for (ViewRequest& v : views) {
     if (v.view != ViewKind::kItem) continue;
     v.number = std::max(0, held_number);
@@ -22,7 +24,8 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                     ? "The object in your hand, number " + std::to_string(held_number) + " where you picked it up."
                     : "The object in your hand.";
   }
-  if (s.phase == episode::Phase::kDone) return;
+  if (s.phase == episode::Phase::kDone || aid == episode::LookalikeAid::kWords) return;
+  const std::map<std::string, int> labels = tasks::close_up_labels(lookalikes);
   for (const tasks::Identification& id : lookalikes) {
     const graph::ObjectId object = g.find_object(id.object);
     if (!object.valid() || object == s.held) continue;
@@ -49,7 +52,11 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
     v.height = height;
     v.number = number;
     const std::string where = here ? "here" : "on " + g.platforms[platform].name;
-    v.caption = "The object the task calls '" + id.phrase + "'" +
+    const std::string called = aid == episode::LookalikeAid::kImage
+                                   ? "Close-up " + std::to_string(labels.at(id.object)) + ": the " + id.reference.noun +
+                                         " the task means"
+                                   : "The object the task calls '" + id.phrase + "'";
+    v.caption = called +
                 (number > 0 ? ", object " + std::to_string(number) + " " + where + " as it stands now"
                             : ", where it stands " + where) +
                 ", seen from where you " + (here ? "stand" : "arrive") + "; every other object faded.";

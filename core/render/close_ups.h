@@ -25,10 +25,13 @@ struct CloseUpsShown {
 
 /// `held_number`: the number the held item had when it was picked (0 when nothing is held or it
 /// is not known). Adds the item close-up's number and caption to `views` (from
-/// observation_views) and appends the look-alike close-ups due now.
+/// observation_views) and appends the look-alike close-ups due now: none under the aid kWords;
+/// under kImage each captioned by its label (tasks::close_up_labels), the name the text gives it,
+/// not by the words it replaces.
 void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
-                   CloseUpsShown& shown, std::vector<ViewRequest>& views, bool numbered = false);
+                   CloseUpsShown& shown, std::vector<ViewRequest>& views,
+                   episode::LookalikeAid aid = episode::LookalikeAid::kBoth, bool numbered = false);
 
 /// The object's o<N> number on the platform where it stands in `s` (0 when it is not pickable
 /// there or stands on none).

@@ -5,6 +5,7 @@
 
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/tasks/lookalike_aid.h"
 #include "core/tasks/referring.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
@@ -44,11 +45,14 @@ std::string placing_keys(const graph::SceneGraph& g, const episode::WorldState& 
   return out;
 }
 
-// How the text names `object` in part `part` (its reference's phrase), else its noun.
+// How the text names `object` in part `part` (its reference's phrase, or its close-up under the
+// aid kImage), else its noun.
 std::string words_for(const graph::SceneGraph& g, const Task& task, int part, const std::string& role,
-                      graph::ObjectId object, Ambiguity rule) {
+                      graph::ObjectId object, Ambiguity rule, episode::LookalikeAid aid) {
   for (const Identification& id : task.identify) {
-    if (id.part == part && id.role == role && id.object == g.objects[object].name) return id.phrase;
+    if (id.part == part && id.role == role && id.object == g.objects[object].name) {
+      return named_as(id, task.identify, aid);
+    }
   }
   return "the " + noun_of(g.objects[object], rule);
 }
@@ -145,7 +149,7 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
       const graph::PlatformId platform = g.find_platform(id.platform);
       const int at = arrival(platform, -1, 1);
       if (!object.valid() || at < 0) continue;
-      ask({"o" + std::to_string(k) + ".object", "Which number is " + id.phrase + "?", at,
+      ask({"o" + std::to_string(k) + ".object", "Which number is " + named_as(id, task.identify, options.rules.lookalike_aid) + "?", at,
            key_of(g, plan.observations[static_cast<std::size_t>(at)].state, object)});
     }
     return plan;
@@ -157,7 +161,8 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
     const int source = arrival(part.source, 0, from);
     if (source < 0) throw Error("task " + task.id + ": its plan never arrives at part " + std::to_string(k) + "'s item");
     ask({p + "item",
-                              "Which number is the item to move (" + words_for(g, task, static_cast<int>(k), "item", part.item, options.ambiguity) +
+                              "Which number is the item to move (" + words_for(g, task, static_cast<int>(k), "item", part.item, options.ambiguity,
+                                               options.rules.lookalike_aid) +
                                   ")" + (goal.parts.size() > 1 ? " in part " + std::to_string(k + 1) : "") + "?",
                               source, key_of(g, plan.observations[static_cast<std::size_t>(source)].state, part.item)});
     const int destination = arrival(part.platform, 1, static_cast<std::size_t>(source));
@@ -179,7 +184,8 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
       if (!anchor.valid()) continue;
       ask({p + role,
                                 "Which number is the reference object " +
-                                    words_for(g, task, static_cast<int>(k), role, anchor, options.ambiguity) + "?",
+                                    words_for(g, task, static_cast<int>(k), role, anchor, options.ambiguity,
+                                               options.rules.lookalike_aid) + "?",
                                 destination,
                                 key_of(g, plan.observations[static_cast<std::size_t>(destination)].state, anchor)});
     }

@@ -8,7 +8,7 @@
 #include "core/render/close_ups.h"
 #include "core/render/image_renderer.h"
 #include "core/tasks/audit_plan.h"
-#include "core/tasks/phrasing.h"
+#include "core/tasks/lookalike_aid.h"
 #include "core/tasks/task_db.h"
 #include "core/util/atomic_file.h"
 #include "core/util/error.h"
@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::map<std::string, std::string> audit_meta(const AuditOptions& o, const json& config) {
-  return {{"format", kAuditFormat},
+  std::map<std::string, std::string> meta = {{"format", kAuditFormat},
           {"tasks", fs::absolute(o.tasks).lexically_normal().string()},
           {"config_hash", to_hex(fnv1a64(config.dump()))},
           {"per_level", std::to_string(o.per_level)},
@@ -30,6 +30,9 @@ std::map<std::string, std::string> audit_meta(const AuditOptions& o, const json&
           {"scene", o.scene},
           {"image_size", std::to_string(o.width) + "x" + std::to_string(o.height)},
           {"names", o.names ? "on" : "off"}};
+  // Only where it is not the default: audits made before the aid was a choice stay this audit.
+  if (o.lookalike_aid != "both") meta["lookalike_aid"] = o.lookalike_aid;
+  return meta;
 }
 
 render::ViewSpec spec_of(const graph::SceneGraph& g, const render::ViewRequest& v) {
@@ -54,6 +57,9 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
   tasks::TaskOptions options;
   if (config.contains("ambiguity")) options.ambiguity = tasks::ambiguity_from_string(config["ambiguity"].get<std::string>());
   options.rules.object_names = o.names;
+  const auto aid = episode::lookalike_aid_from_string(o.lookalike_aid);
+  if (!aid) throw Error("mtg audit: --lookalike-aid is image, words or both, not '" + o.lookalike_aid + "'");
+  options.rules.lookalike_aid = *aid;
   const std::map<std::string, std::string> meta = audit_meta(o, config);
 
   fs::create_directories(fs::path(o.out) / "images");
@@ -91,8 +97,9 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
       const episode::WorldState& s = plan.steps[k].state;
       views_at[k] = render::observation_views(s, o.width, o.height, rules.min_region_size);
       // Without the held item's number: it would answer a question asked earlier in the page.
-      render::add_close_ups(g, s, task.identify, 0, o.width, o.height, shown, views_at[k]);
+      render::add_close_ups(g, s, task.identify, 0, o.width, o.height, shown, views_at[k], *aid);
     }
+    const tasks::TaskWords words = tasks::task_words(task.id, task.text, task.identify, *aid, true);
     json observations = json::array();
     for (std::size_t k = 0; k < plan.observations.size(); ++k) {
       const tasks::AuditObservation& ob = plan.observations[k];
@@ -123,7 +130,7 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
       }
       observations.push_back({{"title", ob.title},
                               {"text", episode::observation_text(g, ob.state, rules)},
-                              {"hint", k == 0 ? tasks::lookalike_hint(task.identify, true) : std::string()},
+                              {"hint", k == 0 ? words.hint : std::string()},
                               {"actions", actions},
                               {"images", images}});
     }
@@ -136,7 +143,7 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
     item.index = static_cast<int>(i);
     item.task_id = task.id;
     item.level = task.level;
-    item.page = {{"index", i}, {"task_id", task.id}, {"level", task.level}, {"task_text", task.text},
+    item.page = {{"index", i}, {"task_id", task.id}, {"level", task.level}, {"task_text", words.text},
                  {"observations", observations}, {"questions", questions}};
     item.truth = truth;
     store.add_item(item);

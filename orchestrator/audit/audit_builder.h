@@ -22,6 +22,7 @@ struct AuditOptions {
   int width = 640;
   int height = 480;
   bool names = false;         // name objects in the text, as runs without images do
+  std::string lookalike_aid = "both";  // what the page gives of look-alikes (episode::LookalikeAid)
 };
 
 /// Returns the number of tasks the audit holds. @throws mtg::Error naming the file or option.

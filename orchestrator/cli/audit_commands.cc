@@ -27,6 +27,7 @@ int run_audit(const AuditCommandOptions& o) {
   a.width = o.width;
   a.height = o.height;
   a.names = o.names;
+  a.lookalike_aid = o.lookalike_aid;
   const int n = orchestrator::audit::build_audit(a, std::cerr, ::isatty(STDERR_FILENO) != 0);
   if (o.prepare_only) {
     std::printf("audit of %d tasks in %s (serve it with the same command without --prepare-only)\n", n, o.out.c_str());

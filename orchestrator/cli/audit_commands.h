@@ -18,6 +18,7 @@ struct AuditCommandOptions {
   int width = 640;
   int height = 480;
   bool names = false;
+  std::string lookalike_aid = "both";
   std::string host = "127.0.0.1";
   int port = 8790;          // 0 = any free port
   bool prepare_only = false;  // make the folder, do not serve

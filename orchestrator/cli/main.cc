@@ -248,6 +248,10 @@ void add_run_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char**
                   "name objects in the action space: on, off, or auto (default: on without images or for a "
                   "task set of the name rule; the paper's numbered objects otherwise)")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  run->add_option("--lookalike-aid", run_opts->lookalike_aid,
+                  "how look-alikes are told apart: both (default: the words and a close-up of each, as the paper), "
+                  "words (the words alone) or image (the close-ups alone; needs images)")
+      ->check(CLI::IsMember({"both", "words", "image"}));
   run->add_option("--out", run_opts->out, "run folder (a second run on it resumes)")->required();
   run->add_option("--data", run_opts->data_dir, "dataset root (default: search order)");
   run->add_flag("--allow-data-mismatch", run_opts->allow_data_mismatch,
@@ -569,6 +573,10 @@ void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char*
   audit->add_option("--width", audit_opts->width, "image width (default 640)");
   audit->add_option("--height", audit_opts->height, "image height (default 480)");
   audit->add_flag("--names", audit_opts->names, "name objects in the text, as text-only runs do");
+  audit->add_option("--lookalike-aid", audit_opts->lookalike_aid,
+                    "what the page gives of look-alikes: both (default), words (no close-ups) or image (close-ups, "
+                    "the text naming them by close-up)")
+      ->check(CLI::IsMember({"both", "words", "image"}));
   audit->add_option("--host", audit_opts->host, "address of the page (default 127.0.0.1)");
   audit->add_option("--port", audit_opts->port, "port of the page (default 8790; 0 = any free port)");
   audit->add_flag("--prepare-only", audit_opts->prepare_only, "make the audit's folder and exit");

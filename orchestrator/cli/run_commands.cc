@@ -182,6 +182,15 @@ bool object_names_for(const std::string& option, bool render, const std::functio
   return config.is_object() && config.value("ambiguity", "") == "name";
 }
 
+// How look-alikes are told apart; "image" alone needs the images that carry the close-ups.
+episode::LookalikeAid lookalike_aid_for(const std::string& option, bool render) {
+  const auto aid = episode::lookalike_aid_from_string(option);
+  if (!aid) throw Error("--lookalike-aid is image, words or both, not '" + option + "'");
+  if (*aid == episode::LookalikeAid::kImage && !render) {
+    throw Error("--lookalike-aid image needs images (--render, or a model agent without --no-render)");
+  }
+  return *aid;
+}
 
 // The largest observation image: every image of an observation travels in one bus message,
 // which must fit the 4 MB receive buffer with room to spare (docs/bus.md).
@@ -282,6 +291,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir, const tasks:
   plan.object_names = object_names_for(o.object_names, plan.render, [&] {
     return suite != nullptr ? suite->generator.value("config", nlohmann::json()) : tasks::read_generator_config(source);
   });
+  plan.lookalike_aid = lookalike_aid_for(o.lookalike_aid, plan.render);
   // A model call may wait minutes for rate limits and retries before the next message.
   plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
   plan.data_dir = o.data_dir;
@@ -379,6 +389,7 @@ void check_resume(const RunPlan& plan, const RunOptions& o, const fs::path& dir,
   differs("--image-encoding", o.image_encoding != plan.image_encoding);
   differs("--object-names", object_names_for(o.object_names, plan.render,
                                              [&] { return tasks::read_generator_config(plan.tasks_db); }) != plan.object_names);
+  differs("--lookalike-aid", lookalike_aid_for(o.lookalike_aid, plan.render) != plan.lookalike_aid);
   differs("--data", o.data_dir != plan.data_dir);
   differs("--profile", o.profile != plan.profile);
   differs("--parallel", o.parallel != plan.parallel);

@@ -32,6 +32,7 @@ struct RunOptions {
   std::string image_size = "640x480";
   std::string image_encoding = "png";
   std::string object_names = "auto"; // on, off, or auto: on for text-only runs and name-rule task sets
+  std::string lookalike_aid = "both";  // --lookalike-aid: image, words or both (episode::LookalikeAid)
   std::string out;                   // run folder
   std::string data_dir;
   std::string profile = "replica_cad";

@@ -86,6 +86,7 @@ nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, ta
     w.step_limit = std::max(plan.step_limit, t->step_limit);
     w.render = plan.render;
     w.object_names = plan.object_names;
+    w.lookalike_aid = plan.lookalike_aid;
     w.image_width = plan.image_width;
     w.image_height = plan.image_height;
     try {

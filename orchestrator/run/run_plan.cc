@@ -31,6 +31,7 @@ nlohmann::json RunPlan::to_json() const {
                      {"step_limit", step_limit},
                      {"render", render},
                      {"object_names", object_names},
+                     {"lookalike_aid", episode::to_string(lookalike_aid)},
                      {"image_width", image_width},
                      {"image_height", image_height},
                      {"image_encoding", image_encoding},
@@ -65,6 +66,11 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.step_limit = j.at("step_limit").get<int>();
     p.render = j.at("render").get<bool>();
     p.object_names = j.value("object_names", false);
+    // Plans from before the aid was a choice gave words and close-ups.
+    const std::string aid = j.value("lookalike_aid", std::string("both"));
+    const auto parsed = episode::lookalike_aid_from_string(aid);
+    if (!parsed) throw Error("lookalike_aid is image, words or both, not '" + aid + "'");
+    p.lookalike_aid = *parsed;
     p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
     p.image_height = j.value("image_height", p.image_height);
     p.image_encoding = j.value("image_encoding", p.image_encoding);

@@ -38,6 +38,7 @@ struct RunPlan {
   int step_limit = 15;           // at least; a task may ask for more (long L3/L4 plans)
   bool render = false;           // observations carry images (a renderer process runs)
   bool object_names = false;     // the action space and situation text name objects (text-only agents)
+  episode::LookalikeAid lookalike_aid = episode::LookalikeAid::kBoth;  // words, close-ups or both
   int image_width = 640;
   int image_height = 480;
   std::string image_encoding = "png";

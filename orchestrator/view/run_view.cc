@@ -104,6 +104,7 @@ RunView::RunView(std::string name, fs::path dir) : name_(std::move(name)), dir_(
                                  {"image_size", std::to_string(plan.value("image_width", 0)) + "x" +
                                                     std::to_string(plan.value("image_height", 0))},
                                  {"object_names", plan.value("object_names", false)},
+                                 {"lookalike_aid", plan.value("lookalike_aid", std::string("both"))},
                                  {"parallel", plan.value("parallel", 0)},
                                  {"remote", plan.value("remote", false)}}}};
   indexer_ = std::thread([this] {

@@ -10,7 +10,7 @@
 #include "core/episode/transcript.h"
 #include "core/render/render_pool.h"
 #include "core/render/view.h"
-#include "core/tasks/phrasing.h"
+#include "core/tasks/lookalike_aid.h"
 #include "core/util/error.h"
 #include "core/util/log.h"
 #include "mtg/heartbeat_t.hpp"
@@ -101,8 +101,12 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode
     e.state = episode::initial_state(*e.graph);
     e.render = start.render;
     e.data_dir = start.data_dir;
-    // The first observation tells which look-alikes the text means (and shows them, with images).
-    e.hint = tasks::lookalike_hint(e.task.identify, e.render);
+    // The first observation tells which look-alikes the text means (and shows them, with images),
+    // in the words and images the run's look-alike aid gives.
+    tasks::TaskWords words =
+        tasks::task_words(e.task.id, e.task.text, e.task.identify, e.rules.lookalike_aid, e.render);
+    e.task.text = std::move(words.text);
+    e.hint = std::move(words.hint);
     started = &episodes_.start(start.header, std::move(e));
   } catch (const Error& err) {
     report_error(key, start.header.attempt, err.what());
@@ -194,7 +198,7 @@ void EpisodeHost::send_observation(const Key& key, Episode& e, mtg::observation_
     // The held item numbered as it was picked; the task-provided close-ups of look-alikes with
     // the first observation, and numbered afresh where the robot stands at theirs.
     render::add_close_ups(*e.graph, e.state, e.task.identify, e.held_number, images_.width, images_.height,
-                          e.close_ups, views);
+                          e.close_ups, views, e.rules.lookalike_aid);
   }
   e.pending = std::move(obs);
   if (views.empty()) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <set>
@@ -329,6 +330,89 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
   const auto files = static_cast<std::size_t>(
       std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()));
   EXPECT_EQ(files, images);
+}
+
+// The look-alike aid a run asks for (--lookalike-aid) is what its episodes give, recorded in its
+// plan: words alone send no close-up and keep the text; close-ups alone call each look-alike "the
+// box in close-up k", never by its words, and caption its close-up so; image without images is
+// refused with one line. The oracle succeeds either way: the aid changes what is said, not what
+// is judged.
+TEST(LookalikeCloseUps, WordsAloneOrCloseUpsAloneAsThePlanSays) {
+  testing::FixtureDataset fx;
+  const auto b = testing::two_tables(fx);
+  tasks::TaskOptions options;
+  options.levels = {2};
+  const auto generated = tasks::generate_tasks(b.scene, b.graph, options);
+  const std::string db = (fx.root() / "tasks.sqlite").string();
+  tasks::write_task_db(db, {generated.set}, generated.votes, options);
+  std::map<std::string, const tasks::Task*> task_named;
+  for (const auto& t : generated.set.tasks) task_named[t.id] = &t;
+  for (const std::string aid : {"words", "image"}) {
+    SCOPED_TRACE(aid);
+    const auto out = fx.root() / ("run_" + aid);
+    testing::ChildProcess run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "2",
+                               "--levels", "2", "--render", "--image-size", "320x240", "--lookalike-aid", aid,
+                               "--out", out.string(), "--data", fx.root().string(), "--profile", "none",
+                               "--no-progress"},
+                              (fx.root() / (aid + ".log")).string());
+    ASSERT_EQ(run.wait(120000), 0) << "see " << (fx.root() / (aid + ".log"));
+    std::ifstream plan_file(out / "plan.json");
+    EXPECT_EQ(nlohmann::json::parse(plan_file).at("lookalike_aid"), aid);
+    const auto rows = orchestrator::read_results(out / "results.sqlite");
+    ASSERT_EQ(rows.size(), 2u);
+    std::map<std::int64_t, std::string> task_of;
+    for (const auto& r : rows) {
+      EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+      task_of[r.episode_id.value()] = r.task_id;
+    }
+    int first = 0;
+    std::size_t close_ups = 0;
+    bus::RecordedObservations recorded;
+    bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
+      if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+      mtg::observation_t packed{};
+      ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
+      const mtg::observation_t obs = recorded.whole(packed).value();
+      for (const auto& img : obs.images) {
+        if (img.role != "focus") continue;
+        ++close_ups;
+        EXPECT_THAT(img.caption, ::testing::StartsWith("Close-up ")) << img.caption;
+        EXPECT_THAT(img.caption, ::testing::HasSubstr(" the task means")) << img.caption;
+      }
+      if (obs.step != 0) return;
+      ++first;
+      const tasks::Task& task = *task_named.at(task_of.at(obs.header.episode_id));
+      ASSERT_FALSE(task.identify.empty());
+      EXPECT_THAT(obs.hint, ::testing::HasSubstr("look-alikes")) << obs.hint;
+      if (aid == "words") {
+        EXPECT_EQ(obs.task_text, task.text);
+        EXPECT_THAT(obs.hint, ::testing::HasSubstr(task.identify.front().phrase));
+        EXPECT_THAT(obs.hint, ::testing::Not(::testing::HasSubstr("lose-up"))) << obs.hint;
+      } else {
+        EXPECT_THAT(obs.task_text, ::testing::HasSubstr(" in close-up 1")) << obs.task_text;
+        for (const auto& id : task.identify) {
+          EXPECT_THAT(obs.task_text, ::testing::Not(::testing::HasSubstr(id.phrase))) << obs.task_text;
+          EXPECT_THAT(obs.hint, ::testing::Not(::testing::HasSubstr(id.phrase))) << obs.hint;
+        }
+      }
+    });
+    EXPECT_EQ(first, 2);
+    if (aid == "words") {
+      EXPECT_EQ(close_ups, 0u);
+    } else {
+      EXPECT_GE(close_ups, 2u);
+    }
+  }
+  const auto refused = fx.root() / "refused.log";
+  EXPECT_NE(testing::ChildProcess({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "1",
+                                   "--lookalike-aid", "image", "--out", (fx.root() / "run_refused").string(),
+                                   "--data", fx.root().string(), "--profile", "none", "--no-progress"},
+                                  refused.string())
+                .wait(60000),
+            0);
+  std::ifstream log(refused);
+  EXPECT_THAT(std::string((std::istreambuf_iterator<char>(log)), {}),
+              ::testing::HasSubstr("--lookalike-aid image needs images"));
 }
 
 }  // namespace

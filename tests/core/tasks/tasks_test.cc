@@ -16,6 +16,7 @@
 #include "core/tasks/atomic.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/job.h"
+#include "core/tasks/lookalike_aid.h"
 #include "core/tasks/outcome.h"
 #include "core/tasks/sequential.h"
 #include "core/tasks/task_db.h"
@@ -123,6 +124,47 @@ TEST(TaskLevels, IdenticalObjectsMakeATaskLevelTwo) {
   }
   EXPECT_GT(l1, 0);
   EXPECT_GT(l2, 0);
+}
+
+// The look-alike aids (lookalike_aid.h): words alone keep the text and drop the close-ups'
+// sentence; images alone name each look-alike by its close-up (the one from its own platform where
+// two share their words, a capital where a sentence starts) and refuse a run without images.
+TEST(LookalikeAid, EachAidSaysWhatItGives) {
+  auto id = [](const std::string& object, const std::string& platform, const std::string& phrase) {
+    Identification i;
+    i.role = "object";
+    i.object = object;
+    i.platform = platform;
+    i.reference.relation = Relation::kFromLeft;
+    i.reference.noun = "book";
+    i.reference.rank = 1;
+    i.phrase = phrase;
+    return i;
+  };
+  const std::vector<Identification> ids = {id("book_2", "shelf_3", "the leftmost book"),
+                                           id("book_1", "shelf_1", "the leftmost book")};
+  const std::string text = "The leftmost book from shelf_1 and the leftmost book from shelf_3 go on table_0.";
+  const TaskWords both = task_words("t", text, ids, episode::LookalikeAid::kBoth, true);
+  EXPECT_EQ(both.text, text);
+  EXPECT_THAT(both.hint, ::testing::HasSubstr("Close-up images show them"));
+  const TaskWords words = task_words("t", text, ids, episode::LookalikeAid::kWords, true);
+  EXPECT_EQ(words.text, text);
+  EXPECT_THAT(words.hint, ::testing::HasSubstr("the leftmost book (on shelf_3)"));
+  EXPECT_THAT(words.hint, ::testing::Not(::testing::HasSubstr("lose-up")));
+  const TaskWords image = task_words("t", text, ids, episode::LookalikeAid::kImage, true);
+  EXPECT_EQ(image.text, "The book in close-up 2 from shelf_1 and the book in close-up 1 from shelf_3 go on table_0.");
+  EXPECT_EQ(image.hint,
+            "Some objects of this task have look-alikes; the task names each by the close-up image that shows it: "
+            "close-up 1 on shelf_3 and close-up 2 on shelf_1. A close-up shows the object where it stands, seen "
+            "from where you arrive at its platform, every other object faded.");
+  EXPECT_THAT(image.hint, ::testing::Not(::testing::HasSubstr("leftmost")));
+  EXPECT_THROW(task_words("t", text, ids, episode::LookalikeAid::kImage, false), Error);
+  EXPECT_THROW(task_words("t", "Move the book.", ids, episode::LookalikeAid::kImage, true), Error);
+  EXPECT_EQ(task_words("t", "Move the cup.", {}, episode::LookalikeAid::kImage, true).text, "Move the cup.");
+  for (const auto aid : {episode::LookalikeAid::kBoth, episode::LookalikeAid::kImage, episode::LookalikeAid::kWords}) {
+    EXPECT_EQ(episode::lookalike_aid_from_string(episode::to_string(aid)), aid);
+  }
+  EXPECT_FALSE(episode::lookalike_aid_from_string("pictures").has_value());
 }
 
 TEST(TaskGeneration, SameSeedSameBytesOtherSeedOtherChoices) {
