@@ -64,7 +64,8 @@ json observation_json(const mtg::observation_t& obs) {
     images.push_back({{"index", i}, {"role", img.role}, {"caption", img.caption}, {"encoding", img.encoding}, {"width", img.width},
                       {"height", img.height}, {"bytes", img.nbytes}});
   }
-  return {{"text", obs.text}, {"hint", obs.hint}, {"actions", actions}, {"images", images}};
+  // The task as the agent read it (under the look-alike aid "image" not the stored text).
+  return {{"task_text", obs.task_text}, {"text", obs.text}, {"hint", obs.hint}, {"actions", actions}, {"images", images}};
 }
 
 json action_json(const mtg::agent_action_t& a) {

@@ -53,6 +53,7 @@ function renderObservation(obs, opts) {
     : [el('details', {}, el('summary', {class: 'muted'}, count + (opts.chosen ? ', chosen: ' + opts.chosen : '')), actions)];
   return el('div', {class: 'observation'},
     images,
+    opts.told && obs.task_text ? el('div', {class: 'obs-task'}, 'Task as told: ' + obs.task_text) : null,
     obs.hint ? el('div', {class: 'obs-hint'}, 'Feedback: ' + obs.hint) : null,
     el('pre', {class: 'obs-text'}, obs.text || ''),
     ...list);

@@ -539,7 +539,7 @@ function stepBlock(s) {
   const model = a && !['builtin', 'human', 'replay'].includes(a.provider);
   return el('div', {class: 'step', 'data-step': s.step},
     el('h3', {}, s.done ? 'Final state (step ' + s.step + ')' : 'Step ' + (s.step + 1)),
-    s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key}) : el('div', {class: 'muted'}, 'no observation recorded'),
+    s.observation ? renderObservation(s.observation, {chosen: a && a.parsed_key, told: s.step === 0}) : el('div', {class: 'muted'}, 'no observation recorded'),
     requestBlock(s.request, a),
     a ? el('div', {class: 'reply'},
       el('div', {}, 'Answer: ', el('b', {class: 'parsed-key'}, a.parsed_key || '(no key)'),
