@@ -31,7 +31,7 @@ void add_image(std::vector<mtg::image_t>& out, const std::string& role, const st
 std::string part_caption(const render::PlatformPicture& picture, const std::string& platform) {
   std::string words = render::part_words(picture);
   words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
-  return words + " of " + platform + ", seen from in front of it, numbered as in the whole view.";
+  return words + " of " + platform + ", seen from where you stand, numbered as in the whole view.";
 }
 
 // The images the renderer makes of one view, by role: the plain picture and, when marked, its

@@ -94,7 +94,7 @@ std::vector<ViewPlan> part_plans(const graph::SceneGraph& g, const SceneGeometry
 std::string part_caption(const PlatformPicture& picture, const std::string& platform) {
   std::string words = part_words(picture);
   words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
-  return words + " of " + platform + ", seen from in front of it, numbered as in the whole view.";
+  return words + " of " + platform + ", seen from where you stand, numbered as in the whole view.";
 }
 
 }  // namespace

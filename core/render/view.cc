@@ -261,9 +261,36 @@ Camera close_up_camera(const Eigen::Vector3d& target, Eigen::Vector2d from, doub
   return cam;
 }
 
+// What rests on `object`, directly or on each other: picked, it is carried along, so its close-up
+// shows the spice rack with its jars (a rater saw an empty rack arrive full).
+std::vector<graph::ObjectId> carried_by(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
+  std::vector<graph::ObjectId> out;
+  for (const graph::PlatformId p : g.objects[object].platforms) {
+    const std::vector<graph::ObjectId> on = episode::everything_on(g, s, p);
+    out.insert(out.end(), on.begin(), on.end());
+  }
+  return out;
+}
+
+// The extent of `object` with what it carries: one box around them all.
+ObjectExtent extent_with(const episode::WorldState& s, graph::ObjectId object, const std::vector<graph::ObjectId>& carried) {
+  Eigen::AlignedBox2d box = geom::bounds(s.objects[object].footprint);
+  double bottom = s.objects[object].bottom, top = s.objects[object].top;
+  for (const graph::ObjectId c : carried) {
+    box.extend(geom::bounds(s.objects[c].footprint));
+    bottom = std::min(bottom, s.objects[c].bottom);
+    top = std::max(top, s.objects[c].top);
+  }
+  if (carried.empty()) return extent_of(s.objects[object]);
+  const Eigen::Vector2d c2 = box.center();
+  return {Eigen::Vector3d(c2.x(), c2.y(), (bottom + top) / 2.0),
+          0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), top - bottom).norm()};
+}
+
 ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
   require(g.objects.contains(r.object), "render: object index " + to_string(r.object) + " out of range");
-  const ObjectExtent e = extent_of(s.objects[r.object]);
+  const std::vector<graph::ObjectId> carried = carried_by(g, s, r.object);
+  const ObjectExtent e = extent_with(s, r.object, carried);
   const double radius = std::max(0.03, e.radius);
   // Seen from where the robot stands when it stands somewhere, else from the south-west.
   Eigen::Vector2d from(-1.0, -1.0);
@@ -274,7 +301,8 @@ ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, con
   plan.camera.near = std::max(0.01, distance - 2.0 * radius);
   plan.camera.far = distance + 2.0 * radius;
   plan.only = r.object;
-  plan.numbered = {r.number, r.object, e.centre};
+  plan.only_with = carried;
+  plan.numbered = {r.number, r.object, extent_of(s.objects[r.object]).centre};
   return plan;
 }
 

@@ -51,7 +51,8 @@ struct ViewPlan {
   Camera camera;
   int side = -1;             // the side used (platform views)
   std::vector<graph::ObjectId> hidden;  // objects not drawn (the held item stays out of scene views)
-  graph::ObjectId only;                 // when valid, the single object drawn (item close-ups)
+  graph::ObjectId only;                 // when valid, the single object drawn (item close-ups)...
+  std::vector<graph::ObjectId> only_with;  // ... with what it carries (resting on it)
   std::vector<graph::ObjectId> faded;   // drawn at kFadedVisibility (focus close-ups: the neighbours)
   Marks marks;
   ItemMark numbered;  // a close-up's object with its number drawn on it (number 0: none)

@@ -142,7 +142,7 @@ void add_render_commands(CLI::App& app, Commands& commands) {
   render->add_option("--data", render_opts->data_dir, "dataset root (default: search order)");
   render->add_option("--profile", render_opts->profile, "scene profile (default replica_cad)");
   render->add_option("--view", render_opts->view,
-                     "platform (default), item (alone), focus (in place, neighbours faded) or topdown")
+                     "platform (default), item (with what rests on it), focus (in place, neighbours faded) or topdown")
       ->check(CLI::IsMember({"platform", "item", "focus", "topdown"}));
   render->add_option("--platform", render_opts->platform, "platform name (platform views)");
   render->add_option("--side", render_opts->side, "0 rear, 1 left, 2 front, 3 right (default: the platform's default side)")

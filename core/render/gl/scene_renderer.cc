@@ -311,6 +311,7 @@ DrawList draw_list(const graph::SceneGraph& g, const episode::WorldState& s, con
   for (const graph::ObjectId i : g.objects.ids()) d.poses[i] = object_pose(g, s, i);
   for (const graph::ObjectId h : plan.hidden) d.draw[h] = false;
   if (plan.only.valid()) d.draw[plan.only] = true;
+  for (const graph::ObjectId o : plan.only_with) d.draw[o] = true;
   return d;
 }
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "core/episode/rules.h"
 #include "core/render/id_raster.h"
 #include "core/render/view.h"
@@ -187,6 +189,48 @@ TEST(Visibility, OnAShippedApartmentTheWindowsAnswerAsWholePassesDo) {
     if (states.size() > 8) break;
   }
   expect_windows_answer_as_whole_passes(g, geometry, states);
+}
+
+// A held object's close-up shows what it carries: picked, a spice rack keeps its jars and a
+// plate its cup (world_state.h, pick), so the item view draws them too, all in the frame. A
+// rater saw a held rack drawn empty though it arrived full.
+TEST(ItemView, AHeldObjectIsShownWithWhatItCarries) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
+  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), "apt_0", meshes);
+  graph::GraphOptions graph_options;
+  graph::apply_profile(graph_options, graph::kDefaultProfile);
+  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const episode::WorldState start = episode::initial_state(g);
+  int carriers = 0;
+  for (const graph::ObjectId o : g.objects.ids()) {
+    if (!g.objects[o].pickable()) continue;
+    std::vector<graph::ObjectId> carried;
+    for (const graph::PlatformId p : g.objects[o].platforms) {
+      for (const graph::ObjectId c : episode::everything_on(g, start, p)) carried.push_back(c);
+    }
+    if (carried.empty()) continue;
+    ++carriers;
+    episode::WorldState held = start;
+    episode::pick(g, held, o);
+    ViewRequest r;
+    r.view = ViewKind::kItem;
+    r.object = o;
+    const ViewPlan plan = plan_view(g, held, r);
+    EXPECT_EQ(plan.only, o);
+    EXPECT_EQ(std::set<graph::ObjectId>(plan.only_with.begin(), plan.only_with.end()),
+              std::set<graph::ObjectId>(carried.begin(), carried.end()))
+        << g.objects[o].name;
+    for (const graph::ObjectId c : carried) {
+      const episode::ObjectState& cs = held.objects[c];
+      const geom::Point2 xy = episode::footprint_centre(cs);
+      const auto px = plan.camera.project(Eigen::Vector3d(xy.x(), xy.y(), cs.top));
+      ASSERT_TRUE(px.has_value()) << g.objects[c].name << " on " << g.objects[o].name;
+      EXPECT_TRUE(px->x() >= 0 && px->x() < r.width && px->y() >= 0 && px->y() < r.height)
+          << g.objects[c].name << " on " << g.objects[o].name << " at " << px->transpose();
+    }
+  }
+  EXPECT_GE(carriers, 3) << "apt_0 has a spice rack with jars, a plate with a cup and books on books";
 }
 
 }  // namespace
