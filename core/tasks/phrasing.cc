@@ -30,8 +30,8 @@ constexpr std::array<const char*, 4> kAround = {
 constexpr std::array<const char*, 4> kDirection = {
     "Move {item} from {source} to the {direction} of {anchor} on {target}.",
     "Put {item} from {source} on the {direction} side of {anchor} on {target}.",
-    "Take {item} from {source} and place it {direction} of {anchor} on {target}.",
-    "Place {item} from {source} to the {direction} of {anchor}, on {target}."};
+    "Take {item} from {source} and place it to the {direction} of {anchor} on {target}.",
+    "Carry {item} from {source} to the {direction} of {anchor}, on {target}."};
 constexpr std::array<const char*, 4> kBetween = {
     "Move {item} from {source} between {anchor} and {anchor2} on {target}.",
     "Put {item} from {source} in between {anchor} and {anchor2} on {target}.",

@@ -546,6 +546,9 @@ void add_view_commands(CLI::App& app, Commands& commands, [[maybe_unused]] char*
   play->add_option("--profile", play_opts->profile, "scene profile (default replica_cad)");
   play->add_option("--bus", play_opts->url, "LCM URL (default: the host-local bus)");
   play->add_option("--step-limit", play_opts->step_limit, "steps per episode, at least (default 15)");
+  play->add_option("--lookalike-aid", play_opts->lookalike_aid,
+                   "how look-alikes are told apart: both (default), words or image (as mtg run)")
+      ->check(CLI::IsMember({"both", "words", "image"}));
   play->add_option("--host", play_opts->host, "address of the play page (default 127.0.0.1)");
   play->add_option("--port", play_opts->port, "port of the play page (default 8780)");
   MTG_COMMAND({play, [play_opts, argv]() -> int {

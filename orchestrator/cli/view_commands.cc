@@ -67,6 +67,7 @@ int run_play(const PlayOptions& o) {
   r.profile = o.profile;
   r.url = o.url;
   r.step_limit = o.step_limit;
+  r.lookalike_aid = o.lookalike_aid;
   // One episode at a time, with the images a model sees, and time to think: an episode is
   // retried only after an hour without a move.
   r.parallel = 1;
@@ -74,7 +75,7 @@ int run_play(const PlayOptions& o) {
   r.episode_timeout_s = 3600;
   r.play_host = o.host;
   r.play_port = o.port;
-  r.given = {"--parallel", "--render"};
+  r.given = {"--parallel", "--render", "--lookalike-aid"};
   // The page's address is printed once the human agent serves it (LocalRuntime::open).
   std::printf("playing into %s (Ctrl-C stops; the same command resumes)\n", o.out.c_str());
   std::fflush(stdout);

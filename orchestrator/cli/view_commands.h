@@ -34,6 +34,7 @@ struct PlayOptions {
   std::string host = "127.0.0.1";
   int port = 8780;
   int step_limit = 15;
+  std::string lookalike_aid = "both";  // what the page gives of look-alikes (mtg run --lookalike-aid)
 };
 
 int run_view(const ViewOptions& options);
