@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include "core/episode/goals.h"
@@ -312,13 +313,15 @@ class PlatformView {
     }
     const std::array<std::vector<std::size_t>, 2> rows =
         row == Row::kNone ? std::array<std::vector<std::size_t>, 2>{} : rows_of(candidates);
+    // A stack counts as its bottom, and its every member must stand past the one counted in the
+    // picture too (counted above).
+    const StackSplit split = split_stacks(row == Row::kNone ? candidates : rows[row == Row::kFront ? 0 : 1]);
     std::vector<std::pair<double, std::size_t>> order;
-    for (const std::size_t i : row == Row::kNone ? candidates : rows[row == Row::kFront ? 0 : 1]) {
-      order.emplace_back(-along(i, relative_dir), i);
-    }
+    for (const std::size_t i : split.counted) order.emplace_back(-along(i, relative_dir), i);
     std::sort(order.begin(), order.end());
     for (std::size_t k = 0; k < sight_->pictures(); ++k) {
       if (!counted_in_picture(order, k, relative_dir, rank)) continue;
+      if (!split.stacked.empty() && !stacks_past_in_picture(order, split.stacked, k, relative_dir, rank)) continue;
       if (row == Row::kNone || rows_apart_in_picture(rows, k)) return true;
     }
     return false;
@@ -427,6 +430,31 @@ class PlatformView {
     return true;
   }
 
+  // Whether every stack member stands past the counted one (order[rank - 1]) in picture k, by
+  // the gap the count asks for.
+  bool stacks_past_in_picture(const std::vector<std::pair<double, std::size_t>>& order,
+                              const std::vector<std::size_t>& stacked, std::size_t picture, int relative_dir,
+                              int rank) const {
+    if (rank < 1 || rank > static_cast<int>(order.size())) return false;
+    const bool sideways = relative_dir == 2 || relative_dir == 6;
+    auto coordinate = [&](std::size_t i) -> std::optional<double> {
+      const Eigen::Vector3d p =
+          sideways ? centre_3d(i) : Eigen::Vector3d(centres_W_[i].x(), centres_W_[i].y(), s_.objects[objects_[i]].bottom);
+      const auto px = sight_->camera(picture).project(p);
+      if (!px) return std::nullopt;
+      const double c = sideways ? px->x() : px->y();
+      return relative_dir == 2 || relative_dir == 4 ? c : -c;
+    };
+    const auto at = coordinate(order[static_cast<std::size_t>(rank) - 1].second);
+    if (!at) return false;
+    const double gap = gap_in(picture, order, rank);
+    for (const std::size_t m : stacked) {
+      const auto c = coordinate(m);
+      if (!c || *c - *at < gap) return false;
+    }
+    return true;
+  }
+
   // Candidate i's footprint centre at mid-height, in the world.
   Eigen::Vector3d centre_3d(std::size_t i) const {
     const episode::ObjectState& o = s_.objects[objects_[i]];
@@ -437,21 +465,45 @@ class PlatformView {
   // one before it stand at least kOrdinalGap from the next; else the pair too close to tell
   // apart (the reference is ambiguous).
   std::vector<std::size_t> counted(const std::vector<std::size_t>& candidates, int relative_dir, int rank) const {
-    // One of them on another (a book on a book): counting along an axis is unclear there (a
-    // person may count the stack once); the stack relations name those.
-    for (const std::size_t a : candidates) {
-      for (const std::size_t b : candidates) {
-        if (a != b && rests_on(a, b)) return candidates;
-      }
-    }
+    // One of them on another (a book on a book): a person may count the stack once or book by
+    // book, so a count is clear only up to the first stack. Past it the stack relations name
+    // them; before it, counting reads the same either way ("the leftmost book" beside a pile
+    // further right), so the pile counts as its bottom, and all of it must lie past the one
+    // counted, by the ordinal gap.
+    const StackSplit split = split_stacks(candidates);
     std::vector<std::pair<double, std::size_t>> order;
-    for (const std::size_t c : candidates) order.emplace_back(-along(c, relative_dir), c);
+    for (const std::size_t c : split.counted) order.emplace_back(-along(c, relative_dir), c);
     std::sort(order.begin(), order.end());
     if (rank < 1 || rank > static_cast<int>(order.size())) return {};
     for (std::size_t i = 0; i < static_cast<std::size_t>(rank) && i + 1 < order.size(); ++i) {
       if (order[i + 1].first - order[i].first < kOrdinalGap) return {order[i].second, order[i + 1].second};
     }
-    return {order[static_cast<std::size_t>(rank) - 1].second};
+    const auto& [at, meant] = order[static_cast<std::size_t>(rank) - 1];
+    for (const std::size_t m : split.stacked) {
+      if (-along(m, relative_dir) < at + kOrdinalGap) return candidates;
+    }
+    return {meant};
+  }
+
+  // The candidates of a count: those resting on no other candidate (a stack's bottom stands for
+  // it), and every member of a stack (bottoms included).
+  struct StackSplit {
+    std::vector<std::size_t> counted;
+    std::vector<std::size_t> stacked;
+  };
+  StackSplit split_stacks(const std::vector<std::size_t>& candidates) const {
+    StackSplit out;
+    for (const std::size_t a : candidates) {
+      bool on_another = false, carries = false;
+      for (const std::size_t b : candidates) {
+        if (a == b) continue;
+        on_another = on_another || rests_on(a, b);
+        carries = carries || rests_on(b, a);
+      }
+      if (!on_another) out.counted.push_back(a);
+      if (on_another || carries) out.stacked.push_back(a);
+    }
+    return out;
   }
 
   const graph::SceneGraph& g_;

@@ -141,6 +141,56 @@ TEST(References, RowsAndStacksNameWhatOrdinalsCannot) {
   EXPECT_THROW(Reference::from_json(bad_row), mtg::Error);
 }
 
+// Counting past a pile: a person may count a stack once or book by book, so an ordinal is
+// given only up to the first stack. A lone book on each side of a pile is the leftmost and the
+// rightmost book; a lone book between two piles gets no count at all.
+TEST(References, CountsReachUpToThePileAndNoFurther) {
+  testing::FixtureDataset fx;
+  testing::add_table(fx, "table");
+  fx.add_object_config("toy_book", fx.add_box_mesh("book", {0.1, 0.1, 0.1}));
+  fx.add_scene("s", {{"object_instances",
+                      {testing::FixtureDataset::instance("toy_table", {0, 0, 0}),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(-0.3, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.0, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.0, 0, 0.85)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(0.3, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_table", testing::hab(3, 0, 0)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(2.7, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(2.7, 0, 0.85)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(3.0, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(3.3, 0, 0.75)),
+                       testing::FixtureDataset::instance("toy_book", testing::hab(3.3, 0, 0.85))}}});
+  const auto b = testing::build_fixture_scene(fx, "s");
+  const auto& g = b.graph;
+  const episode::WorldState s = episode::initial_state(g);
+  const graph::PlatformId first = episode::furniture_platform_of(g, s, g.find_object("book_1"));
+  for (const char* name : {"book_1", "book_4"}) {
+    const auto r = refer_to(g, s, name);
+    ASSERT_TRUE(r.has_value()) << name;
+    EXPECT_THAT(r->phrase(), ::testing::AnyOf("the leftmost book", "the rightmost book")) << name;
+    EXPECT_EQ(resolve(g, s, first, *r, Ambiguity::kCategory), (std::vector<graph::ObjectId>{g.find_object(name)}))
+        << name << ": " << r->phrase();
+  }
+  EXPECT_NE(refer_to(g, s, "book_1")->phrase(), refer_to(g, s, "book_4")->phrase());
+  // Past the pile the count is no longer clear: the second book from the left is no book.
+  const graph::PlatformId second = episode::furniture_platform_of(g, s, g.find_object("book_8"));
+  for (const Relation side : {Relation::kFromLeft, Relation::kFromRight}) {
+    for (int rank = 1; rank <= 3; ++rank) {
+      Reference r;
+      r.relation = side;
+      r.noun = "book";
+      r.rank = rank;
+      const auto picked = resolve(g, s, second, r, Ambiguity::kCategory);
+      EXPECT_NE(picked, (std::vector<graph::ObjectId>{g.find_object("book_8")})) << r.phrase();
+    }
+  }
+  const auto between = refer_to(g, s, "book_8");
+  if (between) {
+    EXPECT_THAT(between->phrase(), ::testing::Not(::testing::HasSubstr("most"))) << between->phrase();
+    EXPECT_THAT(between->phrase(), ::testing::Not(::testing::HasSubstr(" from the "))) << between->phrase();
+  }
+}
+
 // Level 4 texts name the instances their goals need: "toy box from table_0" alone would match
 // three boxes, so the text carries a reference (and a close-up), or the task is not made.
 TEST(References, LevelFourTextsNameTheObjectsTheirGoalsNeed) {
