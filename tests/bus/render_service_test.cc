@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -253,42 +254,73 @@ TEST_F(RenderServiceTest, APoolOfRenderersGivesOneRenderersImagesAndOutlivesADea
   EXPECT_THAT(text, HasSubstr("renderer-1 was restarted; asking it again"));
 }
 
+// The fixture's Level 2 tasks (each names look-alikes) in a task database, and oracle runs of
+// them with images.
+struct LookalikeFixture {
+  testing::FixtureDataset fx;
+  std::string db;
+  std::vector<tasks::Task> tasks;
+
+  LookalikeFixture() {
+    const auto b = testing::two_tables(fx);
+    tasks::TaskOptions options;
+    options.levels = {2};
+    const auto generated = tasks::generate_tasks(b.scene, b.graph, options);
+    db = (fx.root() / "tasks.sqlite").string();
+    tasks::write_task_db(db, {generated.set}, generated.votes, options);
+    tasks = generated.set.tasks;
+  }
+  const tasks::Task& task(const std::string& id) const {
+    return *std::find_if(tasks.begin(), tasks.end(), [&](const tasks::Task& t) { return t.id == id; });
+  }
+  // Runs the oracle on `limit` tasks into `out` (with `extra` options); every episode succeeds.
+  // Returns each episode's task id.
+  std::map<std::int64_t, std::string> run_oracle(const std::filesystem::path& out, int limit,
+                                                 const std::vector<std::string>& extra) const {
+    std::vector<std::string> argv = {testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit",
+                                     std::to_string(limit), "--levels", "2", "--render", "--image-size", "320x240",
+                                     "--out", out.string(), "--data", fx.root().string(), "--profile", "none",
+                                     "--no-progress"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    const std::string log = out.string() + ".log";
+    testing::ChildProcess run(argv, log);
+    EXPECT_EQ(run.wait(120000), 0) << "see " << log;
+    std::map<std::int64_t, std::string> task_of;
+    const auto rows = orchestrator::read_results(out / "results.sqlite");
+    EXPECT_EQ(rows.size(), static_cast<std::size_t>(limit));
+    for (const auto& r : rows) {
+      EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
+      task_of[r.episode_id.value()] = r.task_id;
+    }
+    return task_of;
+  }
+};
+
+// Each observation a run recorded, whole (packed ones unpacked).
+void for_each_observation(const std::filesystem::path& run, const std::function<void(const mtg::observation_t&)>& f) {
+  bus::RecordedObservations recorded;
+  bus::for_each_recorded_event(run, [&](const lcm::LogEvent& ev) {
+    if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
+    mtg::observation_t packed{};
+    ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
+    f(recorded.whole(packed).value());
+  });
+}
+
 // Look-alikes are shown, not only named: the first observation of a task about one of three
 // identical boxes carries a close-up of the box meant (role "focus") and a hint naming it.
 // The look-alikes' close-ups come with the first observation and again where the robot stands at
 // their platform, without a number (the paper's aid to find the object, not its key); the held
 // item's close-up says the number it was picked as.
 TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
-  testing::FixtureDataset fx;
-  const auto b = testing::two_tables(fx);
-  tasks::TaskOptions options;
-  options.levels = {2};
-  const auto generated = tasks::generate_tasks(b.scene, b.graph, options);
-  const std::string db = (fx.root() / "tasks.sqlite").string();
-  tasks::write_task_db(db, {generated.set}, generated.votes, options);
-  std::map<std::string, std::size_t> lookalikes;  // task id -> objects shown
-  for (const auto& t : generated.set.tasks) lookalikes[t.id] = t.identify.size();
+  const LookalikeFixture lf;
+  const testing::FixtureDataset& fx = lf.fx;
   const auto out = fx.root() / "run";
-  testing::ChildProcess run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "3",
-                             "--levels", "2", "--parallel", "2", "--render", "--image-size", "320x240", "--out",
-                             out.string(), "--data", fx.root().string(), "--profile", "none", "--no-progress"},
-                            (fx.root() / "mtg.log").string());
-  ASSERT_EQ(run.wait(120000), 0) << "see " << (fx.root() / "mtg.log");
-  const auto rows = orchestrator::read_results(out / "results.sqlite");
-  ASSERT_EQ(rows.size(), 3u);
-  std::map<std::int64_t, std::string> task_of;
-  for (const auto& r : rows) {
-    EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
-    task_of[r.episode_id.value()] = r.task_id;
-  }
+  const std::map<std::int64_t, std::string> task_of = lf.run_oracle(out, 3, {"--parallel", "2"});
+  ASSERT_EQ(task_of.size(), 3u);
   int first_observations = 0;
   std::size_t images = 0, most_close_ups = 0;
-  bus::RecordedObservations recorded;
-  bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
-    if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
-    mtg::observation_t packed{};
-    ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
-    const mtg::observation_t obs = recorded.whole(packed).value();
+  for_each_observation(out, [&](const mtg::observation_t& obs) {
     std::size_t focus = 0;
     for (const auto& img : obs.images) {
       if (img.role == "focus") {
@@ -312,7 +344,7 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
       return;
     }
     ++first_observations;
-    const std::size_t expected = lookalikes.at(task_of.at(obs.header.episode_id));
+    const std::size_t expected = lf.task(task_of.at(obs.header.episode_id)).identify.size();
     EXPECT_GE(expected, 1u);
     EXPECT_EQ(focus, expected) << obs.task_text;
     EXPECT_THAT(obs.hint, ::testing::HasSubstr("look-alikes")) << obs.hint;
@@ -338,41 +370,19 @@ TEST(LookalikeCloseUps, TheFirstObservationShowsAndNamesEachLookalike) {
 // refused with one line. The oracle succeeds either way: the aid changes what is said, not what
 // is judged.
 TEST(LookalikeCloseUps, WordsAloneOrCloseUpsAloneAsThePlanSays) {
-  testing::FixtureDataset fx;
-  const auto b = testing::two_tables(fx);
-  tasks::TaskOptions options;
-  options.levels = {2};
-  const auto generated = tasks::generate_tasks(b.scene, b.graph, options);
-  const std::string db = (fx.root() / "tasks.sqlite").string();
-  tasks::write_task_db(db, {generated.set}, generated.votes, options);
-  std::map<std::string, const tasks::Task*> task_named;
-  for (const auto& t : generated.set.tasks) task_named[t.id] = &t;
+  const LookalikeFixture lf;
+  const testing::FixtureDataset& fx = lf.fx;
+  const std::string& db = lf.db;
   for (const std::string aid : {"words", "image"}) {
     SCOPED_TRACE(aid);
     const auto out = fx.root() / ("run_" + aid);
-    testing::ChildProcess run({testing::bin("mtg"), "run", "--tasks", db, "--agent", "oracle", "--limit", "2",
-                               "--levels", "2", "--render", "--image-size", "320x240", "--lookalike-aid", aid,
-                               "--out", out.string(), "--data", fx.root().string(), "--profile", "none",
-                               "--no-progress"},
-                              (fx.root() / (aid + ".log")).string());
-    ASSERT_EQ(run.wait(120000), 0) << "see " << (fx.root() / (aid + ".log"));
+    const std::map<std::int64_t, std::string> task_of = lf.run_oracle(out, 2, {"--lookalike-aid", aid});
+    ASSERT_EQ(task_of.size(), 2u);
     std::ifstream plan_file(out / "plan.json");
     EXPECT_EQ(nlohmann::json::parse(plan_file).at("lookalike_aid"), aid);
-    const auto rows = orchestrator::read_results(out / "results.sqlite");
-    ASSERT_EQ(rows.size(), 2u);
-    std::map<std::int64_t, std::string> task_of;
-    for (const auto& r : rows) {
-      EXPECT_TRUE(r.success) << r.task_id << ": " << r.detail;
-      task_of[r.episode_id.value()] = r.task_id;
-    }
     int first = 0;
     std::size_t close_ups = 0;
-    bus::RecordedObservations recorded;
-    bus::for_each_recorded_event(out, [&](const lcm::LogEvent& ev) {
-      if (!bus::is_episode_channel(ev.channel, bus::EpisodeStream::kObservation)) return;
-      mtg::observation_t packed{};
-      ASSERT_GE(packed.decode(ev.data, 0, ev.datalen), 0);
-      const mtg::observation_t obs = recorded.whole(packed).value();
+    for_each_observation(out, [&](const mtg::observation_t& obs) {
       for (const auto& img : obs.images) {
         if (img.role != "focus") continue;
         ++close_ups;
@@ -381,7 +391,7 @@ TEST(LookalikeCloseUps, WordsAloneOrCloseUpsAloneAsThePlanSays) {
       }
       if (obs.step != 0) return;
       ++first;
-      const tasks::Task& task = *task_named.at(task_of.at(obs.header.episode_id));
+      const tasks::Task& task = lf.task(task_of.at(obs.header.episode_id));
       ASSERT_FALSE(task.identify.empty());
       EXPECT_THAT(obs.hint, ::testing::HasSubstr("look-alikes")) << obs.hint;
       if (aid == "words") {

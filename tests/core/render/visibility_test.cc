@@ -14,6 +14,7 @@
 #include "core/tasks/generator.h"
 #include "tests/support/graph_fixtures.h"
 #include "tests/support/shipped_data.h"
+#include "tests/support/shipped_scene.h"
 #include "core/graph/build.h"
 #include "core/scene/scene_loader.h"
 
@@ -171,11 +172,9 @@ TEST(Visibility, TheOraclesWindowsAnswerAsWholePassesDo) {
 
 TEST(Visibility, OnAShippedApartmentTheWindowsAnswerAsWholePassesDo) {
   MTG_REQUIRE_SHIPPED_DATA();
-  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), "apt_0", meshes);
-  graph::GraphOptions graph_options;
-  graph::apply_profile(graph_options, graph::kDefaultProfile);
-  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const testing::ShippedScene shipped = testing::load_shipped_scene("apt_0");
+  const scene::Scene& s = shipped.scene;
+  const graph::SceneGraph& g = shipped.graph;
   const SceneGeometry geometry(s, g);
   std::vector<episode::WorldState> states = {episode::initial_state(g)};
   // Every item of the busiest platform picked in turn (each leaves the view and the numbering).
@@ -196,11 +195,8 @@ TEST(Visibility, OnAShippedApartmentTheWindowsAnswerAsWholePassesDo) {
 // rater saw a held rack drawn empty though it arrived full.
 TEST(ItemView, AHeldObjectIsShownWithWhatItCarries) {
   MTG_REQUIRE_SHIPPED_DATA();
-  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  const scene::Scene s = scene::load_scene(*testing::shipped_dataset(), "apt_0", meshes);
-  graph::GraphOptions graph_options;
-  graph::apply_profile(graph_options, graph::kDefaultProfile);
-  const graph::SceneGraph g = graph::build_scene_graph(s, graph_options);
+  const testing::ShippedScene shipped = testing::load_shipped_scene("apt_0");
+  const graph::SceneGraph& g = shipped.graph;
   const episode::WorldState start = episode::initial_state(g);
   int carriers = 0;
   for (const graph::ObjectId o : g.objects.ids()) {

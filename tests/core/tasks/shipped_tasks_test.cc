@@ -24,6 +24,7 @@
 #include "core/tasks/validate.h"
 #include "core/util/error.h"
 #include "tests/support/shipped_data.h"
+#include "tests/support/shipped_scene.h"
 
 namespace mtg::tasks {
 namespace {
@@ -62,23 +63,9 @@ std::string image_text_problem(const Task& t) {
   return "";
 }
 
-// A shipped apartment and its graph (the default profile).
-struct Shipped {
-  scene::Scene scene;
-  graph::SceneGraph graph;
-};
-Shipped load_shipped(const std::string& name) {
-  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  Shipped out{scene::load_scene(*testing::shipped_dataset(), name, meshes), {}};
-  graph::GraphOptions graph_options;
-  graph::apply_profile(graph_options, graph::kDefaultProfile);
-  out.graph = graph::build_scene_graph(out.scene, graph_options);
-  return out;
-}
-
 TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
   MTG_REQUIRE_SHIPPED_DATA();
-  const Shipped shipped = load_shipped(GetParam());
+  const testing::ShippedScene shipped = testing::load_shipped_scene(GetParam());
   const scene::Scene& s = shipped.scene;
   const graph::SceneGraph& g = shipped.graph;
   TaskOptions options;
@@ -110,7 +97,7 @@ TEST_P(ShippedTasks, EveryTaskKeepsItsPromises) {
 
 TEST_P(ShippedTasks, EveryObjectATextNamesIsSeenAndTheItemsNumberRead) {
   MTG_REQUIRE_SHIPPED_DATA();
-  const Shipped shipped = load_shipped(GetParam());
+  const testing::ShippedScene shipped = testing::load_shipped_scene(GetParam());
   const scene::Scene& s = shipped.scene;
   const graph::SceneGraph& g = shipped.graph;
   const TaskOptions options;  // the whole sets: 10,000 Level 3 chains
