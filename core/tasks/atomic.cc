@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <set>
 
 #include "core/episode/placement.h"
@@ -288,18 +289,35 @@ class ItemEnumeration {
       judged_places.push_back({&t, {*xy, judge_at(d, *xy)}});
     }
     d.unbindable.clear();
+    // The goals a person binds through an object's own free spaces: next to X (any of X's), and
+    // between X and Y (those of X facing Y, and of Y facing X). Each such space must meet them.
+    std::map<std::string, const AtomicGoal*> bound_by_spaces;
+    for (const auto& [t, placed] : judged_places) {
+      for (const Candidate& c : placed.second.candidates) {
+        const bool binds = c.goal.type == GoalType::kAround || c.goal.type == GoalType::kBetween;
+        if (binds && c.margin > 0.0) bound_by_spaces.emplace(c.key, &c.goal);
+      }
+    }
+    auto centre_of = [&](graph::ObjectId o) -> std::optional<geom::Point2> {
+      for (const AnchorInfo& a : d.anchors) {
+        if (a.object == o) return a.box_P.center();
+      }
+      return std::nullopt;
+    };
     for (const auto& [t, placed] : judged_places) {
       if (t->kind != episode::PlaceTarget::Kind::kObjectRegion) continue;
-      // Around goals about t's anchor that this one of its own spaces does not meet.
-      for (const auto& [other, other_placed] : judged_places) {
-        if (other->kind != episode::PlaceTarget::Kind::kObjectRegion || other->anchor != t->anchor) continue;
-        for (const Candidate& c : other_placed.second.candidates) {
-          if (c.goal.type != GoalType::kAround || c.goal.anchor != t->anchor || c.margin <= 0.0) continue;
-          const auto& mine = placed.second.candidates;
-          const bool met = std::any_of(mine.begin(), mine.end(),
-                                       [&](const Candidate& m) { return m.key == c.key && m.margin > 0.0; });
-          if (!met) d.unbindable.insert(c.key);
+      const auto& mine = placed.second.candidates;
+      for (const auto& [key, goal] : bound_by_spaces) {
+        if (goal->type == GoalType::kAround && goal->anchor != t->anchor) continue;
+        if (goal->type == GoalType::kBetween) {
+          if (goal->anchor != t->anchor && goal->anchor2 != t->anchor) continue;
+          const auto here = centre_of(t->anchor);
+          const auto there = centre_of(goal->anchor == t->anchor ? goal->anchor2 : goal->anchor);
+          if (!here || !there || !faces(*t, *here, *there)) continue;
         }
+        const bool met = std::any_of(mine.begin(), mine.end(),
+                                     [&](const Candidate& m) { return m.key == key && m.margin > 0.0; });
+        if (!met) d.unbindable.insert(key);
       }
     }
     for (auto& [t, placed] : judged_places) {
@@ -452,6 +470,13 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
     if (!filter.goal_key.empty() && !out.empty()) break;  // a key names one item: at most one has it
   }
   return out;
+}
+
+bool faces(const episode::PlaceTarget& t, const geom::Point2& anchor_P, const geom::Point2& other_P) {
+  const Eigen::Vector2d way = other_P - anchor_P;
+  const Eigen::Vector2d aim = t.aim_P - anchor_P;
+  if (way.norm() < 1e-9 || aim.norm() < 1e-9) return false;
+  return way.normalized().dot(aim.normalized()) > std::cos(std::numbers::pi / 4.0);
 }
 
 void apply_effect(const graph::SceneGraph& g, episode::WorldState& s, const AtomicTask& task) {

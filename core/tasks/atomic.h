@@ -49,6 +49,13 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
                                          DropCounts* dropped = nullptr, int jobs = 1,
                                          episode::PlacementMemo* memo = nullptr);
 
+/// Whether free space `t` of an object (its anchor, centre `anchor_P`) faces the object centred
+/// at `other_P` (platform frame): its aim lies within 45 degrees of the way from one to the other.
+/// "Between X and Y" is read from such spaces, so each must put the item between them (issue 53:
+/// both raters of a draw picked "right of object 1" for "between the nearest and the farthest
+/// lamp", a space the corridor between them does not take).
+bool faces(const episode::PlaceTarget& t, const geom::Point2& anchor_P, const geom::Point2& other_P);
+
 /// Leaves `s` as the task's oracle plan would, without replaying its keys: the item picked and
 /// put down where the plan's target resolved when the task was enumerated, the robot at the
 /// destination. Exact when `s` offers the same targets as the state the task was enumerated in

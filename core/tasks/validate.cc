@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "core/episode/goals.h"
+#include "core/episode/placement.h"
 #include "core/episode/rules.h"
+#include "core/tasks/atomic.h"
 #include "core/tasks/referring.h"
 #include "core/util/error.h"
 
@@ -163,6 +165,25 @@ std::vector<std::string> audit_task(const graph::SceneGraph& g, const Task& task
           if (!episode::apply_action(g, trial, option.key, constraints, rules).applied) continue;
           if (!episode::goal_satisfied(g, trial, part, options.goals)) {
             fail(which + "'" + option.description + "', one of the anchor's own spaces, is not next to it");
+          }
+        }
+      }
+      if (i + 1 == kKeysPerPart && part.type == episode::GoalType::kBetween) {
+        // "Between X and Y": a person may pick a free space of X facing Y, or of Y facing X; each
+        // that puts the item down must put it between them.
+        const Eigen::Isometry2d X_PW = episode::platform_frame(g, s, s.at_platform).inverse();
+        auto centre = [&](graph::ObjectId o) -> geom::Point2 {
+          return geom::bounds(geom::transform(s.objects[o].footprint, X_PW)).center();
+        };
+        for (const episode::PlaceTarget& t : episode::place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
+                                                                    rules.min_region_size)) {
+          if (t.kind != episode::PlaceTarget::Kind::kObjectRegion || t.key == key) continue;
+          if (t.anchor != part.anchor && t.anchor != part.anchor2) continue;
+          if (!faces(t, centre(t.anchor), centre(t.anchor == part.anchor ? part.anchor2 : part.anchor))) continue;
+          episode::WorldState trial = s;
+          if (!episode::apply_action(g, trial, t.key, constraints, rules).applied) continue;
+          if (!episode::goal_satisfied(g, trial, part, options.goals)) {
+            fail(which + "free space " + t.key + ", facing the other anchor, is not between them");
           }
         }
       }
