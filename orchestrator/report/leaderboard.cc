@@ -263,11 +263,19 @@ LeaderboardRun load_leaderboard_run(const std::filesystem::path& dir) {
   if (!named.has_filename()) named = named.parent_path();  // "runs/a/"
   RunRows rows = load_run_rows(dir, named.filename().string());
   nlohmann::json provenance;
+  std::string aid = "both";  // plans from before the aid was a choice gave words and close-ups
   if (std::filesystem::exists(dir / "plan.json")) {
     const nlohmann::json plan = read_json_file(dir / "plan.json");
     if (plan.is_object() && plan.contains("provenance")) provenance = plan["provenance"];
+    if (plan.is_object() && plan.contains("lookalike_aid") && plan["lookalike_aid"].is_string()) {
+      aid = plan["lookalike_aid"].get<std::string>();
+    }
   }
-  return {std::move(rows.name), std::move(rows.rows), suite_identity(provenance), rows.per_repeat};
+  // A run told look-alikes by words alone or images alone measures something else than the
+  // paper's setting: its own board (docs/statistics.md).
+  std::string suite = suite_identity(provenance);
+  if (aid != "both") suite += ", look-alike aid " + aid;
+  return {std::move(rows.name), std::move(rows.rows), std::move(suite), rows.per_repeat};
 }
 
 nlohmann::json make_leaderboard(const std::vector<LeaderboardRun>& runs) {

@@ -20,7 +20,8 @@ namespace mtg::orchestrator {
 struct LeaderboardRun {
   std::string name;
   std::vector<EpisodeRow> rows;  ///< without the episodes a person excluded (as load_run_rows gives)
-  std::string suite;             ///< suite_identity of its plan's provenance; boards group by it
+  std::string suite;             ///< suite_identity of its plan's provenance (with its look-alike
+                                 ///< aid where not "both"); boards group by it
   std::int64_t per_repeat = 0;   ///< as in CompareSide: episodes per repeat, 0 when unknown
 };
 
@@ -28,7 +29,8 @@ struct LeaderboardRun {
 /// (provenance["suite"]["id"]), else "task set " + task_set_identity, else "unknown".
 std::string suite_identity(const nlohmann::json& provenance);
 
-/// A run folder's rows and suite, named by its folder. @throws mtg::Error naming the folder when
+/// A run folder's rows and suite, named by its folder; a run whose plan gives look-alikes by
+/// words or images alone (`lookalike_aid`) is of "<suite>, look-alike aid words|image". @throws mtg::Error naming the folder when
 /// it is not a run or its plan cannot be read.
 LeaderboardRun load_leaderboard_run(const std::filesystem::path& dir);
 

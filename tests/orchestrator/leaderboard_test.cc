@@ -177,7 +177,8 @@ TEST(Leaderboard, TheSuiteIsTheDeclaredOneElseTheTaskSet) {
 }
 
 // A run folder made here: results.sqlite, plan.json with provenance, and a person's exclusion.
-fs::path make_run_folder(const std::string& name) {
+fs::path make_run_folder(const std::string& name,
+                         episode::LookalikeAid aid = episode::LookalikeAid::kBoth) {
   const fs::path dir = fs::temp_directory_path() / ("mtg_leaderboard_" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -185,6 +186,7 @@ fs::path make_run_folder(const std::string& name) {
   plan.run_id = name + "-0000abcd";
   plan.tasks_db = "/t/tasks.sqlite";
   plan.agents = {"oracle", "random"};
+  plan.lookalike_aid = aid;
   {
     ResultsDb db(dir / "results.sqlite");
     std::uint32_t id = 0;
@@ -219,6 +221,19 @@ TEST(Leaderboard, ARunFolderLoadsWithItsSuiteAndWithoutItsExclusions) {
   EXPECT_EQ(run.rows.size(), 7u) << "episode 7 was excluded";
   EXPECT_THROW(load_leaderboard_run(dir / "missing"), Error);
   fs::remove_all(dir.parent_path());
+}
+
+// Runs of one suite told look-alikes by the words alone (--lookalike-aid words) measure another
+// thing than the paper's words and close-ups: they are ranked on a board of their own.
+TEST(Leaderboard, ARunWithAnotherLookalikeAidIsOnABoardOfItsOwn) {
+  const LeaderboardRun both = load_leaderboard_run(make_run_folder("lb-both"));
+  const LeaderboardRun words = load_leaderboard_run(make_run_folder("lb-words", episode::LookalikeAid::kWords));
+  EXPECT_EQ(both.suite, "standard-replicacad@1a2b3c4d5e6f");
+  EXPECT_EQ(words.suite, "standard-replicacad@1a2b3c4d5e6f, look-alike aid words");
+  const nlohmann::json lb = make_leaderboard({both, words});
+  ASSERT_EQ(lb["boards"].size(), 2u);
+  EXPECT_EQ(lb["boards"][1]["suite"], "standard-replicacad@1a2b3c4d5e6f, look-alike aid words");
+  fs::remove_all(fs::temp_directory_path() / ("mtg_leaderboard_" + std::to_string(::getpid())));
 }
 
 TEST(ResultCard, AFolderGetsItsSuiteFiguresProvenanceExclusionsAndCitation) {
