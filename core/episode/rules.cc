@@ -4,6 +4,9 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <string>
+
+#include "core/util/error.h"
 
 namespace mtg::episode {
 namespace {
@@ -143,11 +146,11 @@ const char* to_string(LookalikeAid aid) {
   return "both";
 }
 
-std::optional<LookalikeAid> lookalike_aid_from_string(std::string_view name) {
+LookalikeAid lookalike_aid_from_string(std::string_view name, std::string_view what) {
   for (const LookalikeAid a : {LookalikeAid::kBoth, LookalikeAid::kImage, LookalikeAid::kWords}) {
     if (name == to_string(a)) return a;
   }
-  return std::nullopt;
+  throw Error(std::string(what) + " is image, words or both, not '" + std::string(name) + "'");
 }
 
 bool is_action_key(std::string_view key) {

@@ -12,7 +12,6 @@
 // call_end or when the step limit is used up.
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +30,8 @@ namespace mtg::episode {
 enum class LookalikeAid : std::int8_t { kBoth = 0, kImage = 1, kWords = 2 };
 /// "both", "image", "words".
 const char* to_string(LookalikeAid aid);
-std::optional<LookalikeAid> lookalike_aid_from_string(std::string_view name);
+/// The aid called `name`. @throws mtg::Error "<what> is image, words or both, not '<name>'".
+LookalikeAid lookalike_aid_from_string(std::string_view name, std::string_view what);
 
 struct RuleOptions {
   int step_limit = 15;

@@ -274,6 +274,7 @@ std::vector<graph::ObjectId> carried_by(const graph::SceneGraph& g, const episod
 
 // The extent of `object` with what it carries: one box around them all.
 ObjectExtent extent_with(const episode::WorldState& s, graph::ObjectId object, const std::vector<graph::ObjectId>& carried) {
+  if (carried.empty()) return extent_of(s.objects[object]);
   Eigen::AlignedBox2d box = geom::bounds(s.objects[object].footprint);
   double bottom = s.objects[object].bottom, top = s.objects[object].top;
   for (const graph::ObjectId c : carried) {
@@ -281,7 +282,6 @@ ObjectExtent extent_with(const episode::WorldState& s, graph::ObjectId object, c
     bottom = std::min(bottom, s.objects[c].bottom);
     top = std::max(top, s.objects[c].top);
   }
-  if (carried.empty()) return extent_of(s.objects[object]);
   const Eigen::Vector2d c2 = box.center();
   return {Eigen::Vector3d(c2.x(), c2.y(), (bottom + top) / 2.0),
           0.5 * Eigen::Vector3d(box.sizes().x(), box.sizes().y(), top - bottom).norm()};

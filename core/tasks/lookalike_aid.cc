@@ -88,6 +88,12 @@ std::string text_with_close_ups(const std::string& task_id, const std::string& t
   std::vector<std::string> platforms;
   for (const Identification& id : identify) platforms.push_back(id.platform);
   std::vector<Span> spans;
+  // The close-up's words in place of `id`'s at `pos`, capitalised where the text's word was.
+  auto claim = [&](const Identification& id, std::size_t pos) {
+    std::string words = close_up_words(id, labels.at(id.object));
+    if (std::isupper(static_cast<unsigned char>(text[pos])) != 0) words[0] = 'T';
+    spans.push_back({pos, id.phrase.size(), std::move(words)});
+  };
   std::size_t after = 0;
   for (const Identification& id : identify) {
     std::vector<std::size_t> free;
@@ -108,24 +114,20 @@ std::string text_with_close_ups(const std::string& task_id, const std::string& t
       const auto later = std::find_if(free.begin(), free.end(), [&](std::size_t pos) { return pos >= after; });
       chosen = later != free.end() ? *later : free.front();
     }
-    std::string words = close_up_words(id, labels.at(id.object));
-    if (std::isupper(static_cast<unsigned char>(text[*chosen])) != 0) words[0] = 'T';
-    spans.push_back({*chosen, id.phrase.size(), std::move(words)});
+    claim(id, *chosen);
     after = *chosen + id.phrase.size();
   }
   // A text may name one object twice ("put X where Y is, and Y where X is"): each further
   // occurrence goes to the one object with those words, or to the one whose platform follows.
   for (const Identification& id : identify) {
+    std::set<std::string> sharing;
+    for (const Identification& other : identify) {
+      if (other.phrase == id.phrase) sharing.insert(other.object);
+    }
     for (const std::size_t pos : occurrences(text, id.phrase)) {
       if (overlaps(spans, pos, id.phrase.size())) continue;
-      std::set<std::string> sharing;
-      for (const Identification& other : identify) {
-        if (other.phrase == id.phrase) sharing.insert(other.object);
-      }
       if (sharing.size() > 1 && next_platform(text, pos + id.phrase.size(), platforms) != id.platform) continue;
-      std::string words = close_up_words(id, labels.at(id.object));
-      if (std::isupper(static_cast<unsigned char>(text[pos])) != 0) words[0] = 'T';
-      spans.push_back({pos, id.phrase.size(), std::move(words)});
+      claim(id, pos);
     }
   }
   std::sort(spans.begin(), spans.end(), [](const Span& a, const Span& b) { return a.pos > b.pos; });
@@ -150,13 +152,13 @@ TaskWords task_words(const std::string& task_id, const std::string& text, const 
   }
   if (identify.empty()) return {text, ""};
   words.text = text_with_close_ups(task_id, text, identify);
+  // Labels run in the order objects are first named: each object's first identification, in turn.
   const std::map<std::string, int> labels = close_up_labels(identify);
   std::vector<std::string> where;
-  for (const auto& [object, label] : labels) {
-    const auto id = std::find_if(identify.begin(), identify.end(),
-                                 [&](const Identification& i) { return i.object == object; });
-    where.resize(std::max<std::size_t>(where.size(), static_cast<std::size_t>(label)));
-    where[static_cast<std::size_t>(label - 1)] = "close-up " + std::to_string(label) + " on " + id->platform;
+  std::set<std::string> listed;
+  for (const Identification& id : identify) {
+    if (!listed.insert(id.object).second) continue;
+    where.push_back("close-up " + std::to_string(labels.at(id.object)) + " on " + id.platform);
   }
   words.hint = "Some objects of this task have look-alikes; the task names each by the close-up image that shows it: ";
   for (std::size_t i = 0; i < where.size(); ++i) {

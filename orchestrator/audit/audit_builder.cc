@@ -57,9 +57,8 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
   tasks::TaskOptions options;
   if (config.contains("ambiguity")) options.ambiguity = tasks::ambiguity_from_string(config["ambiguity"].get<std::string>());
   options.rules.object_names = o.names;
-  const auto aid = episode::lookalike_aid_from_string(o.lookalike_aid);
-  if (!aid) throw Error("mtg audit: --lookalike-aid is image, words or both, not '" + o.lookalike_aid + "'");
-  options.rules.lookalike_aid = *aid;
+  const episode::LookalikeAid aid = episode::lookalike_aid_from_string(o.lookalike_aid, "mtg audit: --lookalike-aid");
+  options.rules.lookalike_aid = aid;
   const std::map<std::string, std::string> meta = audit_meta(o, config);
 
   fs::create_directories(fs::path(o.out) / "images");
@@ -97,9 +96,9 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
       const episode::WorldState& s = plan.steps[k].state;
       views_at[k] = render::observation_views(s, o.width, o.height, rules.min_region_size);
       // Without the held item's number: it would answer a question asked earlier in the page.
-      render::add_close_ups(g, s, task.identify, 0, o.width, o.height, shown, views_at[k], *aid);
+      render::add_close_ups(g, s, task.identify, 0, o.width, o.height, shown, views_at[k], aid);
     }
-    const tasks::TaskWords words = tasks::task_words(task.id, task.text, task.identify, *aid, true);
+    const tasks::TaskWords words = tasks::task_words(task.id, task.text, task.identify, aid, true);
     json observations = json::array();
     for (std::size_t k = 0; k < plan.observations.size(); ++k) {
       const tasks::AuditObservation& ob = plan.observations[k];

@@ -184,12 +184,11 @@ bool object_names_for(const std::string& option, bool render, const std::functio
 
 // How look-alikes are told apart; "image" alone needs the images that carry the close-ups.
 episode::LookalikeAid lookalike_aid_for(const std::string& option, bool render) {
-  const auto aid = episode::lookalike_aid_from_string(option);
-  if (!aid) throw Error("--lookalike-aid is image, words or both, not '" + option + "'");
-  if (*aid == episode::LookalikeAid::kImage && !render) {
+  const episode::LookalikeAid aid = episode::lookalike_aid_from_string(option, "--lookalike-aid");
+  if (aid == episode::LookalikeAid::kImage && !render) {
     throw Error("--lookalike-aid image needs images (--render, or a model agent without --no-render)");
   }
-  return *aid;
+  return aid;
 }
 
 // The largest observation image: every image of an observation travels in one bus message,

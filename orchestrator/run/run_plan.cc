@@ -67,10 +67,7 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.render = j.at("render").get<bool>();
     p.object_names = j.value("object_names", false);
     // Plans from before the aid was a choice gave words and close-ups.
-    const std::string aid = j.value("lookalike_aid", std::string("both"));
-    const auto parsed = episode::lookalike_aid_from_string(aid);
-    if (!parsed) throw Error("lookalike_aid is image, words or both, not '" + aid + "'");
-    p.lookalike_aid = *parsed;
+    p.lookalike_aid = episode::lookalike_aid_from_string(j.value("lookalike_aid", std::string("both")), "lookalike_aid");
     p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
     p.image_height = j.value("image_height", p.image_height);
     p.image_encoding = j.value("image_encoding", p.image_encoding);

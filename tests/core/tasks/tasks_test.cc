@@ -162,9 +162,9 @@ TEST(LookalikeAid, EachAidSaysWhatItGives) {
   EXPECT_THROW(task_words("t", "Move the book.", ids, episode::LookalikeAid::kImage, true), Error);
   EXPECT_EQ(task_words("t", "Move the cup.", {}, episode::LookalikeAid::kImage, true).text, "Move the cup.");
   for (const auto aid : {episode::LookalikeAid::kBoth, episode::LookalikeAid::kImage, episode::LookalikeAid::kWords}) {
-    EXPECT_EQ(episode::lookalike_aid_from_string(episode::to_string(aid)), aid);
+    EXPECT_EQ(episode::lookalike_aid_from_string(episode::to_string(aid), "aid"), aid);
   }
-  EXPECT_FALSE(episode::lookalike_aid_from_string("pictures").has_value());
+  EXPECT_THROW(episode::lookalike_aid_from_string("pictures", "aid"), Error);
 }
 
 TEST(TaskGeneration, SameSeedSameBytesOtherSeedOtherChoices) {
