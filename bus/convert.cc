@@ -134,6 +134,12 @@ episode::RuleOptions episode_rules(const mtg::episode_start_t& start) {
     default:
       throw Error("episode start: unknown lookalike_aid " + std::to_string(start.lookalike_aid));
   }
+  switch (start.numbering) {
+    case mtg::episode_start_t::NUMBERING_STABLE: rules.numbering = episode::Numbering::kStable; break;
+    case mtg::episode_start_t::NUMBERING_PER_STATE: rules.numbering = episode::Numbering::kPerState; break;
+    default:
+      throw Error("episode start: unknown numbering " + std::to_string(start.numbering));
+  }
   return rules;
 }
 
@@ -144,6 +150,11 @@ std::int8_t to_message(episode::LookalikeAid aid) {
     case episode::LookalikeAid::kWords: return mtg::episode_start_t::AID_WORDS;
   }
   return mtg::episode_start_t::AID_BOTH;
+}
+
+std::int8_t to_message(episode::Numbering numbering) {
+  return numbering == episode::Numbering::kStable ? mtg::episode_start_t::NUMBERING_STABLE
+                                                  : mtg::episode_start_t::NUMBERING_PER_STATE;
 }
 
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action) {
@@ -184,6 +195,11 @@ mtg::world_state_delta_t to_message(const episode::StateDelta& d) {
     m.offsets.push_back(std::move(mo));
   }
   m.n_offsets = static_cast<int32_t>(m.offsets.size());
+  m.numbering = to_message(d.numbering);
+  for (const episode::PlatformOrder& p : d.numbered) {
+    m.numbered.push_back({p.platform, static_cast<int32_t>(p.objects.size()), p.objects});
+  }
+  m.n_numbered = static_cast<int32_t>(m.numbered.size());
   return m;
 }
 
@@ -213,6 +229,9 @@ episode::StateDelta from_message(const mtg::world_state_delta_t& m) {
   for (const mtg::platform_offset_t& p : m.offsets) {
     d.offsets.push_back({p.platform, Eigen::Vector3d(p.offset[0], p.offset[1], p.offset[2])});
   }
+  // episode::apply_delta checks the value.
+  d.numbering = static_cast<episode::Numbering>(m.numbering);
+  for (const mtg::platform_order_t& p : m.numbered) d.numbered.push_back({p.platform, p.objects});
   return d;
 }
 

@@ -60,6 +60,8 @@ episode::StateUpdate from_message(const graph::SceneGraph& g, const mtg::state_u
 episode::RuleOptions episode_rules(const mtg::episode_start_t& start);
 /// episode_start_t's code for `aid` (AID_BOTH, AID_IMAGE, AID_WORDS).
 std::int8_t to_message(episode::LookalikeAid aid);
+/// episode_start_t::NUMBERING_* (the same values in world_state_delta_t).
+std::int8_t to_message(episode::Numbering numbering);
 
 /// What the rules need of an agent's action.
 episode::AgentAnswer to_answer(const mtg::agent_action_t& action);

@@ -98,8 +98,9 @@ WalkedEpisode walk_oracle(const graph::SceneGraph& g, const tasks::Task& task, c
   rules.step_limit = options.step_limit;
   rules.object_names = options.object_names;
   const episode::TaskConstraints constraints{episode::task_goal_from_json(g, task.goal).protected_objects()};
-  episode::WorldState s = episode::initial_state(g);
   rules.lookalike_aid = options.lookalike_aid;
+  rules.numbering = options.numbering;
+  episode::WorldState s = episode::initial_state(g, rules.numbering);
   const tasks::TaskWords words = tasks::task_words(task.id, task.text, task.identify, options.lookalike_aid, options.render);
   std::string hint = words.hint;
   render::CloseUpsShown shown;

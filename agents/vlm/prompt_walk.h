@@ -28,6 +28,7 @@ struct WalkOptions {
   bool render = true;         // observations carry images
   bool object_names = false;  // as the plan says (episode::RuleOptions)
   episode::LookalikeAid lookalike_aid = episode::LookalikeAid::kBoth;  // as the plan says
+  episode::Numbering numbering = episode::Numbering::kStable;          // as the plan says
   int image_width = 640;
   int image_height = 480;
 };

@@ -60,6 +60,7 @@ std::string object_place(const graph::SceneGraph& g, const WorldState& s, graph:
   const auto& siblings = objects_on(s, s.at_platform);
   if (std::find(siblings.begin(), siblings.end(), object) == siblings.end()) {
     for (std::size_t k = 0; k < numbering.size(); ++k) {
+      if (!numbering[k].valid()) continue;  // a retired number
       for (const graph::PlatformId p : g.objects[numbering[k]].platforms) {
         if (p == o.parent) return "on object " + std::to_string(k + 1);
       }
@@ -75,6 +76,35 @@ std::string object_place(const graph::SceneGraph& g, const WorldState& s, graph:
   const double right = c_P.dot(along(6)), far = c_P.dot(along(4));
   auto cm = [](double m) { return std::to_string(static_cast<long>(std::lround(std::abs(m) * 100.0))) + " cm "; };
   return cm(right) + (right < 0 ? "left" : "right") + ", " + cm(far) + (far < 0 ? "near" : "far");
+}
+
+// The numbers of `numbering` in use, as words: "3", "1 and 2", "1 to 5", "1, 2 and 4", "1 to 3 and 6".
+std::string numbers_in_words(const std::vector<graph::ObjectId>& numbering) {
+  std::vector<std::string> runs;
+  for (std::size_t k = 0; k < numbering.size();) {
+    if (!numbering[k].valid()) {
+      ++k;
+      continue;
+    }
+    std::size_t last = k;
+    while (last + 1 < numbering.size() && numbering[last + 1].valid()) ++last;
+    if (last >= k + 2) {
+      runs.push_back(std::to_string(k + 1) + " to " + std::to_string(last + 1));
+    } else {
+      for (std::size_t i = k; i <= last; ++i) runs.push_back(std::to_string(i + 1));
+    }
+    k = last + 1;
+  }
+  std::string out;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == runs.size() ? " and " : ", ") + runs[i];
+  }
+  return out;
+}
+
+std::size_t count_numbered(const std::vector<graph::ObjectId>& numbering) {
+  return static_cast<std::size_t>(
+      std::count_if(numbering.begin(), numbering.end(), [](graph::ObjectId o) { return o.valid(); }));
 }
 
 void end(WorldState& s, StepOutcome& out, EndReason reason) {
@@ -97,7 +127,11 @@ bool offered_outside_placing(const graph::SceneGraph& g, const WorldState& s, st
   const auto [end, error] = std::from_chars(key.data() + 1, key.data() + key.size(), n);
   if (error != std::errc{} || end != key.data() + key.size()) return false;
   if (key[0] == 'l') return n <= g.navigable.size();
-  if (key[0] == 'o') return at_platform && !s.held.valid() && n <= pickable_on(g, s, s.at_platform).size();
+  if (key[0] == 'o') {
+    if (!at_platform || s.held.valid()) return false;
+    const std::vector<graph::ObjectId> numbering = numbered_on(g, s, s.at_platform);
+    return n <= numbering.size() && numbering[n - 1].valid();
+  }
   return false;
 }
 
@@ -127,9 +161,11 @@ std::string why_unavailable(const graph::SceneGraph& g, const WorldState& s, std
   if (key[0] == 'o') {
     if (!at_platform) return "you are not at a platform yet; go to one with its l key first";
     if (s.held.valid()) return "your hand is full; place what you hold first (startplace)";
-    const std::size_t n = pickable_on(g, s, s.at_platform).size();
+    const std::vector<graph::ObjectId> numbering = numbered_on(g, s, s.at_platform);
+    const std::size_t n = count_numbered(numbering);
     if (n == 0) return "there is nothing to pick up on this platform";
-    return n == 1 ? "this platform has object 1 only" : "the objects here are 1 to " + std::to_string(n);
+    return n == 1 ? "this platform has object " + numbers_in_words(numbering) + " only"
+                  : "the objects here are " + numbers_in_words(numbering);
   }
   // A number outside placing.
   return "numbered places are chosen after startplace, with an object in your hand";
@@ -172,7 +208,7 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
   if (s.phase == Phase::kDone) return out;
   if (s.phase == Phase::kPlacing) {
     out.push_back({"0", "call_end: finish the task now"});
-    const std::vector<graph::ObjectId> numbering = pickable_on(g, s, s.at_platform);
+    const std::vector<graph::ObjectId> numbering = numbered_on(g, s, s.at_platform);
     for (const PlaceTarget& t : place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
                                               options.min_region_size)) {
       out.push_back({t.key, target_description(g, t, options, numbering)});
@@ -185,8 +221,9 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
   }
   out.push_back({"0", "call_end: finish the task now"});
   if (s.phase == Phase::kAtPlatform && !s.held.valid()) {
-    const auto objects = pickable_on(g, s, s.at_platform);
+    const auto objects = numbered_on(g, s, s.at_platform);
     for (std::size_t k = 0; k < objects.size(); ++k) {
+      if (!objects[k].valid()) continue;  // a retired number
       std::string what = "pick up object " + std::to_string(k + 1);
       if (options.object_names) what += " (" + listed_name(g.objects[objects[k]]) + ")";
       out.push_back({"o" + std::to_string(k + 1), std::move(what)});
@@ -246,7 +283,7 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
     }
   } else if (key[0] == 'o') {
     const int k = std::stoi(std::string(key.substr(1)));
-    const graph::ObjectId object = pickable_on(g, s, s.at_platform).at(static_cast<std::size_t>(k - 1));
+    const graph::ObjectId object = numbered_on(g, s, s.at_platform).at(static_cast<std::size_t>(k - 1));
     const auto& forbidden = constraints.protected_objects;
     if (std::find(forbidden.begin(), forbidden.end(), object) != forbidden.end()) {
       out.hint = "object " + std::to_string(k) + " is a reference object of the task and must stay where it is";
@@ -310,20 +347,28 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
     text += " Your hand is empty.";
   }
   if (s.at_platform.valid()) {
-    const auto objects = pickable_on(g, s, s.at_platform);
-    if (objects.empty()) {
+    const auto objects = numbered_on(g, s, s.at_platform);
+    const std::size_t n = count_numbered(objects);
+    if (n == 0) {
       text += " There is nothing you can pick up on this platform.";
     } else if (!options.object_names) {
-      text += objects.size() == 1   ? " One object here can be picked up: object 1 (numbered in the image)."
-              : objects.size() == 2 ? " Objects 1 and 2 here can be picked up (numbered in the image)."
-                                    : " Objects 1 to " + std::to_string(objects.size()) +
-                                          " here can be picked up (numbered in the images).";
+      const bool contiguous = n == objects.size();
+      text += n == 1 ? " One object here can be picked up: object " + numbers_in_words(objects) +
+                           " (numbered in the image)."
+              : n == 2 && contiguous ? " Objects 1 and 2 here can be picked up (numbered in the image)."
+                                     : " Objects " + numbers_in_words(objects) +
+                                           " here can be picked up (numbered in the images).";
+      // Why numbers are missing, once they are: the agent must not read a gap as an object hidden.
+      if (!contiguous) text += " An object keeps its number for the whole task; numbers of objects taken away are not used again.";
     } else {
       text += " On this platform (where each stands from its centre, as you face it):";
+      bool first = true;
       for (std::size_t k = 0; k < objects.size(); ++k) {
-        text += std::string(k ? "," : "") + " object " + std::to_string(k + 1) + " " +
+        if (!objects[k].valid()) continue;
+        text += std::string(first ? "" : ",") + " object " + std::to_string(k + 1) + " " +
                 listed_name(g.objects[objects[k]]) + " [" +
                 object_place(g, s, objects[k], objects) + "]";
+        first = false;
       }
       text += ".";
     }

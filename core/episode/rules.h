@@ -43,6 +43,9 @@ struct RuleOptions {
   bool object_names = false;
   /// Presentation only: what the observations say and show of look-alikes, never what is judged.
   LookalikeAid lookalike_aid = LookalikeAid::kBoth;
+  /// How items are numbered over the episode: the state an episode starts from takes it
+  /// (initial_state), and pick and place keep it.
+  Numbering numbering = Numbering::kStable;
 };
 
 struct ActionOption {

@@ -1,5 +1,6 @@
 #include "core/episode/state_delta.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "core/util/error.h"
@@ -39,8 +40,9 @@ bool same(const ObjectState& a, const ObjectState& b) {
 }  // namespace
 
 StateDelta state_delta(const graph::SceneGraph& g, const WorldState& s) {
-  const WorldState initial = initial_state(g);
+  const WorldState initial = initial_state(g, s.numbering);
   StateDelta d;
+  d.numbering = s.numbering;
   d.phase = s.phase;
   d.at = platform_name(g, s.at_platform);
   d.side = s.side;
@@ -60,12 +62,24 @@ StateDelta state_delta(const graph::SceneGraph& g, const WorldState& s) {
       d.reordered.push_back(std::move(order));
     }
     if (!s.platform_offset[p].isZero(0.0)) d.offsets.push_back({name, s.platform_offset[p]});
+    if (p.index() < s.numbered.size() && !s.numbered[p].empty()) {
+      PlatformOrder order{name, {}};
+      for (const graph::ObjectId o : s.numbered[p]) order.objects.push_back(o.valid() ? g.objects[o].name : std::string());
+      d.numbered.push_back(std::move(order));
+    }
   }
   return d;
 }
 
 WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
-  WorldState s = initial_state(g);
+  if (delta.numbering != Numbering::kStable && delta.numbering != Numbering::kPerState) {
+    throw Error("state: 'numbering' must be 0 (stable) or 1 (per_state), got " +
+                std::to_string(static_cast<int>(delta.numbering)));
+  }
+  if (delta.numbering == Numbering::kPerState && !delta.numbered.empty()) {
+    throw Error("state: 'numbered' lists numbers kept, which per_state numbering has none of");
+  }
+  WorldState s = initial_state(g, delta.numbering);
   const int phase = static_cast<int>(delta.phase);
   if (phase < static_cast<int>(Phase::kStart) || phase > static_cast<int>(Phase::kDone)) {
     throw Error("state: 'phase' must be 0..3 (start, at_platform, placing, done), got " + std::to_string(phase));
@@ -108,6 +122,20 @@ WorldState apply_delta(const graph::SceneGraph& g, const StateDelta& delta) {
     const graph::PlatformId p = platform_listed(g, offset.platform, "offsets.platform");
     once(offset_seen, p, "offsets.platform", offset.platform);
     s.platform_offset[p] = offset.offset;
+  }
+  IdVector<graph::PlatformId, bool> numbered_seen(s.children.size(), false);
+  for (const PlatformOrder& order : delta.numbered) {
+    const graph::PlatformId p = platform_listed(g, order.platform, "numbered.platform");
+    once(numbered_seen, p, "numbered.platform", order.platform);
+    if (order.objects.empty()) throw Error("state: 'numbered' of '" + order.platform + "' lists no number");
+    std::vector<graph::ObjectId>& numbers = s.numbered[p];
+    for (const std::string& o : order.objects) {
+      const graph::ObjectId i = o.empty() ? graph::ObjectId() : object_named(g, o, "numbered." + order.platform);
+      if (i.valid() && std::find(numbers.begin(), numbers.end(), i) != numbers.end()) {
+        throw Error("state: 'numbered' of '" + order.platform + "' numbers '" + o + "' twice");
+      }
+      numbers.push_back(i);
+    }
   }
   return s;
 }

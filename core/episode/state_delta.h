@@ -45,6 +45,10 @@ struct StateDelta {
   std::vector<MovedObject> moved;          // in object order
   std::vector<PlatformOrder> reordered;    // in platform order
   std::vector<PlatformOffset> offsets;     // in platform order
+  Numbering numbering = Numbering::kStable;
+  /// Stable numbering: furniture platforms whose items have changed, each with its items by
+  /// number ("" where a number is retired); in platform order.
+  std::vector<PlatformOrder> numbered;
 };
 
 /// The changes of `s` against initial_state(g). Applying them gives `s` back bit for bit.

@@ -21,10 +21,46 @@ void translate_subtree(const graph::SceneGraph& g, WorldState& s, graph::ObjectI
   }
 }
 
+// `platform`, or the furniture platform the item owning it stands on (furniture_platform_of).
+graph::PlatformId furniture_platform(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  graph::PlatformId p = platform;
+  while (p.valid()) {
+    const graph::Platform& plat = g.platforms[p];
+    if (plat.destination) return p;
+    p = s.objects[plat.owner].parent;
+  }
+  return {};
+}
+
+// `object` and everything resting on it, in pickable_on's order (each object, then what rests on it).
+std::vector<graph::ObjectId> subtree_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  std::vector<graph::ObjectId> out;
+  std::vector<graph::ObjectId> stack = {object};
+  while (!stack.empty()) {
+    const graph::ObjectId o = stack.back();
+    stack.pop_back();
+    out.push_back(o);
+    std::vector<graph::ObjectId> above;
+    for (const graph::PlatformId p : g.objects[o].platforms) above.insert(above.end(), s.children[p].begin(), s.children[p].end());
+    stack.insert(stack.end(), above.rbegin(), above.rend());
+  }
+  return out;
+}
+
 }  // namespace
 
-WorldState initial_state(const graph::SceneGraph& g) {
+const char* to_string(Numbering numbering) { return numbering == Numbering::kStable ? "stable" : "per_state"; }
+
+Numbering numbering_from_string(std::string_view name, std::string_view what) {
+  for (const Numbering n : {Numbering::kStable, Numbering::kPerState}) {
+    if (name == to_string(n)) return n;
+  }
+  throw Error(std::string(what) + " is stable or per_state, not '" + std::string(name) + "'");
+}
+
+WorldState initial_state(const graph::SceneGraph& g, Numbering numbering) {
   WorldState s;
+  s.numbering = numbering;
   s.objects.resize(g.objects.size());
   for (const graph::ObjectId i : g.objects.ids()) {
     const graph::GraphObject& o = g.objects[i];
@@ -38,12 +74,35 @@ WorldState initial_state(const graph::SceneGraph& g) {
   s.children.resize(g.platforms.size());
   for (const graph::PlatformId p : g.platforms.ids()) s.children[p] = g.platforms[p].items;
   s.platform_offset.resize(g.platforms.size(), Eigen::Vector3d::Zero());
+  s.numbered.resize(g.platforms.size());
   return s;
 }
 
 std::vector<graph::ObjectId> pickable_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
   return g.pickable_on(platform,
                        [&s](graph::PlatformId p) -> const std::vector<graph::ObjectId>& { return objects_on(s, p); });
+}
+
+std::vector<graph::ObjectId> numbered_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform) {
+  if (platform.index() < s.numbered.size() && !s.numbered[platform].empty()) return s.numbered[platform];
+  return pickable_on(g, s, platform);
+}
+
+int number_on(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform, graph::ObjectId object) {
+  if (!object.valid()) return 0;
+  const std::vector<graph::ObjectId> items = numbered_on(g, s, platform);
+  const auto it = std::find(items.begin(), items.end(), object);
+  return it == items.end() ? 0 : static_cast<int>(it - items.begin()) + 1;
+}
+
+int number_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  const graph::PlatformId platform = furniture_platform_of(g, s, object);
+  return platform.valid() ? number_on(g, s, platform, object) : 0;
+}
+
+std::string object_key(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  const int n = number_of(g, s, object);
+  return n > 0 ? "o" + std::to_string(n) : std::string();
 }
 
 geom::Point2 footprint_centre(const ObjectState& o) { return geom::centroid(geom::Region{{o.footprint}}); }
@@ -94,6 +153,20 @@ std::vector<graph::Obstacle> obstacles_on(const graph::SceneGraph& g, const Worl
 void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object) {
   ObjectState& o = s.objects.at(object);
   MTG_DEMAND(!s.held.valid(), "pick while holding " + g.objects[s.held].name);
+  if (s.numbering == Numbering::kStable) {
+    // The item and what rides on it leave the platform's numbering; their numbers stay theirs
+    // (retired), so no other item takes them.
+    const graph::PlatformId from = furniture_platform_of(g, s, object);
+    if (from.valid()) {
+      if (s.numbered.size() < g.platforms.size()) s.numbered.resize(g.platforms.size());
+      std::vector<graph::ObjectId>& numbers = s.numbered[from];
+      if (numbers.empty()) numbers = pickable_on(g, s, from);
+      const std::vector<graph::ObjectId> leaving = subtree_of(g, s, object);
+      for (graph::ObjectId& n : numbers) {
+        if (std::find(leaving.begin(), leaving.end(), n) != leaving.end()) n = {};
+      }
+    }
+  }
   if (o.parent.valid()) {
     auto& siblings = s.children[o.parent];
     siblings.erase(std::remove(siblings.begin(), siblings.end(), object), siblings.end());
@@ -109,11 +182,27 @@ void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId pla
   const Eigen::Vector3d t(xy.x() - o.position.x(), xy.y() - o.position.y(),
                           platform_height(g, s, platform) - o.bottom);
   translate_subtree(g, s, object, t);
+  // The furniture platform's numbering as it was before this arrival (stable numbering).
+  std::vector<graph::ObjectId>* numbers = nullptr;
+  if (s.numbering == Numbering::kStable) {
+    const graph::PlatformId owner_platform = furniture_platform(g, s, platform);
+    if (owner_platform.valid()) {
+      if (s.numbered.size() < g.platforms.size()) s.numbered.resize(g.platforms.size());
+      numbers = &s.numbered[owner_platform];
+      if (numbers->empty()) *numbers = pickable_on(g, s, owner_platform);
+    }
+  }
   ObjectState& placed = s.objects[object];
   placed.parent = platform;
   placed.placed_side = s.side;
-  s.children[platform].push_back(object);  // appended: numbers shift
+  s.children[platform].push_back(object);  // appended: per-state numbers shift
   s.held = {};
+  if (numbers != nullptr) {
+    // The item, then what rides on it, in pickable_on's order, after the highest number so far.
+    for (const graph::ObjectId arrived : subtree_of(g, s, object)) {
+      if (g.objects[arrived].pickable()) numbers->push_back(arrived);
+    }
+  }
 }
 
 double stack_height(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
@@ -126,13 +215,7 @@ double stack_height(const graph::SceneGraph& g, const WorldState& s, graph::Obje
 }
 
 graph::PlatformId furniture_platform_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
-  graph::PlatformId p = s.objects.at(object).parent;
-  while (p.valid()) {
-    const graph::Platform& plat = g.platforms[p];
-    if (plat.destination) return p;
-    p = s.objects[plat.owner].parent;
-  }
-  return {};
+  return furniture_platform(g, s, s.objects.at(object).parent);
 }
 
 }  // namespace mtg::episode

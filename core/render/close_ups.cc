@@ -6,14 +6,6 @@
 
 namespace mtg::render {
 
-int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
-  const graph::PlatformId platform = episode::furniture_platform_of(g, s, object);
-  if (!platform.valid()) return 0;
-  const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
-  const auto it = std::find(items.begin(), items.end(), object);
-  return it == items.end() ? 0 : static_cast<int>(it - items.begin()) + 1;
-}
-
 void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    const std::vector<tasks::Identification>& lookalikes, int held_number, int width, int height,
                    CloseUpsShown& shown, std::vector<ViewRequest>& views, episode::LookalikeAid aid, bool numbered) {
@@ -40,7 +32,7 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
     const int side = here && s.side >= 0 ? s.side : std::max(0, g.platforms[platform].default_side);
     // The paper's aid for finding the object, not its answer: no number unless the run asks for
     // the assisted variant (then shown afresh whenever the number changed).
-    const int number = numbered ? number_of(g, s, object) : 0;
+    const int number = numbered ? episode::number_of(g, s, object) : 0;
     const std::string seen = g.platforms[platform].name + "|" + std::to_string(side) + "|" + std::to_string(number);
     std::string& last = shown.last[id.object];
     if (last == seen) continue;

@@ -33,8 +33,4 @@ void add_close_ups(const graph::SceneGraph& g, const episode::WorldState& s,
                    CloseUpsShown& shown, std::vector<ViewRequest>& views,
                    episode::LookalikeAid aid = episode::LookalikeAid::kBoth, bool numbered = false);
 
-/// The object's o<N> number on the platform where it stands in `s` (0 when it is not pickable
-/// there or stands on none).
-int number_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object);
-
 }  // namespace mtg::render

@@ -17,8 +17,9 @@ geom::Point2 inner_point(const geom::Region& region) {
 
 std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform) {
   std::vector<ItemMark> out;
-  const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
+  const std::vector<graph::ObjectId> items = episode::numbered_on(g, s, platform);
   for (std::size_t k = 0; k < items.size(); ++k) {
+    if (!items[k].valid()) continue;  // a retired number
     const episode::ObjectState& o = s.objects[items[k]];
     const geom::Point2 c = episode::footprint_centre(o);
     out.push_back({static_cast<int>(k) + 1, items[k], Eigen::Vector3d(c.x(), c.y(), o.top)});

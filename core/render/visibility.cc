@@ -564,7 +564,10 @@ bool VisibilityOracle::mark_readable(const episode::WorldState& s, graph::Platfo
     if (std::none_of(items.begin(), items.end(), [&](const ItemMark& m) { return m.object == o; })) continue;
     // The items' numbers (their order on the platform) decide where their marks go too.
     std::string key = d.key;
-    for (const ItemMark& m : items) append_key(key, static_cast<std::int64_t>(m.object.index()));
+    for (const ItemMark& m : items) {
+      append_key(key, static_cast<std::int64_t>(m.object.index()));
+      append_key(key, static_cast<std::int64_t>(m.number));
+    }
     // The picture itself first: most marks have their place there, and the zooms (drawn anew)
     // are worked out only for a mark that has not.
     const std::shared_ptr<const MarksInPicture> main = in_picture_.get(key, [&] {

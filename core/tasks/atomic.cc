@@ -177,7 +177,7 @@ class TargetCache {
 
 // One item of the source list: the item picked up at its source.
 struct Source {
-  std::size_t src_label, k;  // the source's l-number - 1, the item's o-number - 1
+  std::size_t src_label;  // the source's l-number - 1
   graph::ObjectId item;
 };
 
@@ -409,7 +409,7 @@ class ItemEnumeration {
     AtomicTask task;
     task.goal = goal;
     task.key = std::move(candidate.key);
-    task.oracle = {graph::navigation_key(static_cast<int>(source_.src_label) + 1), "o" + std::to_string(source_.k + 1),
+    task.oracle = {graph::navigation_key(static_cast<int>(source_.src_label) + 1), episode::object_key(g_, s_, source_.item),
                    graph::navigation_key(static_cast<int>(d.dst_label) + 1), "startplace", t.key};
     task.place_xy = xy;
     task.placed_at = judged.placed_at;
@@ -447,7 +447,7 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
     const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, g.navigable[src_label]);
     for (std::size_t k = 0; k < items.size(); ++k) {
       if (filter.items.empty() || std::find(filter.items.begin(), filter.items.end(), items[k]) != filter.items.end()) {
-        sources.push_back({src_label, k, items[k]});
+        sources.push_back({src_label, items[k]});
       }
     }
   }

@@ -14,15 +14,6 @@
 namespace mtg::tasks {
 namespace {
 
-// The o<N> of `object` where it stands in `s`, "" when it is not pickable there.
-std::string key_of(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
-  const graph::PlatformId platform = episode::furniture_platform_of(g, s, object);
-  if (!platform.valid()) return "";
-  const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
-  const auto it = std::find(items.begin(), items.end(), object);
-  return it == items.end() ? "" : "o" + std::to_string(it - items.begin() + 1);
-}
-
 // An item's model: its name without the instance number ("book_01" of "book_01_37").
 std::string item_model(const std::string& name) {
   const auto cut = name.find_last_of('_');
@@ -101,7 +92,7 @@ std::vector<const Task*> sample_for_audit(const std::vector<Task>& tasks, int pe
 AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOptions& options) {
   const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
   AuditPlan plan;
-  episode::WorldState s = episode::initial_state(g);
+  episode::WorldState s = episode::initial_state(g, options.rules.numbering);
   plan.steps.push_back({s, 0});
   plan.observations.push_back({"", s, "The first observation", 0});
   int held_number = 0;
@@ -150,7 +141,7 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
       const int at = arrival(platform, -1, 1);
       if (!object.valid() || at < 0) continue;
       ask({"o" + std::to_string(k) + ".object", "Which number is " + named_as(id, task.identify, options.rules.lookalike_aid) + "?", at,
-           key_of(g, plan.observations[static_cast<std::size_t>(at)].state, object)});
+           episode::object_key(g, plan.observations[static_cast<std::size_t>(at)].state, object)});
     }
     return plan;
   }
@@ -164,7 +155,7 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
                               "Which number is the item to move (" + words_for(g, task, static_cast<int>(k), "item", part.item, options.ambiguity,
                                                options.rules.lookalike_aid) +
                                   ")" + (goal.parts.size() > 1 ? " in part " + std::to_string(k + 1) : "") + "?",
-                              source, key_of(g, plan.observations[static_cast<std::size_t>(source)].state, part.item)});
+                              source, episode::object_key(g, plan.observations[static_cast<std::size_t>(source)].state, part.item)});
     const int destination = arrival(part.platform, 1, static_cast<std::size_t>(source));
     from = static_cast<std::size_t>(std::max(source, destination)) + 1;
     if (destination < 0) continue;
@@ -187,7 +178,7 @@ AuditPlan plan_audit(const graph::SceneGraph& g, const Task& task, const TaskOpt
                                     words_for(g, task, static_cast<int>(k), role, anchor, options.ambiguity,
                                                options.rules.lookalike_aid) + "?",
                                 destination,
-                                key_of(g, plan.observations[static_cast<std::size_t>(destination)].state, anchor)});
+                                episode::object_key(g, plan.observations[static_cast<std::size_t>(destination)].state, anchor)});
     }
   }
   return plan;

@@ -98,11 +98,9 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
   for (const Move& m : moves) {
     const PlatformId from = episode::furniture_platform_of(g, s, m.object);
     if (!from.valid() || g.platforms[from].label == 0) return std::nullopt;
-    const auto items = episode::pickable_on(g, s, from);
-    const auto k = std::find(items.begin(), items.end(), m.object) - items.begin();
-    if (k == static_cast<long>(items.size())) return std::nullopt;
-    if (!play(graph::navigation_key(g.platforms[from].label)) ||
-        !play("o" + std::to_string(k + 1))) {
+    const int number = episode::number_on(g, s, from, m.object);
+    if (number == 0) return std::nullopt;
+    if (!play(graph::navigation_key(g.platforms[from].label)) || !play("o" + std::to_string(number))) {
       return std::nullopt;
     }
     bool placed = false;

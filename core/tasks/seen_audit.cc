@@ -53,7 +53,7 @@ std::shared_ptr<SeenAudit::View> SeenAudit::view(const episode::WorldState& s, g
     append_key(key, s.objects[o].position.y());
     append_key(key, s.objects[o].position.z());
   }
-  for (const graph::ObjectId o : episode::pickable_on(g_, s, platform)) append_key(key, o.value());
+  for (const graph::ObjectId o : episode::numbered_on(g_, s, platform)) append_key(key, o.value());
   if (const auto it = views_.find(key); it != views_.end()) return it->second;
   // Views of states no later task starts from are many (a Level 3 set holds thousands): the
   // remembered ones are forgotten when they fill the table (drawn again when asked).

@@ -1,7 +1,9 @@
 #include "core/tasks/task.h"
 
+#include <charconv>
 #include <cmath>
 #include <limits>
+#include <string_view>
 
 #include "core/util/error.h"
 #include "core/util/json_file.h"
@@ -107,6 +109,17 @@ nlohmann::json DropCounts::to_json() const {
     for (const auto& [level, n] : levels) j[reason][std::to_string(level)] = n;
   }
   return j;
+}
+
+episode::Numbering numbering_of_format(const std::string& format) {
+  static constexpr std::string_view kPrefix = "mtg-tasks/";
+  if (format.rfind(kPrefix, 0) != 0) return episode::Numbering::kPerState;
+  int version = 0;
+  const char* first = format.data() + kPrefix.size();
+  const char* last = format.data() + format.size();
+  const auto [end, error] = std::from_chars(first, last, version);
+  if (error != std::errc{} || end != last) return episode::Numbering::kPerState;
+  return version >= 4 ? episode::Numbering::kStable : episode::Numbering::kPerState;
 }
 
 nlohmann::json TaskOptions::to_json() const {

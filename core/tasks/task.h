@@ -21,7 +21,14 @@ namespace mtg::tasks {
 /// clearance, robust placements, Level 4 objects named unambiguously (docs/tasks.md).
 /// mtg-tasks/3: Level 4 of 31 outcome kinds, with the predicates count_on, apart, all_near and
 /// none_near, every required object on a platform the text names, no kind above a fifth.
-inline constexpr const char* kGeneratorVersion = "mtg-tasks/3";
+/// mtg-tasks/4: an item keeps its number for the whole episode (episode::Numbering::kStable): the
+/// oracle keys of a later step count that way.
+inline constexpr const char* kGeneratorVersion = "mtg-tasks/4";
+
+/// How items are numbered in runs of tasks of generator format `format` (kGeneratorVersion of
+/// the set that made them): stable from mtg-tasks/4 on; the release's per-state numbering for
+/// older tasks (their later oracle keys count that way) and for a set that does not say.
+episode::Numbering numbering_of_format(const std::string& format);
 
 /// How a task's text picks out an object that has look-alikes (referring.h). The scene-graph
 /// service shows each such object in a close-up at the first observation; tests resolve the

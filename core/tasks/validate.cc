@@ -29,7 +29,7 @@ bool names_its_object(const graph::SceneGraph& g, const episode::WorldState& s, 
 // How a key of the anchor's own free spaces ends: "front-right of object 3" for a direction,
 // " of object 3" (any side) for next to; "... of the " for an anchor without a number.
 std::string placement_words(const graph::SceneGraph& g, const episode::WorldState& s, const episode::AtomicGoal& part) {
-  const std::vector<graph::ObjectId> numbering = episode::pickable_on(g, s, s.at_platform);
+  const std::vector<graph::ObjectId> numbering = episode::numbered_on(g, s, s.at_platform);
   const auto it = std::find(numbering.begin(), numbering.end(), part.anchor);
   const std::string anchor = it == numbering.end() ? "the " : "object " + std::to_string(it - numbering.begin() + 1);
   const std::string side = part.type == episode::GoalType::kDirection ? graph::direction_name(part.direction) : "";

@@ -59,6 +59,8 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
   options.rules.object_names = o.names;
   const episode::LookalikeAid aid = episode::lookalike_aid_from_string(o.lookalike_aid, "mtg audit: --lookalike-aid");
   options.rules.lookalike_aid = aid;
+  options.rules.numbering =
+      tasks::numbering_of_format(tasks::read_task_set_meta(o.tasks, "generator_version").value_or(std::string()));
   const std::map<std::string, std::string> meta = audit_meta(o, config);
 
   fs::create_directories(fs::path(o.out) / "images");

@@ -291,6 +291,9 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir, const tasks:
     return suite != nullptr ? suite->generator.value("config", nlohmann::json()) : tasks::read_generator_config(source);
   });
   plan.lookalike_aid = lookalike_aid_for(o.lookalike_aid, plan.render);
+  plan.numbering = tasks::numbering_of_format(
+      suite != nullptr ? suite->generator.value("task_format", std::string())
+                       : tasks::read_task_set_meta(source, "generator_version").value_or(std::string()));
   // A model call may wait minutes for rate limits and retries before the next message.
   plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
   plan.data_dir = o.data_dir;

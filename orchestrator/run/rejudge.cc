@@ -81,8 +81,8 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
       const graph::SceneGraph& g = scenes.get(task.scene, start.data_dir);
       const episode::TaskGoal goal = episode::task_goal_from_json(g, task.goal);
       episode::EpisodeJudge judge(g, goal, task.level);
-      episode::WorldState state = episode::initial_state(g);
       const episode::RuleOptions rules = bus::episode_rules(start);
+      episode::WorldState state = episode::initial_state(g, rules.numbering);
       const episode::TaskConstraints constraints{goal.protected_objects()};
       judge.observe(episode::StateUpdate{});
       const auto answers = rec->second.actions.find(original.attempt);

@@ -239,6 +239,7 @@ class Engine final : public LaunchSink {
     m.data_dir = plan_.data_dir;
     m.object_names = plan_.object_names;
     m.lookalike_aid = bus::to_message(plan_.lookalike_aid);
+    m.numbering = bus::to_message(plan_.numbering);
     in_flight_[id] = Flight{attempt, tries, Clock::now()};
     launcher_.launch(launch);
   }

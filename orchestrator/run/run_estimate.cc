@@ -87,6 +87,7 @@ nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, ta
     w.render = plan.render;
     w.object_names = plan.object_names;
     w.lookalike_aid = plan.lookalike_aid;
+    w.numbering = plan.numbering;
     w.image_width = plan.image_width;
     w.image_height = plan.image_height;
     try {

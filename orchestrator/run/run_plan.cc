@@ -32,6 +32,7 @@ nlohmann::json RunPlan::to_json() const {
                      {"render", render},
                      {"object_names", object_names},
                      {"lookalike_aid", episode::to_string(lookalike_aid)},
+                     {"numbering", episode::to_string(numbering)},
                      {"image_width", image_width},
                      {"image_height", image_height},
                      {"image_encoding", image_encoding},
@@ -68,6 +69,8 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     p.object_names = j.value("object_names", false);
     // Plans from before the aid was a choice gave words and close-ups.
     p.lookalike_aid = episode::lookalike_aid_from_string(j.value("lookalike_aid", std::string("both")), "lookalike_aid");
+    // Plans from before stable numbers ran tasks planned with the release's numbering.
+    p.numbering = episode::numbering_from_string(j.value("numbering", std::string("per_state")), "numbering");
     p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
     p.image_height = j.value("image_height", p.image_height);
     p.image_encoding = j.value("image_encoding", p.image_encoding);

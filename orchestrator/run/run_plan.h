@@ -39,6 +39,8 @@ struct RunPlan {
   bool render = false;           // observations carry images (a renderer process runs)
   bool object_names = false;     // the action space and situation text name objects (text-only agents)
   episode::LookalikeAid lookalike_aid = episode::LookalikeAid::kBoth;  // words, close-ups or both
+  /// How items are numbered over an episode: as the tasks were planned (tasks::numbering_of_format).
+  episode::Numbering numbering = episode::Numbering::kStable;
   int image_width = 640;
   int image_height = 480;
   std::string image_encoding = "png";

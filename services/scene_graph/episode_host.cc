@@ -98,7 +98,7 @@ void EpisodeHost::on_start(const mtg::episode_start_t& start, const mtg::episode
     e.graph = &scenes_.get(e.task.scene, start.data_dir);
     e.constraints.protected_objects = episode::task_goal_from_json(*e.graph, e.task.goal).protected_objects();
     e.rules = bus::episode_rules(start);
-    e.state = episode::initial_state(*e.graph);
+    e.state = episode::initial_state(*e.graph, e.rules.numbering);
     e.render = start.render;
     e.data_dir = start.data_dir;
     // The first observation tells which look-alikes the text means (and shows them, with images),

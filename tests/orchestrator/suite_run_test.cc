@@ -69,6 +69,7 @@ TEST_F(SuiteRunTest, ASuiteRunsExactlyItsTasksFromItsOwnCopy) {
   const nlohmann::json plan = nlohmann::json::parse(plan_in);
   EXPECT_EQ(plan["provenance"]["suite"]["id"], suite.id());
   EXPECT_EQ(plan["provenance"]["draw"]["kind"], "suite");
+  EXPECT_EQ(plan["numbering"], "stable");  // tasks of this build's format: numbers stay put
   // The run no longer needs the file it was given: it resumes, and rejudges, from its copy.
   fs::remove(suite_file());
   EXPECT_EQ(mtg(suite_run("run", (fx_.root() / "run" / "suite.json").string())), 0) << log_text();
@@ -134,6 +135,8 @@ TEST(FrozenSuite, TheKeptSuiteStillRunsUnchanged) {
   const auto rows = orchestrator::read_results(out / "results.sqlite");
   EXPECT_EQ(rows.size(), suite.tasks.size());
   for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << " " << r.detail;
+  // Its later oracle keys count the release's numbering, and its runs keep it.
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(out / "plan.json")).value("numbering", ""), "per_state");
   fs::remove_all(out);
   fs::remove(log);
 }

@@ -179,6 +179,18 @@ TEST_F(RenderTest, ItemAndTargetNumbersAreTheActionSpaceKeys) {
   ASSERT_FALSE(regions.empty());
   ASSERT_EQ(regions.size(), place_keys.size());
   for (std::size_t k = 0; k < regions.size(); ++k) EXPECT_EQ(std::to_string(regions[k].number), place_keys[k]);
+
+  // Set down again, the item takes a new number and number 1 stays retired (stable numbering):
+  // the marks are still exactly the keys offered.
+  ASSERT_TRUE(episode::apply_action(g(), s, episode::kAnywhereKey, {}, rules).applied);
+  std::vector<std::string> keys_after;
+  for (const auto& a : episode::action_space(g(), s, rules)) {
+    if (a.key[0] == 'o') keys_after.push_back(a.key);
+  }
+  std::vector<std::string> marks_after;
+  for (const render::ItemMark& m : render::item_marks(g(), s, table())) marks_after.push_back("o" + std::to_string(m.number));
+  EXPECT_EQ(marks_after, keys_after);
+  EXPECT_EQ(marks_after, (std::vector<std::string>{"o2", "o3", "o4"}));
 }
 
 TEST_F(RenderTest, EachNumberSitsOnItsItem) {

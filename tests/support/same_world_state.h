@@ -25,6 +25,10 @@ inline void expect_same_world_state(const episode::WorldState& a, const episode:
   EXPECT_EQ(a.side, b.side);
   EXPECT_EQ(a.phase, b.phase);
   EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.numbering, b.numbering);
+  // The numbers kept: a platform without any is numbered as pickable_on says in both.
+  ASSERT_EQ(a.numbered.size(), b.numbered.size());
+  for (const graph::PlatformId p : a.numbered.ids()) EXPECT_EQ(a.numbered[p], b.numbered[p]) << p;
 }
 
 }  // namespace mtg::testing

@@ -1,4 +1,5 @@
 #include "core/episode/rules.h"
+#include "core/episode/state_delta.h"
 
 #include <gmock/gmock.h>
 #include <map>
@@ -230,16 +231,54 @@ TEST(Rules, PlacesTooSmallForTheObjectAreRefusedAndThePlacingGoesOn) {
   EXPECT_GT(placed, 0);
 }
 
-TEST_F(RulesTest, PlacedItemsAreAppendedToThePlatformsNumbering) {
-  WorldState s = initial_state(g());
+// The release's numbering (tasks before mtg-tasks/4): every state numbers 1..N afresh.
+TEST_F(RulesTest, PerStateNumberingAppendsAPlacedItemAndShiftsTheOthers) {
+  WorldState s = initial_state(g(), Numbering::kPerState);
   for (const char* k : {"l1", "o1", "startplace", "999"}) ASSERT_TRUE(act(s, k).applied) << k;
-  const auto objects = pickable_on(g(), s, g().navigable[0]);
+  const auto objects = numbered_on(g(), s, g().navigable[0]);
   ASSERT_EQ(objects.size(), 3u);
   EXPECT_EQ(objects.back(), g().find_object("box_1"));  // numbers shift after a place
   RuleOptions named;
   named.object_names = true;
   EXPECT_THAT(situation_text(g(), s, named), HasSubstr("object 3 box"));
   EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("Objects 1 to 3 here can be picked up"));
+  EXPECT_TRUE(state_delta(g(), s).numbered.empty());
+}
+
+// Stable numbering (issue 53): a picked item's number is retired, never given to another; an
+// item set down takes the next number; the keys, the texts and a state's delta say so.
+TEST_F(RulesTest, StableNumberingKeepsEachItemsNumberAndRetiresAPickedOnes) {
+  WorldState s = initial_state(g());
+  const auto before = numbered_on(g(), s, g().navigable[0]);
+  ASSERT_EQ(before.size(), 3u);
+  ASSERT_EQ(before[0], g().find_object("box_1"));
+  for (const char* k : {"l1", "o1"}) ASSERT_TRUE(act(s, k).applied) << k;
+  // While the box is held, the others keep 2 and 3, and 1 is not offered.
+  std::vector<std::string> keys;
+  ASSERT_TRUE(act(s, "startplace").applied);
+  ASSERT_TRUE(act(s, "999").applied);
+  const auto after = numbered_on(g(), s, g().navigable[0]);
+  ASSERT_EQ(after.size(), 4u);
+  EXPECT_FALSE(after[0].valid());
+  EXPECT_EQ(after[1], before[1]);
+  EXPECT_EQ(after[2], before[2]);
+  EXPECT_EQ(after[3], before[0]);  // set down again: a new number, after the highest
+  EXPECT_EQ(number_of(g(), s, before[0]), 4);
+  EXPECT_EQ(object_key(g(), s, before[1]), "o2");
+  for (const ActionOption& a : action_space(g(), s, RuleOptions{})) keys.push_back(a.key);
+  EXPECT_THAT(keys, ::testing::IsSupersetOf({"o2", "o3", "o4"}));
+  EXPECT_THAT(keys, ::testing::Not(::testing::Contains("o1")));
+  RuleOptions named;
+  named.object_names = true;
+  EXPECT_THAT(situation_text(g(), s, named), HasSubstr("object 4 box"));
+  EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("Objects 2 to 4 here can be picked up"));
+  EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("numbers of objects taken away are not used again"));
+  EXPECT_THAT(act(s, "o1").hint, HasSubstr("o1 is not available here: the objects here are 2 to 4"));
+  // Another process rebuilds the numbers from the state's delta.
+  const WorldState rebuilt = apply_delta(g(), state_delta(g(), s));
+  EXPECT_EQ(numbered_on(g(), rebuilt, g().navigable[0]), after);
+  ASSERT_TRUE(act(s, "o4").applied);
+  EXPECT_EQ(s.held, before[0]);
 }
 
 }  // namespace

@@ -41,7 +41,15 @@ TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   const graph::PlatformId other = g.navigable.back();
   const Eigen::Vector2d xy = episode::platform_frame(g, s, other).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7);
   episode::place_held(g, s, other, xy);
-  expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, s)), s);
+  const episode::StateDelta placed = episode::state_delta(g, s);
+  EXPECT_EQ(placed.numbered.size(), 2u);  // the numbers kept on both tables
+  expect_same_world_state(episode::apply_delta(g, placed), s);
+
+  // The release's numbering keeps none, and comes back as itself.
+  episode::WorldState per_state = episode::initial_state(g, episode::Numbering::kPerState);
+  episode::pick(g, per_state, box);
+  EXPECT_TRUE(episode::state_delta(g, per_state).numbered.empty());
+  expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, per_state)), per_state);
 }
 
 TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
@@ -74,6 +82,23 @@ TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
   episode::StateDelta side_of_object;
   side_of_object.moved.push_back({name, "", Eigen::Vector3d::Zero(), {}, 0.0, 0.0, 7});
   fails(side_of_object, "'moved.placed_side' of '" + name + "' must be -1..3");
+  const std::string platform = built.graph.platforms[built.graph.navigable.front()].name;
+  episode::StateDelta numbering;
+  numbering.numbering = static_cast<episode::Numbering>(5);
+  fails(numbering, "'numbering' must be 0 (stable) or 1 (per_state), got 5");
+  episode::StateDelta kept_per_state;
+  kept_per_state.numbering = episode::Numbering::kPerState;
+  kept_per_state.numbered.push_back({platform, {name}});
+  fails(kept_per_state, "per_state numbering has none");
+  episode::StateDelta ghost_number;
+  ghost_number.numbered.push_back({platform, {"", "ghost"}});
+  fails(ghost_number, "'numbered." + platform + "' names no object");
+  episode::StateDelta numbered_twice;
+  numbered_twice.numbered.push_back({platform, {name, "", name}});
+  fails(numbered_twice, "numbers '" + name + "' twice");
+  episode::StateDelta nothing_numbered;
+  nothing_numbered.numbered.push_back({platform, {}});
+  fails(nothing_numbered, "lists no number");
 }
 
 }  // namespace

@@ -225,5 +225,17 @@ TEST_F(SuiteFile, NamesAreChecked) {
   EXPECT_THROW((void)draw_suite("x", all_, draw, {}, dataset_), Error);
 }
 
+// Runs number items as the tasks were planned: stable from mtg-tasks/4 on, the release's
+// per-state numbering for older formats and for a set that does not say (a later version keeps
+// its numbering too).
+TEST(TaskFormat, RunsNumberItemsAsTheTasksWerePlanned) {
+  EXPECT_EQ(numbering_of_format(kGeneratorVersion), episode::Numbering::kStable);
+  EXPECT_EQ(numbering_of_format("mtg-tasks/4"), episode::Numbering::kStable);
+  EXPECT_EQ(numbering_of_format("mtg-tasks/12"), episode::Numbering::kStable);
+  for (const char* old : {"mtg-tasks/1", "mtg-tasks/2", "mtg-tasks/3", "", "unknown", "mtg-tasks/", "mtg-tasks/4x"}) {
+    EXPECT_EQ(numbering_of_format(old), episode::Numbering::kPerState) << old;
+  }
+}
+
 }  // namespace
 }  // namespace mtg::tasks
