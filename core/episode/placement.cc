@@ -142,6 +142,23 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
   return out;
 }
 
+std::vector<graph::ObjectId> lettered_anchors(const std::vector<PlaceTarget>& targets,
+                                              const std::vector<graph::ObjectId>& numbering) {
+  std::vector<graph::ObjectId> out;
+  for (const PlaceTarget& t : targets) {
+    if (t.kind != PlaceTarget::Kind::kObjectRegion || !t.anchor.valid()) continue;
+    if (std::find(numbering.begin(), numbering.end(), t.anchor) != numbering.end()) continue;
+    if (std::find(out.begin(), out.end(), t.anchor) == out.end()) out.push_back(t.anchor);
+  }
+  return out;
+}
+
+std::string anchor_letter(std::size_t index) {
+  std::string out(1, static_cast<char>('A' + index % 26));
+  if (index >= 26) out += std::to_string(index / 26 + 1);
+  return out;
+}
+
 void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo) {
   for (PlaceTarget& t : targets) t.region_inset_P = inset_of(t.region_P, memo);
 }

@@ -54,6 +54,15 @@ struct PlacementMemo;
 std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size, PlacementMemo* memo = nullptr);
 
+/// The anchors of `targets` that have no number in `numbering` (scenery: a TV box, a blanket),
+/// in the order the targets first name them. The placing view marks each with a letter of its own
+/// (anchor_letter of its index) and the action space names it by that letter, so every object an
+/// option names carries a mark in the picture (issue 53).
+std::vector<graph::ObjectId> lettered_anchors(const std::vector<PlaceTarget>& targets,
+                                              const std::vector<graph::ObjectId>& numbering);
+/// "A" ... "Z", then "A2" ... "Z2", ...
+std::string anchor_letter(std::size_t index);
+
 /// Fills every target's region_inset_P (from `memo` when given).
 void with_insets(std::vector<PlaceTarget>& targets, PlacementMemo* memo = nullptr);
 

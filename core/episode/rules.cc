@@ -26,22 +26,27 @@ std::string platform_title(const graph::SceneGraph& g, graph::PlatformId platfor
 
 // What a placement target offers, in the words of the action space: which side of which object,
 // the object by its number where it has one (the numbers of the platform's marked view), else by
-// what it is.
+// what it is and the letter the placing view marks it with (`lettered`, lettered_anchors).
 std::string target_description(const graph::SceneGraph& g, const PlaceTarget& t, const RuleOptions& options,
-                               const std::vector<graph::ObjectId>& numbering) {
+                               const std::vector<graph::ObjectId>& numbering,
+                               const std::vector<graph::ObjectId>& lettered) {
   switch (t.kind) {
     case PlaceTarget::Kind::kGridCell:
       return std::string("place it in the ") + graph::direction_name(t.relative_dir) + " part of the platform (grid cell " +
              t.key + ")";
     case PlaceTarget::Kind::kObjectRegion: {
       std::string anchor;
+      const auto letter = std::find(lettered.begin(), lettered.end(), t.anchor);
       if (options.object_names) {
         anchor = "the " + listed_name(g.objects[t.anchor]);
+        if (letter != lettered.end()) anchor += " marked " + anchor_letter(static_cast<std::size_t>(letter - lettered.begin()));
       } else if (const auto it = std::find(numbering.begin(), numbering.end(), t.anchor); it != numbering.end()) {
         anchor = "object " + std::to_string(it - numbering.begin() + 1);
       } else {
-        const graph::GraphObject& o = g.objects[t.anchor];  // not numbered: scenery
-        anchor = "the " + (o.noun.empty() ? display_name(o) : o.noun) + " it is drawn next to";
+        // Not numbered (scenery): by its letter in the placing view, and what it is.
+        const graph::GraphObject& o = g.objects[t.anchor];
+        anchor = "the " + (o.noun.empty() ? display_name(o) : o.noun) + " marked " +
+                 anchor_letter(static_cast<std::size_t>(letter - lettered.begin()));
       }
       return std::string("place it in free space ") + t.key + ": " + graph::direction_name(t.relative_dir) + " of " +
              anchor;
@@ -209,10 +214,10 @@ std::vector<ActionOption> action_space(const graph::SceneGraph& g, const WorldSt
   if (s.phase == Phase::kPlacing) {
     out.push_back({"0", "call_end: finish the task now"});
     const std::vector<graph::ObjectId> numbering = numbered_on(g, s, s.at_platform);
-    for (const PlaceTarget& t : place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side),
-                                              options.min_region_size)) {
-      out.push_back({t.key, target_description(g, t, options, numbering)});
-    }
+    const std::vector<PlaceTarget> targets =
+        place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side), options.min_region_size);
+    const std::vector<graph::ObjectId> lettered = lettered_anchors(targets, numbering);
+    for (const PlaceTarget& t : targets) out.push_back({t.key, target_description(g, t, options, numbering, lettered)});
     return out;
   }
   if (s.phase == Phase::kAtPlatform) {

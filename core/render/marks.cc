@@ -50,6 +50,19 @@ std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::
   return out;
 }
 
+std::vector<LabelMark> fixture_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                     graph::Side side, double min_region_size) {
+  const std::vector<graph::ObjectId> lettered = episode::lettered_anchors(
+      episode::place_targets(g, s, platform, side, min_region_size), episode::numbered_on(g, s, platform));
+  std::vector<LabelMark> out;
+  for (std::size_t k = 0; k < lettered.size(); ++k) {
+    const episode::ObjectState& o = s.objects[lettered[k]];
+    const geom::Point2 c = episode::footprint_centre(o);
+    out.push_back({episode::anchor_letter(k), Eigen::Vector3d(c.x(), c.y(), o.top)});
+  }
+  return out;
+}
+
 std::vector<LabelMark> platform_labels(const graph::SceneGraph& g, const episode::WorldState& s) {
   std::vector<LabelMark> out;
   for (std::size_t k = 0; k < g.navigable.size(); ++k) {

@@ -36,7 +36,10 @@ struct Marks {
   std::vector<ItemMark> items;
   std::vector<RegionMark> regions;
   std::vector<LabelMark> labels;
-  bool empty() const { return items.empty() && regions.empty() && labels.empty(); }
+  /// Placing views: the scenery the free spaces are named after, lettered as the action space
+  /// names them (episode::lettered_anchors): "free space 32: rear-right of the TV box marked A".
+  std::vector<LabelMark> fixtures;
+  bool empty() const { return items.empty() && regions.empty() && labels.empty() && fixtures.empty(); }
 };
 
 /// The items the agent may pick on `platform`, numbered as its o<N> keys.
@@ -44,6 +47,10 @@ std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::Worl
 
 /// The placement targets offered on `platform` to a robot at `side` (not "anywhere").
 std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                     graph::Side side, double min_region_size);
+
+/// The lettered anchors of the targets target_marks numbers, each at the centre of its top.
+std::vector<LabelMark> fixture_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
                                      graph::Side side, double min_region_size);
 
 /// Every navigable platform with its l<N> key, at the centre of its surface.

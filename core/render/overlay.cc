@@ -146,14 +146,16 @@ void draw_zoom_frames(cv::Mat& image, const std::vector<Eigen::AlignedBox2d>& zo
 // image and clear of the labels already placed. A label moved off its anchor gets a dot on the
 // anchor and a leader line, so stacked platforms (shelves, cabinet levels) each get a readable
 // label pointing at the same place. Deterministic: labels are placed in their order (l1, l2, ...).
-std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+// `keep_clear`: boxes no label may touch (the discs of a placing view's targets).
+std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels, const Style& st,
+                                      const std::vector<cv::Rect>& keep_clear = {}) {
   const cv::Rect frame(0, 0, camera.width, camera.height);
   std::vector<PlacedLabel> placed;
   auto clear = [&](const cv::Rect& box) {
     if ((box & frame) != box) return false;
     const cv::Rect padded(box.x - 1, box.y - 1, box.width + 2, box.height + 2);
-    return std::none_of(placed.begin(), placed.end(),
-                        [&](const PlacedLabel& p) { return (p.box & padded).area() > 0; });
+    return std::none_of(placed.begin(), placed.end(), [&](const PlacedLabel& p) { return (p.box & padded).area() > 0; }) &&
+           std::none_of(keep_clear.begin(), keep_clear.end(), [&](const cv::Rect& r) { return (r & padded).area() > 0; });
   };
   constexpr int kRings = 14;
   for (const LabelMark& l : labels) {
@@ -201,6 +203,36 @@ void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMa
   }
 }
 
+// Lettered scenery of a placing view: a black box with a white letter, unlike every other mark
+// (numbers are discs, l<N> white boxes), placed as labels are but clear of the targets' discs and
+// of the points they number; one moved off its object points at it with a dot and a line.
+void draw_fixtures(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& fixtures, const Style& st,
+                   const TargetLayout& targets) {
+  std::vector<cv::Rect> keep_clear;
+  const int r = targets.radius + 2;
+  for (const PlacedTarget& t : targets.placed) {
+    const cv::Point disc = to_cv(t.disc), anchor = to_cv(t.anchor);
+    keep_clear.emplace_back(disc.x - r, disc.y - r, 2 * r + 1, 2 * r + 1);
+    keep_clear.emplace_back(anchor.x - 3, anchor.y - 3, 7, 7);
+  }
+  const std::vector<PlacedLabel> placed = place_labels(camera, fixtures, st, keep_clear);
+  const cv::Scalar black(0, 0, 0), white(255, 255, 255);
+  for (const PlacedLabel& p : placed) {
+    if (p.box.contains(p.anchor)) continue;
+    const cv::Point near(std::clamp(p.anchor.x, p.box.x, p.box.x + p.box.width - 1),
+                         std::clamp(p.anchor.y, p.box.y, p.box.y + p.box.height - 1));
+    cv::line(image, p.anchor, near, white, 3, cv::LINE_AA);
+    cv::line(image, p.anchor, near, black, 1, cv::LINE_AA);
+    cv::circle(image, p.anchor, 3, white, cv::FILLED, cv::LINE_AA);
+    cv::circle(image, p.anchor, 2, black, cv::FILLED, cv::LINE_AA);
+  }
+  for (const PlacedLabel& p : placed) {
+    cv::rectangle(image, p.box, white, cv::FILLED);
+    cv::rectangle(image, cv::Rect(p.box.x + 1, p.box.y + 1, p.box.width - 2, p.box.height - 2), black, cv::FILLED);
+    centred_text(image, p.text, {p.box.x + p.box.width / 2, p.box.y + p.box.height / 2}, st, white);
+  }
+}
+
 }  // namespace
 
 std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<LabelMark>& labels) {
@@ -217,10 +249,12 @@ cv::Mat annotate(const cv::Mat& image, const Camera& camera, const Marks& marks,
                  const TargetLayout* targets) {
   cv::Mat out = image.clone();
   const Style st = style_for(out.cols, out.rows);
-  if (!marks.regions.empty()) {
-    draw_regions(out, camera, marks.regions, st, targets != nullptr ? *targets : layout_target_marks(camera, marks.regions));
-  }
+  const TargetLayout target_layout =
+      targets != nullptr || marks.regions.empty() ? TargetLayout{} : layout_target_marks(camera, marks.regions);
+  const TargetLayout& laid = targets != nullptr ? *targets : target_layout;
+  if (!marks.regions.empty()) draw_regions(out, camera, marks.regions, st, laid);
   if (!zooms.empty()) draw_zoom_frames(out, zooms, zoom_names, st);
+  if (!marks.fixtures.empty()) draw_fixtures(out, camera, marks.fixtures, st, laid);
   if (items != nullptr) draw_items(out, *items);
   if (!marks.labels.empty()) draw_labels(out, camera, marks.labels, st);
   return out;

@@ -230,6 +230,7 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
   if (r.marks == MarkKind::kTargets) {
     plan.marks.regions = target_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
+    plan.marks.fixtures = fixture_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
   }
   return plan;
 }

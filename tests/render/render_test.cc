@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <set>
 
 #include <opencv2/core.hpp>
@@ -14,6 +15,7 @@
 
 #include "core/episode/rules.h"
 #include "core/episode/state_delta.h"
+#include "core/geom/polygon.h"
 #include "core/render/image_codec.h"
 #include "core/render/image_renderer.h"
 #include "core/render/mark_layout.h"
@@ -358,6 +360,57 @@ TEST_F(RenderTest, AReplyHoldsEveryViewsImagesInOrderEncodedAsOneThreadWould) {
       EXPECT_THAT(e.what(), HasSubstr("render: an empty image cannot be encoded as png"));
     }
   }
+}
+
+// Every object a placing option names carries a mark in the placing view (issue 53): an item its
+// number, scenery (a TV box, a blanket) a letter of its own that the option quotes ("rear-right of
+// the TV box marked A"), never "the TV box it is drawn next to" with nothing in the picture to
+// find it by. Checked on every navigable platform of the shipped apartments, holding their
+// smallest item.
+TEST(ShippedRender, EveryObjectAPlacingOptionNamesCarriesAMark) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  render::ImageRenderer renderer;
+  const std::string data = testing::shipped_dataset()->root.string();
+  int lettered_options = 0;
+  for (const char* scene : {"apt_0", "apt_1", "apt_2"}) {
+    const graph::SceneGraph& g = renderer.scenes().load(scene, data).graph;
+    episode::WorldState start = episode::initial_state(g);
+    graph::ObjectId smallest;
+    double least = std::numeric_limits<double>::infinity();
+    for (const graph::PlatformId p : g.navigable) {
+      for (const graph::ObjectId o : episode::pickable_on(g, start, p)) {
+        const double area = geom::area(geom::Region{{start.objects[o].footprint}});
+        if (area < least) least = area, smallest = o;
+      }
+    }
+    ASSERT_TRUE(smallest.valid()) << scene;
+    episode::pick(g, start, smallest);
+    for (const graph::PlatformId p : g.navigable) {
+      episode::WorldState s = start;
+      s.at_platform = p;
+      s.side = std::max(0, g.platforms[p].default_side);
+      s.phase = episode::Phase::kPlacing;
+      render::ViewRequest r;
+      r.platform = p;
+      r.marks = render::MarkKind::kTargets;
+      const render::ViewPlan plan = render::plan_view(g, s, r);
+      std::set<std::string> letters;
+      for (const render::LabelMark& f : plan.marks.fixtures) letters.insert(f.text);
+      EXPECT_EQ(letters.size(), plan.marks.fixtures.size()) << scene << " " << g.platforms[p].name;
+      std::set<std::string> quoted;
+      for (const episode::ActionOption& a : episode::action_space(g, s, episode::RuleOptions{})) {
+        EXPECT_EQ(a.description.find("drawn next to"), std::string::npos) << a.description;
+        const auto at = a.description.find(" marked ");
+        if (at == std::string::npos) continue;
+        const std::string letter = a.description.substr(at + 8);
+        EXPECT_EQ(letters.count(letter), 1u) << scene << " " << g.platforms[p].name << ": " << a.description;
+        quoted.insert(letter);
+        ++lettered_options;
+      }
+      EXPECT_EQ(quoted, letters) << scene << " " << g.platforms[p].name << ": a letter no option quotes";
+    }
+  }
+  EXPECT_GT(lettered_options, 0) << "no placing option of the shipped apartments names scenery";
 }
 
 TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) {

@@ -362,6 +362,7 @@ ViewImages draw_view(SceneRenderer& renderer, const graph::SceneGraph& g, const 
         out.triangles += zoomed.triangles;
         Marks here;
         here.regions = z.regions;
+        here.fixtures = plan.marks.fixtures;  // those the zoom shows
         ZoomImage image;
         image.marked = annotate(zoomed.image, z.camera, here, nullptr, z.frames,
                                 zoom_names(z.frame_zooms, plan.first_zoom), &z.layout);
