@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <limits>
 #include <set>
 
 #include <opencv2/core.hpp>
@@ -15,7 +14,6 @@
 
 #include "core/episode/rules.h"
 #include "core/episode/state_delta.h"
-#include "core/geom/polygon.h"
 #include "core/render/image_codec.h"
 #include "core/render/image_renderer.h"
 #include "core/render/mark_layout.h"
@@ -27,6 +25,7 @@
 #include "tests/support/graph_fixtures.h"
 #include "core/render/overlay.h"
 #include "tests/support/shipped_data.h"
+#include "tests/support/shipped_scene.h"
 
 namespace mtg {
 namespace {
@@ -375,14 +374,7 @@ TEST(ShippedRender, EveryObjectAPlacingOptionNamesCarriesAMark) {
   for (const char* scene : {"apt_0", "apt_1", "apt_2"}) {
     const graph::SceneGraph& g = renderer.scenes().load(scene, data).graph;
     episode::WorldState start = episode::initial_state(g);
-    graph::ObjectId smallest;
-    double least = std::numeric_limits<double>::infinity();
-    for (const graph::PlatformId p : g.navigable) {
-      for (const graph::ObjectId o : episode::pickable_on(g, start, p)) {
-        const double area = geom::area(geom::Region{{start.objects[o].footprint}});
-        if (area < least) least = area, smallest = o;
-      }
-    }
+    const graph::ObjectId smallest = testing::smallest_item(g, start);
     ASSERT_TRUE(smallest.valid()) << scene;
     episode::pick(g, start, smallest);
     for (const graph::PlatformId p : g.navigable) {
@@ -463,35 +455,61 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
 // Free spaces follow the rules of item marks (target_layout.h): on every navigable platform of the
 // shipped apartments, from the side the robot arrives at, every placement target is numbered in
 // one of the view's pictures or a zoom of it, and no layout breaks a rule.
+// Every placing view of the shipped apartments and of held-out arrangements (`mtg scene remix`,
+// issue 53), holding the scene's smallest item (the most free spaces) at every navigable
+// platform from the side the robot arrives at: every target offered has its number readably
+// placed in one of the view's pictures or their zooms, and no layout breaks a rule (overlapping
+// discs, a disc on another's label point, crossing leader lines). The remixes leave 5 free spaces
+// of 1,250 outside every picture (two TV stands and a cabinet whose remixed items reach past the
+// end the camera frames: docs/render.md, "Free spaces a person can read"); no more may go.
 TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
   MTG_REQUIRE_SHIPPED_DATA();
-  graph::SceneCache scenes;
-  const std::string data = testing::shipped_dataset()->root.string();
-  for (const char* scene : {"apt_0", "apt_1", "apt_2"}) {
-    const graph::SceneGraph& g = scenes.load(scene, data).graph;
-    const episode::WorldState s = episode::initial_state(g);
-    int targets = 0, numbered = 0, zoomed = 0;
-    for (const graph::PlatformId p : g.navigable) {
-      const int side = g.platforms[p].default_side;
-      const auto regions = render::target_marks(g, s, p, static_cast<graph::Side>(side), 0.03);
-      std::set<int> readable;
-      for (const render::PlatformPicture& picture : render::platform_pictures(g, s, p, side, 640, 480)) {
-        const auto plan = render::plan_target_marks(picture.camera, render::regions_in(g, s, p, side, picture, regions));
-        EXPECT_EQ(plan.problems(), std::vector<std::string>{}) << scene << " " << g.platforms[p].name;
-        zoomed += plan.zooms.empty() ? 0 : 1;
+  constexpr int kKnownRemixMisses = 5;
+  int remix_misses = 0;
+  for (const char* name : {"apt_0", "apt_1", "apt_2"}) {
+    for (const int remix : {-1, 3}) {
+      const testing::ShippedScene shipped =
+          remix < 0 ? testing::load_shipped_scene(name) : testing::load_remixed_scene(name, static_cast<std::uint64_t>(remix));
+      const graph::SceneGraph& g = shipped.graph;
+      const std::string& scene = shipped.scene.name;
+      episode::WorldState holding = episode::initial_state(g);
+      episode::pick(g, holding, testing::smallest_item(g, holding));
+      int targets = 0, numbered = 0, zoomed = 0, broken = 0;
+      for (const graph::PlatformId p : g.navigable) {
+        const int side = std::max(0, g.platforms[p].default_side);
+        episode::WorldState s = holding;
+        s.at_platform = p;
+        s.side = side;
+        s.phase = episode::Phase::kPlacing;
+        const auto regions = render::target_marks(g, s, p, static_cast<graph::Side>(side), 0.03);
+        std::set<int> readable;
+        for (const render::PlatformPicture& picture : render::platform_pictures(g, s, p, side, 640, 480)) {
+          const auto plan = render::plan_target_marks(picture.camera, render::regions_in(g, s, p, side, picture, regions));
+          EXPECT_EQ(plan.problems(), std::vector<std::string>{}) << scene << " " << g.platforms[p].name;
+          broken += static_cast<int>(plan.problems().size());
+          zoomed += plan.zooms.empty() ? 0 : 1;
+          for (const render::RegionMark& r : regions) {
+            if (plan.placed(r.number)) readable.insert(r.number);
+          }
+        }
+        targets += static_cast<int>(regions.size());
+        numbered += static_cast<int>(readable.size());
         for (const render::RegionMark& r : regions) {
-          if (plan.placed(r.number)) readable.insert(r.number);
+          if (remix < 0) {
+            EXPECT_TRUE(readable.count(r.number)) << scene << " " << g.platforms[p].name << ": free space " << r.number;
+          } else if (readable.count(r.number) == 0) {
+            ++remix_misses;
+            std::printf("[ targets ] %s %s: free space %d is in no picture\n", scene.c_str(), g.platforms[p].name.c_str(),
+                        r.number);
+          }
         }
       }
-      targets += static_cast<int>(regions.size());
-      numbered += static_cast<int>(readable.size());
-      for (const render::RegionMark& r : regions) {
-        EXPECT_TRUE(readable.count(r.number)) << scene << " " << g.platforms[p].name << ": free space " << r.number;
-      }
+      std::printf("[ targets ] %s: %d free spaces and cells on %zu platforms, %d readably numbered, %d rules broken; "
+                  "%d pictures zoomed\n",
+                  scene.c_str(), targets, g.navigable.size(), numbered, broken, zoomed);
     }
-    std::printf("[ targets ] %s: %d free spaces and cells on %zu platforms, %d readably numbered; %d pictures zoomed\n",
-                scene, targets, g.navigable.size(), numbered, zoomed);
   }
+  EXPECT_LE(remix_misses, kKnownRemixMisses);
 }
 
 TEST(ShippedRender, Apt0OverviewShowsEveryPlatformLabelWithoutOverlapAndFillsTheFrame) {

@@ -15,13 +15,11 @@
 #include <set>
 
 #include "core/episode/goals.h"
-#include "core/episode/remix.h"
 #include "core/episode/rules.h"
-#include "core/graph/build.h"
-#include "core/scene/scene_loader.h"
 #include "core/tasks/generator.h"
 #include "core/tasks/outcome.h"
 #include "tests/support/shipped_data.h"
+#include "tests/support/shipped_scene.h"
 
 namespace mtg::tasks {
 namespace {
@@ -29,28 +27,11 @@ namespace {
 using graph::ObjectId;
 using graph::PlatformId;
 
-struct Checked {
-  scene::Scene scene;
-  graph::SceneGraph graph;
-};
+using Checked = testing::ShippedScene;
 
 // A shipped apartment, or (remix_seed) its items rearranged as `mtg scene remix` does.
 Checked load(const std::string& name, std::optional<std::uint64_t> remix_seed) {
-  scene::MeshCache meshes(scene::MeshLoadOptions{.keep_textures = false});
-  Checked out{scene::load_scene(*testing::shipped_dataset(), name, meshes), {}};
-  graph::GraphOptions options;
-  graph::apply_profile(options, graph::kDefaultProfile);
-  out.graph = graph::build_scene_graph(out.scene, options);
-  if (remix_seed) {
-    const auto moved = episode::remix_items(out.graph, *remix_seed);
-    for (scene::ObjectInstance& o : out.scene.objects) {
-      const auto it = moved.find(o.name);
-      if (it != moved.end() && !o.articulated) o.X_WO.translation() += it->second;
-    }
-    out.scene.name = name + "_remix_" + std::to_string(*remix_seed);
-    out.graph = graph::build_scene_graph(out.scene, options);
-  }
-  return out;
+  return remix_seed ? testing::load_remixed_scene(name, *remix_seed) : testing::load_shipped_scene(name);
 }
 
 // The placeholder values of `text`, read through its template, or nullopt when it does not match.
