@@ -460,8 +460,8 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
 // platform from the side the robot arrives at: every target offered has its number readably
 // placed in one of the view's pictures or their zooms, and no layout breaks a rule (overlapping
 // discs, a disc on another's label point, crossing leader lines). The remixes leave 5 free spaces
-// of 1,250 outside every picture (two TV stands and a cabinet whose remixed items reach past the
-// end the camera frames: docs/render.md, "Free spaces a person can read"); no more may go.
+// of 1,250 with their label point just outside every picture (two TV stands and a cabinet:
+// docs/render.md, "Free spaces a person can read"); no more may go.
 TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
   MTG_REQUIRE_SHIPPED_DATA();
   constexpr int kKnownRemixMisses = 5;
