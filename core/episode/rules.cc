@@ -354,6 +354,8 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
   if (s.at_platform.valid()) {
     const auto objects = numbered_on(g, s, s.at_platform);
     const std::size_t n = count_numbered(objects);
+    // Once something has left or arrived here (stable numbering keeps the platform's numbers).
+    const bool changed = s.at_platform.index() < s.numbered.size() && !s.numbered[s.at_platform].empty();
     if (n == 0) {
       text += " There is nothing you can pick up on this platform.";
     } else if (!options.object_names) {
@@ -363,8 +365,13 @@ std::string situation_text(const graph::SceneGraph& g, const WorldState& s, cons
               : n == 2 && contiguous ? " Objects 1 and 2 here can be picked up (numbered in the image)."
                                      : " Objects " + numbers_in_words(objects) +
                                            " here can be picked up (numbered in the images).";
-      // Why numbers are missing, once they are: the agent must not read a gap as an object hidden.
-      if (!contiguous) text += " An object keeps its number for the whole task; numbers of objects taken away are not used again.";
+      // What the numbers of a changed platform mean: a gap is not an object hidden from view, and
+      // an object set down here is numbered anew (two raters and a player read "keeps its number
+      // for the whole task" as a promise about the object wherever it goes).
+      if (changed) {
+        text += " Numbers belong to this platform: an object keeps its number while it stays here, the number of an "
+                "object taken away is not used again, and an object set down here gets the next new number.";
+      }
     } else {
       text += " On this platform (where each stands from its centre, as you face it):";
       bool first = true;

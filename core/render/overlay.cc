@@ -185,8 +185,9 @@ std::vector<PlacedLabel> place_labels(const Camera& camera, const std::vector<La
   return placed;
 }
 
-void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
-  const std::vector<PlacedLabel> placed = place_labels(camera, labels, st);
+// The leader of each label moved off its anchor: a line from the anchor to the box's nearest
+// point, and a dot on the anchor (`ringed`: white around the black, as on dark scenery).
+void draw_leaders(cv::Mat& image, const std::vector<PlacedLabel>& placed, bool ringed) {
   const cv::Scalar black(0, 0, 0), white(255, 255, 255);
   for (const PlacedLabel& p : placed) {
     if (p.box.contains(p.anchor)) continue;
@@ -194,8 +195,15 @@ void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMa
                          std::clamp(p.anchor.y, p.box.y, p.box.y + p.box.height - 1));
     cv::line(image, p.anchor, near, white, 3, cv::LINE_AA);
     cv::line(image, p.anchor, near, black, 1, cv::LINE_AA);
-    cv::circle(image, p.anchor, 3, black, cv::FILLED, cv::LINE_AA);
+    if (ringed) cv::circle(image, p.anchor, 3, white, cv::FILLED, cv::LINE_AA);
+    cv::circle(image, p.anchor, ringed ? 2 : 3, black, cv::FILLED, cv::LINE_AA);
   }
+}
+
+void draw_labels(cv::Mat& image, const Camera& camera, const std::vector<LabelMark>& labels, const Style& st) {
+  const std::vector<PlacedLabel> placed = place_labels(camera, labels, st);
+  const cv::Scalar black(0, 0, 0), white(255, 255, 255);
+  draw_leaders(image, placed, /*ringed=*/false);
   for (const PlacedLabel& p : placed) {
     cv::rectangle(image, p.box, white, cv::FILLED);
     cv::rectangle(image, p.box, black, 1);
@@ -217,15 +225,7 @@ void draw_fixtures(cv::Mat& image, const Camera& camera, const std::vector<Label
   }
   const std::vector<PlacedLabel> placed = place_labels(camera, fixtures, st, keep_clear);
   const cv::Scalar black(0, 0, 0), white(255, 255, 255);
-  for (const PlacedLabel& p : placed) {
-    if (p.box.contains(p.anchor)) continue;
-    const cv::Point near(std::clamp(p.anchor.x, p.box.x, p.box.x + p.box.width - 1),
-                         std::clamp(p.anchor.y, p.box.y, p.box.y + p.box.height - 1));
-    cv::line(image, p.anchor, near, white, 3, cv::LINE_AA);
-    cv::line(image, p.anchor, near, black, 1, cv::LINE_AA);
-    cv::circle(image, p.anchor, 3, white, cv::FILLED, cv::LINE_AA);
-    cv::circle(image, p.anchor, 2, black, cv::FILLED, cv::LINE_AA);
-  }
+  draw_leaders(image, placed, /*ringed=*/true);
   for (const PlacedLabel& p : placed) {
     cv::rectangle(image, p.box, white, cv::FILLED);
     cv::rectangle(image, cv::Rect(p.box.x + 1, p.box.y + 1, p.box.width - 2, p.box.height - 2), black, cv::FILLED);

@@ -243,6 +243,7 @@ TEST_F(RulesTest, PerStateNumberingAppendsAPlacedItemAndShiftsTheOthers) {
   EXPECT_THAT(situation_text(g(), s, named), HasSubstr("object 3 box"));
   EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("Objects 1 to 3 here can be picked up"));
   EXPECT_TRUE(state_delta(g(), s).numbered.empty());
+  EXPECT_THAT(situation_text(g(), s, RuleOptions{}), ::testing::Not(HasSubstr("Numbers belong to this platform")));
 }
 
 // Stable numbering (issue 53): a picked item's number is retired, never given to another; an
@@ -272,7 +273,10 @@ TEST_F(RulesTest, StableNumberingKeepsEachItemsNumberAndRetiresAPickedOnes) {
   named.object_names = true;
   EXPECT_THAT(situation_text(g(), s, named), HasSubstr("object 4 box"));
   EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("Objects 2 to 4 here can be picked up"));
-  EXPECT_THAT(situation_text(g(), s, RuleOptions{}), HasSubstr("numbers of objects taken away are not used again"));
+  EXPECT_THAT(situation_text(g(), s, RuleOptions{}),
+              HasSubstr("Numbers belong to this platform: an object keeps its number while it stays here, the number "
+                        "of an object taken away is not used again, and an object set down here gets the next new "
+                        "number."));
   EXPECT_THAT(act(s, "o1").hint, HasSubstr("o1 is not available here: the objects here are 2 to 4"));
   // Another process rebuilds the numbers from the state's delta.
   const WorldState rebuilt = apply_delta(g(), state_delta(g(), s));
