@@ -205,6 +205,21 @@ void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId pla
   }
 }
 
+std::vector<graph::ObjectId> in_hand(const graph::SceneGraph& g, const WorldState& s) {
+  return s.held.valid() ? subtree_of(g, s, s.held) : std::vector<graph::ObjectId>{};
+}
+
+bool carried(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  if (!s.held.valid()) return false;
+  for (graph::ObjectId o = object;;) {
+    if (o == s.held) return true;
+    const graph::PlatformId p = s.objects[o].parent;
+    if (!p.valid()) return false;
+    o = g.platforms[p].owner;
+    if (!o.valid()) return false;
+  }
+}
+
 double stack_height(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
   const ObjectState& o = s.objects.at(object);
   double top = o.top;

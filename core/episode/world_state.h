@@ -103,6 +103,12 @@ void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object);
 /// Stable numbering gives it and its descendants the next numbers of the furniture platform.
 void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId platform, const Eigen::Vector2d& xy);
 
+/// The held object and everything resting on it (what it carries along): none of it is drawn where
+/// it stood, since it is in the hand. Empty when nothing is held.
+std::vector<graph::ObjectId> in_hand(const graph::SceneGraph& g, const WorldState& s);
+/// Whether `object` is held or rests (transitively) on the held object.
+bool carried(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object);
+
 /// Height of `object` together with everything resting on it (what is carried along when it is
 /// picked): the highest top in its subtree minus its own bottom. This is what must fit under a
 /// destination's clearance.

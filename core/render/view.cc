@@ -226,7 +226,7 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   if (plan.side < 0) plan.side = s.at_platform == r.platform && s.side >= 0 ? s.side : std::max(0, p.default_side);
   require(plan.side <= 3, "render: side " + std::to_string(plan.side) + " is not 0..3");
   plan.camera = platform_camera(g, s, r.platform, plan.side, r.width, r.height);
-  if (s.held.valid()) plan.hidden.push_back(s.held);
+  for (const graph::ObjectId h : episode::in_hand(g, s)) plan.hidden.push_back(h);  // not where it stood
   if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
   if (r.marks == MarkKind::kTargets) {
     plan.marks.regions = target_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
@@ -340,7 +340,7 @@ ViewPlan focus_view(const graph::SceneGraph& g, const episode::WorldState& s, co
     const bool on_platform = std::find(beside.begin(), beside.end(), other) != beside.end();
     if (other != r.object && (g.objects[other].pickable() || on_platform)) plan.faded.push_back(other);
   }
-  if (s.held.valid()) plan.hidden.push_back(s.held);
+  for (const graph::ObjectId h : episode::in_hand(g, s)) plan.hidden.push_back(h);  // not where it stood
   plan.numbered = {r.number, r.object, e.centre};
   return plan;
 }
@@ -350,7 +350,7 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
   double top = 0.0;
   for (const graph::ObjectId i : g.objects.ids()) {
     const graph::ObjectKind kind = g.objects[i].kind;
-    if (kind == graph::ObjectKind::kUnsupported || i == s.held) continue;
+    if (kind == graph::ObjectKind::kUnsupported || episode::carried(g, s, i)) continue;
     for (const auto& q : s.objects[i].footprint) box.extend(q);
     top = std::max(top, s.objects[i].top);
   }
@@ -372,7 +372,7 @@ ViewPlan topdown_view(const graph::SceneGraph& g, const episode::WorldState& s, 
                      turn ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY());
   cam.near = 0.1;
   cam.far = top + 3.0;
-  if (s.held.valid()) plan.hidden.push_back(s.held);
+  for (const graph::ObjectId h : episode::in_hand(g, s)) plan.hidden.push_back(h);  // not where it stood
   if (r.marks == MarkKind::kLabels) plan.marks.labels = platform_labels(g, s);
   return plan;
 }

@@ -175,7 +175,8 @@ IdView draw_id_view(const graph::SceneGraph& g, const SceneGeometry& geometry, c
   IdPass pass(camera);
   std::vector<ObjectSight> silhouettes;
   for (const graph::ObjectId o : g.objects.ids()) {
-    if (only.valid() ? o != only : (o == s.held || std::find(hidden.begin(), hidden.end(), o) != hidden.end())) {
+    if (only.valid() ? o != only
+                     : (episode::carried(g, s, o) || std::find(hidden.begin(), hidden.end(), o) != hidden.end())) {
       continue;
     }
     if (o.index() >= geometry.size() || geometry.of(o).indices.empty()) continue;
@@ -202,7 +203,7 @@ IdView draw_id_view_of(const graph::SceneGraph& g, const SceneGeometry& geometry
   for (const graph::ObjectId t : targets) target_boxes.push_back(box_of(t));
   std::vector<ObjectSight> silhouettes;
   for (const graph::ObjectId o : g.objects.ids()) {
-    if (o == s.held || std::find(hidden.begin(), hidden.end(), o) != hidden.end()) continue;
+    if (episode::carried(g, s, o) || std::find(hidden.begin(), hidden.end(), o) != hidden.end()) continue;
     if (o.index() >= geometry.size() || geometry.of(o).indices.empty() || s.objects[o].footprint.empty()) continue;
     const bool target = std::find(targets.begin(), targets.end(), o) != targets.end();
     if (!target) {
@@ -370,7 +371,7 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
   // where it stands.
   std::vector<std::pair<graph::ObjectId, NdcBox>> showing;
   for (const graph::ObjectId o : episode::everything_on(g_, s, platform)) {
-    if (o == s.held) continue;
+    if (episode::carried(g_, s, o)) continue;
     NdcBox box = image_box(s, o, sc);
     if (box.box.isEmpty() && !box.anywhere) continue;
     showing.emplace_back(o, std::move(box));
@@ -385,7 +386,7 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
   }
   if (all.isEmpty()) return d;  // nothing on it to see
   for (const graph::ObjectId o : movable_) {
-    if (o == s.held) continue;
+    if (episode::carried(g_, s, o)) continue;
     const bool own = std::binary_search(d.on.begin(), d.on.end(), o);
     if (!own) {
       const NdcBox b = image_box(s, o, sc);

@@ -402,6 +402,7 @@ TEST(ShippedRender, EveryObjectAPlacingOptionNamesCarriesAMark) {
       EXPECT_EQ(quoted, letters) << scene << " " << g.platforms[p].name << ": a letter no option quotes";
     }
   }
+  std::printf("[ lettered ] %d placing options name scenery by its letter\n", lettered_options);
   EXPECT_GT(lettered_options, 0) << "no placing option of the shipped apartments names scenery";
 }
 

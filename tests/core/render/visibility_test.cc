@@ -192,12 +192,14 @@ TEST(Visibility, OnAShippedApartmentTheWindowsAnswerAsWholePassesDo) {
 
 // A held object's close-up shows what it carries: picked, a spice rack keeps its jars and a
 // plate its cup (world_state.h, pick), so the item view draws them too, all in the frame. A
-// rater saw a held rack drawn empty though it arrived full.
+// rater saw a held rack drawn empty though it arrived full. And the platform it came from shows
+// none of it: a rater saw a held rack's eight jars floating over the counter, unnumbered.
 TEST(ItemView, AHeldObjectIsShownWithWhatItCarries) {
   MTG_REQUIRE_SHIPPED_DATA();
   const testing::ShippedScene shipped = testing::load_shipped_scene("apt_0");
   const graph::SceneGraph& g = shipped.graph;
   const episode::WorldState start = episode::initial_state(g);
+  const SceneGeometry geometry(shipped.scene, g);
   int carriers = 0;
   for (const graph::ObjectId o : g.objects.ids()) {
     if (!g.objects[o].pickable()) continue;
@@ -217,6 +219,25 @@ TEST(ItemView, AHeldObjectIsShownWithWhatItCarries) {
     EXPECT_EQ(std::set<graph::ObjectId>(plan.only_with.begin(), plan.only_with.end()),
               std::set<graph::ObjectId>(carried.begin(), carried.end()))
         << g.objects[o].name;
+    // Where it stood: the platform view hides all of it, and the id pass the generator counts
+    // from draws none of it.
+    const graph::PlatformId from = episode::furniture_platform_of(g, start, o);
+    ViewRequest at;
+    at.platform = from;
+    at.marks = MarkKind::kItems;
+    held.at_platform = from;
+    held.side = std::max(0, g.platforms[from].default_side);
+    held.phase = episode::Phase::kAtPlatform;
+    const ViewPlan there = plan_view(g, held, at);
+    const std::set<graph::ObjectId> hidden(there.hidden.begin(), there.hidden.end());
+    const IdView ids = draw_id_view(g, geometry, held, at_resolution(there.camera, 160, 120));
+    EXPECT_EQ(hidden.count(o), 1u) << g.objects[o].name;
+    for (const graph::ObjectId c : carried) {
+      EXPECT_EQ(hidden.count(c), 1u) << g.objects[c].name << " on the held " << g.objects[o].name;
+      EXPECT_TRUE(std::none_of(ids.objects.begin(), ids.objects.end(),
+                               [&](const ObjectSight& sight) { return sight.object == static_cast<std::int32_t>(c.index()); }))
+          << g.objects[c].name << " drawn where the held " << g.objects[o].name << " stood";
+    }
     for (const graph::ObjectId c : carried) {
       const episode::ObjectState& cs = held.objects[c];
       const geom::Point2 xy = episode::footprint_centre(cs);
