@@ -32,19 +32,21 @@ graph::PlatformId furniture_platform(const graph::SceneGraph& g, const WorldStat
   return {};
 }
 
-// `object` and everything resting on it, in pickable_on's order (each object, then what rests on it).
+// `object`, then everything resting on it (pickable_on's order).
 std::vector<graph::ObjectId> subtree_of(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
-  std::vector<graph::ObjectId> out;
-  std::vector<graph::ObjectId> stack = {object};
-  while (!stack.empty()) {
-    const graph::ObjectId o = stack.back();
-    stack.pop_back();
-    out.push_back(o);
-    std::vector<graph::ObjectId> above;
-    for (const graph::PlatformId p : g.objects[o].platforms) above.insert(above.end(), s.children[p].begin(), s.children[p].end());
-    stack.insert(stack.end(), above.rbegin(), above.rend());
-  }
+  std::vector<graph::ObjectId> out = {object};
+  const std::vector<graph::ObjectId> above = resting_on(g, s, object);
+  out.insert(out.end(), above.begin(), above.end());
   return out;
+}
+
+// The numbers `platform` keeps (stable numbering), made from pickable_on's order the first time
+// something leaves or arrives there.
+std::vector<graph::ObjectId>& kept_numbers(const graph::SceneGraph& g, WorldState& s, graph::PlatformId platform) {
+  if (s.numbered.size() < g.platforms.size()) s.numbered.resize(g.platforms.size());
+  std::vector<graph::ObjectId>& numbers = s.numbered[platform];
+  if (numbers.empty()) numbers = pickable_on(g, s, platform);
+  return numbers;
 }
 
 }  // namespace
@@ -158,9 +160,7 @@ void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object) {
     // (retired), so no other item takes them.
     const graph::PlatformId from = furniture_platform_of(g, s, object);
     if (from.valid()) {
-      if (s.numbered.size() < g.platforms.size()) s.numbered.resize(g.platforms.size());
-      std::vector<graph::ObjectId>& numbers = s.numbered[from];
-      if (numbers.empty()) numbers = pickable_on(g, s, from);
+      std::vector<graph::ObjectId>& numbers = kept_numbers(g, s, from);
       const std::vector<graph::ObjectId> leaving = subtree_of(g, s, object);
       for (graph::ObjectId& n : numbers) {
         if (std::find(leaving.begin(), leaving.end(), n) != leaving.end()) n = {};
@@ -186,11 +186,7 @@ void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId pla
   std::vector<graph::ObjectId>* numbers = nullptr;
   if (s.numbering == Numbering::kStable) {
     const graph::PlatformId owner_platform = furniture_platform(g, s, platform);
-    if (owner_platform.valid()) {
-      if (s.numbered.size() < g.platforms.size()) s.numbered.resize(g.platforms.size());
-      numbers = &s.numbered[owner_platform];
-      if (numbers->empty()) *numbers = pickable_on(g, s, owner_platform);
-    }
+    if (owner_platform.valid()) numbers = &kept_numbers(g, s, owner_platform);
   }
   ObjectState& placed = s.objects[object];
   placed.parent = platform;
@@ -203,6 +199,15 @@ void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId pla
       if (g.objects[arrived].pickable()) numbers->push_back(arrived);
     }
   }
+}
+
+std::vector<graph::ObjectId> resting_on(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object) {
+  std::vector<graph::ObjectId> out;
+  for (const graph::PlatformId p : g.objects[object].platforms) {
+    const std::vector<graph::ObjectId> on = everything_on(g, s, p);
+    out.insert(out.end(), on.begin(), on.end());
+  }
+  return out;
 }
 
 std::vector<graph::ObjectId> in_hand(const graph::SceneGraph& g, const WorldState& s) {

@@ -103,6 +103,9 @@ void pick(const graph::SceneGraph& g, WorldState& s, graph::ObjectId object);
 /// Stable numbering gives it and its descendants the next numbers of the furniture platform.
 void place_held(const graph::SceneGraph& g, WorldState& s, graph::PlatformId platform, const Eigen::Vector2d& xy);
 
+/// Everything resting on `object`, directly or on other objects: what moves with it (each of its
+/// platforms' everything_on, in turn).
+std::vector<graph::ObjectId> resting_on(const graph::SceneGraph& g, const WorldState& s, graph::ObjectId object);
 /// The held object and everything resting on it (what it carries along): none of it is drawn where
 /// it stood, since it is in the hand. Empty when nothing is held.
 std::vector<graph::ObjectId> in_hand(const graph::SceneGraph& g, const WorldState& s);

@@ -29,11 +29,16 @@ std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::Worl
 
 std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
                                      graph::Side side, double min_region_size) {
+  return target_marks(g, s, platform, episode::place_targets(g, s, platform, side, min_region_size));
+}
+
+std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                     const std::vector<episode::PlaceTarget>& targets) {
   std::vector<RegionMark> out;
   const Eigen::Isometry2d X_WP = episode::platform_frame(g, s, platform);
   // Drawn a hair above the surface so the overlay's depth order is never in doubt.
   const double z = episode::platform_height(g, s, platform) + 0.002;
-  for (const episode::PlaceTarget& t : episode::place_targets(g, s, platform, side, min_region_size)) {
+  for (const episode::PlaceTarget& t : targets) {
     if (t.kind == episode::PlaceTarget::Kind::kAnywhere || t.region_P.empty()) continue;
     RegionMark m;
     m.number = std::stoi(t.key);
@@ -51,9 +56,8 @@ std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::
 }
 
 std::vector<LabelMark> fixture_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
-                                     graph::Side side, double min_region_size) {
-  const std::vector<graph::ObjectId> lettered = episode::lettered_anchors(
-      episode::place_targets(g, s, platform, side, min_region_size), episode::numbered_on(g, s, platform));
+                                     const std::vector<episode::PlaceTarget>& targets) {
+  const std::vector<graph::ObjectId> lettered = episode::lettered_anchors(targets, episode::numbered_on(g, s, platform));
   std::vector<LabelMark> out;
   for (std::size_t k = 0; k < lettered.size(); ++k) {
     const episode::ObjectState& o = s.objects[lettered[k]];

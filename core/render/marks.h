@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/episode/placement.h"
 #include "core/episode/world_state.h"
 
 namespace mtg::render {
@@ -49,9 +50,14 @@ std::vector<ItemMark> item_marks(const graph::SceneGraph& g, const episode::Worl
 std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
                                      graph::Side side, double min_region_size);
 
-/// The lettered anchors of the targets target_marks numbers, each at the centre of its top.
+/// The same for `targets`, place_targets' answer for the platform in `s`.
+std::vector<RegionMark> target_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
+                                     const std::vector<episode::PlaceTarget>& targets);
+
+/// The lettered anchors of `targets` (place_targets' answer for the platform in `s`), each at the
+/// centre of its top.
 std::vector<LabelMark> fixture_marks(const graph::SceneGraph& g, const episode::WorldState& s, graph::PlatformId platform,
-                                     graph::Side side, double min_region_size);
+                                     const std::vector<episode::PlaceTarget>& targets);
 
 /// Every navigable platform with its l<N> key, at the centre of its surface.
 std::vector<LabelMark> platform_labels(const graph::SceneGraph& g, const episode::WorldState& s);

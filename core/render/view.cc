@@ -229,8 +229,11 @@ ViewPlan platform_view(const graph::SceneGraph& g, const episode::WorldState& s,
   for (const graph::ObjectId h : episode::in_hand(g, s)) plan.hidden.push_back(h);  // not where it stood
   if (r.marks == MarkKind::kItems) plan.marks.items = item_marks(g, s, r.platform);
   if (r.marks == MarkKind::kTargets) {
-    plan.marks.regions = target_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
-    plan.marks.fixtures = fixture_marks(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
+    // One set of targets for the numbered regions and the lettered scenery they are named after.
+    const std::vector<episode::PlaceTarget> targets =
+        episode::place_targets(g, s, r.platform, static_cast<graph::Side>(plan.side), r.min_region_size);
+    plan.marks.regions = target_marks(g, s, r.platform, targets);
+    plan.marks.fixtures = fixture_marks(g, s, r.platform, targets);
   }
   return plan;
 }
@@ -262,17 +265,6 @@ Camera close_up_camera(const Eigen::Vector3d& target, Eigen::Vector2d from, doub
   return cam;
 }
 
-// What rests on `object`, directly or on each other: picked, it is carried along, so its close-up
-// shows the spice rack with its jars (a rater saw an empty rack arrive full).
-std::vector<graph::ObjectId> carried_by(const graph::SceneGraph& g, const episode::WorldState& s, graph::ObjectId object) {
-  std::vector<graph::ObjectId> out;
-  for (const graph::PlatformId p : g.objects[object].platforms) {
-    const std::vector<graph::ObjectId> on = episode::everything_on(g, s, p);
-    out.insert(out.end(), on.begin(), on.end());
-  }
-  return out;
-}
-
 // The extent of `object` with what it carries: one box around them all.
 ObjectExtent extent_with(const episode::WorldState& s, graph::ObjectId object, const std::vector<graph::ObjectId>& carried) {
   if (carried.empty()) return extent_of(s.objects[object]);
@@ -290,7 +282,9 @@ ObjectExtent extent_with(const episode::WorldState& s, graph::ObjectId object, c
 
 ViewPlan item_view(const graph::SceneGraph& g, const episode::WorldState& s, const ViewRequest& r) {
   require(g.objects.contains(r.object), "render: object index " + to_string(r.object) + " out of range");
-  const std::vector<graph::ObjectId> carried = carried_by(g, s, r.object);
+  // Picked, what rests on it is carried along: the close-up shows the spice rack with its jars (a
+  // rater saw an empty rack arrive full).
+  const std::vector<graph::ObjectId> carried = episode::resting_on(g, s, r.object);
   const ObjectExtent e = extent_with(s, r.object, carried);
   const double radius = std::max(0.03, e.radius);
   // Seen from where the robot stands when it stands somewhere, else from the south-west.

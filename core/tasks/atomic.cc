@@ -179,6 +179,7 @@ class TargetCache {
 struct Source {
   std::size_t src_label;  // the source's l-number - 1
   graph::ObjectId item;
+  std::string pick_key;   // its o<N> there
 };
 
 // The tasks of one item (its goals over every destination), with what was left out and why.
@@ -409,7 +410,7 @@ class ItemEnumeration {
     AtomicTask task;
     task.goal = goal;
     task.key = std::move(candidate.key);
-    task.oracle = {graph::navigation_key(static_cast<int>(source_.src_label) + 1), episode::object_key(g_, s_, source_.item),
+    task.oracle = {graph::navigation_key(static_cast<int>(source_.src_label) + 1), source_.pick_key,
                    graph::navigation_key(static_cast<int>(d.dst_label) + 1), "startplace", t.key};
     task.place_xy = xy;
     task.placed_at = judged.placed_at;
@@ -441,13 +442,17 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
                                          int jobs, episode::PlacementMemo* memo) {
   MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && !filter.anchor.valid()),
              "drop counts of a partial enumeration would be partial");
-  // Every item to enumerate, in output order: source platforms by label, items in o-order.
+  // Every item to enumerate, in output order: source platforms by label, items in pickable_on's
+  // order, each with its number there (the same order until something leaves or arrives).
   std::vector<Source> sources;
   for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
-    const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, g.navigable[src_label]);
+    const graph::PlatformId platform = g.navigable[src_label];
+    const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
+    const std::vector<graph::ObjectId> numbers = episode::numbered_on(g, s, platform);
     for (std::size_t k = 0; k < items.size(); ++k) {
       if (filter.items.empty() || std::find(filter.items.begin(), filter.items.end(), items[k]) != filter.items.end()) {
-        sources.push_back({src_label, items[k]});
+        const auto number = std::find(numbers.begin(), numbers.end(), items[k]) - numbers.begin() + 1;
+        sources.push_back({src_label, items[k], "o" + std::to_string(number)});
       }
     }
   }
