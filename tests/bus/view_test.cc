@@ -790,6 +790,13 @@ TEST_F(PlayTest, APersonClickingTheOraclePlanScoresSuccessAsTheHumanAgent) {
     }
   }
   ASSERT_TRUE(loaded) << log_text();
+  // A loaded machine delays some answers: every long poll's answer reaches the page 150 ms late,
+  // so one computed before a click arrives after the click's own answer. The page must not put
+  // that older desk back (a step already played, the verdict before): CI saw it once (stop 61).
+  ASSERT_TRUE(b->evaluate("(() => { const f = window.fetch; window.fetch = (u, o) => f(u, o).then((r) => "
+                          "String(u).startsWith('/api/play/observation') ? new Promise((ok) => "
+                          "setTimeout(() => ok(r), 150)) : r); return true; })()")
+                  .get<bool>());
 
   int clicks = 0, screenshots = 0;
   std::set<std::string> attempts;  // "<episode>/<attempt>" seen
