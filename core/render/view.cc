@@ -63,6 +63,12 @@ bool aim(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const std::v
   const Eigen::Vector2d half = t.box.sizes() / 2.0;
   const double need = std::max(half.y(), half.x() / aspect) / kFocus;
   fovy = std::max(kMinFovy, 2.0 * std::atan(need));
+  // Close to a wide platform the aim need not settle in three rounds, and a lens sized by the
+  // box's half-width then cuts off its far side (an end of a TV stand, its free spaces drawn up
+  // to 113 px left of the picture): such a lens is widened to hold the box as it lies. A lens
+  // that holds it already is kept as it was.
+  const double reach = std::max({-t.box.min().x() / aspect, t.box.max().x() / aspect, -t.box.min().y(), t.box.max().y()});
+  if (reach > std::tan(fovy / 2.0)) fovy = std::max(fovy, 2.0 * std::atan(reach / kFocus));
   return fovy <= kMaxFovy;
 }
 

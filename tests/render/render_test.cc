@@ -453,6 +453,52 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
   EXPECT_EQ(placed, shown);
 }
 
+// The picture of a whole platform holds what it frames (view.cc, plan_platform_pictures): the
+// platform's outline and everything standing on it directly, bottom and top, inside the image, on
+// every navigable platform of the shipped apartments and of held-out arrangements, from every
+// side the robot can stand at. Before the lens held the box as it lay, an aim that had not settled
+// cut off a TV stand's end (free spaces 1-113 px left of the picture) and a shelf's books.
+TEST(ShippedRender, EveryPlatformPictureHoldsTheOutlineAndItemsItFrames) {
+  MTG_REQUIRE_SHIPPED_DATA();
+  int pictures = 0, points = 0;
+  for (const char* name : {"apt_0", "apt_1", "apt_2"}) {
+    for (const int remix : {-1, 3}) {
+      const testing::ShippedScene shipped =
+          remix < 0 ? testing::load_shipped_scene(name) : testing::load_remixed_scene(name, static_cast<std::uint64_t>(remix));
+      const graph::SceneGraph& g = shipped.graph;
+      const episode::WorldState s = episode::initial_state(g);
+      for (const graph::PlatformId p : g.navigable) {
+        const double h = episode::platform_height(g, s, p);
+        std::vector<Eigen::Vector3d> keys;
+        for (const geom::Ring& ring : g.platforms[p].polygon_W().rings) {
+          for (const auto& q : ring) keys.emplace_back(q.x(), q.y(), h);
+        }
+        for (const graph::ObjectId o : episode::objects_on(s, p)) {
+          for (const auto& q : s.objects[o].footprint) {
+            keys.emplace_back(q.x(), q.y(), s.objects[o].bottom);
+            keys.emplace_back(q.x(), q.y(), s.objects[o].top);
+          }
+        }
+        for (int side = 0; side < 4; ++side) {
+          if (g.platforms[p].sides[static_cast<std::size_t>(side)].standing_area <= 0.0) continue;
+          const render::Camera camera = render::platform_pictures(g, s, p, side, 640, 480).front().camera;
+          ++pictures;
+          for (const Eigen::Vector3d& k : keys) {
+            ++points;
+            const auto px = camera.project(k);
+            ASSERT_TRUE(px.has_value()) << shipped.scene.name << " " << g.platforms[p].name << " side " << side;
+            EXPECT_TRUE(px->x() >= 0.0 && px->x() <= 640.0 && px->y() >= 0.0 && px->y() <= 480.0)
+                << shipped.scene.name << " " << g.platforms[p].name << " side " << side << ": (" << k.transpose()
+                << ") drawn at " << px->transpose();
+          }
+        }
+      }
+    }
+  }
+  std::printf("[ framing ] %d whole-platform pictures, %d key points\n", pictures, points);
+  EXPECT_GT(pictures, 300);
+}
+
 // Free spaces follow the rules of item marks (target_layout.h): on every navigable platform of the
 // shipped apartments, from the side the robot arrives at, every placement target is numbered in
 // one of the view's pictures or a zoom of it, and no layout breaks a rule.
@@ -460,13 +506,11 @@ TEST(ShippedRender, Apt0ShelfMatchesItsGoldenAndEveryPlatformViewHoldsItsItems) 
 // issue 53), holding the scene's smallest item (the most free spaces) at every navigable
 // platform from the side the robot arrives at: every target offered has its number readably
 // placed in one of the view's pictures or their zooms, and no layout breaks a rule (overlapping
-// discs, a disc on another's label point, crossing leader lines). The remixes leave 5 free spaces
-// of 1,250 with their label point just outside every picture (two TV stands and a cabinet:
-// docs/render.md, "Free spaces a person can read"); no more may go.
+// discs, a disc on another's label point, crossing leader lines). On the remixes 5 free spaces of
+// 1,250 had their label point outside the picture until the camera's lens held what it frames
+// (an aim that had not settled, docs/render.md, "Free spaces a person can read").
 TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
   MTG_REQUIRE_SHIPPED_DATA();
-  constexpr int kKnownRemixMisses = 5;
-  int remix_misses = 0;
   for (const char* name : {"apt_0", "apt_1", "apt_2"}) {
     for (const int remix : {-1, 3}) {
       const testing::ShippedScene shipped =
@@ -496,13 +540,7 @@ TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
         targets += static_cast<int>(regions.size());
         numbered += static_cast<int>(readable.size());
         for (const render::RegionMark& r : regions) {
-          if (remix < 0) {
-            EXPECT_TRUE(readable.count(r.number)) << scene << " " << g.platforms[p].name << ": free space " << r.number;
-          } else if (readable.count(r.number) == 0) {
-            ++remix_misses;
-            std::printf("[ targets ] %s %s: free space %d is in no picture\n", scene.c_str(), g.platforms[p].name.c_str(),
-                        r.number);
-          }
+          EXPECT_TRUE(readable.count(r.number)) << scene << " " << g.platforms[p].name << ": free space " << r.number;
         }
       }
       std::printf("[ targets ] %s: %d free spaces and cells on %zu platforms, %d readably numbered, %d rules broken; "
@@ -510,7 +548,6 @@ TEST(ShippedRender, EveryPlatformsFreeSpacesAreReadablyNumbered) {
                   scene.c_str(), targets, g.navigable.size(), numbered, broken, zoomed);
     }
   }
-  EXPECT_LE(remix_misses, kKnownRemixMisses);
 }
 
 TEST(ShippedRender, Apt0OverviewShowsEveryPlatformLabelWithoutOverlapAndFillsTheFrame) {
