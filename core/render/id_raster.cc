@@ -36,14 +36,8 @@ IdImage IdImage::window(int l, int t, int w, int h) const {
   out.height = h;
   out.ids.reserve(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   out.depth.reserve(out.ids.capacity());
-  for (int v = 0; v < h; ++v) {
-    const std::size_t from = static_cast<std::size_t>(t - top + v) * static_cast<std::size_t>(width) +
-                             static_cast<std::size_t>(l - left);
-    out.ids.insert(out.ids.end(), ids.begin() + static_cast<std::ptrdiff_t>(from),
-                   ids.begin() + static_cast<std::ptrdiff_t>(from + static_cast<std::size_t>(w)));
-    out.depth.insert(out.depth.end(), depth.begin() + static_cast<std::ptrdiff_t>(from),
-                     depth.begin() + static_cast<std::ptrdiff_t>(from + static_cast<std::size_t>(w)));
-  }
+  append_window(ids, left, top, width, l, t, w, h, out.ids);
+  append_window(depth, left, top, width, l, t, w, h, out.depth);
   return out;
 }
 

@@ -37,6 +37,18 @@ struct IdImage {
   IdImage window(int left, int top, int w, int h) const;
 };
 
+/// Appends the pixels (l, t, w, h) of a row-major image window at (left, top), `width` wide, to
+/// `out` (converted to its type): the window of an id image, or of one kept in fewer bits.
+template <class From, class To>
+void append_window(const std::vector<From>& from, int left, int top, int width, int l, int t, int w, int h,
+                   std::vector<To>& out) {
+  for (int v = 0; v < h; ++v) {
+    const auto begin = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t - top + v) * static_cast<std::size_t>(width) +
+                                                   static_cast<std::size_t>(l - left));
+    out.insert(out.end(), from.begin() + begin, from.begin() + begin + w);
+  }
+}
+
 /// The same view as `camera` at another resolution (same lens, same aspect when the sizes are
 /// in proportion).
 Camera at_resolution(const Camera& camera, int width, int height);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "core/render/mark_layout.h"
@@ -232,13 +234,57 @@ std::vector<std::int32_t> VisibilityOracle::readable_marks(const episode::WorldS
   return out;
 }
 
+namespace {
+
+// A picture's scenery as it is kept between states: the pixels of an id pass's window, with the
+// object ids in 16 bits where the graph's objects fit (every scene a person furnishes: 32,767
+// objects), else in 32. A scene's scenery is a quarter of its generation's peak memory (28 MB of
+// apt_0's); ids take half of it.
+class SceneryPixels {
+ public:
+  SceneryPixels() = default;
+  SceneryPixels(IdImage image, bool narrow)
+      : left_(image.left), top_(image.top), width_(image.width), height_(image.height), depth_(std::move(image.depth)) {
+    if (narrow) {
+      narrow_.assign(image.ids.begin(), image.ids.end());
+    } else {
+      wide_ = std::move(image.ids);
+    }
+  }
+
+  bool holds(int l, int t, int w, int h) const {
+    return l >= left_ && t >= top_ && l + w <= left_ + width_ && t + h <= top_ + height_;
+  }
+  /// The window `l, t, w, h` (which holds() must accept) as an id image: IdImage::window's pixels.
+  IdImage window(int l, int t, int w, int h) const {
+    IdImage out(l, t, w, h);  // its storage, refilled below
+    out.ids.clear();
+    out.depth.clear();
+    if (wide_.empty()) {
+      append_window(narrow_, left_, top_, width_, l, t, w, h, out.ids);
+    } else {
+      append_window(wide_, left_, top_, width_, l, t, w, h, out.ids);
+    }
+    append_window(depth_, left_, top_, width_, l, t, w, h, out.depth);
+    return out;
+  }
+
+ private:
+  int left_ = 0, top_ = 0, width_ = 0, height_ = 0;
+  std::vector<std::int16_t> narrow_;
+  std::vector<std::int32_t> wide_;
+  std::vector<float> depth_;
+};
+
+}  // namespace
+
 // One picture of a view: its camera and its drawing of everything that never moves.
 struct VisibilityOracle::PictureScenery {
   PlatformPicture picture;
   std::int64_t slot = 0;                 // the picture's place in memo keys
   Camera pass_camera;
   Eigen::Matrix4f clip_from_world;
-  IdImage background;                    // everything that never moves, in the platform's window
+  SceneryPixels background;              // everything that never moves, in the platform's window
   std::vector<ObjectSight> silhouettes;  // of the scenery there, by object index
   std::vector<NdcBox> initial_boxes;     // each object's image where the graph found it
 };
@@ -347,7 +393,7 @@ std::unique_ptr<VisibilityOracle::Scenery> VisibilityOracle::make_scenery(graph:
       add_silhouette(sc.silhouettes, o,
                      pass.draw(geometry_.of(o), object_pose(g_, initial, o), static_cast<std::int32_t>(o.index())));
     }
-    sc.background = pass.take();
+    sc.background = SceneryPixels(pass.take(), g_.objects.size() <= std::numeric_limits<std::int16_t>::max());
     for (const graph::ObjectId o : g_.objects.ids()) sc.initial_boxes.push_back(ndc_box(sc.clip_from_world, boxes_[o.index()]));
   }
   return out;
@@ -432,11 +478,9 @@ std::shared_ptr<const ViewSight> VisibilityOracle::arrival_view(const episode::W
 
 IdImage VisibilityOracle::draw_window(const PictureScenery& sc, const Deciders& d,
                                       std::vector<ObjectSight>& silhouettes) const {
-  const IdImage& bg = sc.background;
-  const bool inside = d.left >= bg.left && d.top >= bg.top && d.left + d.width <= bg.left + bg.width &&
-                      d.top + d.height <= bg.top + bg.height;
+  const SceneryPixels& bg = sc.background;
   std::optional<IdPass> pass;
-  if (inside) {
+  if (bg.holds(d.left, d.top, d.width, d.height)) {
     pass.emplace(sc.pass_camera, bg.window(d.left, d.top, d.width, d.height));
     for (const graph::ObjectId o : d.on) {
       if (g_.objects[o].pickable()) continue;
