@@ -26,9 +26,7 @@ IdImage::IdImage(int l, int t, int w, int h)
       ids(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kNone),
       depth(ids.size(), std::numeric_limits<float>::infinity()) {}
 
-IdImage IdImage::window(int l, int t, int w, int h) const {
-  MTG_DEMAND(l >= left && t >= top && l + w <= left + width && t + h <= top + height && w >= 0 && h >= 0,
-             "id image: the window is not inside the image");
+IdImage IdImage::unfilled(int l, int t, int w, int h) {
   IdImage out;
   out.left = l;
   out.top = t;
@@ -36,6 +34,13 @@ IdImage IdImage::window(int l, int t, int w, int h) const {
   out.height = h;
   out.ids.reserve(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   out.depth.reserve(out.ids.capacity());
+  return out;
+}
+
+IdImage IdImage::window(int l, int t, int w, int h) const {
+  MTG_DEMAND(l >= left && t >= top && l + w <= left + width && t + h <= top + height && w >= 0 && h >= 0,
+             "id image: the window is not inside the image");
+  IdImage out = unfilled(l, t, w, h);
   append_window(ids, left, top, width, l, t, w, h, out.ids);
   append_window(depth, left, top, width, l, t, w, h, out.depth);
   return out;

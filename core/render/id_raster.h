@@ -35,6 +35,8 @@ struct IdImage {
   std::int32_t at(int u, int v) const { return ids[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + u]; }
   /// The window `left, top, w, h` of this one (which must hold it).
   IdImage window(int left, int top, int w, int h) const;
+  /// A window `left, top, w, h` with no pixels yet, its storage reserved: for append_window.
+  static IdImage unfilled(int left, int top, int w, int h);
 };
 
 /// Appends the pixels (l, t, w, h) of a row-major image window at (left, top), `width` wide, to

@@ -257,9 +257,7 @@ class SceneryPixels {
   }
   /// The window `l, t, w, h` (which holds() must accept) as an id image: IdImage::window's pixels.
   IdImage window(int l, int t, int w, int h) const {
-    IdImage out(l, t, w, h);  // its storage, refilled below
-    out.ids.clear();
-    out.depth.clear();
+    IdImage out = IdImage::unfilled(l, t, w, h);
     if (wide_.empty()) {
       append_window(narrow_, left_, top_, width_, l, t, w, h, out.ids);
     } else {

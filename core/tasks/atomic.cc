@@ -443,16 +443,13 @@ std::vector<AtomicTask> enumerate_atomic(const graph::SceneGraph& g, const episo
   MTG_DEMAND(dropped == nullptr || (filter.goal_key.empty() && !filter.anchor.valid()),
              "drop counts of a partial enumeration would be partial");
   // Every item to enumerate, in output order: source platforms by label, items in pickable_on's
-  // order, each with its number there (the same order until something leaves or arrives).
+  // order, each with its key there (the same order until something leaves or arrives).
   std::vector<Source> sources;
   for (std::size_t src_label = 0; src_label < g.navigable.size(); ++src_label) {
-    const graph::PlatformId platform = g.navigable[src_label];
-    const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, platform);
-    const std::vector<graph::ObjectId> numbers = episode::numbered_on(g, s, platform);
+    const std::vector<graph::ObjectId> items = episode::pickable_on(g, s, g.navigable[src_label]);
     for (std::size_t k = 0; k < items.size(); ++k) {
       if (filter.items.empty() || std::find(filter.items.begin(), filter.items.end(), items[k]) != filter.items.end()) {
-        const auto number = std::find(numbers.begin(), numbers.end(), items[k]) - numbers.begin() + 1;
-        sources.push_back({src_label, items[k], "o" + std::to_string(number)});
+        sources.push_back({src_label, items[k], episode::object_key(g, s, items[k])});
       }
     }
   }
