@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <numeric>
+#include <optional>
 
 #include "core/graph/object_geometry.h"
 #include "core/graph/overlap_check.h"
@@ -139,6 +140,83 @@ constexpr double kUsefulClearance = 0.1;       // an empty platform is worth vis
 constexpr double kCleanArea = 1e-4;            // polygon clean-up: slivers under 1 cm², ...
 constexpr double kCleanDistance = 1e-3;        // ... and vertices closer than 1 mm
 constexpr double kAboveTolerance = 1e-3;       // an object must rise 1 mm above a platform to cover it
+
+constexpr double kReachStep = 0.02;             // m between the sample points of a covered surface
+constexpr double kReachLow = 0.04;              // the lowest reach line: over a lip, under a door
+constexpr double kReachMinDepth = 0.08;         // a reached piece narrower than this holds nothing
+
+// The part of a platform inside its own owner (a shelf, a TV stand's floor) that an arm reaches
+// through the opening: the sample points, every 2 cm, from which a horizontal line out of a side
+// the robot can use, 4 cm above the surface or at half its free height, passes none of the owner's
+// triangles. A TV stand's floor runs on behind its closed doors, and its 3x3 cells were drawn on
+// the doors (issue 53). Doors and drawers of articulated furniture are not among the owner's
+// triangles (object_geometry.h): they count as open, as the paper treats fridge shelves. nullopt
+// when every point is reached (the platform stays as it was); an empty region when none is.
+std::optional<geom::Region> reachable_part(const Platform& p, const geom::TriangleSoup& owner) {
+  if (!p.interior || !std::isfinite(p.clearance)) return std::nullopt;
+  static const Eigen::Vector2d kOut[4] = {{0, -1}, {-1, 0}, {0, 1}, {1, 0}};  // rear, left, front, right in P
+  std::vector<Eigen::Vector3d> out_W;
+  for (const Side side : kSides) {
+    if (!p.sides[static_cast<std::size_t>(side)].usable()) continue;
+    // Far enough to leave any furniture: only the owner's own triangles can block it.
+    const Eigen::Vector2d d = p.X_WP.linear() * kOut[static_cast<std::size_t>(side)] * 5.0;
+    out_W.emplace_back(d.x(), d.y(), 0.0);
+  }
+  if (out_W.empty()) return std::nullopt;
+  std::vector<double> heights{p.height + kReachLow};
+  if (p.clearance / 2.0 > kReachLow) heights.push_back(p.height + p.clearance / 2.0);
+  // A horizontal line can only meet a triangle that spans its height: each line tests those.
+  std::vector<geom::TriangleSoup> across(heights.size());
+  for (const geom::Triangle& t : owner.triangles) {
+    for (std::size_t k = 0; k < heights.size(); ++k) {
+      if (std::min({t.a.z(), t.b.z(), t.c.z()}) <= heights[k] && std::max({t.a.z(), t.b.z(), t.c.z()}) >= heights[k]) {
+        across[k].add(t);
+      }
+    }
+  }
+  const Eigen::Vector2d size = p.box_P.sizes();
+  const int nx = std::max(1, static_cast<int>(std::ceil(size.x() / kReachStep)));
+  const int ny = std::max(1, static_cast<int>(std::ceil(size.y() / kReachStep)));
+  const Eigen::Vector2d cell(size.x() / nx, size.y() / ny);
+  bool every = true;
+  std::vector<geom::Ring> reached;  // one rectangle per run of reached cells in a row
+  for (int iy = 0; iy < ny; ++iy) {
+    int run = -1;  // first cell of the current run
+    for (int ix = 0; ix <= nx; ++ix) {
+      bool reach = false;
+      if (ix < nx) {
+        const Eigen::Vector2d c_P = p.box_P.min() + Eigen::Vector2d((ix + 0.5) * cell.x(), (iy + 0.5) * cell.y());
+        if (geom::contains(p.polygon_P, c_P)) {
+          const Eigen::Vector2d q = p.X_WP * c_P;
+          for (std::size_t k = 0; k < heights.size(); ++k) {
+            for (const Eigen::Vector3d& dir : out_W) {
+              reach = reach || !geom::ray_blocked(across[k], Eigen::Vector3d(q.x(), q.y(), heights[k]), dir, 1e-6, 1.0);
+            }
+          }
+          every = every && reach;
+        }
+      }
+      if (reach && run < 0) run = ix;
+      if (!reach && run >= 0) {
+        const Eigen::Vector2d lo = p.box_P.min() + Eigen::Vector2d(run * cell.x(), iy * cell.y());
+        const Eigen::Vector2d hi = p.box_P.min() + Eigen::Vector2d(ix * cell.x(), (iy + 1) * cell.y());
+        reached.push_back(geom::rectangle(lo, hi).rings.front());
+        run = -1;
+      }
+    }
+  }
+  if (every) return std::nullopt;
+  if (reached.empty()) return geom::Region{};
+  const double h = kReachMinDepth / 2.0;
+  const geom::Ring square{{-h, -h}, {h, -h}, {h, h}, {-h, h}};
+  const geom::Region reach = geom::unite_rings(reached);
+  // Only a place an item could stand on counts as closed off (behind a door, a panel): the strip
+  // where a shelf's outline runs a centimetre into its walls stays as it was.
+  if (geom::erode(geom::subtract(p.polygon_P, reach), square).empty()) return std::nullopt;
+  // What an item cannot stand on goes: the ledge in front of a closed door, a sliver beside it
+  // (opened with an 8 cm square, which keeps the rectangles of the reached cells as they are).
+  return geom::intersect(p.polygon_P, geom::dilate(geom::erode(reach, square), square));
+}
 
 // The build's phases, in order, over shared state (the graph being built and what it needs).
 class GraphBuilder {
@@ -459,6 +537,28 @@ class GraphBuilder {
     p.default_side = arrival_side(p);
   }
 
+  // A covered platform becomes the part reached through its opening (reachable_part), its frame
+  // centred on that part as every platform's is on its own box. What stands behind a closed door
+  // stays where it is, on the platform, and is said once.
+  void keep_reachable(Platform& p, const geom::Region& part) {
+    for (const ObjectId o : p.items) {
+      const geom::Point2 c = geom::centroid(geom::Region{{g_.objects[o].footprint}});
+      if (!geom::contains(part, p.X_WP.inverse() * c)) {
+        g_.warnings.push_back(g_.objects[o].name + " stands on " + p.name + " where no arm reaches through its opening");
+      }
+    }
+    p.polygon_P = part;
+    if (part.empty()) {
+      for (SideInfo& side : p.sides) side.visible = false;  // nothing of it can be reached: no usable side
+      p.default_side = -1;
+      return;
+    }
+    const Eigen::Vector2d centre = geom::bounds(part).center();
+    p.X_WP = p.X_WP * Eigen::Translation2d(centre);
+    p.polygon_P = geom::transform(part, Eigen::Isometry2d(Eigen::Translation2d(-centre)));
+    p.box_P = geom::bounds(p.polygon_P);
+  }
+
   // Standing areas, visibility, navigability and the agent's numbering.
   void find_standing_areas() {
     // The robot is blocked by whatever stands on the floor (furniture and floor scenery).
@@ -485,6 +585,9 @@ class GraphBuilder {
       const ObjectId owner = p.owner;
       evaluate_sides(p, g_.objects[owner].footprint, g_.objects[owner].heading, geo_[owner].soup, raster, options_);
       count_objects_seen(p, occluders);
+      if (options_.reach == PlatformReach::kThroughOpening) {
+        if (const std::optional<geom::Region> part = reachable_part(p, geo_[owner].soup)) keep_reachable(p, *part);
+      }
       const bool useful = !p.items.empty() || p.clearance > kUsefulClearance;
       p.navigable = p.height <= options_.max_platform_height && useful && p.default_side >= 0;
     }

@@ -6,9 +6,21 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace mtg::graph {
+
+/// Which part of a platform inside its own furniture (a shelf, a TV stand's floor) counts
+/// (docs/graph.md, "Reach"). Task sets before mtg-tasks/5 were planned on the whole surface, and
+/// their runs keep it (tasks::reach_of_format).
+enum class PlatformReach {
+  kWholeSurface,    // the upward surface as it lies, behind closed doors too
+  kThroughOpening,  // the part an arm reaches through the opening
+};
+const char* to_string(PlatformReach reach);
+/// @throws mtg::Error naming `what` and the word.
+PlatformReach platform_reach_from_string(std::string_view name, std::string_view what);
 
 /// What a person calls an object model.
 struct Noun {
@@ -49,6 +61,7 @@ struct GraphOptions {
   double steppable_max_height = 1.0; // m
   // Observer heights above the surface for the visibility rays (visible from any of them).
   std::vector<double> camera_heights_above = {0.15, 0.35, 0.6};
+  PlatformReach reach = PlatformReach::kThroughOpening;
 
   // Scene profile: templates dropped before anything else (dataset-level, not per apartment).
   std::set<std::string> exclude_templates;

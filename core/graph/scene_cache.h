@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "core/graph/options.h"
 #include "core/graph/scene_graph.h"
 #include "core/scene/mesh.h"
 #include "core/scene/scene.h"
@@ -15,8 +16,10 @@ class SceneCache {
  public:
   /// `with_textures`: keep the meshes' embedded textures (the renderer draws them; geometry
   /// does not need them and loads faster without).
-  explicit SceneCache(std::string profile = "replica_cad", bool with_textures = false)
-      : profile_(std::move(profile)), meshes_(scene::MeshLoadOptions{.keep_textures = with_textures}) {}
+  /// `reach`: as the tasks run on it were planned (tasks::reach_of_format).
+  explicit SceneCache(std::string profile = "replica_cad", PlatformReach reach = PlatformReach::kThroughOpening,
+                      bool with_textures = false)
+      : profile_(std::move(profile)), reach_(reach), meshes_(scene::MeshLoadOptions{.keep_textures = with_textures}) {}
 
   struct Entry {
     std::string key;  // data dir and scene name: stable identity for per-scene caches
@@ -26,12 +29,14 @@ class SceneCache {
   /// The scene `scene` in the dataset at `data_dir` ("" = default search order) and its graph.
   /// @throws mtg::Error if the scene cannot be loaded.
   const Entry& load(const std::string& scene, const std::string& data_dir);
+  PlatformReach reach() const { return reach_; }
   const graph::SceneGraph& get(const std::string& scene, const std::string& data_dir) {
     return load(scene, data_dir).graph;
   }
 
  private:
   std::string profile_;
+  PlatformReach reach_;
   scene::MeshCache meshes_;
   std::map<std::string, std::unique_ptr<Entry>> entries_;
 };

@@ -111,15 +111,27 @@ nlohmann::json DropCounts::to_json() const {
   return j;
 }
 
-episode::Numbering numbering_of_format(const std::string& format) {
+namespace {
+
+// N of "mtg-tasks/N"; 0 for anything else (a set that does not say is of the oldest format).
+int format_version(const std::string& format) {
   static constexpr std::string_view kPrefix = "mtg-tasks/";
-  if (format.rfind(kPrefix, 0) != 0) return episode::Numbering::kPerState;
+  if (format.rfind(kPrefix, 0) != 0) return 0;
   int version = 0;
   const char* first = format.data() + kPrefix.size();
   const char* last = format.data() + format.size();
   const auto [end, error] = std::from_chars(first, last, version);
-  if (error != std::errc{} || end != last) return episode::Numbering::kPerState;
-  return version >= 4 ? episode::Numbering::kStable : episode::Numbering::kPerState;
+  return error == std::errc{} && end == last ? version : 0;
+}
+
+}  // namespace
+
+episode::Numbering numbering_of_format(const std::string& format) {
+  return format_version(format) >= 4 ? episode::Numbering::kStable : episode::Numbering::kPerState;
+}
+
+graph::PlatformReach reach_of_format(const std::string& format) {
+  return format_version(format) >= 5 ? graph::PlatformReach::kThroughOpening : graph::PlatformReach::kWholeSurface;
 }
 
 nlohmann::json TaskOptions::to_json() const {

@@ -11,6 +11,7 @@
 
 #include "core/episode/goals.h"
 #include "core/episode/rules.h"
+#include "core/graph/options.h"
 #include "core/render/visibility_options.h"
 #include "core/scene/dataset_fingerprint.h"
 #include "core/tasks/reference.h"
@@ -23,12 +24,18 @@ namespace mtg::tasks {
 /// none_near, every required object on a platform the text names, no kind above a fifth.
 /// mtg-tasks/4: an item keeps its number for the whole episode (episode::Numbering::kStable): the
 /// oracle keys of a later step count that way.
-inline constexpr const char* kGeneratorVersion = "mtg-tasks/4";
+/// mtg-tasks/5: a platform inside its furniture is the part an arm reaches through the opening
+/// (graph::PlatformReach::kThroughOpening): a TV stand's floor ends at its closed doors.
+inline constexpr const char* kGeneratorVersion = "mtg-tasks/5";
 
 /// How items are numbered in runs of tasks of generator format `format` (kGeneratorVersion of
 /// the set that made them): stable from mtg-tasks/4 on; the release's per-state numbering for
 /// older tasks (their later oracle keys count that way) and for a set that does not say.
 episode::Numbering numbering_of_format(const std::string& format);
+/// Which part of a platform inside its furniture runs of tasks of format `format` use: the part
+/// reached through the opening from mtg-tasks/5 on; the whole surface for older tasks (their
+/// goals, free spaces and cells were planned on it) and for a set that does not say.
+graph::PlatformReach reach_of_format(const std::string& format);
 
 /// How a task's text picks out an object that has look-alikes (referring.h). The scene-graph
 /// service shows each such object in a close-up at the first observation; tests resolve the

@@ -59,8 +59,8 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
   options.rules.object_names = o.names;
   const episode::LookalikeAid aid = episode::lookalike_aid_from_string(o.lookalike_aid, "mtg audit: --lookalike-aid");
   options.rules.lookalike_aid = aid;
-  options.rules.numbering =
-      tasks::numbering_of_format(tasks::read_task_set_meta(o.tasks, "generator_version").value_or(std::string()));
+  const std::string task_format = tasks::read_task_set_meta(o.tasks, "generator_version").value_or(std::string());
+  options.rules.numbering = tasks::numbering_of_format(task_format);
   const std::map<std::string, std::string> meta = audit_meta(o, config);
 
   fs::create_directories(fs::path(o.out) / "images");
@@ -82,7 +82,7 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
       return static_cast<int>(sample.size());
     }
   }
-  render::ImageRenderer renderer(o.profile);
+  render::ImageRenderer renderer(o.profile, {}, -1, tasks::reach_of_format(task_format));
   for (std::size_t i = 0; i < sample.size(); ++i) {
     const tasks::Task& task = *sample[i];
     const graph::SceneCache::Entry& entry = renderer.scenes().load(task.scene, o.data_dir);

@@ -175,7 +175,8 @@ int run_suite_verify(const SuiteVerifyOptions& o) {
   }
   std::vector<const tasks::Task*> list;
   for (const auto& t : s.tasks) list.push_back(&t);
-  orchestrator::check_goals(list, o.profile, o.data_dir, o.file, orchestrator::MissingScene::kFail);
+  orchestrator::check_goals(list, o.profile, tasks::reach_of_format(s.generator.value("task_format", std::string())),
+                            o.data_dir, o.file, orchestrator::MissingScene::kFail);
   std::printf("%s: suite %s verified: %zu tasks, the digest matches, the dataset at %s is the suite's, every goal "
               "resolves\n",
               o.file.c_str(), s.id().c_str(), s.tasks.size(), root.c_str());

@@ -1,5 +1,6 @@
 #include "orchestrator/remote/run_announcement.h"
 
+#include "core/util/error.h"
 #include "core/util/hash.h"
 
 namespace mtg::orchestrator::remote {
@@ -7,6 +8,8 @@ namespace mtg::orchestrator::remote {
 mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) {
   mtg::run_info_t m{};
   m.profile = run.profile;
+  m.platform_reach = run.platform_reach == graph::PlatformReach::kWholeSurface ? mtg::run_info_t::REACH_WHOLE_SURFACE
+                                                                               : mtg::run_info_t::REACH_THROUGH_OPENING;
   m.render = run.render;
   m.image_width = run.image_width;
   m.image_height = run.image_height;
@@ -34,6 +37,11 @@ RuntimeConfig announced_config(const mtg::run_info_t& info) {
   RuntimeConfig c;
   c.run_id = info.header.run_id;
   c.profile = info.profile;
+  switch (info.platform_reach) {
+    case mtg::run_info_t::REACH_THROUGH_OPENING: c.platform_reach = graph::PlatformReach::kThroughOpening; break;
+    case mtg::run_info_t::REACH_WHOLE_SURFACE: c.platform_reach = graph::PlatformReach::kWholeSurface; break;
+    default: throw Error("run announcement: unknown platform_reach " + std::to_string(info.platform_reach));
+  }
   c.render = info.render;
   c.image_width = info.image_width;
   c.image_height = info.image_height;

@@ -252,19 +252,19 @@ class Worker final : public LaunchSink {
     last_announcement_ = Clock::now();
     status_ = process::HeartbeatStatus::kStarting;
     heartbeat();
-    RuntimeConfig c = announced_config(info);
-    c.bus_url = options_.local_url;
-    c.network = network_;
-    c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
-    c.parallel = options_.capacity;
-    c.recorder = options_.recorder;
-    c.renderers = options_.renderers;
-    c.governor = false;  // the coordinator's governor serves every host
-    // The answers come sealed in the grants; this host's judge opens them with the key every
-    // host derives from the bus secret.
-    c.truth_secret_file = bus::shared_bus_key_file(options_.bus_key);
     log::info("joining run " + run_id_ + " of " + info.header.sender);
     try {
+      RuntimeConfig c = announced_config(info);
+      c.bus_url = options_.local_url;
+      c.network = network_;
+      c.vlm_args.insert(c.vlm_args.end(), options_.vlm_args.begin(), options_.vlm_args.end());
+      c.parallel = options_.capacity;
+      c.recorder = options_.recorder;
+      c.renderers = options_.renderers;
+      c.governor = false;  // the coordinator's governor serves every host
+      // The answers come sealed in the grants; this host's judge opens them with the key every
+      // host derives from the bus secret.
+      c.truth_secret_file = bus::shared_bus_key_file(options_.bus_key);
       check_dataset(c);
       use_recordings(info);
       runtime_ = std::make_unique<LocalRuntime>(c, fs::path(options_.dir) / run_id_);

@@ -7,9 +7,10 @@
 
 namespace mtg::orchestrator {
 
-void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, const std::string& data_dir,
-                 const std::string& origin, MissingScene missing, graph::SceneCache* shared) {
-  graph::SceneCache own(profile);
+void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, graph::PlatformReach reach,
+                 const std::string& data_dir, const std::string& origin, MissingScene missing,
+                 graph::SceneCache* shared) {
+  graph::SceneCache own(profile, reach);
   graph::SceneCache& scenes = shared != nullptr ? *shared : own;
   for (const tasks::Task* t : tasks) {
     const graph::SceneGraph* g = nullptr;

@@ -166,6 +166,54 @@ TEST(SceneGraph, ShelfWithTwoLayers) {
   EXPECT_EQ(high.label, 2);
 }
 
+// A shelf whose lower layer is closed by doors on its left and right thirds, front and back (a
+// TV stand): the platform is the part an arm reaches through the open middle (graph.md, "Reach"),
+// its frame centred there; the same shelf without doors keeps its whole board, and so does the
+// stand for tasks planned on whole surfaces (before mtg-tasks/5).
+TEST(SceneGraph, ALayerBehindClosedDoorsIsOnlyThePartReachedThroughTheOpening) {
+  FixtureDataset fx;
+  const std::vector<Box> shelf = {
+      {{0.76, 0.02, 0.4}, {0, 0.30, 0}}, {{0.84, 0.02, 0.4}, {0, 0.80, 0}},
+      {{0.02, 0.80, 0.4}, {-0.39, 0, 0}}, {{0.02, 0.80, 0.4}, {0.39, 0, 0}}};
+  auto with_doors = shelf;
+  for (const double x : {-0.25, 0.25}) {
+    for (const double z : {-0.21, 0.21}) with_doors.push_back({{0.26, 0.48, 0.02}, {x, 0.32, z}});
+  }
+  fx.add_object_config("toy_shelf", fx.add_boxes_mesh("shelf", shelf));
+  fx.add_object_config("toy_stand", fx.add_boxes_mesh("stand", with_doors));
+  fx.add_scene("open", {{"object_instances", {FixtureDataset::instance("toy_shelf", {0, 0, 0})}}});
+  fx.add_scene("doors", {{"object_instances", {FixtureDataset::instance("toy_stand", {0, 0, 0})}}});
+  const SceneGraph open = build(fx, "open").graph;
+  const SceneGraph doors = build(fx, "doors").graph;
+  const Platform& whole = platform(open, "shelf_0_platform_0");
+  const Platform& reached = platform(doors, "stand_0_platform_0");
+  EXPECT_NEAR(whole.area(), 0.76 * 0.4, 1e-3);
+  ASSERT_TRUE(reached.navigable);
+  EXPECT_LT(reached.area(), 0.5 * whole.area());
+  EXPECT_GT(reached.area(), 0.2 * 0.4);  // at least the open middle, 24 cm wide, all the way back
+  // Its frame is centred on what is reached: the middle of the shelf.
+  EXPECT_NEAR(reached.X_WP.translation().norm(), 0.0, 0.02);
+  EXPECT_NEAR(reached.box_P.center().norm(), 0.0, 1e-9);
+  const geom::Region world = reached.polygon_W();
+  EXPECT_TRUE(geom::contains(world, {0.0, 0.0}));
+  EXPECT_TRUE(geom::contains(world, {0.0, 0.15}));
+  for (const double x : {-0.33, 0.33}) {
+    for (const double y : {-0.05, 0.0, 0.05}) {
+      EXPECT_FALSE(geom::contains(world, {x, y})) << "behind a door at (" << x << ", " << y << ")";
+    }
+  }
+  // The nine cells lie in the opening, none behind a door.
+  for (const FreeRegion& cell : grid_cells(reached)) {
+    const Eigen::Vector2d c = reached.X_WP * geom::centroid(cell.region_P);
+    EXPECT_LT(std::abs(c.x()), 0.2) << "cell " << cell.dir;
+  }
+  const SceneGraph old = testing::build_fixture_scene(fx, "doors", PlatformReach::kWholeSurface).graph;
+  const Platform& surface = platform(old, "stand_0_platform_0");
+  EXPECT_NEAR(surface.area(), whole.area(), 1e-9);
+  EXPECT_EQ(surface.X_WP.translation(), whole.X_WP.translation());
+  EXPECT_TRUE(geom::contains(surface.polygon_W(), {0.33, 0.0}));
+}
+
 TEST(SceneGraph, EmptyPlatformGetsANineCellGrid) {
   FixtureDataset fx;
   add_table(fx, "table", 0.6, 0.9);
