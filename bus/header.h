@@ -23,7 +23,7 @@ namespace mtg::bus {
 // renewed together (lease_renewal_t); announcements say where recordings go (recording_ref_t).
 // 9: episode starts say how look-alikes are told apart and how items are numbered, and world
 // states carry the numbers kept (stable numbering, core/episode/world_state.h). 10: announcements
-// say which part of a platform inside its furniture the run's graphs use (graph::PlatformReach).
+// say how the run's graphs read platforms (graph::PlatformRules).
 inline constexpr std::int32_t kSchemaVersion = 10;
 
 /// Whether a message with this header was written by a build of this schema (a message of another

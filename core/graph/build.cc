@@ -513,7 +513,10 @@ class GraphBuilder {
       targets.push_back({o, Eigen::AlignedBox3d(geo_[o].soup.bounds)});
       top = std::max(top, g_.objects[o].top);
     }
-    if (targets.empty()) return;
+    // An empty platform was left to the largest standing area: a chair's seat seen from behind
+    // its backrest, the grid painted over the backrest (issue 53). From mtg-tasks/5 its surface
+    // points choose the side as they do for a platform with items.
+    if (targets.empty() && options_.platform_rules != PlatformRules::kReachedAndSeen) return;
     // And nine points of the surface itself: a side that looks past the furniture in front (a
     // TV stand seen from behind its TV) sees less of it.
     std::vector<Eigen::Vector3d> surface;
@@ -530,7 +533,7 @@ class GraphBuilder {
       SideInfo& info = p.sides[static_cast<std::size_t>(side)];
       if (!info.usable()) continue;
       const Eigen::Vector3d eye(info.standing_point.x(), info.standing_point.y(), eye_z);
-      const Seen seen = count_seen(eye, targets, occluders);
+      const Seen seen = targets.empty() ? Seen{} : count_seen(eye, targets, occluders);
       info.objects_seen = seen.objects;
       info.sight_lines = seen.lines + clear_lines(eye, surface, occluders);
     }
@@ -585,7 +588,7 @@ class GraphBuilder {
       const ObjectId owner = p.owner;
       evaluate_sides(p, g_.objects[owner].footprint, g_.objects[owner].heading, geo_[owner].soup, raster, options_);
       count_objects_seen(p, occluders);
-      if (options_.reach == PlatformReach::kThroughOpening) {
+      if (options_.platform_rules == PlatformRules::kReachedAndSeen) {
         if (const std::optional<geom::Region> part = reachable_part(p, geo_[owner].soup)) keep_reachable(p, *part);
       }
       const bool useful = !p.items.empty() || p.clearance > kUsefulClearance;

@@ -8,15 +8,15 @@
 
 namespace mtg::graph {
 
-const char* to_string(PlatformReach reach) {
-  return reach == PlatformReach::kWholeSurface ? "whole_surface" : "through_opening";
+const char* to_string(PlatformRules rules) {
+  return rules == PlatformRules::kWholeSurface ? "whole_surface" : "reached_and_seen";
 }
 
-PlatformReach platform_reach_from_string(std::string_view name, std::string_view what) {
-  if (name == "whole_surface") return PlatformReach::kWholeSurface;
-  if (name == "through_opening") return PlatformReach::kThroughOpening;
-  throw Error(std::string(what) + ": unknown platform reach '" + std::string(name) +
-              "' (use through_opening or whole_surface)");
+PlatformRules platform_rules_from_string(std::string_view name, std::string_view what) {
+  if (name == "whole_surface") return PlatformRules::kWholeSurface;
+  if (name == "reached_and_seen") return PlatformRules::kReachedAndSeen;
+  throw Error(std::string(what) + ": unknown platform rules '" + std::string(name) +
+              "' (use reached_and_seen or whole_surface)");
 }
 
 nlohmann::json GraphOptions::nouns_json() const {
@@ -49,7 +49,7 @@ nlohmann::json GraphOptions::to_json() const {
           {"steppable_max_height", steppable_max_height},
           {"raster_resolution", raster_resolution},
           {"camera_heights_above", camera_heights_above},
-          {"platform_reach", to_string(reach)},
+          {"platform_rules", to_string(platform_rules)},
           {"profile", profile_name},
           {"exclude_templates", exclude_templates},
           {"nouns", nouns_json()},

@@ -11,16 +11,21 @@
 
 namespace mtg::graph {
 
-/// Which part of a platform inside its own furniture (a shelf, a TV stand's floor) counts
-/// (docs/graph.md, "Reach"). Task sets before mtg-tasks/5 were planned on the whole surface, and
-/// their runs keep it (tasks::reach_of_format).
-enum class PlatformReach {
-  kWholeSurface,    // the upward surface as it lies, behind closed doors too
-  kThroughOpening,  // the part an arm reaches through the opening
+/// How platforms are read where a person and the release differ (docs/graph.md, "Reach" and
+/// "The arrival side"). Task sets before mtg-tasks/5 were planned as the release reads them, and
+/// their runs keep that (tasks::platform_rules_of_format).
+enum class PlatformRules {
+  /// The release: a platform inside its furniture is its whole upward surface, behind closed
+  /// doors too; an empty platform's arrival side is the largest standing area.
+  kWholeSurface,
+  /// A platform inside its furniture is the part an arm reaches through the opening; an empty
+  /// platform's arrival side is the one that sees most of its surface (a chair from its seat's
+  /// side, not behind its backrest).
+  kReachedAndSeen,
 };
-const char* to_string(PlatformReach reach);
+const char* to_string(PlatformRules rules);
 /// @throws mtg::Error naming `what` and the word.
-PlatformReach platform_reach_from_string(std::string_view name, std::string_view what);
+PlatformRules platform_rules_from_string(std::string_view name, std::string_view what);
 
 /// What a person calls an object model.
 struct Noun {
@@ -61,7 +66,7 @@ struct GraphOptions {
   double steppable_max_height = 1.0; // m
   // Observer heights above the surface for the visibility rays (visible from any of them).
   std::vector<double> camera_heights_above = {0.15, 0.35, 0.6};
-  PlatformReach reach = PlatformReach::kThroughOpening;
+  PlatformRules platform_rules = PlatformRules::kReachedAndSeen;
 
   // Scene profile: templates dropped before anything else (dataset-level, not per apartment).
   std::set<std::string> exclude_templates;

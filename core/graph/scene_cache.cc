@@ -17,7 +17,7 @@ const SceneCache::Entry& SceneCache::load(const std::string& scene_name, const s
     e->scene = scene::load_scene(dataset, scene_name, meshes_, {.jobs = default_jobs()});
     graph::GraphOptions options;
     graph::apply_profile(options, profile_);
-    options.reach = reach_;
+    options.platform_rules = rules_;
     e->graph = graph::build_scene_graph(e->scene, options);
     log::info("loaded scene " + scene_name + ": " + std::to_string(e->graph.navigable.size()) +
               " navigable platforms");

@@ -16,10 +16,10 @@ class SceneCache {
  public:
   /// `with_textures`: keep the meshes' embedded textures (the renderer draws them; geometry
   /// does not need them and loads faster without).
-  /// `reach`: as the tasks run on it were planned (tasks::reach_of_format).
-  explicit SceneCache(std::string profile = "replica_cad", PlatformReach reach = PlatformReach::kThroughOpening,
+  /// `rules`: as the tasks run on it were planned (tasks::platform_rules_of_format).
+  explicit SceneCache(std::string profile = "replica_cad", PlatformRules rules = PlatformRules::kReachedAndSeen,
                       bool with_textures = false)
-      : profile_(std::move(profile)), reach_(reach), meshes_(scene::MeshLoadOptions{.keep_textures = with_textures}) {}
+      : profile_(std::move(profile)), rules_(rules), meshes_(scene::MeshLoadOptions{.keep_textures = with_textures}) {}
 
   struct Entry {
     std::string key;  // data dir and scene name: stable identity for per-scene caches
@@ -29,14 +29,14 @@ class SceneCache {
   /// The scene `scene` in the dataset at `data_dir` ("" = default search order) and its graph.
   /// @throws mtg::Error if the scene cannot be loaded.
   const Entry& load(const std::string& scene, const std::string& data_dir);
-  PlatformReach reach() const { return reach_; }
+  PlatformRules rules() const { return rules_; }
   const graph::SceneGraph& get(const std::string& scene, const std::string& data_dir) {
     return load(scene, data_dir).graph;
   }
 
  private:
   std::string profile_;
-  PlatformReach reach_;
+  PlatformRules rules_;
   scene::MeshCache meshes_;
   std::map<std::string, std::unique_ptr<Entry>> entries_;
 };

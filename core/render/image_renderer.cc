@@ -99,8 +99,8 @@ std::string part_caption(const PlatformPicture& picture, const std::string& plat
 
 }  // namespace
 
-ImageRenderer::ImageRenderer(std::string profile, RendererOptions options, int gpu, graph::PlatformReach reach)
-    : scenes_(std::move(profile), reach, /*with_textures=*/true), options_(options), context_(gpu) {
+ImageRenderer::ImageRenderer(std::string profile, RendererOptions options, int gpu, graph::PlatformRules rules)
+    : scenes_(std::move(profile), rules, /*with_textures=*/true), options_(options), context_(gpu) {
   log::info("renderer: " + context_.description());
 }
 

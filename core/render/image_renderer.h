@@ -36,9 +36,9 @@ class ImageRenderer {
  public:
   /// On `gpu` (the hardware EGL device of that index, modulo how many there are; -1 = the
   /// first). @throws mtg::Error when no headless GL context can be made.
-  /// `reach`: as the tasks drawn were planned (tasks::reach_of_format).
+  /// `rules`: as the tasks drawn were planned (tasks::platform_rules_of_format).
   explicit ImageRenderer(std::string profile = "replica_cad", RendererOptions options = {}, int gpu = -1,
-                         graph::PlatformReach reach = graph::PlatformReach::kThroughOpening);
+                         graph::PlatformRules rules = graph::PlatformRules::kReachedAndSeen);
 
   /// draw() then every image encoded, on up to RendererOptions::encode_jobs threads.
   /// @throws mtg::Error with a one-line message naming the bad field, name or file.

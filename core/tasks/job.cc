@@ -27,7 +27,7 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
   for (const std::string& name : job.scenes) dataset.scene_file(name);  // a typo fails now, not after other scenes
   graph::GraphOptions graph_options;
   graph::apply_profile(graph_options, job.profile);
-  graph_options.reach = reach_of_format(kGeneratorVersion);  // the graphs the tasks are planned on
+  graph_options.platform_rules = platform_rules_of_format(kGeneratorVersion);  // the graphs the tasks are planned on
 
   // Scenes run side by side (each also spreads its own levels over the threads). Each scene's
   // thread makes its tasks into chunks as they come, without the lock; the first scene not yet

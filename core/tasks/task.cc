@@ -130,8 +130,8 @@ episode::Numbering numbering_of_format(const std::string& format) {
   return format_version(format) >= 4 ? episode::Numbering::kStable : episode::Numbering::kPerState;
 }
 
-graph::PlatformReach reach_of_format(const std::string& format) {
-  return format_version(format) >= 5 ? graph::PlatformReach::kThroughOpening : graph::PlatformReach::kWholeSurface;
+graph::PlatformRules platform_rules_of_format(const std::string& format) {
+  return format_version(format) >= 5 ? graph::PlatformRules::kReachedAndSeen : graph::PlatformRules::kWholeSurface;
 }
 
 nlohmann::json TaskOptions::to_json() const {

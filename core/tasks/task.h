@@ -24,18 +24,19 @@ namespace mtg::tasks {
 /// none_near, every required object on a platform the text names, no kind above a fifth.
 /// mtg-tasks/4: an item keeps its number for the whole episode (episode::Numbering::kStable): the
 /// oracle keys of a later step count that way.
-/// mtg-tasks/5: a platform inside its furniture is the part an arm reaches through the opening
-/// (graph::PlatformReach::kThroughOpening): a TV stand's floor ends at its closed doors.
+/// mtg-tasks/5: platforms as a person uses them (graph::PlatformRules::kReachedAndSeen): a
+/// platform inside its furniture is the part an arm reaches through the opening (a TV stand's
+/// floor ends at its closed doors), an empty chair is seen from its seat's side.
 inline constexpr const char* kGeneratorVersion = "mtg-tasks/5";
 
 /// How items are numbered in runs of tasks of generator format `format` (kGeneratorVersion of
 /// the set that made them): stable from mtg-tasks/4 on; the release's per-state numbering for
 /// older tasks (their later oracle keys count that way) and for a set that does not say.
 episode::Numbering numbering_of_format(const std::string& format);
-/// Which part of a platform inside its furniture runs of tasks of format `format` use: the part
-/// reached through the opening from mtg-tasks/5 on; the whole surface for older tasks (their
-/// goals, free spaces and cells were planned on it) and for a set that does not say.
-graph::PlatformReach reach_of_format(const std::string& format);
+/// How runs of tasks of format `format` read platforms: as a person uses them from mtg-tasks/5
+/// on; as the release for older tasks (their goals, cells and texts were planned on whole
+/// surfaces and those arrival sides) and for a set that does not say.
+graph::PlatformRules platform_rules_of_format(const std::string& format);
 
 /// How a task's text picks out an object that has look-alikes (referring.h). The scene-graph
 /// service shows each such object in a close-up at the first observation; tests resolve the

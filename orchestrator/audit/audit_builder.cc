@@ -82,7 +82,7 @@ int build_audit(const AuditOptions& o, std::ostream& progress, bool redraw) {
       return static_cast<int>(sample.size());
     }
   }
-  render::ImageRenderer renderer(o.profile, {}, -1, tasks::reach_of_format(task_format));
+  render::ImageRenderer renderer(o.profile, {}, -1, tasks::platform_rules_of_format(task_format));
   for (std::size_t i = 0; i < sample.size(); ++i) {
     const tasks::Task& task = *sample[i];
     const graph::SceneCache::Entry& entry = renderer.scenes().load(task.scene, o.data_dir);

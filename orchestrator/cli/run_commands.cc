@@ -294,7 +294,7 @@ RunPlan plan_from_options(const RunOptions& o, const fs::path& dir, const tasks:
   const std::string task_format = suite != nullptr ? suite->generator.value("task_format", std::string())
                                                    : tasks::read_task_set_meta(source, "generator_version").value_or(std::string());
   plan.numbering = tasks::numbering_of_format(task_format);
-  plan.platform_reach = tasks::reach_of_format(task_format);
+  plan.platform_rules = tasks::platform_rules_of_format(task_format);
   // A model call may wait minutes for rate limits and retries before the next message.
   plan.episode_timeout_s = o.episode_timeout_s > 0 ? o.episode_timeout_s : (model_agent ? 900.0 : 60.0);
   plan.data_dir = o.data_dir;
@@ -360,7 +360,7 @@ void check_goals(const RunPlan& plan, const std::string& task_source, const std:
   for (const auto& e : plan.episodes) planned.insert(e.task_id);
   std::vector<const tasks::Task*> list;
   for (const std::string& id : planned) list.push_back(&tasks.at(id));
-  orchestrator::check_goals(list, plan.profile, plan.platform_reach, plan.data_dir, task_source,
+  orchestrator::check_goals(list, plan.profile, plan.platform_rules, plan.data_dir, task_source,
                             plan.remote ? orchestrator::MissingScene::kSkip : orchestrator::MissingScene::kFail, &scenes);
 }
 
@@ -511,7 +511,7 @@ int run_run(const RunOptions& options) {
       fingerprints_of(plan, from_suite ? suite->dataset : tasks::read_dataset_fingerprints(task_source), tasks);
   if (!plan.remote) check_dataset(plan, task_source, fingerprints);
   // Loaded once for the goals and the estimate, and let go before the run's processes load their own.
-  std::optional<graph::SceneCache> scenes(std::in_place, plan.profile, plan.platform_reach);
+  std::optional<graph::SceneCache> scenes(std::in_place, plan.profile, plan.platform_rules);
   check_goals(plan, task_source, tasks, *scenes);
   if (o.estimate) return orchestrator::print_estimate(plan, tasks, o.vlm, dir, &*scenes);
   if (!resuming) {

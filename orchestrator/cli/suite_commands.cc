@@ -175,7 +175,7 @@ int run_suite_verify(const SuiteVerifyOptions& o) {
   }
   std::vector<const tasks::Task*> list;
   for (const auto& t : s.tasks) list.push_back(&t);
-  orchestrator::check_goals(list, o.profile, tasks::reach_of_format(s.generator.value("task_format", std::string())),
+  orchestrator::check_goals(list, o.profile, tasks::platform_rules_of_format(s.generator.value("task_format", std::string())),
                             o.data_dir, o.file, orchestrator::MissingScene::kFail);
   std::printf("%s: suite %s verified: %zu tasks, the digest matches, the dataset at %s is the suite's, every goal "
               "resolves\n",

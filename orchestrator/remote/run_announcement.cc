@@ -8,8 +8,8 @@ namespace mtg::orchestrator::remote {
 mtg::run_info_t announcement(const RuntimeConfig& run, const RunCounts& counts) {
   mtg::run_info_t m{};
   m.profile = run.profile;
-  m.platform_reach = run.platform_reach == graph::PlatformReach::kWholeSurface ? mtg::run_info_t::REACH_WHOLE_SURFACE
-                                                                               : mtg::run_info_t::REACH_THROUGH_OPENING;
+  m.platform_rules = run.platform_rules == graph::PlatformRules::kWholeSurface ? mtg::run_info_t::RULES_WHOLE_SURFACE
+                                                                               : mtg::run_info_t::RULES_REACHED_AND_SEEN;
   m.render = run.render;
   m.image_width = run.image_width;
   m.image_height = run.image_height;
@@ -37,10 +37,10 @@ RuntimeConfig announced_config(const mtg::run_info_t& info) {
   RuntimeConfig c;
   c.run_id = info.header.run_id;
   c.profile = info.profile;
-  switch (info.platform_reach) {
-    case mtg::run_info_t::REACH_THROUGH_OPENING: c.platform_reach = graph::PlatformReach::kThroughOpening; break;
-    case mtg::run_info_t::REACH_WHOLE_SURFACE: c.platform_reach = graph::PlatformReach::kWholeSurface; break;
-    default: throw Error("run announcement: unknown platform_reach " + std::to_string(info.platform_reach));
+  switch (info.platform_rules) {
+    case mtg::run_info_t::RULES_REACHED_AND_SEEN: c.platform_rules = graph::PlatformRules::kReachedAndSeen; break;
+    case mtg::run_info_t::RULES_WHOLE_SURFACE: c.platform_rules = graph::PlatformRules::kWholeSurface; break;
+    default: throw Error("run announcement: unknown platform_rules " + std::to_string(info.platform_rules));
   }
   c.render = info.render;
   c.image_width = info.image_width;

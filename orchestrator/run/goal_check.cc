@@ -7,10 +7,10 @@
 
 namespace mtg::orchestrator {
 
-void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, graph::PlatformReach reach,
+void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, graph::PlatformRules rules,
                  const std::string& data_dir, const std::string& origin, MissingScene missing,
                  graph::SceneCache* shared) {
-  graph::SceneCache own(profile, reach);
+  graph::SceneCache own(profile, rules);
   graph::SceneCache& scenes = shared != nullptr ? *shared : own;
   for (const tasks::Task* t : tasks) {
     const graph::SceneGraph* g = nullptr;

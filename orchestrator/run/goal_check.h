@@ -19,8 +19,8 @@ enum class MissingScene {
 /// @throws mtg::Error naming `origin`, the task and why ("<origin>: task X: its goal does not
 /// hold in scene S: ..."), or the scene that cannot be loaded (with MissingScene::kFail).
 /// Scenes are loaded through `scenes` when given (a command that loads them again after), else
-/// through a cache of its own with `profile` and `reach` (as the tasks were planned).
-void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, graph::PlatformReach reach,
+/// through a cache of its own with `profile` and `rules` (as the tasks were planned).
+void check_goals(const std::vector<const tasks::Task*>& tasks, const std::string& profile, graph::PlatformRules rules,
                  const std::string& data_dir, const std::string& origin, MissingScene missing,
                  graph::SceneCache* scenes = nullptr);
 

@@ -154,16 +154,16 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
   const std::vector<render::RendererSlot> renderers =
       config_.render ? render::plan_render_pool(config_.renderers, default_jobs(), count_gpus(bin))
                      : std::vector<render::RendererSlot>{};
-  const std::string reach = graph::to_string(config_.platform_reach);
+  const std::string rules = graph::to_string(config_.platform_rules);
   supervisor_.start("scene_graph", with({(bin / "mtg_scene_graph").string(), "--truth-key-file", truth_key,
-                                         "--profile", config_.profile, "--platform-reach", reach,
+                                         "--profile", config_.profile, "--platform-rules", rules,
                                          "--image-width", std::to_string(config_.image_width), "--image-height",
                                          std::to_string(config_.image_height), "--image-encoding",
                                          config_.image_encoding, "--renderers",
                                          std::to_string(std::max<std::size_t>(1, renderers.size()))}));
   for (const render::RendererSlot& slot : renderers) {
     std::vector<std::string> argv = {(bin / "mtg_renderer").string(), "--profile", config_.profile,
-                                     "--platform-reach", reach, "--pool-index",
+                                     "--platform-rules", rules, "--pool-index",
                                      std::to_string(slot.index), "--encode-jobs", std::to_string(slot.encode_threads)};
     if (slot.gpu >= 0) argv.insert(argv.end(), {"--gpu", std::to_string(slot.gpu)});
     if (slot.draw_threads > 0) argv.insert(argv.end(), {"--draw-threads", std::to_string(slot.draw_threads)});
@@ -177,7 +177,7 @@ std::vector<AdoptedAttempt> LocalRuntime::open() {
               std::to_string(renderers.front().encode_threads) + " encoder thread(s) each");
   }
   supervisor_.start("judge", with({(bin / "mtg_judge").string(), "--truth-key-file", truth_key, "--profile",
-                                   config_.profile, "--platform-reach", reach}));
+                                   config_.profile, "--platform-rules", rules}));
   names_.push_back("scene_graph");
   names_.push_back("judge");
   bool model_agents = false;

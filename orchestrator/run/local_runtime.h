@@ -35,8 +35,8 @@ struct RuntimeConfig {
   std::string run_id;
   std::string bus_url;
   std::string profile = "replica_cad";
-  /// The services build their graphs so, as the run's tasks were planned (RunPlan::platform_reach).
-  graph::PlatformReach platform_reach = graph::PlatformReach::kThroughOpening;
+  /// The services build their graphs so, as the run's tasks were planned (RunPlan::platform_rules).
+  graph::PlatformRules platform_rules = graph::PlatformRules::kReachedAndSeen;
   bool render = false;
   /// Renderer processes when images are on (core/render/render_pool.h; 0 = one per four cores,
   /// at least one per GPU). Each host of a multi-host run chooses its own.

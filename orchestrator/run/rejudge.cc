@@ -65,7 +65,7 @@ RejudgeReport rejudge_run(const fs::path& run_dir) {
   std::vector<bus::RecordingDamage> damage;
   const auto recording = read_recording(run_dir, plan.run_id, damage);
   for (const bus::RecordingDamage& d : damage) report.damage.push_back(bus::describe(d));
-  graph::SceneCache scenes(plan.profile, plan.platform_reach);
+  graph::SceneCache scenes(plan.profile, plan.platform_rules);
   for (const EpisodeRow& original : recorded_rows) {
     EpisodeRow row = original;
     if (original.status == "scored") {

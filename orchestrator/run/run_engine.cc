@@ -399,7 +399,7 @@ RuntimeConfig runtime_config(const RunPlan& plan, const EngineOptions& options) 
   c.run_id = plan.run_id;
   c.bus_url = plan.bus_url;
   c.profile = plan.profile;
-  c.platform_reach = plan.platform_reach;
+  c.platform_rules = plan.platform_rules;
   c.render = plan.render;
   c.renderers = options.renderers;
   c.image_width = plan.image_width;

@@ -66,7 +66,7 @@ nlohmann::json estimate_plan(const RunPlan& plan, const std::map<std::string, ta
 
   // Each task once (every agent asks the same questions), in the plan's order; a large run
   // walks a sample of each scene and level, which is what its figures depend on.
-  graph::SceneCache own(plan.profile, plan.platform_reach);
+  graph::SceneCache own(plan.profile, plan.platform_rules);
   graph::SceneCache& scenes = shared != nullptr ? *shared : own;
   std::map<std::string, vlm::EpisodePrompts> walked;                     // task id -> its questions
   std::map<Stratum, std::vector<const vlm::EpisodePrompts*>> by_stratum;  // map values do not move

@@ -33,7 +33,7 @@ nlohmann::json RunPlan::to_json() const {
                      {"object_names", object_names},
                      {"lookalike_aid", episode::to_string(lookalike_aid)},
                      {"numbering", episode::to_string(numbering)},
-                     {"platform_reach", graph::to_string(platform_reach)},
+                     {"platform_rules", graph::to_string(platform_rules)},
                      {"image_width", image_width},
                      {"image_height", image_height},
                      {"image_encoding", image_encoding},
@@ -73,8 +73,8 @@ RunPlan RunPlan::from_json(const nlohmann::json& j, const std::string& origin) {
     // Plans from before stable numbers ran tasks planned with the release's numbering.
     p.numbering = episode::numbering_from_string(j.value("numbering", std::string("per_state")), "numbering");
     // Plans from before the reach ran tasks planned on whole surfaces.
-    p.platform_reach =
-        graph::platform_reach_from_string(j.value("platform_reach", std::string("whole_surface")), "platform_reach");
+    p.platform_rules =
+        graph::platform_rules_from_string(j.value("platform_rules", std::string("whole_surface")), "platform_rules");
     p.image_width = j.value("image_width", p.image_width);  // absent in plans written before images
     p.image_height = j.value("image_height", p.image_height);
     p.image_encoding = j.value("image_encoding", p.image_encoding);

@@ -41,9 +41,9 @@ struct RunPlan {
   episode::LookalikeAid lookalike_aid = episode::LookalikeAid::kBoth;  // words, close-ups or both
   /// How items are numbered over an episode: as the tasks were planned (tasks::numbering_of_format).
   episode::Numbering numbering = episode::Numbering::kStable;
-  /// Which part of a platform inside its furniture the graphs use: as the tasks were planned
-  /// (tasks::reach_of_format).
-  graph::PlatformReach platform_reach = graph::PlatformReach::kThroughOpening;
+  /// How the graphs read platforms (reach, empty platforms' arrival sides): as the tasks were
+  /// planned (tasks::platform_rules_of_format).
+  graph::PlatformRules platform_rules = graph::PlatformRules::kReachedAndSeen;
   int image_width = 640;
   int image_height = 480;
   std::string image_encoding = "png";

@@ -27,9 +27,9 @@ int main(int argc, char** argv) {
   bool count_gpus = false;
   app.add_option("--url", url, "LCM URL");
   app.add_option("--profile", profile, "scene profile");
-  std::string reach = "through_opening";
-  app.add_option("--platform-reach", reach, "which part of a platform inside its furniture counts: as the run's tasks were planned")
-      ->check(CLI::IsMember({"through_opening", "whole_surface"}));
+  std::string rules = "reached_and_seen";
+  app.add_option("--platform-rules", rules, "how platforms are read (graph::PlatformRules): as the run's tasks were planned")
+      ->check(CLI::IsMember({"reached_and_seen", "whole_surface"}));
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   app.add_option("--max-texture", options.max_texture_size, "largest texture edge kept on the GPU (pixels)")
       ->check(CLI::Range(16, 8192));
@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     mtg::bus::Bus out(url);  // the encoders publish from their threads
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id(role));
     mtg::render::ImageRenderer renderer(profile, options, gpu,
-                                        mtg::graph::platform_reach_from_string(reach, "--platform-reach"));
+                                        mtg::graph::platform_rules_from_string(rules, "--platform-rules"));
     const int encoders = mtg::jobs_or_cores(options.encode_jobs);
     // Frames of at most two requests per encoder wait: enough to keep every encoder busy.
     mtg::services::EncodePipeline pipeline(encoders, 2 * encoders);

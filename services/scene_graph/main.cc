@@ -15,9 +15,9 @@ int main(int argc, char** argv) {
   std::string profile = "replica_cad", run_id;
   app.add_option("--url", url, "LCM URL");
   app.add_option("--profile", profile, "scene profile");
-  std::string reach = "through_opening";
-  app.add_option("--platform-reach", reach, "which part of a platform inside its furniture counts: as the run's tasks were planned")
-      ->check(CLI::IsMember({"through_opening", "whole_surface"}));
+  std::string rules = "reached_and_seen";
+  app.add_option("--platform-rules", rules, "how platforms are read (graph::PlatformRules): as the run's tasks were planned")
+      ->check(CLI::IsMember({"reached_and_seen", "whole_surface"}));
   app.add_option("--run", run_id, "serve only this run ('' = every run)");
   std::string truth_key;
   app.add_option("--truth-key-file", truth_key, "the run's answer key (episode answers travel sealed; bus/truth_seal.h)");
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
       bus.seal_truths(std::make_shared<const mtg::bus::TruthSeal>(mtg::bus::TruthSeal::from_file(truth_key)));
     }
     mtg::bus::HeaderStamper stamp(run_id, mtg::process::sender_id("scene_graph"));
-    mtg::graph::SceneCache scenes(profile, mtg::graph::platform_reach_from_string(reach, "--platform-reach"));
+    mtg::graph::SceneCache scenes(profile, mtg::graph::platform_rules_from_string(rules, "--platform-rules"));
     mtg::services::EpisodeHost host(bus, stamp, scenes, run_id, mtg::services::FaultInjection::from_env(),
                                         images);
     mtg::process::ServiceLoop loop(bus, stamp, "scene_graph", 64);

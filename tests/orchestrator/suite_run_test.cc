@@ -163,7 +163,7 @@ TEST(FrozenSuite, TheShippedStandardSuiteIsSolvedWhole) {
     if (!r.success && ++failed <= 10) ADD_FAILURE() << r.task_id << " " << r.detail;
   }
   EXPECT_EQ(failed, 0);
-  EXPECT_EQ(nlohmann::json::parse(std::ifstream(out / "plan.json")).value("platform_reach", ""), "whole_surface");
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(out / "plan.json")).value("platform_rules", ""), "whole_surface");
   fs::remove_all(out);
   fs::remove(log);
 }

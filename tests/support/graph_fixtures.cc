@@ -16,12 +16,12 @@ void add_table(FixtureDataset& fx, const std::string& name, double sx, double sy
 
 Eigen::Vector3d hab(double x, double y, double z) { return {x, z, -y}; }
 
-BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name, graph::PlatformReach reach) {
+BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name, graph::PlatformRules rules) {
   scene::MeshCache cache;
   BuiltScene b{scene::load_scene(scene::index_dataset(fx.root()), name, cache), {}};
   graph::GraphOptions options;
   graph::apply_profile(options, "none");
-  options.reach = reach;
+  options.platform_rules = rules;
   b.graph = graph::build_scene_graph(b.scene, options);
   return b;
 }

@@ -23,7 +23,7 @@ struct BuiltScene {
 
 /// Loads `name` from the fixture and builds its graph (profile "none").
 BuiltScene build_fixture_scene(const FixtureDataset& fx, const std::string& name,
-                               graph::PlatformReach reach = graph::PlatformReach::kThroughOpening);
+                               graph::PlatformRules rules = graph::PlatformRules::kReachedAndSeen);
 
 /// Two tables far apart: table_0 at the origin with three 0.1 m boxes (box_1, box_2, box_3 at
 /// x = -0.3, 0, 0.3), and an empty table_4 at x = 3. Scene name "two_tables".

@@ -207,11 +207,43 @@ TEST(SceneGraph, ALayerBehindClosedDoorsIsOnlyThePartReachedThroughTheOpening) {
     const Eigen::Vector2d c = reached.X_WP * geom::centroid(cell.region_P);
     EXPECT_LT(std::abs(c.x()), 0.2) << "cell " << cell.dir;
   }
-  const SceneGraph old = testing::build_fixture_scene(fx, "doors", PlatformReach::kWholeSurface).graph;
+  const SceneGraph old = testing::build_fixture_scene(fx, "doors", PlatformRules::kWholeSurface).graph;
   const Platform& surface = platform(old, "stand_0_platform_0");
   EXPECT_NEAR(surface.area(), whole.area(), 1e-9);
   EXPECT_EQ(surface.X_WP.translation(), whole.X_WP.translation());
   EXPECT_TRUE(geom::contains(surface.polygon_W(), {0.33, 0.0}));
+}
+
+// An empty chair: from mtg-tasks/5 (PlatformRules::kReachedAndSeen) the robot arrives where it
+// sees the seat, not behind the backrest; the release's rules leave an empty platform to the
+// standing room, and here both sides have the same, so the first (the rear) wins: behind the
+// backrest (graph.md, "The arrival side").
+TEST(SceneGraph, AnEmptyChairIsSeenFromItsSeatsSideNotFromBehindItsBackrest) {
+  FixtureDataset fx;
+  // Boxes by size and bottom centre: a seat 45-49 cm up on four legs, a backrest 20 cm high
+  // along its +z edge (the world's -y: the platform's rear).
+  std::vector<Box> chair = {{{0.44, 0.04, 0.44}, {0, 0.45, 0}}, {{0.44, 0.2, 0.03}, {0, 0.49, 0.205}}};
+  for (const double x : {-0.2, 0.2}) {
+    for (const double z : {-0.2, 0.2}) chair.push_back({{0.03, 0.45, 0.03}, {x, 0.0, z}});
+  }
+  fx.add_object_config("toy_chair", fx.add_boxes_mesh("chair", chair));
+  fx.add_scene("s", {{"object_instances", {FixtureDataset::instance("toy_chair", {0, 0, 0})}}});
+  const SceneGraph seen = testing::build_fixture_scene(fx, "s", PlatformRules::kReachedAndSeen).graph;
+  const SceneGraph release = testing::build_fixture_scene(fx, "s", PlatformRules::kWholeSurface).graph;
+  const Platform& seat = platform(seen, "toy_chair_0_platform_0");
+  ASSERT_TRUE(seat.navigable);
+  ASSERT_TRUE(seat.items.empty());
+  const auto& rear = seat.sides[static_cast<std::size_t>(Side::kRear)];
+  ASSERT_TRUE(rear.usable());
+  ASSERT_LT(rear.standing_point.y(), -0.3);  // behind the backrest
+  ASSERT_GE(seat.default_side, 0);
+  const auto& chosen = seat.sides[static_cast<std::size_t>(seat.default_side)];
+  EXPECT_NE(seat.default_side, static_cast<int>(Side::kRear)) << "seen from behind its backrest";
+  EXPECT_LT(rear.sight_lines, chosen.sight_lines);
+  EXPECT_EQ(chosen.sight_lines, 9);  // every point of the seat in sight
+  const Platform& old = platform(release, "toy_chair_0_platform_0");
+  EXPECT_EQ(old.default_side, static_cast<int>(Side::kRear));
+  EXPECT_EQ(old.sides[static_cast<std::size_t>(Side::kRear)].sight_lines, 0);  // not looked at
 }
 
 TEST(SceneGraph, EmptyPlatformGetsANineCellGrid) {

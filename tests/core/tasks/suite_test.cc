@@ -241,17 +241,17 @@ TEST(TaskFormat, RunsNumberItemsAsTheTasksWerePlanned) {
 // part reached through the opening from mtg-tasks/5 on, whole surfaces before (the frozen suites'
 // goals name cells of a TV stand's whole floor).
 TEST(TaskFormat, RunsBuildPlatformsAsTheTasksWerePlanned) {
-  EXPECT_EQ(reach_of_format(kGeneratorVersion), graph::PlatformReach::kThroughOpening);
-  EXPECT_EQ(reach_of_format("mtg-tasks/5"), graph::PlatformReach::kThroughOpening);
-  EXPECT_EQ(reach_of_format("mtg-tasks/10"), graph::PlatformReach::kThroughOpening);
+  EXPECT_EQ(platform_rules_of_format(kGeneratorVersion), graph::PlatformRules::kReachedAndSeen);
+  EXPECT_EQ(platform_rules_of_format("mtg-tasks/5"), graph::PlatformRules::kReachedAndSeen);
+  EXPECT_EQ(platform_rules_of_format("mtg-tasks/10"), graph::PlatformRules::kReachedAndSeen);
   for (const char* old : {"mtg-tasks/1", "mtg-tasks/2", "mtg-tasks/4", "", "mtg-tasks/5 ", "mtg-tasks/-5"}) {
-    EXPECT_EQ(reach_of_format(old), graph::PlatformReach::kWholeSurface) << old;
+    EXPECT_EQ(platform_rules_of_format(old), graph::PlatformRules::kWholeSurface) << old;
   }
-  EXPECT_EQ(graph::platform_reach_from_string(graph::to_string(graph::PlatformReach::kWholeSurface), "x"),
-            graph::PlatformReach::kWholeSurface);
-  EXPECT_EQ(graph::platform_reach_from_string(graph::to_string(graph::PlatformReach::kThroughOpening), "x"),
-            graph::PlatformReach::kThroughOpening);
-  EXPECT_THROW((void)graph::platform_reach_from_string("open", "plan.json: platform_reach"), Error);
+  EXPECT_EQ(graph::platform_rules_from_string(graph::to_string(graph::PlatformRules::kWholeSurface), "x"),
+            graph::PlatformRules::kWholeSurface);
+  EXPECT_EQ(graph::platform_rules_from_string(graph::to_string(graph::PlatformRules::kReachedAndSeen), "x"),
+            graph::PlatformRules::kReachedAndSeen);
+  EXPECT_THROW((void)graph::platform_rules_from_string("open", "plan.json: platform_rules"), Error);
 }
 
 }  // namespace
