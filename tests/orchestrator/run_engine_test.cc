@@ -10,7 +10,9 @@
 #include <map>
 #include <set>
 
+#include "orchestrator/remote/run_announcement.h"
 #include "orchestrator/run/launcher.h"
+#include "orchestrator/run/run_plan.h"
 #include "orchestrator/run/results_db.h"
 #include "tests/support/fixture_dataset.h"
 
@@ -262,6 +264,31 @@ TEST(RunEngine, ACapNeverReachedChangesNothing) {
   const RunSummary summary = f.run(l, budget);
   EXPECT_EQ(summary.completed, 3);
   EXPECT_TRUE(summary.budget_stop.empty());
+}
+
+// How the run's graphs read platforms travels with the run: plan.json keeps it (a plan written
+// before says nothing and ran whole surfaces), and the announcement gives it to every worker.
+TEST(RunPlatformRules, ThePlanAndTheAnnouncementCarryThem) {
+  RunPlan plan;
+  plan.run_id = "r";
+  plan.platform_rules = graph::PlatformRules::kWholeSurface;
+  nlohmann::json j = plan.to_json();
+  EXPECT_EQ(j.at("platform_rules"), "whole_surface");
+  EXPECT_EQ(RunPlan::from_json(j, "plan.json").platform_rules, graph::PlatformRules::kWholeSurface);
+  j["platform_rules"] = "reached_and_seen";
+  EXPECT_EQ(RunPlan::from_json(j, "plan.json").platform_rules, graph::PlatformRules::kReachedAndSeen);
+  j.erase("platform_rules");
+  EXPECT_EQ(RunPlan::from_json(j, "plan.json").platform_rules, graph::PlatformRules::kWholeSurface);
+  j["platform_rules"] = "open";
+  EXPECT_THROW((void)RunPlan::from_json(j, "plan.json"), Error);
+  for (const graph::PlatformRules rules : {graph::PlatformRules::kWholeSurface, graph::PlatformRules::kReachedAndSeen}) {
+    RuntimeConfig c;
+    c.platform_rules = rules;
+    EXPECT_EQ(remote::announced_config(remote::announcement(c, {})).platform_rules, rules);
+  }
+  mtg::run_info_t odd = remote::announcement(RuntimeConfig{}, {});
+  odd.platform_rules = 7;
+  EXPECT_THROW((void)remote::announced_config(odd), Error);
 }
 
 }  // namespace
