@@ -1,5 +1,6 @@
 #include "core/tasks/job.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <future>
 #include <mutex>
@@ -74,11 +75,13 @@ GenerationReport run_generation(const GenerationJob& job, const SceneDone& on_sc
                          std::make_move_iterator(chunks.end()));
     }
   };
-  // The threads go to scenes first, and each scene's levels get twice its share: when scenes
-  // finish unevenly (three scenes on two cores) the last ones still use every core. At most
-  // twice the threads asked for, plus one per running scene for its Level 4 (generate_tasks),
-  // never jobs x jobs.
-  const int scene_jobs = job.voters.empty() ? std::min<int>(job.jobs, static_cast<int>(job.scenes.size())) : 1;
+  // A scene runs for every two threads (one scene keeps about 1.5 cores busy with its levels
+  // and its Level 4 alongside): on two cores the scenes take turns, which costs no time and holds
+  // one scene's sight data at a time (three apartments: 220 -> 140 MB peak, wall time within 1.3 %;
+  // docs/benchmarks.md "One scene per two threads"). Each scene's levels get twice its share: when
+  // scenes finish unevenly the last ones still use every core. At most twice the threads asked
+  // for, plus one per running scene for its Level 4 (generate_tasks), never jobs x jobs.
+  const int scene_jobs = job.voters.empty() ? std::clamp<int>(job.jobs / 2, 1, static_cast<int>(job.scenes.size())) : 1;
   const int level_jobs = std::min(job.jobs, std::max(1, 2 * job.jobs / std::max(1, scene_jobs)));
   parallel_for(job.scenes.size(), scene_jobs, [&](std::size_t i) {
     const Stopwatch watch;
