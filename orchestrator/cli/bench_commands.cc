@@ -17,6 +17,7 @@
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
 #include "core/util/parallel.h"
+#include "core/util/sha256.h"
 #include "core/util/stopwatch.h"
 
 namespace mtg::cli {
@@ -166,8 +167,13 @@ int run_bench_tasks(const BenchTasksOptions& options) {
   std::printf("  all four levels, %zu apartments: %ld tasks in %.1f s (database written), peak RSS %.0f MiB\n",
               options.scenes.size(), static_cast<long>(report.total), report.seconds, peak_rss_mib());
   const auto bytes = std::filesystem::file_size(options.out);
-  std::printf("  task database: %.1f MB, %.0f B per task\n", static_cast<double>(bytes) / 1e6,
-              static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, report.total)));
+  // Builds compared must write the same bytes (the database is deterministic): its digest is
+  // the line to compare between them.
+  std::ifstream db(options.out, std::ios::binary);
+  const std::string db_bytes((std::istreambuf_iterator<char>(db)), std::istreambuf_iterator<char>());
+  std::printf("  task database: %.1f MB, %.0f B per task, sha256 %s\n", static_cast<double>(bytes) / 1e6,
+              static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, report.total)),
+              sha256_hex(db_bytes).substr(0, 16).c_str());
   // One apartment alone: above, the apartments shared the threads, so their own times overlap.
   tasks::GenerationJob alone = job;
   alone.scenes = {options.scenes.front()};
