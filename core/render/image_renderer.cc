@@ -62,8 +62,11 @@ std::string zoomed_caption(const ViewImages& images, std::size_t first) {
 std::string zoom_caption(std::size_t k, const ZoomImage& z) {
   std::vector<int> numbers = z.numbers;
   std::sort(numbers.begin(), numbers.end());
+  // One number reads as one ("object 2 numbered as its key"; a rater read "objects 2" twice).
+  const bool one = numbers.size() == 1;
   return zoom_name(k) + ": a close-up of the part framed " + zoom_name(k) + " in the marked view, from where you stand; " +
-         (z.targets ? "free spaces " : "objects ") + numbers_text(numbers) + " numbered as their keys.";
+         (z.targets ? (one ? "free space " : "free spaces ") : (one ? "object " : "objects ")) + numbers_text(numbers) +
+         (one ? " numbered as its key." : " numbered as their keys.");
 }
 
 // The pictures of a platform view after the whole platform's: each part of a long platform, seen
