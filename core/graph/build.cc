@@ -533,7 +533,7 @@ class GraphBuilder {
       SideInfo& info = p.sides[static_cast<std::size_t>(side)];
       if (!info.usable()) continue;
       const Eigen::Vector3d eye(info.standing_point.x(), info.standing_point.y(), eye_z);
-      const Seen seen = targets.empty() ? Seen{} : count_seen(eye, targets, occluders);
+      const Seen seen = count_seen(eye, targets, occluders);  // nothing seen of no targets
       info.objects_seen = seen.objects;
       info.sight_lines = seen.lines + clear_lines(eye, surface, occluders);
     }

@@ -29,7 +29,6 @@ class SceneCache {
   /// The scene `scene` in the dataset at `data_dir` ("" = default search order) and its graph.
   /// @throws mtg::Error if the scene cannot be loaded.
   const Entry& load(const std::string& scene, const std::string& data_dir);
-  PlatformRules rules() const { return rules_; }
   const graph::SceneGraph& get(const std::string& scene, const std::string& data_dir) {
     return load(scene, data_dir).graph;
   }

@@ -117,6 +117,34 @@ TEST_F(SuiteRunTest, AFolderOfOneSuiteRefusesAnother) {
   EXPECT_NE(last_line().find("not of suite fixture@"), std::string::npos) << log_text();
 }
 
+// A frozen suite run whole with the oracle on the shipped data: its results and its plan.
+struct OracleRun {
+  std::vector<orchestrator::EpisodeRow> rows;
+  nlohmann::json plan;
+};
+
+// `name` keeps two tests' folders apart; `extra` goes to `mtg run` as given.
+OracleRun run_with_oracle(const fs::path& suite_file, const std::string& name, const std::vector<std::string>& extra) {
+  const fs::path out = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string log = out.string() + ".log";
+  std::vector<std::string> argv = {testing::bin("mtg"), "--log-level", "warn", "run", "--suite", suite_file.string(),
+                                   "--agent", "oracle", "--parallel", "4"};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  argv.insert(argv.end(), {"--out", out.string(), "--data", testing::shipped_dataset()->root.string(), "--no-progress"});
+  testing::ChildProcess run(argv, log);
+  OracleRun result;
+  const int rc = run.wait(300000);
+  EXPECT_EQ(rc, 0) << std::ifstream(log).rdbuf();
+  if (rc == 0) {
+    result.rows = orchestrator::read_results(out / "results.sqlite");
+    result.plan = nlohmann::json::parse(std::ifstream(out / "plan.json"));
+  }
+  fs::remove_all(out);
+  fs::remove(log);
+  return result;
+}
+
 // The suite in tests/data was made by an earlier version on the shipped apartments. Every later
 // version must read it (same identity) and run it unchanged: the oracle solves every task.
 TEST(FrozenSuite, TheKeptSuiteStillRunsUnchanged) {
@@ -124,21 +152,12 @@ TEST(FrozenSuite, TheKeptSuiteStillRunsUnchanged) {
   const tasks::Suite suite = tasks::read_suite(file);
   EXPECT_EQ(suite.id(), "compat-v1@095b43d5f9ab");
   MTG_REQUIRE_SHIPPED_DATA();
-  const fs::path out = fs::temp_directory_path() / ("mtg_frozen_suite_" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  const std::string log = out.string() + ".log";
-  testing::ChildProcess run({testing::bin("mtg"), "--log-level", "warn", "run", "--suite", file.string(), "--agent", "oracle",
-                             "--parallel", "4", "--out", out.string(), "--data",
-                             testing::shipped_dataset()->root.string(), "--no-progress"},
-                            log);
-  ASSERT_EQ(run.wait(300000), 0) << std::ifstream(log).rdbuf();
-  const auto rows = orchestrator::read_results(out / "results.sqlite");
-  EXPECT_EQ(rows.size(), suite.tasks.size());
-  for (const auto& r : rows) EXPECT_TRUE(r.success) << r.task_id << " " << r.detail;
+  const OracleRun run = run_with_oracle(file, "mtg_frozen_suite", {});
+  ASSERT_FALSE(HasFailure());
+  EXPECT_EQ(run.rows.size(), suite.tasks.size());
+  for (const auto& r : run.rows) EXPECT_TRUE(r.success) << r.task_id << " " << r.detail;
   // Its later oracle keys count the release's numbering, and its runs keep it.
-  EXPECT_EQ(nlohmann::json::parse(std::ifstream(out / "plan.json")).value("numbering", ""), "per_state");
-  fs::remove_all(out);
-  fs::remove(log);
+  EXPECT_EQ(run.plan.value("numbering", ""), "per_state");
 }
 
 // The shipped standard suite (1,200 tasks of mtg-tasks/2) runs as it was drawn: every task solved
@@ -148,24 +167,15 @@ TEST(FrozenSuite, TheShippedStandardSuiteIsSolvedWhole) {
   const fs::path file = fs::path(MTG_SOURCE_DIR) / "core" / "tasks" / "suites" / "standard-replicacad.json";
   MTG_REQUIRE_SHIPPED_DATA();
   const tasks::Suite suite = tasks::read_suite(file);
-  const fs::path out = fs::temp_directory_path() / ("mtg_standard_suite_" + std::to_string(::getpid()));
-  fs::remove_all(out);
-  const std::string log = out.string() + ".log";
-  testing::ChildProcess run({testing::bin("mtg"), "--log-level", "warn", "run", "--suite", file.string(), "--agent", "oracle",
-                             "--parallel", "4", "--no-render", "--out", out.string(), "--data",
-                             testing::shipped_dataset()->root.string(), "--no-progress"},
-                            log);
-  ASSERT_EQ(run.wait(300000), 0) << std::ifstream(log).rdbuf();
-  const auto rows = orchestrator::read_results(out / "results.sqlite");
-  EXPECT_EQ(rows.size(), suite.tasks.size());
+  const OracleRun run = run_with_oracle(file, "mtg_standard_suite", {"--no-render"});
+  ASSERT_FALSE(HasFailure());
+  EXPECT_EQ(run.rows.size(), suite.tasks.size());
   int failed = 0;
-  for (const auto& r : rows) {
+  for (const auto& r : run.rows) {
     if (!r.success && ++failed <= 10) ADD_FAILURE() << r.task_id << " " << r.detail;
   }
   EXPECT_EQ(failed, 0);
-  EXPECT_EQ(nlohmann::json::parse(std::ifstream(out / "plan.json")).value("platform_rules", ""), "whole_surface");
-  fs::remove_all(out);
-  fs::remove(log);
+  EXPECT_EQ(run.plan.value("platform_rules", ""), "whole_surface");
 }
 
 }  // namespace
