@@ -12,11 +12,11 @@ const char* ordinal(int rank) {
   return rank >= 1 && rank <= kMaxRank ? kWords[rank] : "";
 }
 
-// "the stack", "the leftmost stack", "the second stack from the left".
-std::string stack_words(int stack) {
+// "the stack", "the leftmost stack", "the second stack from the right".
+std::string stack_words(int stack, bool from_right) {
   if (stack <= 0) return "the stack";
-  if (stack == 1) return "the leftmost stack";
-  return std::string("the ") + ordinal(stack) + " stack from the left";
+  if (stack == 1) return from_right ? "the rightmost stack" : "the leftmost stack";
+  return std::string("the ") + ordinal(stack) + (from_right ? " stack from the right" : " stack from the left");
 }
 
 }  // namespace
@@ -66,11 +66,11 @@ std::string Reference::phrase() const {
     case Relation::kNearest: return "the nearest " + noun;
     case Relation::kFarthest: return "the farthest " + noun;
     case Relation::kFromTop:
-      return rank <= 1 ? "the " + noun + " at the top of " + stack_words(stack)
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of " + stack_words(stack);
+      return rank <= 1 ? "the " + noun + " at the top of " + stack_words(stack, stack_from_right)
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of " + stack_words(stack, stack_from_right);
     case Relation::kFromBottom:
-      return rank <= 1 ? "the " + noun + " at the bottom of " + stack_words(stack)
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of " + stack_words(stack);
+      return rank <= 1 ? "the " + noun + " at the bottom of " + stack_words(stack, stack_from_right)
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of " + stack_words(stack, stack_from_right);
   }
   return "the " + noun;
 }
@@ -81,6 +81,7 @@ nlohmann::json Reference::to_json() const {
   if (rank > 0) j["rank"] = rank;
   if (row != Row::kNone) j["row"] = row == Row::kFront ? "near" : "far";
   if (stack > 0) j["stack"] = stack;
+  if (stack_from_right) j["stack_from"] = "right";
   return j;
 }
 
@@ -103,6 +104,12 @@ Reference Reference::from_json(const nlohmann::json& j) {
     throw Error("reference: only from_top and from_bottom count in a stack");
   }
   if (r.stack < 0 || r.stack > kMaxRank) throw Error("reference: 'stack' must be 0.." + std::to_string(kMaxRank));
+  const std::string stack_from = j.value("stack_from", "left");
+  if (stack_from != "left" && stack_from != "right") {
+    throw Error("reference: 'stack_from' must be left or right, not '" + stack_from + "'");
+  }
+  r.stack_from_right = stack_from == "right";
+  if (r.stack_from_right && r.stack == 0) throw Error("reference: 'stack_from' needs 'stack'");
   const std::string row = j.value("row", "");
   if (!row.empty()) {
     if (row != "near" && row != "far") throw Error("reference: 'row' must be near or far, not '" + row + "'");

@@ -27,9 +27,10 @@ struct Reference {
   int rank = 0;          // from_left, from_right, from_top, from_bottom: 1 = the first; nearest, farthest: 1
   Row row = Row::kNone;  // from_left, from_right: counted in that row only
   int stack = 0;         // from_top, from_bottom: in the stack-th stack from the left (0: the one stack)
+  bool stack_from_right = false;  // the stack-th from the right instead
 
   /// "the book", "the book on the box", "the leftmost book", "the second book from the right",
-  /// "the leftmost spice jar in the far row"...
+  /// "the leftmost spice jar in the far row", "the book at the top of the rightmost stack"...
   std::string phrase() const;
   nlohmann::json to_json() const;
   /// @throws mtg::Error naming the field.

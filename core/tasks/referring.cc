@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -157,8 +158,8 @@ class PlatformView {
       case Relation::kFromRight: return counted(in_row(candidates, r.row), 6, r.rank);
       case Relation::kNearest: return counted(candidates, 0, 1);
       case Relation::kFarthest: return counted(candidates, 4, 1);
-      case Relation::kFromTop: return stacked(candidates, true, r.rank, r.stack);
-      case Relation::kFromBottom: return stacked(candidates, false, r.rank, r.stack);
+      case Relation::kFromTop: return stacked(candidates, true, r.rank, r.stack, r.stack_from_right);
+      case Relation::kFromBottom: return stacked(candidates, false, r.rank, r.stack, r.stack_from_right);
     }
     return out;
   }
@@ -170,11 +171,16 @@ class PlatformView {
     }
     return false;
   }
-  // The candidates' stacks, left to right as seen from the arrival side, each bottom to top: a
-  // stack is a candidate with those resting on it, one on the other (books lying on each other);
-  // a rack of jars standing side by side is no stack. None when a group is no single chain or two
-  // stacks stand too close to tell which is left.
-  std::vector<std::vector<std::size_t>> stacks_of(const std::vector<std::size_t>& candidates) const {
+  // A candidate with the candidates resting on it, bottom to top. A chain has them one on the
+  // other (books lying on each other); a pile has two or more side by side somewhere above its
+  // bottom (two books on one), so only its bottom is named by counting in it.
+  struct Stack {
+    std::vector<std::size_t> members;
+    bool chain = true;
+  };
+  // The candidates' stacks, left to right as seen from the arrival side; a rack of jars standing
+  // side by side is no stack. None when two stacks stand too close to tell which is left.
+  std::vector<Stack> stacks_of(const std::vector<std::size_t>& candidates) const {
     std::map<std::size_t, std::vector<std::size_t>> by_base;
     for (const std::size_t c : candidates) {
       std::size_t base = c;  // the lowest candidate under it (itself when none)
@@ -185,35 +191,63 @@ class PlatformView {
       }
       by_base[base].push_back(c);
     }
-    std::vector<std::pair<double, std::vector<std::size_t>>> stacks;
+    std::vector<std::pair<double, Stack>> stacks;
     for (auto& [base, members] : by_base) {
-      std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+      // The base first (every other member rests on it), the rest by height.
+      std::sort(members.begin(), members.end(), [&, base = base](std::size_t a, std::size_t b) {
+        if ((a == base) != (b == base)) return a == base;
         return s_.objects[objects_[a]].bottom < s_.objects[objects_[b]].bottom;
       });
-      for (std::size_t k = 0; k + 1 < members.size(); ++k) {
-        if (!rests_on(members[k + 1], members[k])) return {};
+      Stack stack{std::move(members), true};
+      for (std::size_t k = 0; k + 1 < stack.members.size(); ++k) {
+        stack.chain = stack.chain && rests_on(stack.members[k + 1], stack.members[k]);
       }
-      stacks.emplace_back(-along(base, 2), std::move(members));
+      stacks.emplace_back(-along(base, 2), std::move(stack));
     }
-    std::sort(stacks.begin(), stacks.end());
-    std::vector<std::vector<std::size_t>> out;
+    std::sort(stacks.begin(), stacks.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Stack> out;
     for (std::size_t k = 0; k < stacks.size(); ++k) {
       if (k > 0 && stacks[k].first - stacks[k - 1].first < kOrdinalGap) return {};
       out.push_back(std::move(stacks[k].second));
     }
     return out;
   }
-  // Counting candidates down (or up) a stack: the only stack they form (`stack` 0), or the
-  // `stack`-th of several from the left, of at least two candidates.
-  std::vector<std::size_t> stacked(const std::vector<std::size_t>& candidates, bool from_top, int rank,
-                                   int stack) const {
+  // Which of `stacks` (left to right) a count names: "the stack" is the one stack of two or more
+  // candidates; "the second stack from the right" counts from that end past stacks of two or
+  // more only, since a person may count a lone candidate as a stack or not. None when unclear.
+  static std::optional<std::size_t> stack_counted(const std::vector<Stack>& stacks, int stack, bool from_right) {
+    std::vector<std::size_t> order(stacks.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    if (from_right) std::reverse(order.begin(), order.end());
+    if (stack <= 0) {
+      std::optional<std::size_t> only;
+      for (const std::size_t k : order) {
+        if (stacks[k].members.size() < 2) continue;
+        if (only) return std::nullopt;
+        only = k;
+      }
+      return only;
+    }
+    if (stack > static_cast<int>(order.size())) return std::nullopt;
+    for (std::size_t n = 0; n + 1 < static_cast<std::size_t>(stack); ++n) {
+      if (stacks[order[n]].members.size() < 2) return std::nullopt;
+    }
+    return order[static_cast<std::size_t>(stack) - 1];
+  }
+  // Counting candidates down (or up) a stack of at least two candidates: the only such stack
+  // (`stack` 0), or the `stack`-th of several from the left (or right).
+  std::vector<std::size_t> stacked(const std::vector<std::size_t>& candidates, bool from_top, int rank, int stack,
+                                   bool from_right) const {
     if (candidates.size() < 2 || rank < 1) return {};
-    const std::vector<std::vector<std::size_t>> stacks = stacks_of(candidates);
+    const std::vector<Stack> stacks = stacks_of(candidates);
     if (stacks.empty()) return candidates;  // no telling the stacks apart
-    if ((stack == 0) != (stacks.size() == 1)) return candidates;
-    if (stack > static_cast<int>(stacks.size())) return {};
-    std::vector<std::size_t> chain = stacks[static_cast<std::size_t>(std::max(1, stack)) - 1];
+    const std::optional<std::size_t> at = stack_counted(stacks, stack, from_right);
+    if (!at) return candidates;
+    const Stack& counted = stacks[*at];
+    std::vector<std::size_t> chain = counted.members;
     if (chain.size() < 2 || rank > static_cast<int>(chain.size())) return {};
+    // In a pile only the bottom is one: above it, some stand side by side.
+    if (!counted.chain && (from_top || rank > 1)) return chain;
     if (from_top) std::reverse(chain.begin(), chain.end());
     return {chain[static_cast<std::size_t>(rank) - 1]};
   }
@@ -276,8 +310,8 @@ class PlatformView {
       case Relation::kFromRight: return counted_in_view(r.noun, 6, r.rank, r.row);
       case Relation::kNearest: return counted_in_view(r.noun, 0, 1, Row::kNone);
       case Relation::kFarthest: return counted_in_view(r.noun, 4, 1, Row::kNone);
-      case Relation::kFromTop: return stacked_in_view(r.noun, true, r.rank, r.stack);
-      case Relation::kFromBottom: return stacked_in_view(r.noun, false, r.rank, r.stack);
+      case Relation::kFromTop: return stacked_in_view(r.noun, true, r.rank, r.stack, r.stack_from_right);
+      case Relation::kFromBottom: return stacked_in_view(r.noun, false, r.rank, r.stack, r.stack_from_right);
     }
     return false;
   }
@@ -329,20 +363,23 @@ class PlatformView {
 
   // Counting down (or up) a stack in a picture: the candidates up to the counted one clearly
   // visible there, each standing at least min_gap pixels above (below) the next; counting several
-  // stacks, their bottoms in the picture's left-to-right order as min_gap apart.
-  bool stacked_in_view(const std::string& noun, bool from_top, int rank, int stack) const {
+  // stacks, their bottoms in the picture's order from the end counted from as min_gap apart.
+  bool stacked_in_view(const std::string& noun, bool from_top, int rank, int stack, bool from_right) const {
     std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < size(); ++i) {
       if (called(noun, i)) candidates.push_back(i);
     }
-    const std::vector<std::vector<std::size_t>> stacks = stacks_of(candidates);
-    if (stacks.empty()) return false;
-    std::vector<std::size_t> chain = stacks[static_cast<std::size_t>(std::max(1, stack)) - 1];
+    const std::vector<Stack> stacks = stacks_of(candidates);
+    const std::optional<std::size_t> at = stack_counted(stacks, stack, from_right);
+    if (!at) return false;
+    const Stack& counted = stacks[*at];
+    std::vector<std::size_t> chain = counted.members;
     if (from_top) std::reverse(chain.begin(), chain.end());
     std::vector<std::pair<double, std::size_t>> order;
     for (const std::size_t i : chain) order.emplace_back(0.0, i);
     std::vector<std::pair<double, std::size_t>> bases;
-    for (const auto& st : stacks) bases.emplace_back(0.0, st.front());
+    for (const auto& st : stacks) bases.emplace_back(0.0, st.members.front());
+    if (from_right) std::reverse(bases.begin(), bases.end());
     for (std::size_t k = 0; k < sight_->pictures(); ++k) {
       bool ok = true;
       std::vector<double> at;  // image y, growing along the count
@@ -355,10 +392,13 @@ class PlatformView {
       }
       const double gap = ok ? gap_in(k, order, rank) : 0.0;
       for (std::size_t n = 0; ok && n + 1 < at.size(); ++n) {
-        if (at[n + 1] - at[n] < (static_cast<int>(n) < rank ? gap : 0.0)) ok = false;
+        // A pile's bottom (rank 1 from the bottom) lies below each of the others, which lie side
+        // by side in no order.
+        const double step = counted.chain ? at[n + 1] - at[n] : at[n + 1] - at.front();
+        if (step < (counted.chain ? (static_cast<int>(n) < rank ? gap : 0.0) : gap)) ok = false;
       }
       // Which stack is which: counted from the left up to the one meant.
-      if (ok && stack > 0) ok = counted_in_picture(bases, k, 2, stack);
+      if (ok && stack > 0) ok = counted_in_picture(bases, k, from_right ? 6 : 2, stack);
       if (ok) return true;
     }
     return false;
@@ -600,12 +640,14 @@ Referral refer(const graph::SceneGraph& g, const std::vector<const WorldState*>&
       if (names_it(r)) return found(r);
     }
   }
-  // Stacks among several: "the book at the top of the leftmost stack".
+  // Stacks among several: "the book at the top of the leftmost stack", "... the rightmost stack".
   for (int stack = 1; stack <= kMaxStacks; ++stack) {
-    for (const auto& [relation, rank, row] : kPreference) {
-      if (relation != Relation::kFromTop && relation != Relation::kFromBottom) continue;
-      r = Reference{relation, r.noun, "", rank, Row::kNone, stack};
-      if (names_it(r)) return found(r);
+    for (const bool from_right : {false, true}) {
+      for (const auto& [relation, rank, row] : kPreference) {
+        if (relation != Relation::kFromTop && relation != Relation::kFromBottom) continue;
+        r = Reference{relation, r.noun, "", rank, Row::kNone, stack, from_right};
+        if (names_it(r)) return found(r);
+      }
     }
   }
   return out;

@@ -116,6 +116,7 @@ void write_reference(JsonWriter& w, const Reference& r) {
   w.key("relation").value(to_string(r.relation));
   if (r.row != Row::kNone) w.key("row").value(r.row == Row::kFront ? "near" : "far");
   if (r.stack > 0) w.key("stack").value(r.stack);
+  if (r.stack_from_right) w.key("stack_from").value("right");
   w.end_object();
 }
 
