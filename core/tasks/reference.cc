@@ -67,10 +67,12 @@ std::string Reference::phrase() const {
     case Relation::kFarthest: return "the farthest " + noun;
     case Relation::kFromTop:
       return rank <= 1 ? "the " + noun + " at the top of " + stack_words(stack, stack_from_right)
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of " + stack_words(stack, stack_from_right);
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the top of " +
+                             stack_words(stack, stack_from_right);
     case Relation::kFromBottom:
       return rank <= 1 ? "the " + noun + " at the bottom of " + stack_words(stack, stack_from_right)
-                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of " + stack_words(stack, stack_from_right);
+                       : std::string("the ") + ordinal(rank) + " " + noun + " from the bottom of " +
+                             stack_words(stack, stack_from_right);
   }
   return "the " + noun;
 }

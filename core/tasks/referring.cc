@@ -370,9 +370,9 @@ class PlatformView {
       if (called(noun, i)) candidates.push_back(i);
     }
     const std::vector<Stack> stacks = stacks_of(candidates);
-    const std::optional<std::size_t> at = stack_counted(stacks, stack, from_right);
-    if (!at) return false;
-    const Stack& counted = stacks[*at];
+    const std::optional<std::size_t> counted_at = stack_counted(stacks, stack, from_right);
+    if (!counted_at) return false;
+    const Stack& counted = stacks[*counted_at];
     std::vector<std::size_t> chain = counted.members;
     if (from_top) std::reverse(chain.begin(), chain.end());
     std::vector<std::pair<double, std::size_t>> order;

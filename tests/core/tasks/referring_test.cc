@@ -263,7 +263,9 @@ TEST(References, APileNamesItsBottomAndLeavesTheStacksBesideItCountable) {
                mtg::Error);
   for (const char* name : {"book_4", "book_5"}) {
     const auto r = refer_to(g, s, name);
-    if (r) EXPECT_THAT(r->phrase(), ::testing::Not(HasSubstr("stack"))) << name;
+    if (r) {
+      EXPECT_THAT(r->phrase(), ::testing::Not(HasSubstr("stack"))) << name;
+    }
   }
 }
 
