@@ -5,7 +5,6 @@
 #include <limits>
 #include <map>
 #include <memory>
-#include <numeric>
 #include <optional>
 #include <set>
 
@@ -216,23 +215,22 @@ class PlatformView {
   // candidates; "the second stack from the right" counts from that end past stacks of two or
   // more only, since a person may count a lone candidate as a stack or not. None when unclear.
   static std::optional<std::size_t> stack_counted(const std::vector<Stack>& stacks, int stack, bool from_right) {
-    std::vector<std::size_t> order(stacks.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    if (from_right) std::reverse(order.begin(), order.end());
     if (stack <= 0) {
       std::optional<std::size_t> only;
-      for (const std::size_t k : order) {
+      for (std::size_t k = 0; k < stacks.size(); ++k) {
         if (stacks[k].members.size() < 2) continue;
         if (only) return std::nullopt;
         only = k;
       }
       return only;
     }
-    if (stack > static_cast<int>(order.size())) return std::nullopt;
+    if (stack > static_cast<int>(stacks.size())) return std::nullopt;
+    // The n-th stack (from 0) counted from the end the reference names.
+    auto nth = [&](std::size_t n) { return from_right ? stacks.size() - 1 - n : n; };
     for (std::size_t n = 0; n + 1 < static_cast<std::size_t>(stack); ++n) {
-      if (stacks[order[n]].members.size() < 2) return std::nullopt;
+      if (stacks[nth(n)].members.size() < 2) return std::nullopt;
     }
-    return order[static_cast<std::size_t>(stack) - 1];
+    return nth(static_cast<std::size_t>(stack) - 1);
   }
   // Counting candidates down (or up) a stack of at least two candidates: the only such stack
   // (`stack` 0), or the `stack`-th of several from the left (or right).
@@ -392,10 +390,11 @@ class PlatformView {
       }
       const double gap = ok ? gap_in(k, order, rank) : 0.0;
       for (std::size_t n = 0; ok && n + 1 < at.size(); ++n) {
-        // A pile's bottom (rank 1 from the bottom) lies below each of the others, which lie side
-        // by side in no order.
-        const double step = counted.chain ? at[n + 1] - at[n] : at[n + 1] - at.front();
-        if (step < (counted.chain ? (static_cast<int>(n) < rank ? gap : 0.0) : gap)) ok = false;
+        if (counted.chain) {
+          if (at[n + 1] - at[n] < (static_cast<int>(n) < rank ? gap : 0.0)) ok = false;
+        } else if (at[n + 1] - at.front() < gap) {
+          ok = false;  // a pile's bottom lies below each of the others, side by side in no order
+        }
       }
       // Which stack is which: counted from the left up to the one meant.
       if (ok && stack > 0) ok = counted_in_picture(bases, k, from_right ? 6 : 2, stack);

@@ -16,6 +16,7 @@
 #include "core/tasks/job.h"
 #include "core/tasks/task_db.h"
 #include "core/util/error.h"
+#include "core/util/file_bytes.h"
 #include "core/util/parallel.h"
 #include "core/util/sha256.h"
 #include "core/util/stopwatch.h"
@@ -169,11 +170,9 @@ int run_bench_tasks(const BenchTasksOptions& options) {
   const auto bytes = std::filesystem::file_size(options.out);
   // Builds compared must write the same bytes (the database is deterministic): its digest is
   // the line to compare between them.
-  std::ifstream db(options.out, std::ios::binary);
-  const std::string db_bytes((std::istreambuf_iterator<char>(db)), std::istreambuf_iterator<char>());
   std::printf("  task database: %.1f MB, %.0f B per task, sha256 %s\n", static_cast<double>(bytes) / 1e6,
               static_cast<double>(bytes) / static_cast<double>(std::max<std::int64_t>(1, report.total)),
-              sha256_hex(db_bytes).substr(0, 16).c_str());
+              sha256_hex(read_file_bytes(options.out)).substr(0, 16).c_str());
   // One apartment alone: above, the apartments shared the threads, so their own times overlap.
   tasks::GenerationJob alone = job;
   alone.scenes = {options.scenes.front()};
