@@ -406,17 +406,29 @@ class Instantiator {
     return true;
   }
 
-  bool all_seen(const std::vector<std::vector<ObjectId>>& selects) const {
+  bool all_seen(const std::vector<std::vector<ObjectId>>& selects) {
     if (seeing_ == nullptr) return true;
     for (const auto& list : selects) {
       for (const ObjectId o : list) {
-        const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
-        if (!platform.valid()) return false;
-        const auto sight = seeing_->arrival_view(s_, platform);
-        if (!sight->clearly_visible(o) || !seeing_->mark_readable(s_, platform, o)) return false;
+        if (!seen(o)) return false;
       }
     }
     return true;
+  }
+  // Whether `o` shows clearly, its number readable, where the agent looks for it: every binding
+  // asks of the same state, so once per object.
+  bool seen(ObjectId o) {
+    auto it = seen_.find(o);
+    if (it == seen_.end()) {
+      const PlatformId platform = episode::furniture_platform_of(g_, s_, o);
+      bool shows = platform.valid();
+      if (shows) {
+        const auto sight = seeing_->arrival_view(s_, platform);
+        shows = sight->clearly_visible(o) && seeing_->mark_readable(s_, platform, o);
+      }
+      it = seen_.emplace(o, shows).first;
+    }
+    return it->second;
   }
 
   static bool words_match(const episode::OutcomeGoal& goal, const std::vector<std::vector<ObjectId>>& selects) {
@@ -1157,6 +1169,7 @@ class Instantiator {
   std::vector<OutcomeTask>* out_ = nullptr;
   std::size_t candidates_ = 0;
   std::map<ObjectId, ObjectNaming> naming_;
+  std::map<ObjectId, bool> seen_;
   std::set<std::string> made_;  // goals kept so far (their JSON)
 };
 
