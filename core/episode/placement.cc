@@ -134,12 +134,16 @@ std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldSt
       out = memo->last_targets.get(key, make);
     }
   }
+  out.push_back(anywhere_target(p));
+  return out;
+}
+
+PlaceTarget anywhere_target(const graph::Platform& platform) {
   PlaceTarget any;
   any.key = kAnywhereKey;
-  any.region_P = p.polygon_P;
-  any.aim_P = geom::centroid(p.polygon_P);
-  out.push_back(std::move(any));
-  return out;
+  any.region_P = platform.polygon_P;
+  any.aim_P = geom::centroid(platform.polygon_P);
+  return any;
 }
 
 std::vector<graph::ObjectId> lettered_anchors(const std::vector<PlaceTarget>& targets,

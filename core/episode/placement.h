@@ -50,6 +50,9 @@ struct PlaceTarget {
 
 struct PlacementMemo;
 
+/// The target "anywhere on the platform" (kAnywhereKey): offered on every platform, always last.
+PlaceTarget anywhere_target(const graph::Platform& platform);
+
 /// Targets offered on `platform` for a robot standing at `side` (the same with or without `memo`).
 std::vector<PlaceTarget> place_targets(const graph::SceneGraph& g, const WorldState& s, graph::PlatformId platform,
                                        graph::Side side, double min_region_size, PlacementMemo* memo = nullptr);

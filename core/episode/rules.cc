@@ -254,12 +254,17 @@ StepOutcome apply_action(const graph::SceneGraph& g, WorldState& s, std::string_
   }
   ++s.steps;
   out.valid = is_action_key(key);
-  // While placing, the offered keys are the targets; compute them once for both checks.
+  // While placing, the offered keys are the targets; compute them once for both checks. Ending
+  // and "anywhere" are always offered: they need none of the free spaces.
   std::vector<PlaceTarget> targets;
-  if (s.phase == Phase::kPlacing) {
+  if (s.phase == Phase::kPlacing && key == kAnywhereKey) {
+    targets.push_back(anywhere_target(current(g, s)));
+    out.available = true;
+  } else if (s.phase == Phase::kPlacing && key == "0") {
+    out.available = true;
+  } else if (s.phase == Phase::kPlacing) {
     targets = place_targets(g, s, s.at_platform, static_cast<graph::Side>(s.side), options.min_region_size, memo);
-    out.available = key == "0" || std::any_of(targets.begin(), targets.end(),
-                                              [&](const PlaceTarget& t) { return t.key == key; });
+    out.available = std::any_of(targets.begin(), targets.end(), [&](const PlaceTarget& t) { return t.key == key; });
   } else {
     out.available = offered_outside_placing(g, s, key);
   }

@@ -121,18 +121,16 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
       if (m.next_to.valid()) {
         targets = episode::place_targets(g, s, to, static_cast<graph::Side>(s.side), rules.min_region_size, memo);
       } else {
-        episode::PlaceTarget any;
-        any.key = episode::kAnywhereKey;
-        any.region_P = dest.polygon_P;
-        any.aim_P = geom::centroid(dest.polygon_P);
-        targets.push_back(std::move(any));
+        targets.push_back(episode::anywhere_target(dest));
       }
-      const episode::FeasibleCentres feasible = episode::held_feasible_centres(g, s, to, memo);
       for (const episode::PlaceTarget& t : targets) {
         const bool wanted = m.next_to.valid() ? t.anchor == m.next_to : t.key == episode::kAnywhereKey;
-        if (!wanted || !episode::resolve_target(g, s, to, t, feasible, memo)) continue;
+        if (!wanted) continue;
+        // The step finds where the item goes (or that it does not fit): not worked out twice.
+        const int steps = s.steps;
         placed = play(t.key);
         if (placed) break;
+        s.steps = steps;  // a refused place is not counted, as if never tried
       }
       if (placed) break;
       s = trial;
