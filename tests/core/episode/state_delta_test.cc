@@ -1,10 +1,14 @@
 // A world state survives the trip through its delta exactly (the renderer numbers items from the
 // rebuilt state), and a delta naming something the scene lacks is a clear error. The bus leg
-// (world_state_delta_t) is in tests/bus/roundtrip_test.cc.
+// (world_state_delta_t) is in tests/bus/roundtrip_test.cc. A state change between any two states
+// (what Level 4's planner keeps of a move) gives its end state back exactly too.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "core/episode/state_change.h"
 #include "core/episode/state_delta.h"
 #include "core/util/error.h"
 #include "tests/support/graph_fixtures.h"
@@ -50,6 +54,59 @@ TEST(StateDelta, AStateRoundTripsExactlyThroughPickAndPlace) {
   episode::pick(g, per_state, box);
   EXPECT_TRUE(episode::state_delta(g, per_state).numbered.empty());
   expect_same_world_state(episode::apply_delta(g, episode::state_delta(g, per_state)), per_state);
+}
+
+TEST(StateChange, PlaysStepsAgainOnTheirStartStateBitForBit) {
+  testing::FixtureDataset fx;
+  const auto built = testing::two_tables(fx);
+  const auto& g = built.graph;
+  const auto replayed = [](episode::WorldState from, const episode::WorldState& to) {
+    const episode::StateChange change = episode::change_between(from, to);
+    episode::apply_change(from, change);
+    return from;
+  };
+  episode::WorldState start = episode::initial_state(g);
+  start.numbered = {};  // the numbering table as a state that never numbered has it: not sized yet
+  EXPECT_TRUE(episode::change_between(start, start).objects.empty());
+  expect_same_world_state(replayed(start, start), start);
+
+  // Pick on one table, place at an odd position on the other: the item, both tables' lists and
+  // numbers, the hand and the robot change; nothing else is kept.
+  const graph::PlatformId here = g.navigable.front(), other = g.navigable.back();
+  episode::WorldState moved = start;
+  const graph::ObjectId box = g.platforms[here].items.empty() ? g.platforms[other].items.front()
+                                                              : g.platforms[here].items.front();
+  const graph::PlatformId from = moved.objects[box].parent;
+  const graph::PlatformId to = from == here ? other : here;
+  moved.phase = episode::Phase::kAtPlatform;
+  moved.at_platform = from;
+  moved.side = 1;
+  moved.steps = 4;
+  episode::pick(g, moved, box);
+  const Eigen::Vector2d xy = episode::platform_frame(g, moved, to).translation() + Eigen::Vector2d(0.1 / 3, -0.2 / 7);
+  episode::place_held(g, moved, to, xy);
+  const episode::StateChange change = episode::change_between(start, moved);
+  EXPECT_LE(change.objects.size(), 2u);  // the item (and what rests on it)
+  EXPECT_EQ(change.children.size(), 2u);
+  EXPECT_EQ(change.numbered.size(), 2u);
+  expect_same_world_state(replayed(start, moved), moved);
+
+  // From a state that is not the initial one, back where it was picked from.
+  episode::WorldState back = moved;
+  back.at_platform = to;
+  episode::pick(g, back, box);
+  episode::place_held(g, back, from, episode::platform_frame(g, back, from).translation());
+  expect_same_world_state(replayed(moved, back), back);
+
+  // Equal is not enough: a zero's sign is a difference of bits, and is carried.
+  episode::WorldState signed_zero = moved;
+  signed_zero.objects[box].bottom = moved.objects[box].bottom == 0.0 ? -0.0 : moved.objects[box].bottom;
+  signed_zero.objects[box].position.x() = -signed_zero.objects[box].position.x();
+  signed_zero.platform_offset[here] = -Eigen::Vector3d::Zero();
+  const episode::StateChange sign = episode::change_between(moved, signed_zero);
+  ASSERT_EQ(sign.offsets.size(), 1u);
+  EXPECT_TRUE(std::signbit(replayed(moved, signed_zero).platform_offset[here].x()));
+  EXPECT_EQ(sign.objects.size(), 1u);
 }
 
 TEST(StateDelta, ADeltaNamingUnknownThingsIsAClearError) {
