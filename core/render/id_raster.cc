@@ -80,6 +80,84 @@ bool may_show(const Eigen::Matrix4f& clip_from_world, const Eigen::AlignedBox3d&
   return all_out == 0;
 }
 
+Splat splat_of(const Camera& camera, const ObjectTriangles& t, const Eigen::Isometry3d& X_WO) {
+  // The window of its vertices' pixels, with the arithmetic of fill_triangle (a triangle's pixels
+  // lie inside its vertices' box), a pixel wider all round; the whole image where a vertex lies
+  // behind the near plane (clipping makes new vertices) or projects to no number.
+  const Eigen::Matrix4f M = camera.clip_from_world() * X_WO.matrix().cast<float>();
+  const float W = static_cast<float>(camera.width), H = static_cast<float>(camera.height);
+  float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  bool whole = false;
+  for (const Eigen::Vector3f& p : t.vertices_O) {
+    const Eigen::Vector4f c = M * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
+    if (!(c.z() + c.w() >= 0.0f) || !(c.w() > 0.0f)) {
+      whole = true;
+      break;
+    }
+    const float iw = 1.0f / c.w();
+    const float x = (c.x() * iw + 1.0f) * 0.5f * W, y = (1.0f - c.y() * iw) * 0.5f * H;
+    if (!std::isfinite(x) || !std::isfinite(y)) {
+      whole = true;
+      break;
+    }
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  int left = 0, top = 0, right = camera.width, bottom = camera.height;  // right, bottom: past the end
+  if (!whole) {
+    if (t.vertices_O.empty() || x1 < -1.0f || y1 < -1.0f || x0 > W + 1.0f || y0 > H + 1.0f) return {};
+    left = std::max(0, static_cast<int>(std::floor(x0)) - 1);
+    top = std::max(0, static_cast<int>(std::floor(y0)) - 1);
+    right = std::min(camera.width, static_cast<int>(std::ceil(x1)) + 2);
+    bottom = std::min(camera.height, static_cast<int>(std::ceil(y1)) + 2);
+    if (left >= right || top >= bottom) return {};
+  }
+  IdPass pass(camera, IdImage(left, top, right - left, bottom - top));
+  pass.draw(t, X_WO, 0);
+  Splat out;
+  const IdImage& image = pass.image();
+  for (int v = 0; v < image.height; ++v) {
+    const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(image.width);
+    for (int u = 0; u < image.width; ++u) {
+      if (!pass.covered_by_last_draw(row + static_cast<std::size_t>(u))) continue;
+      const bool goes_on = !out.runs.empty() && out.runs.back().v == top + v &&
+                           out.runs.back().u + out.runs.back().length == left + u;
+      if (goes_on) {
+        ++out.runs.back().length;
+      } else {
+        out.runs.push_back({top + v, left + u, 1});
+      }
+      out.depth.push_back(image.depth[row + static_cast<std::size_t>(u)]);
+    }
+  }
+  return out;
+}
+
+int composite(const Splat& splat, std::int32_t id, IdImage& image) {
+  int covered = 0;
+  std::size_t k = 0;  // the depth of the run's first pixel
+  for (const Splat::Run& run : splat.runs) {
+    const std::size_t first = k;
+    k += static_cast<std::size_t>(run.length);
+    const int v = run.v - image.top;
+    if (v < 0 || v >= image.height) continue;
+    const int u0 = std::max(run.u, image.left), u1 = std::min(run.u + run.length, image.left + image.width);
+    const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(image.width);
+    for (int u = u0; u < u1; ++u) {
+      const float z = splat.depth[first + static_cast<std::size_t>(u - run.u)];
+      const std::size_t i = row + static_cast<std::size_t>(u - image.left);
+      if (z < image.depth[i]) {
+        image.depth[i] = z;
+        image.ids[i] = id;
+      }
+    }
+    covered += std::max(0, u1 - u0);
+  }
+  return covered;
+}
+
 IdPass::IdPass(const Camera& camera) : IdPass(camera, IdImage(camera.width, camera.height)) {}
 
 IdPass::IdPass(const Camera& camera, IdImage background)

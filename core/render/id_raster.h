@@ -59,6 +59,28 @@ Camera at_resolution(const Camera& camera, int width, int height);
 /// wholly outside one side of the frustum, or behind the near plane, cannot).
 bool may_show(const Eigen::Matrix4f& clip_from_world, const Eigen::AlignedBox3d& box_W);
 
+/// One object's pixels in a camera's image, drawn alone: each pixel it covers once, with the
+/// nearest depth it has there. Drawing it onto a pass of that camera (composite) gives the pixels
+/// and the silhouette IdPass::draw gives for the object's triangles at that pose, so an object
+/// that stands where it stood need not be drawn again (visibility.cc keeps them per picture).
+struct Splat {
+  /// Pixels (u, v) ... (u + length - 1, v) of the camera's image, by v then u.
+  struct Run {
+    std::int32_t v = 0;
+    std::int32_t u = 0;
+    std::int32_t length = 0;
+  };
+  std::vector<Run> runs;
+  std::vector<float> depth;  // per pixel of the runs in turn; +infinity where no depth passed
+};
+
+/// The splat of `triangles` placed by `X_WO` in `camera`'s image.
+Splat splat_of(const Camera& camera, const ObjectTriangles& triangles, const Eigen::Isometry3d& X_WO);
+
+/// Draws `splat` onto `image`, a window of its camera's image, as object `id`, nearest surface
+/// first; returns the window's pixels it covers.
+int composite(const Splat& splat, std::int32_t id, IdImage& image);
+
 /// Draws objects into an id image, nearest surface first.
 class IdPass {
  public:
@@ -71,6 +93,9 @@ class IdPass {
   /// Draws `triangles` placed by `X_WO` as object `id`; returns the pixels the object covers on
   /// its own (its silhouette, each pixel once, whatever else is drawn).
   int draw(const ObjectTriangles& triangles, const Eigen::Isometry3d& X_WO, std::int32_t id);
+
+  /// Whether the last draw covered pixel `i` of the image (row-major in its window).
+  bool covered_by_last_draw(std::size_t i) const { return stamp_[i] == draw_count_; }
 
   const IdImage& image() const { return image_; }
   IdImage take() { return std::move(image_); }

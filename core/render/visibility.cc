@@ -496,16 +496,30 @@ IdImage VisibilityOracle::draw_window(const PictureScenery& sc, const Deciders& 
       if (std::binary_search(d.on.begin(), d.on.end(), o)) add_silhouette(silhouettes, o, pixels);
     }
   }
+  IdImage image = pass->take();
   for (std::size_t k = 0; k < d.items.size(); ++k) {
     const graph::ObjectId o = d.items[k];
-    // Items move without turning (episode::place_held): the graph's pose moved to where it stands.
-    const Eigen::Isometry3d pose = Eigen::Translation3d(d.at[k] - g_.objects[o].X_WO.translation()) * g_.objects[o].X_WO;
-    const int pixels = pass->draw(geometry_.of(o), pose, static_cast<std::int32_t>(o.index()));
+    const int pixels = composite(*splat(sc, o, d.at[k]), static_cast<std::int32_t>(o.index()), image);
     if (std::binary_search(d.on.begin(), d.on.end(), o)) add_silhouette(silhouettes, o, pixels);
   }
   std::sort(silhouettes.begin(), silhouettes.end(),
             [](const ObjectSight& a, const ObjectSight& b) { return a.object < b.object; });
-  return pass->take();
+  return image;
+}
+
+std::shared_ptr<const Splat> VisibilityOracle::splat(const PictureScenery& sc, graph::ObjectId o,
+                                                     const Eigen::Vector3d& at) const {
+  std::string key;
+  append_key(key, sc.slot);
+  append_key(key, static_cast<std::int64_t>(o.index()));
+  append_key(key, at.x());
+  append_key(key, at.y());
+  append_key(key, at.z());
+  return splats_.get(key, [&] {
+    // Items move without turning (episode::place_held): the graph's pose moved to where it stands.
+    const Eigen::Isometry3d pose = Eigen::Translation3d(at - g_.objects[o].X_WO.translation()) * g_.objects[o].X_WO;
+    return std::make_shared<const Splat>(splat_of(sc.pass_camera, geometry_.of(o), pose));
+  });
 }
 
 std::shared_ptr<const std::vector<ObjectSight>> VisibilityOracle::picture_counts(const PictureScenery& sc,

@@ -153,6 +153,9 @@ class VisibilityOracle {
   // their silhouettes go to `silhouettes` (sorted by object index).
   IdImage draw_window(const PictureScenery& sc, const Deciders& d,
                       std::vector<ObjectSight>& silhouettes) const;
+  // Item o's pixels in a picture where it stands at `at` (a memo: most of a new state's items
+  // stand where they stood in the states drawn before it).
+  std::shared_ptr<const Splat> splat(const PictureScenery& sc, graph::ObjectId o, const Eigen::Vector3d& at) const;
   // Object o's world box in `s` (it moves without turning), and where it lands in the view.
   Eigen::AlignedBox3d box_in(const episode::WorldState& s, graph::ObjectId o) const;
   NdcBox image_box(const episode::WorldState& s, graph::ObjectId o, const PictureScenery& sc) const;
@@ -171,6 +174,7 @@ class VisibilityOracle {
   // the other parts' pictures as they were.
   mutable BoundedMemoTable<std::shared_ptr<const std::vector<ObjectSight>>> picture_sights_{65536};
   mutable BoundedMemoTable<std::shared_ptr<const Window>> windows_{64};
+  mutable BoundedMemoTable<std::shared_ptr<const Splat>> splats_{512};
   mutable BoundedMemoTable<std::shared_ptr<const MarksInPicture>> in_picture_{4096};
   mutable BoundedMemoTable<std::shared_ptr<const std::vector<std::int32_t>>> with_zooms_{1024};
 };

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <set>
 
 #include "core/episode/rules.h"
@@ -68,6 +70,54 @@ TEST(IdPass, KeepsTheNearerSurfaceAndCountsSilhouettesWhateverIsInFront) {
   for (int v = 0; v < 20; ++v) {
     for (int u = 0; u < 30; ++u) ASSERT_EQ(window.image().at(u, v), pass.image().at(u + 10, v + 8));
   }
+}
+
+// A box of `size` about its centre: front and back faces overlap in every view.
+ObjectTriangles box_triangles(const Eigen::Vector3f& size) {
+  ObjectTriangles box;
+  for (int k = 0; k < 8; ++k) {
+    box.vertices_O.emplace_back((k & 1 ? 0.5f : -0.5f) * size.x(), (k & 2 ? 0.5f : -0.5f) * size.y(),
+                                (k & 4 ? 0.5f : -0.5f) * size.z());
+  }
+  box.indices = {0, 1, 3, 0, 3, 2, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                 2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 3, 7, 1, 7, 5};
+  return box;
+}
+
+TEST(IdPass, ASplatDrawsTheSamePixelsAndSilhouetteAsItsTriangles) {
+  Camera cam;
+  cam.width = 64;
+  cam.height = 48;
+  cam.fovy = 1.0;
+  cam.X_WC = look_at({0, -3, 0}, {0, 0, 0});
+  const ObjectTriangles box = box_triangles({0.8f, 0.6f, 0.7f});
+  // A box behind, one in front of it, one at the same place (equal depths: the first drawn keeps
+  // its pixels), one half out of the picture, one through the near plane, one out of sight.
+  const std::vector<Eigen::Isometry3d> poses = {
+      Eigen::Isometry3d(Eigen::Translation3d(0.1, 1.0, 0.05)), Eigen::Isometry3d(Eigen::Translation3d(0.3, 0.0, -0.2)),
+      Eigen::Isometry3d(Eigen::Translation3d(0.3, 0.0, -0.2)), Eigen::Isometry3d(Eigen::Translation3d(1.6, 0.5, 0.9)),
+      Eigen::Isometry3d(Eigen::Translation3d(0.2, -2.9, 0.1)), Eigen::Isometry3d(Eigen::Translation3d(0.0, -6.0, 0.0))};
+  // The whole image, and windows whose rows end off the four-pixel step.
+  for (const IdImage& start : {IdImage(64, 48), IdImage(10, 8, 30, 21), IdImage(3, 0, 61, 47)}) {
+    IdPass drawn(cam, start);
+    drawn.draw(box, Eigen::Isometry3d(Eigen::Translation3d(-0.4, 1.5, 0.0)), 99);  // scenery behind
+    IdImage pasted = drawn.image();
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const auto id = static_cast<std::int32_t>(k + 1);
+      const int by_triangles = drawn.draw(box, poses[k], id);
+      const int by_splat = composite(splat_of(cam, box, poses[k]), id, pasted);
+      EXPECT_EQ(by_splat, by_triangles) << "box " << k << " in window " << start.left << "," << start.top;
+      if (k == 2) {
+        EXPECT_GT(std::count(pasted.ids.begin(), pasted.ids.end(), 2), 0) << "the front box shows";
+        EXPECT_EQ(std::count(pasted.ids.begin(), pasted.ids.end(), 3), 0) << "its twin drawn after it does not";
+      }
+    }
+    EXPECT_EQ(pasted.ids, drawn.image().ids);
+    ASSERT_EQ(pasted.depth.size(), drawn.image().depth.size());
+    EXPECT_EQ(std::memcmp(pasted.depth.data(), drawn.image().depth.data(), pasted.depth.size() * sizeof(float)), 0);
+  }
+  EXPECT_TRUE(splat_of(cam, box, poses[5]).runs.empty()) << "out of sight: nothing";
+  EXPECT_FALSE(splat_of(cam, box, poses[4]).runs.empty()) << "through the near plane: what lies in front";
 }
 
 TEST(Visibility, AnObjectBehindATallerOneIsNotClearlyVisibleAndNoTaskNamesIt) {
