@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -43,6 +44,24 @@ constexpr double kBetweenMaxGap = 0.4;  // m between two anchors of a "between" 
 // Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
 // with box tests; each is confirmed by the judge's predicate before it becomes a task. With
 // a valid `only_anchor`, only the goals relative to that object, in the same order.
+// How two anchors' boxes lie apart (platform frame): separated along x, along y, and whether
+// a "between" goal joins them. Far apart (two ends of a counter), "between" is a long band a
+// person cannot see: only anchors within kBetweenMaxGap of each other make one.
+struct Apart {
+  bool x = false;
+  bool y = false;
+  bool between = false;
+};
+Apart apart_of(const Eigen::AlignedBox2d& b, const Eigen::AlignedBox2d& e) {
+  Apart out;
+  out.x = std::max(b.min().x(), e.min().x()) > std::min(b.max().x(), e.max().x());
+  out.y = std::max(b.min().y(), e.min().y()) > std::min(b.max().y(), e.max().y());
+  const double gap = std::max(out.x ? std::max(b.min().x(), e.min().x()) - std::min(b.max().x(), e.max().x()) : 0.0,
+                              out.y ? std::max(b.min().y(), e.min().y()) - std::min(b.max().y(), e.max().y()) : 0.0);
+  out.between = (out.x || out.y) && gap <= kBetweenMaxGap;
+  return out;
+}
+
 void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2& c_P,
                      const geom::Ring& item_W, const Eigen::AlignedBox2d& item_box_W, graph::Side side, const TaskOptions& options,
                      AtomicGoal base, graph::ObjectId only_anchor, std::vector<AtomicGoal>& out) {
@@ -79,14 +98,9 @@ void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2&
     for (std::size_t k = a + 1; k < anchors.size(); ++k) {
       if (!wanted && anchors[k].object != only_anchor) continue;
       const Eigen::AlignedBox2d& e = anchors[k].box_P;
-      const bool sep_x = std::max(b.min().x(), e.min().x()) > std::min(b.max().x(), e.max().x());
-      const bool sep_y = std::max(b.min().y(), e.min().y()) > std::min(b.max().y(), e.max().y());
-      if (!sep_x && !sep_y) continue;
-      // Far apart (two ends of a counter), "between" is a long band a person cannot see: only
-      // anchors within kBetweenMaxGap of each other make one.
-      const double apart = std::max(sep_x ? std::max(b.min().x(), e.min().x()) - std::min(b.max().x(), e.max().x()) : 0.0,
-                                    sep_y ? std::max(b.min().y(), e.min().y()) - std::min(b.max().y(), e.max().y()) : 0.0);
-      if (apart > kBetweenMaxGap) continue;
+      const Apart apart = apart_of(b, e);
+      if (!apart.between) continue;
+      const bool sep_x = apart.x, sep_y = apart.y;
       const double x0 = std::min(b.max().x(), e.max().x()), x1 = std::max(b.min().x(), e.min().x());
       const double y0 = std::min(b.max().y(), e.max().y()), y1 = std::max(b.min().y(), e.min().y());
       const double ox0 = std::max(b.min().x(), e.min().x()), ox1 = std::min(b.max().x(), e.max().x());
@@ -284,7 +298,9 @@ class ItemEnumeration {
     // Every offered place judged first: "next to X" is asked only where each of X's own free
     // spaces meets it, since a person may pick any of them (issue 53).
     std::vector<std::pair<const episode::PlaceTarget*, std::pair<Eigen::Vector2d, Judged>>> judged_places;
+    const auto concerns_anchor = anchor_places(d);
     for (const episode::PlaceTarget& t : *d.targets) {
+      if (!concerns_anchor(t)) continue;
       const auto xy = episode::resolve_target(g_, d.placing, d.pd, t, d.feasible);
       if (!xy) continue;
       judged_places.push_back({&t, {*xy, judge_at(d, *xy)}});
@@ -326,6 +342,33 @@ class ItemEnumeration {
         if (consider(d, *t, placed.first, placed.second, candidate)) return;
       }
     }
+  }
+
+  // Asked about one anchor (a step of a chain), a place gives a goal the task may ask only as one
+  // of the anchor's own free spaces, as one of a neighbour it may be between with (whose own
+  // spaces are checked against those goals), or inside the box of such a pair, where "between"
+  // lies: a goal about the anchor from any other place is named by no words of the task, and
+  // binds none (consider, the spaces' check above). Those places are not worked out. A place's
+  // centre lies in its target's region (1 µm of rounding; 1 mm allowed).
+  std::function<bool(const episode::PlaceTarget&)> anchor_places(const Destination& d) const {
+    if (!filter_.anchor.valid()) return [](const episode::PlaceTarget&) { return true; };
+    const auto anchor = std::find_if(d.anchors.begin(), d.anchors.end(),
+                                     [&](const AnchorInfo& a) { return a.object == filter_.anchor; });
+    std::vector<graph::ObjectId> concerned = {filter_.anchor};
+    std::vector<Eigen::AlignedBox2d> pairs;
+    for (const AnchorInfo& other : d.anchors) {
+      if (other.object == filter_.anchor || !apart_of(anchor->box_P, other.box_P).between) continue;
+      concerned.push_back(other.object);
+      pairs.push_back(anchor->box_P.merged(other.box_P));
+    }
+    return [concerned = std::move(concerned), pairs = std::move(pairs)](const episode::PlaceTarget& t) {
+      if (t.kind != episode::PlaceTarget::Kind::kObjectRegion) return true;
+      if (std::find(concerned.begin(), concerned.end(), t.anchor) != concerned.end()) return true;
+      Eigen::AlignedBox2d region = geom::bounds(t.region_P);
+      region.min().array() -= 1e-3;
+      region.max().array() += 1e-3;
+      return std::any_of(pairs.begin(), pairs.end(), [&](const Eigen::AlignedBox2d& b) { return b.intersects(region); });
+    };
   }
 
   // The goals a placement at xy may achieve, with their keys and margins, judged with the item
