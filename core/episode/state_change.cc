@@ -31,6 +31,17 @@ void changed_entries(const IdVector<graph::PlatformId, T>& from, const IdVector<
   }
 }
 
+// The fields a change keeps whole (a state and a change name them alike).
+template <class From, class To>
+void copy_robot(const From& from, To& to) {
+  to.held = from.held;
+  to.at_platform = from.at_platform;
+  to.side = from.side;
+  to.phase = from.phase;
+  to.steps = from.steps;
+  to.numbering = from.numbering;
+}
+
 }  // namespace
 
 StateChange change_between(const WorldState& from, const WorldState& to) {
@@ -52,12 +63,7 @@ StateChange change_between(const WorldState& from, const WorldState& to) {
     const bool had = p.index() < from.numbered.size();
     if (had ? from.numbered[p] != to.numbered[p] : !to.numbered[p].empty()) c.numbered.emplace_back(p, to.numbered[p]);
   }
-  c.held = to.held;
-  c.at_platform = to.at_platform;
-  c.side = to.side;
-  c.phase = to.phase;
-  c.steps = to.steps;
-  c.numbering = to.numbering;
+  copy_robot(to, c);
   return c;
 }
 
@@ -67,12 +73,7 @@ void apply_change(WorldState& s, const StateChange& change) {
   for (const auto& [p, offset] : change.offsets) s.platform_offset.at(p) = offset;
   if (s.numbered.size() < change.numbered_size) s.numbered.resize(change.numbered_size);
   for (const auto& [p, list] : change.numbered) s.numbered.at(p) = list;
-  s.held = change.held;
-  s.at_platform = change.at_platform;
-  s.side = change.side;
-  s.phase = change.phase;
-  s.steps = change.steps;
-  s.numbering = change.numbering;
+  copy_robot(change, s);
 }
 
 }  // namespace mtg::episode
