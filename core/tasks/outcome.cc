@@ -131,7 +131,7 @@ std::optional<Plan> plan_moves(const graph::SceneGraph& g, WorldState s, const s
         const int steps = s.steps;
         placed = play(t.key);
         if (placed) break;
-        s.steps = steps;  // a refused place is not counted, as if never tried
+        s.steps = steps;  // a refused place is not counted: the plan is the one made without trying it
       }
       if (placed) break;
       s = trial;
@@ -405,9 +405,9 @@ class Instantiator {
     return true;
   }
 
-  // plan_moves from the initial state, its first move played once per kind of move: bindings
-  // share first moves (four in ten of all the moves planned are one planned before), and the
-  // moves after it play on from the state it left, as they would in one plan.
+  // plan_moves from the initial state, each distinct first move (object, destinations, next-to)
+  // played once: bindings share first moves (four in ten of all the moves planned are one
+  // planned before), and the moves after it play on from the state it left, as in one plan.
   std::optional<Plan> planned(const std::vector<Move>& moves) {
     if (moves.empty()) return plan_moves(g_, s_, moves, options_, memo_);
     const Move& first = moves.front();
