@@ -85,6 +85,7 @@ std::vector<PlaceTarget> object_targets(const graph::Platform& p, graph::Platfor
       if (!r.numbered) continue;
       PlaceTarget t;
       t.key = std::to_string(next++);
+      if (t.key == kAnywhereKey) t.key = std::to_string(next++);  // that key is "anywhere", on every platform
       t.kind = PlaceTarget::Kind::kObjectRegion;
       t.relative_dir = rel;
       t.platform_dir = dir;

@@ -10,10 +10,16 @@
 namespace mtg::render {
 namespace {
 
-// Four floats or ints (GCC's vector extension: SSE2 on x86-64, NEON on arm64).
+// Four floats or ints (GCC's vector extension: SSE2 on x86-64, NEON on arm64). The build
+// targets baseline x86-64, which has no fused multiply-add: each lane rounds as the scalar
+// code does (a target with FMA would want -ffp-contract=off for the pass's pixels to stay put).
 using F4 = float __attribute__((vector_size(16)));
 using I4 = std::int32_t __attribute__((vector_size(16)));
 constexpr I4 kLanes = {0, 1, 2, 3};
+
+// Screen coordinates are clamped this far outside the image before rounding, so a pixel range
+// always fits an int.
+constexpr float kFar = 1e6f;
 
 // Where the segment p-q meets the near plane z = -w (clip space).
 Eigen::Vector4f near_crossing(const Eigen::Vector4f& p, const Eigen::Vector4f& q) {
@@ -83,7 +89,7 @@ bool may_show(const Eigen::Matrix4f& clip_from_world, const Eigen::AlignedBox3d&
 Splat splat_of(const Camera& camera, const ObjectTriangles& t, const Eigen::Isometry3d& X_WO) {
   // The window of its vertices' pixels, with the arithmetic of fill_triangle (a triangle's pixels
   // lie inside its vertices' box), a pixel wider all round; the whole image where a vertex lies
-  // behind the near plane (clipping makes new vertices) or projects to no number.
+  // behind the near plane (clipping makes new vertices) or projects to no number or far off.
   const Eigen::Matrix4f M = camera.clip_from_world() * X_WO.matrix().cast<float>();
   const float W = static_cast<float>(camera.width), H = static_cast<float>(camera.height);
   float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
@@ -96,7 +102,7 @@ Splat splat_of(const Camera& camera, const ObjectTriangles& t, const Eigen::Isom
     }
     const float iw = 1.0f / c.w();
     const float x = (c.x() * iw + 1.0f) * 0.5f * W, y = (1.0f - c.y() * iw) * 0.5f * H;
-    if (!std::isfinite(x) || !std::isfinite(y)) {
+    if (!(std::abs(x) < kFar) || !(std::abs(y) < kFar)) {  // fill_triangle clamps there
       whole = true;
       break;
     }
@@ -227,8 +233,6 @@ void IdPass::fill_triangle(const Eigen::Vector4f& a4, const Eigen::Vector4f& b4,
     std::swap(b, c);
     area = -area;
   }
-  // Clamped far outside the image before rounding, so the pixel range always fits an int.
-  constexpr float kFar = 1e6f;
   const float min_x = std::max(-kFar, std::min({a.x(), b.x(), c.x()}));
   const float max_x = std::min(kFar, std::max({a.x(), b.x(), c.x()}));
   const float min_y = std::max(-kFar, std::min({a.y(), b.y(), c.y()}));
