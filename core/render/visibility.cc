@@ -65,6 +65,14 @@ bool may_cover(const NdcBox& in_front, const NdcBox& target) {
          in_front.box.min().z() <= target.box.max().z();
 }
 
+// An item where it stands, in a memo key.
+void append_item(std::string& key, graph::ObjectId o, const Eigen::Vector3d& at) {
+  append_key(key, static_cast<std::int64_t>(o.index()));
+  append_key(key, at.x());
+  append_key(key, at.y());
+  append_key(key, at.z());
+}
+
 // The entry of `o` in a list sorted by object index, or zero pixels.
 ObjectSight sight_of(const std::vector<ObjectSight>& sorted, graph::ObjectId o) {
   const auto index = static_cast<std::int32_t>(o.index());
@@ -441,10 +449,7 @@ VisibilityOracle::Deciders VisibilityOracle::deciders(const episode::WorldState&
     d.items.push_back(o);
     const Eigen::Vector3d& at = s.objects[o].position;
     d.at.push_back(at);
-    append_key(d.key, static_cast<std::int64_t>(o.index()));
-    append_key(d.key, at.x());
-    append_key(d.key, at.y());
-    append_key(d.key, at.z());
+    append_item(d.key, o, at);
   }
   pixel_window(all, sc.pass_camera.width, sc.pass_camera.height, d.left, d.top, d.width, d.height);
   return d;
@@ -511,10 +516,7 @@ std::shared_ptr<const Splat> VisibilityOracle::splat(const PictureScenery& sc, g
                                                      const Eigen::Vector3d& at) const {
   std::string key;
   append_key(key, sc.slot);
-  append_key(key, static_cast<std::int64_t>(o.index()));
-  append_key(key, at.x());
-  append_key(key, at.y());
-  append_key(key, at.z());
+  append_item(key, o, at);
   return splats_.get(key, [&] {
     // Items move without turning (episode::place_held): the graph's pose moved to where it stands.
     const Eigen::Isometry3d pose = Eigen::Translation3d(at - g_.objects[o].X_WO.translation()) * g_.objects[o].X_WO;

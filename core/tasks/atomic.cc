@@ -41,9 +41,6 @@ std::string goal_key(const AtomicGoal& goal) {
 
 constexpr double kBetweenMaxGap = 0.4;  // m between two anchors of a "between" goal, at most
 
-// Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
-// with box tests; each is confirmed by the judge's predicate before it becomes a task. With
-// a valid `only_anchor`, only the goals relative to that object, in the same order.
 // How two anchors' boxes lie apart (platform frame): separated along x, along y, and whether
 // a "between" goal joins them. Far apart (two ends of a counter), "between" is a long band a
 // person cannot see: only anchors within kBetweenMaxGap of each other make one.
@@ -62,6 +59,9 @@ Apart apart_of(const Eigen::AlignedBox2d& b, const Eigen::AlignedBox2d& e) {
   return out;
 }
 
+// Candidate goals a placement with footprint centre c_P achieves on an occupied platform, found
+// with box tests; each is confirmed by the judge's predicate before it becomes a task. With
+// a valid `only_anchor`, only the goals relative to that object, in the same order.
 void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2& c_P,
                      const geom::Ring& item_W, const Eigen::AlignedBox2d& item_box_W, graph::Side side, const TaskOptions& options,
                      AtomicGoal base, graph::ObjectId only_anchor, std::vector<AtomicGoal>& out) {
@@ -100,13 +100,12 @@ void candidate_goals(const std::vector<AnchorInfo>& anchors, const geom::Point2&
       const Eigen::AlignedBox2d& e = anchors[k].box_P;
       const Apart apart = apart_of(b, e);
       if (!apart.between) continue;
-      const bool sep_x = apart.x, sep_y = apart.y;
       const double x0 = std::min(b.max().x(), e.max().x()), x1 = std::max(b.min().x(), e.min().x());
       const double y0 = std::min(b.max().y(), e.max().y()), y1 = std::max(b.min().y(), e.min().y());
       const double ox0 = std::max(b.min().x(), e.min().x()), ox1 = std::min(b.max().x(), e.max().x());
       const double oy0 = std::max(b.min().y(), e.min().y()), oy1 = std::min(b.max().y(), e.max().y());
-      const bool in_x = sep_x && c_P.x() > x0 && c_P.x() < x1 && c_P.y() > oy0 && c_P.y() < oy1;
-      const bool in_y = sep_y && c_P.y() > y0 && c_P.y() < y1 && c_P.x() > ox0 && c_P.x() < ox1;
+      const bool in_x = apart.x && c_P.x() > x0 && c_P.x() < x1 && c_P.y() > oy0 && c_P.y() < oy1;
+      const bool in_y = apart.y && c_P.y() > y0 && c_P.y() < y1 && c_P.x() > ox0 && c_P.x() < ox1;
       if (in_x || in_y) {
         AtomicGoal goal = base;
         goal.type = GoalType::kBetween;
